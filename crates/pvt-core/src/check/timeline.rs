@@ -1,0 +1,130 @@
+//! The program laid out on one time axis, as the controller will run it.
+//!
+//! Owns the absolute start time of every piece and the evaluation of any axis at any
+//! instant, for PVT (cubic Hermite pieces) and PT (straight pieces, velocity steps at the
+//! points) alike. It must not judge the motion: the other check modules do.
+
+use crate::hermite::HermiteSegment;
+use crate::program::{Interpolation, PvtContour, PvtProgram};
+use crate::toolpath::Motion;
+
+/// One piece of the program with its place in time.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Piece {
+    /// Index of its contour in the program.
+    pub contour: usize,
+    /// Index of the piece in its contour.
+    pub index: usize,
+    /// Absolute start time, seconds.
+    pub start: f64,
+    /// Piece time, seconds.
+    pub duration: f64,
+    /// Source line.
+    pub line: u32,
+    /// Rapid or feed.
+    pub motion: Motion,
+}
+
+/// Every piece of a program in execution order.
+pub(super) struct Timeline<'a> {
+    pub program: &'a PvtProgram,
+    pub pieces: Vec<Piece>,
+    pub total: f64,
+}
+
+impl<'a> Timeline<'a> {
+    /// Lays the contours of a program end to end in time.
+    pub fn new(program: &'a PvtProgram) -> Timeline<'a> {
+        let mut pieces = Vec::with_capacity(program.segment_count());
+        let mut clock = 0.0;
+        for (c, contour) in program.contours.iter().enumerate() {
+            for (index, seg) in contour.segments().enumerate() {
+                let (line, motion) = (seg.line, contour.motion);
+                pieces.push(Piece {
+                    contour: c,
+                    index,
+                    start: clock,
+                    duration: seg.duration,
+                    line,
+                    motion,
+                });
+                clock += seg.duration;
+            }
+        }
+        Timeline {
+            program,
+            pieces,
+            total: clock,
+        }
+    }
+
+    /// True when the program is PT (straight pieces).
+    pub fn is_pt(&self) -> bool {
+        self.program.interpolation == Interpolation::Pt
+    }
+
+    fn contour(&self, p: &Piece) -> &'a PvtContour {
+        &self.program.contours[p.contour]
+    }
+
+    /// Start position of a piece on axis column `k`.
+    pub fn start_position(&self, p: &Piece, k: usize) -> f64 {
+        let c = self.contour(p);
+        if p.index == 0 {
+            c.start[k]
+        } else {
+            c.segment(p.index - 1).end[k]
+        }
+    }
+
+    /// The cubic of a PVT piece (for PT, the straight line as a zero-acceleration cubic).
+    pub fn cubic(&self, p: &Piece, k: usize) -> HermiteSegment {
+        let c = self.contour(p);
+        if self.is_pt() {
+            let (p0, p1) = (self.start_position(p, k), c.segment(p.index).end[k]);
+            let v = (p1 - p0) / p.duration;
+            HermiteSegment {
+                p0,
+                v0: v,
+                a0: 0.0,
+                jerk: 0.0,
+                duration: p.duration,
+            }
+        } else {
+            c.hermite(p.index, k)
+        }
+    }
+
+    /// Position of axis column `k` at `t` seconds into piece `p` (exact at both ends).
+    pub fn position(&self, p: &Piece, k: usize, t: f64) -> f64 {
+        if t >= p.duration {
+            return self.contour(p).segment(p.index).end[k];
+        }
+        self.cubic(p, k).at(t.max(0.0)).position
+    }
+
+    /// Index of the piece running at absolute time `t` (the last one at or after the end).
+    pub fn piece_at(&self, t: f64) -> Option<usize> {
+        if self.pieces.is_empty() {
+            return None;
+        }
+        let i = self.pieces.partition_point(|p| p.start <= t);
+        Some(i.saturating_sub(1))
+    }
+
+    /// Positions of every axis at absolute time `t` (held at rest before and after).
+    pub fn positions_at(&self, t: f64, out: &mut [f64]) {
+        let Some(i) = self.piece_at(t) else { return };
+        let p = &self.pieces[i];
+        for (k, o) in out.iter_mut().enumerate() {
+            *o = self.position(p, k, t - p.start);
+        }
+    }
+
+    /// Velocities of every axis `t` seconds into piece `p`.
+    pub fn velocities(&self, p: &Piece, t: f64, out: &mut [f64]) {
+        for (k, o) in out.iter_mut().enumerate() {
+            *o = self.cubic(p, k).at(t).velocity;
+        }
+    }
+}

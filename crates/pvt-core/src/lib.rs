@@ -1,0 +1,37 @@
+//! pvt-core: the data that flows through pvtc and every computation on it.
+//!
+//! Owns the intermediate representation ([`Toolpath`] → [`Polyline`] → [`PvtProgram`]),
+//! arc discretization by chord tolerance ([`discretize`]), the planners ([`plan`]) and the
+//! cubic Hermite evaluation a controller performs ([`hermite`]) and the check of a planned
+//! program against limits and its source ([`check`]).
+//!
+//! Architecture invariants:
+//! - this crate does no I/O and knows no file format: front ends produce a [`Toolpath`],
+//!   back ends consume a [`PvtProgram`], and neither is visible from here;
+//! - every transcendental float function goes through `libm`, so the same input gives
+//!   bit-identical numbers on every machine;
+//! - data flows one way: nothing here calls back into a front end.
+
+pub mod axis;
+pub mod check;
+pub mod discretize;
+pub mod hermite;
+pub mod plan;
+pub mod polyline;
+pub mod program;
+pub mod toolpath;
+pub mod vector;
+
+pub use axis::{Axis, Position, Units, AXIS_COUNT};
+pub use check::{check_program, CheckOptions, CheckReport};
+pub use discretize::{flatten_contour, ChordTolerance};
+pub use hermite::{HermiteSegment, State};
+pub use plan::{
+    plan_contour, plan_timed, plan_toolpath, plan_toolpath_report, PlanOptions, PlanReport,
+    Planned, Planner, TimedPoints, Timing,
+};
+pub use polyline::Polyline;
+pub use program::{Interpolation, PvtContour, PvtProgram, SegmentRef};
+pub use toolpath::{
+    Arc, ArcDirection, Contour, Element, ElementKind, Motion, Plane, Span, Toolpath,
+};

@@ -1,0 +1,252 @@
+//! Planning whole toolpaths and point-time series with the chosen planner.
+//!
+//! Owns the dispatch from [`PlanOptions`] to a planner for every contour or run, the
+//! option checks, quantization of the result and the [`PlanReport`] of what the planning
+//! changed. It must not implement a planner itself.
+
+use super::const_accel::const_accel_velocities;
+use super::lspb::plan_lspb;
+use super::pt::plan_pt;
+use super::quantize::{mid_speed_change, quantize_time, retime};
+use super::spline::spline_velocities;
+use super::timed::{contour_from_velocities, runs_from_polyline, TimedPoints};
+use super::{chord::chord_velocities, plan_contour, PlanError, PlanOptions, Planner, Timing};
+use crate::axis::{Axis, Units};
+use crate::discretize::flatten_contour;
+use crate::polyline::Polyline;
+use crate::program::{Interpolation, PvtContour, PvtProgram};
+use crate::toolpath::{Motion, Toolpath};
+use crate::vector::{distance, max_abs};
+
+/// What planning changed that the user should hear about.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct PlanReport {
+    /// Largest relative change of mid-piece vector speed caused by quantization (0 without).
+    pub quantize_speed_change: f64,
+    /// Segments whose time the LSPB planner raised so that their blends fit.
+    pub lengthened_segments: usize,
+    /// True when the input gave velocities that the chosen planner does not use.
+    pub velocities_ignored: bool,
+}
+
+/// A planned program together with its report.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Planned {
+    /// The program.
+    pub program: PvtProgram,
+    /// What planning changed.
+    pub report: PlanReport,
+}
+
+/// Plans every contour of a toolpath with the chosen planner, timing and quantization.
+///
+/// Contours that do not move are left out. See [`super::plan_toolpath`] for the program only.
+pub fn plan_toolpath_report(
+    toolpath: &Toolpath,
+    options: &PlanOptions,
+) -> Result<Planned, PlanError> {
+    check_options(options)?;
+    let axes: Vec<Axis> = toolpath.moved_axes();
+    let mut report = PlanReport::default();
+    let mut contours: Vec<PvtContour> = Vec::with_capacity(toolpath.contours.len());
+    for contour in toolpath.contours.iter().filter(|c| !c.elements.is_empty()) {
+        let polyline = flatten_contour(contour, &axes, options.tolerance);
+        let planned = if options.planner == Planner::Contour {
+            let planned = plan_contour(&polyline, contour.motion)?;
+            quantize_whole(planned, options, &mut report)
+        } else {
+            let mut whole = PvtContour::new(contour.motion, polyline.point(0).to_vec());
+            for run in runs_from_polyline(&polyline, options.timing)? {
+                append(
+                    &mut whole,
+                    &plan_run(&run, options, contour.motion, &mut report)?,
+                );
+            }
+            whole
+        };
+        if !planned.is_empty() {
+            contours.push(planned);
+        }
+    }
+    let program = PvtProgram {
+        axes,
+        units: toolpath.units,
+        interpolation: interpolation(options),
+        contours,
+    };
+    Ok(Planned { program, report })
+}
+
+/// Plans a point-time series (e.g. from CSV) on `axes` as one feed contour.
+///
+/// The series' own times are used ([`PlanOptions::timing`] applies to toolpaths only);
+/// given velocities are used as given by chord, const-accel and spline. The contour
+/// planner takes each segment's mean speed (chord / time) as its feed, drops zero-length
+/// segments (dwells) and chooses its own times (seed 000).
+pub fn plan_timed(
+    points: &TimedPoints,
+    axes: Vec<Axis>,
+    units: Units,
+    options: &PlanOptions,
+) -> Result<Planned, PlanError> {
+    points.validate()?;
+    if axes.len() != points.dim {
+        return Err(PlanError::BadShape);
+    }
+    let options = PlanOptions {
+        timing: Timing::FromFeed,
+        ..*options
+    };
+    check_options(&options)?;
+    let mut report = PlanReport::default();
+    let contour = plan_run(points, &options, Motion::Feed, &mut report)?;
+    let contours = if contour.is_empty() {
+        Vec::new()
+    } else {
+        vec![contour]
+    };
+    let program = PvtProgram {
+        axes,
+        units,
+        interpolation: interpolation(&options),
+        contours,
+    };
+    Ok(Planned { program, report })
+}
+
+fn interpolation(options: &PlanOptions) -> Interpolation {
+    match options.planner {
+        Planner::Pt => Interpolation::Pt,
+        _ => Interpolation::Pvt,
+    }
+}
+
+/// Rejects options that are out of range or that the chosen planner cannot honour.
+pub fn check_options(options: &PlanOptions) -> Result<(), PlanError> {
+    if let Some(q) = options.quantize {
+        if !(q.is_finite() && q > 0.0) {
+            return Err(PlanError::BadQuantum { seconds: q });
+        }
+    }
+    match options.accel {
+        None if options.planner == Planner::Lspb => return Err(PlanError::MissingAccel),
+        Some(a) if !(a.is_finite() && a > 0.0) => return Err(PlanError::BadAccel { accel: a }),
+        _ => {}
+    }
+    if let Timing::TimeSlice(s) = options.timing {
+        if !(s.is_finite() && s > 0.0) {
+            return Err(PlanError::BadTimeSlice { seconds: s });
+        }
+        if options.planner == Planner::Contour {
+            return Err(PlanError::UnsupportedOption {
+                planner: "contour",
+                option: "a time slice",
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Plans one run (rest to rest) with the chosen planner and quantizes it.
+fn plan_run(
+    run: &TimedPoints,
+    options: &PlanOptions,
+    motion: Motion,
+    report: &mut PlanReport,
+) -> Result<PvtContour, PlanError> {
+    let planner = options.planner;
+    report.velocities_ignored |= run.velocities.is_some() && !planner.is_velocity_method();
+    match planner {
+        Planner::Contour => {
+            let planned = plan_contour(&polyline_of(run), motion)?;
+            Ok(quantize_whole(planned, options, report))
+        }
+        Planner::Lspb => {
+            let accel = options.accel.ok_or(PlanError::MissingAccel)?;
+            let (planned, raised) = plan_lspb(run, accel, motion);
+            report.lengthened_segments += raised;
+            Ok(quantize_whole(planned, options, report))
+        }
+        Planner::Chord | Planner::ConstAccel | Planner::Spline if run.velocities.is_some() => {
+            let given = run.velocities.as_deref().unwrap_or_default();
+            Ok(quantize_whole(
+                contour_from_velocities(run, given, motion),
+                options,
+                report,
+            ))
+        }
+        Planner::Pt | Planner::Chord | Planner::ConstAccel | Planner::Spline => {
+            let planned = plan_with_times(run, planner, motion);
+            let Some(q) = options.quantize else {
+                return Ok(planned);
+            };
+            let mut regridded = run.clone();
+            regridded
+                .durations
+                .iter_mut()
+                .for_each(|t| *t = quantize_time(*t, q));
+            let quantized = plan_with_times(&regridded, planner, motion);
+            note_change(report, &planned, &quantized, interpolation(options));
+            Ok(quantized)
+        }
+    }
+}
+
+/// The planners that keep the given times: PT and the three velocity methods.
+fn plan_with_times(run: &TimedPoints, planner: Planner, motion: Motion) -> PvtContour {
+    let velocities = match planner {
+        Planner::Pt => return plan_pt(run, motion),
+        Planner::ConstAccel => const_accel_velocities(run),
+        Planner::Spline => spline_velocities(run),
+        _ => chord_velocities(run),
+    };
+    contour_from_velocities(run, &velocities, motion)
+}
+
+/// Re-times a finished PVT contour onto the quantum grid, if asked.
+fn quantize_whole(
+    planned: PvtContour,
+    options: &PlanOptions,
+    report: &mut PlanReport,
+) -> PvtContour {
+    let Some(q) = options.quantize else {
+        return planned;
+    };
+    let quantized = retime(&planned, q);
+    note_change(report, &planned, &quantized, Interpolation::Pvt);
+    quantized
+}
+
+fn note_change(
+    report: &mut PlanReport,
+    before: &PvtContour,
+    after: &PvtContour,
+    interpolation: Interpolation,
+) {
+    let change = mid_speed_change(before, after, interpolation);
+    report.quantize_speed_change = report.quantize_speed_change.max(change);
+}
+
+/// A run as a polyline for the contour planner: feed = chord / time, dwells dropped.
+fn polyline_of(run: &TimedPoints) -> Polyline {
+    let mut poly = Polyline::start_at(run.point(0));
+    for i in 1..run.len() {
+        let (a, b) = (poly.last_point(), run.point(i));
+        let chord = distance(a, b);
+        if chord > 1e-12 * max_abs(a).max(max_abs(b)) {
+            poly.push(b, chord / run.durations[i - 1], run.lines[i - 1]);
+        }
+    }
+    poly
+}
+
+/// Appends the segments of `from` (which starts where `into` ends) to `into`.
+fn append(into: &mut PvtContour, from: &PvtContour) {
+    for seg in from.segments() {
+        into.push(seg.end, seg.velocity, seg.duration, seg.line);
+    }
+}
+
+#[cfg(test)]
+#[path = "planner_tests.rs"]
+mod planner_tests;

@@ -1,0 +1,164 @@
+//! Planners: polylines with target speeds to PVT contours.
+//!
+//! Owns the choice of velocity and time at every point. Planners never parse or print;
+//! each takes a [`Polyline`](crate::polyline::Polyline) (or a [`TimedPoints`] series) and
+//! returns a [`PvtContour`](crate::program::PvtContour) or a [`PlanError`] naming the source
+//! line at fault. One module per planner: `contour` (seed 000), `pt`, `chord`,
+//! `const_accel` (seed 001/002), `spline`, `lspb` (seed 004); `driver` dispatches on
+//! [`PlanOptions::planner`] and [`quantize`] puts piece times on a grid.
+
+mod chord;
+mod const_accel;
+mod contour;
+mod driver;
+mod lspb;
+mod options;
+mod pt;
+pub mod quantize;
+mod spline;
+mod timed;
+
+pub use chord::chord_velocities;
+pub use const_accel::const_accel_velocities;
+pub use contour::{plan_contour, segment_time, ContourStream, REVERSAL_TOLERANCE};
+pub use driver::{check_options, plan_timed, plan_toolpath_report, PlanReport, Planned};
+pub use lspb::{blend_corner_deviation, plan_lspb};
+pub use options::{Planner, Timing, UnknownPlanner};
+pub use pt::plan_pt;
+pub use spline::spline_velocities;
+pub use timed::TimedPoints;
+
+use crate::discretize::ChordTolerance;
+use crate::program::PvtProgram;
+use crate::toolpath::Toolpath;
+
+/// Why a contour could not be planned.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PlanError {
+    /// A segment's target speed is zero, negative or not finite.
+    #[error(
+        "segment from line {line} has feed {feed} units/s; a feed must be finite and positive"
+    )]
+    BadFeed {
+        /// Source line of the segment.
+        line: u32,
+        /// The offending feed, units/s.
+        feed: f64,
+    },
+    /// A coordinate is NaN or infinite.
+    #[error("a point programmed on line {line} has a coordinate that is not finite")]
+    NonFinitePoint {
+        /// Source line of the point.
+        line: u32,
+    },
+    /// The LSPB planner was chosen without an acceleration.
+    #[error("the lspb planner needs an acceleration limit")]
+    MissingAccel,
+    /// The acceleration limit is zero, negative or not finite.
+    #[error("acceleration {accel} units/s² must be finite and positive")]
+    BadAccel {
+        /// The offending acceleration.
+        accel: f64,
+    },
+    /// The time slice is zero, negative or not finite.
+    #[error("time slice {seconds} s must be finite and positive")]
+    BadTimeSlice {
+        /// The offending time slice, seconds.
+        seconds: f64,
+    },
+    /// The quantization step is zero, negative or not finite.
+    #[error("time quantum {seconds} s must be finite and positive")]
+    BadQuantum {
+        /// The offending quantum, seconds.
+        seconds: f64,
+    },
+    /// A given segment time is zero, negative or not finite.
+    #[error(
+        "segment ending on line {line} takes {duration} s; a time must be finite and positive"
+    )]
+    BadDuration {
+        /// Source line of the segment.
+        line: u32,
+        /// The offending time, seconds.
+        duration: f64,
+    },
+    /// Given velocities do not start or end at rest.
+    #[error("the point on line {line} has a velocity; a program starts and ends at rest")]
+    NotAtRest {
+        /// Source line of the point.
+        line: u32,
+    },
+    /// A point-time series whose lengths disagree (a caller's bug, not the user's).
+    #[error("point-time series lengths disagree with its number of axes and points")]
+    BadShape,
+    /// An option the chosen planner cannot honour.
+    #[error("the {planner} planner cannot take {option}")]
+    UnsupportedOption {
+        /// The planner's name.
+        planner: &'static str,
+        /// The option, in words.
+        option: &'static str,
+    },
+}
+
+impl PlanError {
+    /// Stable code of the error.
+    pub fn code(&self) -> &'static str {
+        match self {
+            PlanError::BadFeed { .. } => "pvtc::plan::bad_feed",
+            PlanError::NonFinitePoint { .. } => "pvtc::plan::non_finite_point",
+            PlanError::MissingAccel => "pvtc::plan::missing_accel",
+            PlanError::BadAccel { .. } => "pvtc::plan::bad_accel",
+            PlanError::BadTimeSlice { .. } => "pvtc::plan::bad_time_slice",
+            PlanError::BadQuantum { .. } => "pvtc::plan::bad_quantum",
+            PlanError::BadDuration { .. } => "pvtc::plan::bad_duration",
+            PlanError::NotAtRest { .. } => "pvtc::plan::not_at_rest",
+            PlanError::BadShape => "pvtc::plan::bad_shape",
+            PlanError::UnsupportedOption { .. } => "pvtc::plan::unsupported_option",
+        }
+    }
+
+    /// Source line the error names; 0 for an error about the options.
+    pub fn line(&self) -> u32 {
+        match self {
+            PlanError::BadFeed { line, .. }
+            | PlanError::NonFinitePoint { line }
+            | PlanError::BadDuration { line, .. }
+            | PlanError::NotAtRest { line } => *line,
+            _ => 0,
+        }
+    }
+}
+
+/// How to turn a toolpath into a program.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlanOptions {
+    /// Chord tolerance for arcs, program units.
+    pub tolerance: ChordTolerance,
+    /// Which planner chooses velocities and times.
+    pub planner: Planner,
+    /// Where segment times come from, for every planner but contour.
+    pub timing: Timing,
+    /// Acceleration limit, units/s², per axis (required by lspb).
+    pub accel: Option<f64>,
+    /// Round every piece time up to a whole multiple of this many seconds (e.g. 0.001).
+    pub quantize: Option<f64>,
+}
+
+impl Default for PlanOptions {
+    fn default() -> PlanOptions {
+        PlanOptions {
+            tolerance: ChordTolerance::new(ChordTolerance::DEFAULT_MM).expect("positive"),
+            planner: Planner::default(),
+            timing: Timing::default(),
+            accel: None,
+            quantize: None,
+        }
+    }
+}
+
+/// Plans every contour of a toolpath on the axes it moves with the chosen planner.
+/// Contours that do not move (every point the same) are left out.
+pub fn plan_toolpath(toolpath: &Toolpath, options: &PlanOptions) -> Result<PvtProgram, PlanError> {
+    plan_toolpath_report(toolpath, options).map(|planned| planned.program)
+}

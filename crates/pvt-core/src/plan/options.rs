@@ -1,0 +1,100 @@
+//! The planner and timing choices a user makes, by name.
+//!
+//! Owns the [`Planner`] and [`Timing`] enums and their spellings on a command line. It
+//! must not plan: the planners themselves live in their own modules.
+
+use std::fmt;
+use std::str::FromStr;
+
+/// Which method chooses the velocities (and, for some, the times) at the points.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Hash)]
+pub enum Planner {
+    /// Seed 000: velocity along the corner bisector at the feed, time from a quadratic.
+    #[default]
+    Contour,
+    /// Seed 001 PT: constant velocity between points.
+    Pt,
+    /// Seed 002 forward difference: the velocity at a point is its outgoing chord's.
+    Chord,
+    /// Seed 001 method 2: constant-acceleration fit from rest.
+    ConstAccel,
+    /// C2 cubic spline through the points with zero end velocities.
+    Spline,
+    /// Seed 004: linear segments with parabolic blends under an acceleration limit.
+    Lspb,
+}
+
+impl Planner {
+    /// Every planner, in the order the documentation lists them.
+    pub const ALL: [Planner; 6] = [
+        Planner::Contour,
+        Planner::Pt,
+        Planner::Chord,
+        Planner::ConstAccel,
+        Planner::Spline,
+        Planner::Lspb,
+    ];
+
+    /// The name used on the command line and in every output.
+    pub fn name(self) -> &'static str {
+        match self {
+            Planner::Contour => "contour",
+            Planner::Pt => "pt",
+            Planner::Chord => "chord",
+            Planner::ConstAccel => "const-accel",
+            Planner::Spline => "spline",
+            Planner::Lspb => "lspb",
+        }
+    }
+
+    /// True for the planners that take given times and choose only velocities.
+    pub fn is_velocity_method(self) -> bool {
+        matches!(self, Planner::Chord | Planner::ConstAccel | Planner::Spline)
+    }
+}
+
+impl fmt::Display for Planner {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A planner name that names no planner.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown planner `{0}`; expected one of contour, pt, chord, const-accel, spline, lspb")]
+pub struct UnknownPlanner(pub String);
+
+impl FromStr for Planner {
+    type Err = UnknownPlanner;
+
+    fn from_str(s: &str) -> Result<Planner, UnknownPlanner> {
+        Planner::ALL
+            .into_iter()
+            .find(|p| p.name().eq_ignore_ascii_case(s.trim()))
+            .ok_or_else(|| UnknownPlanner(s.to_owned()))
+    }
+}
+
+/// Where the time of each segment comes from, for the planners that take given times.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Timing {
+    /// Segment time = chord length / segment feed (seed 004).
+    #[default]
+    FromFeed,
+    /// Every segment takes this many seconds (seed 002's `TIME_SLICE`).
+    TimeSlice(f64),
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip() {
+        for p in Planner::ALL {
+            assert_eq!(p.name().parse::<Planner>(), Ok(p));
+        }
+        assert_eq!("CONST-ACCEL".parse::<Planner>(), Ok(Planner::ConstAccel));
+        assert!("cubic".parse::<Planner>().is_err());
+    }
+}

@@ -1,0 +1,199 @@
+//! The toolpath: what a part program or drawing asks the machine to do, as geometry.
+//!
+//! Owns lines, arcs (with plane, centre and direction), per-element feed and source span,
+//! and the grouping of elements into contours. It must not know any source syntax, and
+//! it holds no planned motion: that is [`crate::program`].
+
+use crate::axis::{Axis, Position, Units, AXIS_COUNT};
+
+/// Where in the source an element came from: byte range and 1-based line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Span {
+    /// Byte offset of the first byte.
+    pub start: usize,
+    /// Byte offset one past the last byte.
+    pub end: usize,
+    /// 1-based line number of `start`.
+    pub line: u32,
+}
+
+/// Whether a contour is cut at the programmed feed or traversed at the rapid rate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Motion {
+    /// G0: positioning at the rapid rate; each rapid move is its own rest-to-rest contour.
+    Rapid,
+    /// G1/G2/G3: cutting at the programmed feed.
+    Feed,
+}
+
+impl Motion {
+    /// The word used in every output: `rapid` or `feed`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Motion::Rapid => "rapid",
+            Motion::Feed => "feed",
+        }
+    }
+}
+
+/// The plane an arc lies in, named as G17/G18/G19 name them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Plane {
+    /// G17: first axis X, second Y, normal Z.
+    #[default]
+    XY,
+    /// G18: first axis Z, second X, normal Y.
+    ZX,
+    /// G19: first axis Y, second Z, normal X.
+    YZ,
+}
+
+impl Plane {
+    /// The (first, second, normal) axes; counter-clockwise turns first towards second.
+    pub fn axes(self) -> (Axis, Axis, Axis) {
+        match self {
+            Plane::XY => (Axis::X, Axis::Y, Axis::Z),
+            Plane::ZX => (Axis::Z, Axis::X, Axis::Y),
+            Plane::YZ => (Axis::Y, Axis::Z, Axis::X),
+        }
+    }
+
+    /// The in-plane coordinates (first, second) of a position.
+    pub fn project(self, p: &Position) -> [f64; 2] {
+        let (a, b, _) = self.axes();
+        [p[a.index()], p[b.index()]]
+    }
+}
+
+/// Sense of rotation seen from the positive end of the plane's normal axis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ArcDirection {
+    /// G2.
+    Clockwise,
+    /// G3.
+    CounterClockwise,
+}
+
+/// A circular (or helical) arc; start and end are those of its [`Element`].
+///
+/// Axes other than the plane's two move linearly with the swept angle (a helix when the
+/// normal axis moves). When the start and end radii differ (a program posted with few
+/// decimals), the radius changes linearly with angle so both end points stay exact.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Arc {
+    /// Plane of the circle.
+    pub plane: Plane,
+    /// Centre in the plane's (first, second) coordinates.
+    pub center: [f64; 2],
+    /// Sense of rotation.
+    pub direction: ArcDirection,
+    /// Extra full turns beyond the first sweep (G-code P word minus one).
+    pub extra_turns: u32,
+}
+
+impl Arc {
+    /// Start angle, signed sweep (positive counter-clockwise) and start/end radii.
+    pub fn sweep(&self, start: &Position, end: &Position) -> ArcSweep {
+        let s = self.plane.project(start);
+        let e = self.plane.project(end);
+        let (c0, c1) = (self.center[0], self.center[1]);
+        let a0 = libm::atan2(s[1] - c1, s[0] - c0);
+        let a1 = libm::atan2(e[1] - c1, e[0] - c0);
+        let tau = 2.0 * std::f64::consts::PI;
+        let mut sweep = match self.direction {
+            ArcDirection::CounterClockwise => a1 - a0,
+            ArcDirection::Clockwise => a0 - a1,
+        };
+        sweep = sweep.rem_euclid(tau);
+        // Same start and end angle: a full circle, not an empty arc.
+        if sweep <= 1e-12 * tau {
+            sweep = tau;
+        }
+        sweep += tau * f64::from(self.extra_turns);
+        let signed = match self.direction {
+            ArcDirection::CounterClockwise => sweep,
+            ArcDirection::Clockwise => -sweep,
+        };
+        ArcSweep {
+            start_angle: a0,
+            sweep: signed,
+            start_radius: libm::hypot(s[0] - c0, s[1] - c1),
+            end_radius: libm::hypot(e[0] - c0, e[1] - c1),
+        }
+    }
+}
+
+/// The angles and radii of an arc between two positions.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ArcSweep {
+    /// Angle of the start point about the centre, radians.
+    pub start_angle: f64,
+    /// Signed swept angle, radians, positive counter-clockwise, never zero.
+    pub sweep: f64,
+    /// Distance from centre to start point.
+    pub start_radius: f64,
+    /// Distance from centre to end point.
+    pub end_radius: f64,
+}
+
+/// What kind of geometry an element is.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ElementKind {
+    /// A straight move in all axes at once.
+    Line,
+    /// A circular or helical arc.
+    Arc(Arc),
+}
+
+/// One programmed move: geometry, feed and origin.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Element {
+    /// Line or arc.
+    pub kind: ElementKind,
+    /// Position before the move.
+    pub start: Position,
+    /// Position after the move.
+    pub end: Position,
+    /// Target path speed in units per second (the programmed feed, or the rapid rate).
+    pub feed: f64,
+    /// Where the move was programmed.
+    pub span: Span,
+}
+
+/// A run of elements the machine moves through without stopping, rest to rest.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Contour {
+    /// Rapid or feed.
+    pub motion: Motion,
+    /// The moves, each starting where the previous one ended.
+    pub elements: Vec<Element>,
+}
+
+/// Everything a source asks for, in order, in one set of units.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Toolpath {
+    /// Units of every linear coordinate and feed.
+    pub units: Units,
+    /// Contours in execution order.
+    pub contours: Vec<Contour>,
+}
+
+impl Toolpath {
+    /// The axes whose position changes anywhere in the toolpath, in X Y Z A B C order.
+    pub fn moved_axes(&self) -> Vec<Axis> {
+        let mut moved = [false; AXIS_COUNT];
+        for element in self.contours.iter().flat_map(|c| &c.elements) {
+            for (i, flag) in moved.iter_mut().enumerate() {
+                if element.start[i] != element.end[i] {
+                    *flag = true;
+                }
+            }
+            if let ElementKind::Arc(arc) = element.kind {
+                let (a, b, _) = arc.plane.axes();
+                moved[a.index()] = true;
+                moved[b.index()] = true;
+            }
+        }
+        Axis::ALL.into_iter().filter(|a| moved[a.index()]).collect()
+    }
+}
