@@ -1,0 +1,228 @@
+//! The G and M code table: which codes pvtc executes, which are RS274NGC features it
+//! does not (named, for the `unsupported` diagnostic), and what other letters mean.
+//!
+//! Owns the classification only; it must not hold modal state or execute anything.
+//! Growing the dialect (issue 4) means moving rows from [`Feature`] to executed codes.
+
+use pvt_core::{ArcDirection, Plane, Units};
+
+/// A motion mode (modal group 1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum MotionMode {
+    /// G0.
+    Rapid,
+    /// G1.
+    Linear,
+    /// G2 (clockwise) or G3 (counter-clockwise).
+    Arc(ArcDirection),
+    /// G80: motion cancelled; axis words are an error until the next motion code.
+    Cancel,
+    /// A motion code pvtc does not execute (canned cycles, probing, splines…);
+    /// blocks in this mode are skipped (the code itself was reported).
+    Unsupported,
+}
+
+impl MotionMode {
+    /// The code as a machinist writes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            MotionMode::Rapid => "G0",
+            MotionMode::Linear => "G1",
+            MotionMode::Arc(ArcDirection::Clockwise) => "G2",
+            MotionMode::Arc(ArcDirection::CounterClockwise) => "G3",
+            MotionMode::Cancel => "G80",
+            MotionMode::Unsupported => "an unsupported cycle",
+        }
+    }
+}
+
+/// Distance mode (G90/G91).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub(crate) enum Distance {
+    /// G90: axis words are positions.
+    #[default]
+    Absolute,
+    /// G91: axis words are increments.
+    Incremental,
+}
+
+/// An RS274NGC feature beyond what pvtc compiles.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Feature {
+    /// The feature in machinist's words.
+    pub name: &'static str,
+    /// True when the code uses the block's axis words for something other than a move.
+    pub uses_axis_words: bool,
+}
+
+/// What a G code does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum GCode {
+    /// Modal group 1.
+    Motion(MotionMode),
+    /// G17/G18/G19.
+    Plane(Plane),
+    /// G20/G21.
+    Units(Units),
+    /// G90/G91.
+    Distance(Distance),
+    /// G94: feed in units per minute, the only feed mode.
+    FeedPerMinute,
+    /// A code that cancels or selects a state pvtc is always in (G40, G49, G91.1).
+    NoOp(&'static str),
+    /// A known code pvtc does not execute.
+    Unsupported(Feature),
+}
+
+/// The code number in tenths (`G38.2` → 382), if it is a plausible code number.
+pub(crate) fn tenths(value: f64) -> Option<u32> {
+    let t = value * 10.0;
+    let rounded = t.round();
+    ((0.0..=9999.0).contains(&rounded) && (t - rounded).abs() < 1e-6).then_some(rounded as u32)
+}
+
+const fn feature(name: &'static str, uses_axis_words: bool) -> Feature {
+    Feature {
+        name,
+        uses_axis_words,
+    }
+}
+
+/// The G code with number `tenths`, if RS274NGC knows it.
+pub(crate) fn g_code(tenths: u32) -> Option<GCode> {
+    use GCode::*;
+    Some(match tenths {
+        0 => Motion(MotionMode::Rapid),
+        10 => Motion(MotionMode::Linear),
+        20 => Motion(MotionMode::Arc(ArcDirection::Clockwise)),
+        30 => Motion(MotionMode::Arc(ArcDirection::CounterClockwise)),
+        800 => Motion(MotionMode::Cancel),
+        170 => Plane(pvt_core::Plane::XY),
+        180 => Plane(pvt_core::Plane::ZX),
+        190 => Plane(pvt_core::Plane::YZ),
+        200 => Units(pvt_core::Units::Inch),
+        210 => Units(pvt_core::Units::Millimetre),
+        900 => Distance(self::Distance::Absolute),
+        910 => Distance(self::Distance::Incremental),
+        940 => FeedPerMinute,
+        400 => NoOp("cutter radius compensation off"),
+        490 => NoOp("tool length compensation off"),
+        911 => NoOp("incremental arc centres"),
+        50..=53 | 330 | 331 | 382..=385 | 730 | 760 | 810..=890 => Motion(MotionMode::Unsupported),
+        _ => return unsupported_g(tenths).map(Unsupported),
+    })
+}
+
+/// The feature of a G code pvtc knows but does not execute (motion group excluded).
+fn unsupported_g(tenths: u32) -> Option<Feature> {
+    Some(match tenths {
+        40 => feature("dwell", false),
+        70 | 80 => feature("lathe diameter/radius mode", false),
+        100 => feature("setting offset tables", true),
+        171 | 181 | 191 => feature("UVW planes", false),
+        280 | 281 | 300 | 301 => feature("moves to stored home positions", true),
+        410 | 411 | 420 | 421 => feature("cutter radius compensation", false),
+        430..=432 => feature("tool length compensation", false),
+        520 => feature("local coordinate offsets", true),
+        530 => feature("machine coordinates", true),
+        540 | 550 | 560 | 570 | 580 | 590 | 591 | 592 | 593 => {
+            feature("work coordinate systems", false)
+        }
+        610 | 611 | 640 => feature("path control modes", false),
+        700 | 710 | 720 => feature("lathe cycles", true),
+        901 => feature("absolute arc centres", false),
+        920..=923 => feature("coordinate offsets (G92)", true),
+        930 => feature("inverse time feed", false),
+        950 => feature("feed per revolution", false),
+        960 | 970 => feature("spindle speed modes", false),
+        980 | 990 => feature("canned cycle return levels", false),
+        _ => return None,
+    })
+}
+
+/// The feature of a motion-group code pvtc does not execute.
+pub(crate) fn motion_feature(tenths: u32) -> &'static str {
+    match tenths {
+        50..=53 => "splines and NURBS",
+        330 | 331 => "spindle-synchronized motion",
+        382..=385 => "probing",
+        _ => "canned cycles",
+    }
+}
+
+/// What an M code does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum MCode {
+    /// M0/M1: program pause; ends the current contour.
+    Pause,
+    /// M2/M30: program end; nothing after it is read.
+    End,
+    /// A known code pvtc does not execute.
+    Unsupported(&'static str),
+}
+
+/// The M code with number `tenths`, if RS274NGC knows it.
+pub(crate) fn m_code(tenths: u32) -> Option<MCode> {
+    use MCode::*;
+    Some(match tenths {
+        0 | 10 => Pause,
+        20 | 300 => End,
+        30 | 40 | 50 => Unsupported("spindle control"),
+        60 => Unsupported("tool change"),
+        70 | 80 | 90 => Unsupported("coolant control"),
+        190 => Unsupported("spindle orientation"),
+        480..=530 if tenths % 10 == 0 => Unsupported("feed and speed overrides"),
+        600 => Unsupported("pallet change"),
+        610 => Unsupported("setting the current tool"),
+        620..=680 if tenths % 10 == 0 => Unsupported("digital and analog outputs"),
+        700..=730 if tenths % 10 == 0 => Unsupported("saving and restoring modal state"),
+        1000..=1990 if tenths % 10 == 0 => Unsupported("user-defined M codes"),
+        _ => return None,
+    })
+}
+
+/// What a letter pvtc does not read means in RS274NGC (for `unknown_word`).
+pub(crate) fn letter_meaning(letter: u8) -> &'static str {
+    match letter {
+        b'D' => "D selects a cutter compensation offset, which pvtc does not use",
+        b'E' => "E is not an RS274NGC word (extruder or thread lead in other dialects)",
+        b'H' => "H selects a tool length offset, which pvtc does not use",
+        b'L' => "L is a loop count or G10 selector, which pvtc does not use",
+        b'O' => "O words (subroutines, program numbers) are not read by pvtc",
+        b'P' => "P is a dwell time or cycle parameter, which pvtc does not use",
+        b'Q' => "Q is a canned-cycle peck increment, which pvtc does not use",
+        b'S' => "S is the spindle speed, which pvtc does not use",
+        b'T' => "T selects a tool, which pvtc does not use",
+        b'U' | b'V' | b'W' => "U, V and W are secondary axes, which pvtc does not drive",
+        _ => "pvtc does not know this letter",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tenths_reads_decimal_codes() {
+        assert_eq!(tenths(1.0), Some(10));
+        assert_eq!(tenths(38.2), Some(382));
+        assert_eq!(tenths(91.1), Some(911));
+        assert_eq!(tenths(1.25), None);
+        assert_eq!(tenths(-1.0), None);
+        assert_eq!(tenths(1e300), None);
+    }
+
+    #[test]
+    fn tables_classify_codes() {
+        assert_eq!(g_code(10), Some(GCode::Motion(MotionMode::Linear)));
+        assert_eq!(g_code(810), Some(GCode::Motion(MotionMode::Unsupported)));
+        assert!(
+            matches!(g_code(410), Some(GCode::Unsupported(f)) if f.name == "cutter radius compensation")
+        );
+        assert_eq!(g_code(7000), None);
+        assert_eq!(m_code(60), Some(MCode::Unsupported("tool change")));
+        assert_eq!(m_code(300), Some(MCode::End));
+        assert_eq!(m_code(485), None);
+        assert_eq!(m_code(15), None);
+    }
+}

@@ -1,0 +1,513 @@
+//! Diagnostics: every error and warning the front end reports, with its stable code and span.
+//!
+//! Owns the wording, the codes (`pvtc::gcode::<name>`) and the help lines; it must not
+//! decide when a diagnostic applies (the parser and interpreter do) nor render anything
+//! (the CLI does, through miette).
+
+use std::ops::Range;
+
+use miette::SourceSpan;
+
+/// One error or warning about a G-code program, labelled under the offending text.
+///
+/// Match on [`GcodeDiagnostic::code`] rather than on variants: the fuller dialect adds more.
+#[derive(Debug, Clone, PartialEq, thiserror::Error, miette::Diagnostic)]
+#[non_exhaustive]
+pub enum GcodeDiagnostic {
+    /// Malformed text: a letter without a number, a bad number, an unclosed comment.
+    #[error("syntax error: {detail}")]
+    #[diagnostic(code(pvtc::gcode::syntax), help("{hint}"))]
+    Syntax {
+        /// What is wrong, quoting the text.
+        detail: String,
+        /// How to write it instead.
+        hint: &'static str,
+        /// The malformed text.
+        #[label("not valid G-code")]
+        span: SourceSpan,
+    },
+
+    /// A word whose letter pvtc does not know (`Q5`, `S1000`) or a code that is no G-code.
+    #[error("unknown word `{word}`: {meaning}")]
+    #[diagnostic(
+        code(pvtc::gcode::unknown_word),
+        help("pvtc reads G, M, N, F, X, Y, Z, A, B, C, I, J, K and R words; remove this one")
+    )]
+    UnknownWord {
+        /// The word as written.
+        word: String,
+        /// What the letter means in RS274NGC, or why the word is not G-code.
+        meaning: &'static str,
+        /// The word.
+        #[label("unknown word")]
+        span: SourceSpan,
+    },
+
+    /// An RS274NGC feature this version of pvtc does not compile (`G81`, `G41`, `M6`, `#1`).
+    #[error("{code} ({feature}) is not supported by pvtc")]
+    #[diagnostic(
+        code(pvtc::gcode::unsupported),
+        help("post the program without {feature}, or remove the block")
+    )]
+    Unsupported {
+        /// The code or token, e.g. `G81`.
+        code: String,
+        /// The feature it belongs to, in machinist's words.
+        feature: &'static str,
+        /// The code.
+        #[label("{feature}")]
+        span: SourceSpan,
+    },
+
+    /// Two motion codes (G0, G1, G2, G3, G80, cycles) in one block.
+    #[error("two motion codes in one block: {first} and {second}")]
+    #[diagnostic(
+        code(pvtc::gcode::conflicting_motion),
+        help("put each move in its own block")
+    )]
+    ConflictingMotion {
+        /// The first motion code.
+        first: String,
+        /// The second motion code.
+        second: String,
+        /// The second motion code.
+        #[label("second motion code")]
+        span: SourceSpan,
+    },
+
+    /// Two codes of one modal group other than motion (`G20 G21`, `G90 G91`, `M0 M2`).
+    #[error("{first} and {second} in one block both set the {group}")]
+    #[diagnostic(
+        code(pvtc::gcode::conflicting_modes),
+        help("keep one of the two codes")
+    )]
+    ConflictingModes {
+        /// The first code.
+        first: String,
+        /// The second code.
+        second: String,
+        /// The modal group both belong to.
+        group: &'static str,
+        /// The second code.
+        #[label("conflicts with {first}")]
+        span: SourceSpan,
+    },
+
+    /// The same axis twice in one block (`X1 X2`).
+    #[error("axis {axis} appears twice in one block: {first} and {second}")]
+    #[diagnostic(
+        code(pvtc::gcode::repeated_axis),
+        help("give each axis once per block")
+    )]
+    RepeatedAxis {
+        /// The axis letter.
+        axis: char,
+        /// The first word.
+        first: String,
+        /// The second word.
+        second: String,
+        /// The second word.
+        #[label("repeated axis")]
+        span: SourceSpan,
+    },
+
+    /// The same non-axis word twice in one block (`F100 F200`, `I1 I2`).
+    #[error("word {letter} appears twice in one block: {first} and {second}")]
+    #[diagnostic(
+        code(pvtc::gcode::repeated_word),
+        help("give each word once per block")
+    )]
+    RepeatedWord {
+        /// The letter.
+        letter: char,
+        /// The first word.
+        first: String,
+        /// The second word.
+        second: String,
+        /// The second word.
+        #[label("repeated word")]
+        span: SourceSpan,
+    },
+
+    /// Axis words while no motion mode is in effect (before any G0/G1, or after G80).
+    #[error("axis word {word} but no motion mode (G0, G1, G2 or G3) is in effect")]
+    #[diagnostic(
+        code(pvtc::gcode::no_motion_mode),
+        help("program G0 or G1 in this block or before it")
+    )]
+    NoMotionMode {
+        /// The first axis word of the block.
+        word: String,
+        /// The axis word.
+        #[label("which motion?")]
+        span: SourceSpan,
+    },
+
+    /// An arc word (I, J, K, R) in a block whose motion is not G2/G3.
+    #[error("{word} is an arc word but the motion mode is {mode}")]
+    #[diagnostic(
+        code(pvtc::gcode::arc_word_without_arc),
+        help("I, J, K and R belong to G2/G3 blocks; remove the word or program G2/G3")
+    )]
+    ArcWordWithoutArc {
+        /// The arc word.
+        word: String,
+        /// The motion mode in effect, e.g. `G1`.
+        mode: &'static str,
+        /// The arc word.
+        #[label("not an arc")]
+        span: SourceSpan,
+    },
+
+    /// G2/G3 with neither I/J/K centre offsets nor R.
+    #[error("{mode} arc without a centre: neither I/J/K offsets nor R given")]
+    #[diagnostic(
+        code(pvtc::gcode::arc_missing_center),
+        help("give the centre as I/J/K offsets from the start point, or the radius as R")
+    )]
+    ArcMissingCenter {
+        /// `G2` or `G3`.
+        mode: &'static str,
+        /// The motion code or the axis words.
+        #[label("arc without centre")]
+        span: SourceSpan,
+    },
+
+    /// R together with I/J/K in one arc.
+    #[error("R together with I/J/K: an arc takes either centre offsets or a radius")]
+    #[diagnostic(
+        code(pvtc::gcode::arc_r_with_center),
+        help("remove R or the I/J/K words")
+    )]
+    ArcRWithCenter {
+        /// The R word.
+        #[label("R with I/J/K")]
+        span: SourceSpan,
+    },
+
+    /// An R-form arc whose end point is its start point.
+    #[error("R-form arc ends where it starts: a radius cannot define a full circle")]
+    #[diagnostic(
+        code(pvtc::gcode::arc_full_circle_r),
+        help("program a full circle with I/J/K centre offsets")
+    )]
+    ArcFullCircleR {
+        /// The R word.
+        #[label("full circle by radius")]
+        span: SourceSpan,
+    },
+
+    /// An R-form arc whose radius cannot reach the end point.
+    #[error("arc radius {} {units} is smaller than half the distance to the end point ({} {units})", show(*radius), show(*half_chord))]
+    #[diagnostic(
+        code(pvtc::gcode::arc_radius_too_small),
+        help("the radius must be at least half the chord from start to end point")
+    )]
+    ArcRadiusTooSmall {
+        /// |R| in output units.
+        radius: f64,
+        /// Half the distance from start to end point in the arc's plane.
+        half_chord: f64,
+        /// `mm` or `in`.
+        units: &'static str,
+        /// The R word.
+        #[label("radius too small")]
+        span: SourceSpan,
+    },
+
+    /// A centre-form arc whose end point is not on the circle through its start point.
+    #[error("arc start radius {} {units} and end radius {} {units} differ by {} {units}", show(*start_radius), show(*end_radius), show((start_radius - end_radius).abs()))]
+    #[diagnostic(
+        code(pvtc::gcode::arc_radius_mismatch),
+        help("the end point must lie on the circle about the centre (allowed: {} {units}, or {}% of the radius, whichever is larger); check I/J/K and the end point", show(*abs_tolerance), show(rel_tolerance * 100.0))
+    )]
+    ArcRadiusMismatch {
+        /// Distance from centre to start point, output units.
+        start_radius: f64,
+        /// Distance from centre to end point, output units.
+        end_radius: f64,
+        /// Absolute tolerance in output units.
+        abs_tolerance: f64,
+        /// Relative tolerance (fraction of the start radius).
+        rel_tolerance: f64,
+        /// `mm` or `in`.
+        units: &'static str,
+        /// The end point and centre words.
+        #[label("end point off the circle")]
+        span: SourceSpan,
+    },
+
+    /// A centre-form arc whose centre is its start point.
+    #[error("arc centre is the start point: radius 0")]
+    #[diagnostic(
+        code(pvtc::gcode::arc_zero_radius),
+        help("I/J/K are offsets from the start point to the centre, not the centre itself")
+    )]
+    ArcZeroRadius {
+        /// The centre words.
+        #[label("zero radius")]
+        span: SourceSpan,
+    },
+
+    /// A centre offset that does not belong to the active plane (K in G17).
+    #[error("{word} is not a centre offset in the {plane} plane")]
+    #[diagnostic(
+        code(pvtc::gcode::arc_offset_off_plane),
+        help("G17 takes I and J, G18 takes K and I, G19 takes J and K")
+    )]
+    ArcOffsetOffPlane {
+        /// The offset word.
+        word: String,
+        /// The plane, e.g. `XY (G17)`.
+        plane: &'static str,
+        /// The offset word.
+        #[label("off the plane")]
+        span: SourceSpan,
+    },
+
+    /// A feed move before any F word and without a default feed.
+    #[error("feed move before any F word, and no default feed was given")]
+    #[diagnostic(
+        code(pvtc::gcode::no_feed),
+        help("add an F word (units per minute) at or before the first G1/G2/G3, or give a default feed")
+    )]
+    NoFeed {
+        /// The move.
+        #[label("at what feed?")]
+        span: SourceSpan,
+    },
+
+    /// A feed move at F0 or a negative feed.
+    #[error("feed move at {feed}: the feed must be positive")]
+    #[diagnostic(code(pvtc::gcode::zero_feed), help("program a positive F word"))]
+    ZeroFeed {
+        /// The F word in effect, e.g. `F0`.
+        feed: String,
+        /// The F word, or the move when F came from an earlier block.
+        #[label("feed not positive")]
+        span: SourceSpan,
+    },
+
+    /// A coordinate, centre or feed too large to represent.
+    #[error("{what} is out of range ({value})")]
+    #[diagnostic(
+        code(pvtc::gcode::out_of_range),
+        help("check the numbers of this block")
+    )]
+    OutOfRange {
+        /// What overflowed, e.g. `X coordinate`.
+        what: &'static str,
+        /// The value reached.
+        value: f64,
+        /// The block.
+        #[label("out of range")]
+        span: SourceSpan,
+    },
+
+    /// Warning: a move that ends where it starts; it is dropped.
+    #[error("move ends where it starts; it is dropped")]
+    #[diagnostic(
+        code(pvtc::gcode::zero_length_move),
+        severity(Warning),
+        help("remove the block if it is not needed")
+    )]
+    ZeroLengthMove {
+        /// The block.
+        #[label("zero-length move")]
+        span: SourceSpan,
+    },
+
+    /// Warning: blocks after the program end (M2, M30, closing `%`) are ignored.
+    #[error("blocks after {end} are ignored")]
+    #[diagnostic(
+        code(pvtc::gcode::after_program_end),
+        severity(Warning),
+        help("move the program end to the last block")
+    )]
+    AfterProgramEnd {
+        /// The end code, e.g. `M30`.
+        end: String,
+        /// The first ignored block.
+        #[label("never executed")]
+        span: SourceSpan,
+    },
+
+    /// A program without any motion (empty, or only comments and modes).
+    #[error("the program has no motion")]
+    #[diagnostic(
+        code(pvtc::gcode::no_motion),
+        help("a part program needs at least one G0, G1, G2 or G3 move")
+    )]
+    NoMotion {
+        /// The start of the file.
+        #[label("no move in this file")]
+        span: SourceSpan,
+    },
+}
+
+impl GcodeDiagnostic {
+    /// The stable code, e.g. `pvtc::gcode::arc_radius_mismatch`.
+    pub fn code(&self) -> &'static str {
+        use GcodeDiagnostic as D;
+        match self {
+            D::Syntax { .. } => "pvtc::gcode::syntax",
+            D::UnknownWord { .. } => "pvtc::gcode::unknown_word",
+            D::Unsupported { .. } => "pvtc::gcode::unsupported",
+            D::ConflictingMotion { .. } => "pvtc::gcode::conflicting_motion",
+            D::ConflictingModes { .. } => "pvtc::gcode::conflicting_modes",
+            D::RepeatedAxis { .. } => "pvtc::gcode::repeated_axis",
+            D::RepeatedWord { .. } => "pvtc::gcode::repeated_word",
+            D::NoMotionMode { .. } => "pvtc::gcode::no_motion_mode",
+            D::ArcWordWithoutArc { .. } => "pvtc::gcode::arc_word_without_arc",
+            D::ArcMissingCenter { .. } => "pvtc::gcode::arc_missing_center",
+            D::ArcRWithCenter { .. } => "pvtc::gcode::arc_r_with_center",
+            D::ArcFullCircleR { .. } => "pvtc::gcode::arc_full_circle_r",
+            D::ArcRadiusTooSmall { .. } => "pvtc::gcode::arc_radius_too_small",
+            D::ArcRadiusMismatch { .. } => "pvtc::gcode::arc_radius_mismatch",
+            D::ArcZeroRadius { .. } => "pvtc::gcode::arc_zero_radius",
+            D::ArcOffsetOffPlane { .. } => "pvtc::gcode::arc_offset_off_plane",
+            D::NoFeed { .. } => "pvtc::gcode::no_feed",
+            D::ZeroFeed { .. } => "pvtc::gcode::zero_feed",
+            D::OutOfRange { .. } => "pvtc::gcode::out_of_range",
+            D::ZeroLengthMove { .. } => "pvtc::gcode::zero_length_move",
+            D::AfterProgramEnd { .. } => "pvtc::gcode::after_program_end",
+            D::NoMotion { .. } => "pvtc::gcode::no_motion",
+        }
+    }
+
+    /// Byte range of the offending text in the source.
+    pub fn span(&self) -> Range<usize> {
+        let span = *self.source_span();
+        span.offset()..span.offset() + span.len()
+    }
+
+    /// True for warnings (the program still compiles), false for errors.
+    pub fn is_warning(&self) -> bool {
+        matches!(
+            self,
+            Self::ZeroLengthMove { .. } | Self::AfterProgramEnd { .. }
+        )
+    }
+
+    fn source_span(&self) -> &SourceSpan {
+        use GcodeDiagnostic as D;
+        match self {
+            D::Syntax { span, .. }
+            | D::UnknownWord { span, .. }
+            | D::Unsupported { span, .. }
+            | D::ConflictingMotion { span, .. }
+            | D::ConflictingModes { span, .. }
+            | D::RepeatedAxis { span, .. }
+            | D::RepeatedWord { span, .. }
+            | D::NoMotionMode { span, .. }
+            | D::ArcWordWithoutArc { span, .. }
+            | D::ArcMissingCenter { span, .. }
+            | D::ArcRWithCenter { span }
+            | D::ArcFullCircleR { span }
+            | D::ArcRadiusTooSmall { span, .. }
+            | D::ArcRadiusMismatch { span, .. }
+            | D::ArcZeroRadius { span }
+            | D::ArcOffsetOffPlane { span, .. }
+            | D::NoFeed { span }
+            | D::ZeroFeed { span, .. }
+            | D::OutOfRange { span, .. }
+            | D::ZeroLengthMove { span }
+            | D::AfterProgramEnd { span, .. }
+            | D::NoMotion { span } => span,
+        }
+    }
+}
+
+/// Every error of one program, in source order; the CLI renders them all.
+#[derive(Debug, Clone, PartialEq, thiserror::Error, miette::Diagnostic)]
+#[error("{}", count_errors(.diagnostics.len()))]
+#[diagnostic(code(pvtc::gcode::errors))]
+pub struct GcodeErrors {
+    /// The errors, sorted by source position.
+    #[related]
+    pub diagnostics: Vec<GcodeDiagnostic>,
+}
+
+fn count_errors(n: usize) -> String {
+    match n {
+        1 => "the G-code program has 1 error".to_owned(),
+        n => format!("the G-code program has {n} errors"),
+    }
+}
+
+/// The 1-based line and column (in characters, a BOM not counted) of a byte offset.
+///
+/// An offset past the end names the end of the source; one inside a character names it.
+pub fn line_col(source: &str, byte_offset: usize) -> (usize, usize) {
+    let mut offset = byte_offset.min(source.len());
+    while !source.is_char_boundary(offset) {
+        offset -= 1;
+    }
+    let before = &source[..offset];
+    let line = 1 + before.bytes().filter(|&b| b == b'\n').count();
+    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+    let text = &before[line_start..];
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    (line, 1 + text.chars().count())
+}
+
+/// A length or angle for a message: up to six decimals, trailing zeros trimmed.
+pub(crate) fn show(x: f64) -> String {
+    let s = format!("{x:.6}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_owned()
+    } else {
+        s
+    }
+}
+
+/// A span for miette from a byte range.
+pub(crate) fn span(range: Range<usize>) -> SourceSpan {
+    SourceSpan::from(range.start..range.end.max(range.start))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use miette::Diagnostic;
+
+    #[test]
+    fn line_col_counts_lines_and_characters() {
+        let src = "G0 X1\nG1 é Y2\r\nG2";
+        assert_eq!(line_col(src, 0), (1, 1));
+        assert_eq!(line_col(src, 6), (2, 1));
+        // After the two-byte é, the column counts characters.
+        assert_eq!(line_col(src, 12), (2, 6));
+        // Inside é: the character's own column.
+        assert_eq!(line_col(src, 10), (2, 4));
+        assert_eq!(line_col(src, 1000), (3, 3));
+        assert_eq!(line_col("\u{feff}G0", 3), (1, 1));
+    }
+
+    #[test]
+    fn code_matches_miette_code() {
+        let s = span(0..1);
+        let all = [
+            GcodeDiagnostic::ArcRWithCenter { span: s },
+            GcodeDiagnostic::NoFeed { span: s },
+            GcodeDiagnostic::NoMotion { span: s },
+            GcodeDiagnostic::ZeroLengthMove { span: s },
+            GcodeDiagnostic::Syntax {
+                detail: String::new(),
+                hint: "",
+                span: s,
+            },
+        ];
+        for d in all {
+            assert_eq!(d.code(), Diagnostic::code(&d).unwrap().to_string());
+            assert_eq!(d.span(), 0..1);
+        }
+    }
+
+    #[test]
+    fn show_trims_zeros() {
+        assert_eq!(show(7.0), "7");
+        assert_eq!(show(7.01), "7.01");
+        assert_eq!(show(0.0000787), "0.000079");
+    }
+}

@@ -1,0 +1,192 @@
+//! What one block asks for: its words sorted by meaning, conflicts and unknowns reported.
+//!
+//! Owns the per-block checks that need no modal state (unknown letters and codes,
+//! unsupported features, two codes of one modal group, a repeated word); it must not
+//! change modal state or produce motion (that is [`crate::interpreter`]).
+
+use pvt_core::{Axis, Plane, Units, AXIS_COUNT};
+
+use crate::block::{Block, Word};
+use crate::codes::{self, Distance, GCode, MCode, MotionMode};
+use crate::diagnostic::{span, GcodeDiagnostic};
+
+/// A program stop (modal group 4).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Stop {
+    /// M0/M1.
+    Pause,
+    /// M2/M30.
+    End,
+}
+
+/// The words of one block, by meaning; each with the word that gave it.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Request {
+    pub motion: Option<(MotionMode, Word)>,
+    pub plane: Option<(Plane, Word)>,
+    pub units: Option<(Units, Word)>,
+    pub distance: Option<(Distance, Word)>,
+    pub stop: Option<(Stop, Word)>,
+    /// X Y Z A B C, indexed by [`Axis::index`].
+    pub axes: [Option<Word>; AXIS_COUNT],
+    /// I J K.
+    pub offsets: [Option<Word>; 3],
+    pub radius: Option<Word>,
+    pub feed: Option<Word>,
+    /// The block makes no move: an unsupported code uses its axis words, or its motion
+    /// codes conflict (both reported).
+    pub no_move: bool,
+}
+
+impl Request {
+    /// Sorts the words of `block`, reporting unknown, unsupported and conflicting ones.
+    pub fn read(block: &Block, errors: &mut Vec<GcodeDiagnostic>) -> Request {
+        let mut request = Request::default();
+        for &word in &block.words {
+            match word.letter {
+                b'G' => request.read_g(word, errors),
+                b'M' => request.read_m(word, errors),
+                b'I' | b'J' | b'K' => {
+                    let slot = &mut request.offsets[usize::from(word.letter - b'I')];
+                    put_word(slot, word, errors);
+                }
+                b'R' => put_word(&mut request.radius, word, errors),
+                b'F' => put_word(&mut request.feed, word, errors),
+                letter => match Axis::from_letter(char::from(letter)) {
+                    Some(axis) => put_word(&mut request.axes[axis.index()], word, errors),
+                    None => errors.push(GcodeDiagnostic::UnknownWord {
+                        word: word.name(),
+                        meaning: codes::letter_meaning(letter),
+                        span: span(word.span()),
+                    }),
+                },
+            }
+        }
+        request
+    }
+
+    /// True when the block has any axis word.
+    pub fn has_axis_words(&self) -> bool {
+        self.axes.iter().any(Option::is_some)
+    }
+
+    /// The block's axis words, in X Y Z A B C order.
+    pub fn axis_words(&self) -> impl Iterator<Item = &Word> {
+        self.axes.iter().flatten()
+    }
+
+    fn read_g(&mut self, word: Word, errors: &mut Vec<GcodeDiagnostic>) {
+        let tenths = codes::tenths(word.value);
+        let Some(code) = tenths.and_then(codes::g_code) else {
+            return errors.push(unknown_code(word, "not an RS274NGC G code"));
+        };
+        let modes =
+            |group| move |first: Word, second: Word| conflicting_modes(first, second, group);
+        match code {
+            GCode::Motion(mode) => {
+                if mode == MotionMode::Unsupported {
+                    let feature = codes::motion_feature(tenths.unwrap_or(0));
+                    errors.push(unsupported(word, feature));
+                }
+                self.no_move |= self.motion.is_some();
+                put_mode(&mut self.motion, mode, word, errors, conflicting_motion);
+            }
+            GCode::Plane(p) => put_mode(&mut self.plane, p, word, errors, modes("plane")),
+            GCode::Units(u) => put_mode(&mut self.units, u, word, errors, modes("length units")),
+            GCode::Distance(d) => {
+                put_mode(&mut self.distance, d, word, errors, modes("distance mode"))
+            }
+            GCode::FeedPerMinute | GCode::NoOp(_) => {}
+            GCode::Unsupported(feature) => {
+                errors.push(unsupported(word, feature.name));
+                self.no_move |= feature.uses_axis_words;
+            }
+        }
+    }
+
+    fn read_m(&mut self, word: Word, errors: &mut Vec<GcodeDiagnostic>) {
+        match codes::tenths(word.value).and_then(codes::m_code) {
+            Some(MCode::Pause) => {
+                put_mode(&mut self.stop, Stop::Pause, word, errors, stop_conflict)
+            }
+            Some(MCode::End) => put_mode(&mut self.stop, Stop::End, word, errors, stop_conflict),
+            Some(MCode::Unsupported(feature)) => errors.push(unsupported(word, feature)),
+            None => errors.push(unknown_code(word, "not an RS274NGC M code")),
+        }
+    }
+}
+
+/// Stores a modal code, or reports a conflict with the one already there.
+fn put_mode<T>(
+    slot: &mut Option<(T, Word)>,
+    value: T,
+    word: Word,
+    errors: &mut Vec<GcodeDiagnostic>,
+    conflict: impl FnOnce(Word, Word) -> GcodeDiagnostic,
+) {
+    match slot {
+        Some((_, first)) => errors.push(conflict(*first, word)),
+        None => *slot = Some((value, word)),
+    }
+}
+
+/// Stores a value word, or reports it as repeated.
+fn put_word(slot: &mut Option<Word>, word: Word, errors: &mut Vec<GcodeDiagnostic>) {
+    let Some(first) = slot else {
+        *slot = Some(word);
+        return;
+    };
+    let (first, second, span) = (first.name(), word.name(), span(word.span()));
+    let letter = word.letter_char();
+    errors.push(match Axis::from_letter(letter) {
+        Some(_) => GcodeDiagnostic::RepeatedAxis {
+            axis: letter,
+            first,
+            second,
+            span,
+        },
+        None => GcodeDiagnostic::RepeatedWord {
+            letter,
+            first,
+            second,
+            span,
+        },
+    });
+}
+
+fn conflicting_motion(first: Word, second: Word) -> GcodeDiagnostic {
+    GcodeDiagnostic::ConflictingMotion {
+        first: first.name(),
+        second: second.name(),
+        span: span(second.span()),
+    }
+}
+
+fn conflicting_modes(first: Word, second: Word, group: &'static str) -> GcodeDiagnostic {
+    GcodeDiagnostic::ConflictingModes {
+        first: first.name(),
+        second: second.name(),
+        group,
+        span: span(second.span()),
+    }
+}
+
+fn stop_conflict(first: Word, second: Word) -> GcodeDiagnostic {
+    conflicting_modes(first, second, "program stop")
+}
+
+fn unsupported(word: Word, feature: &'static str) -> GcodeDiagnostic {
+    GcodeDiagnostic::Unsupported {
+        code: word.name(),
+        feature,
+        span: span(word.span()),
+    }
+}
+
+fn unknown_code(word: Word, meaning: &'static str) -> GcodeDiagnostic {
+    GcodeDiagnostic::UnknownWord {
+        word: word.name(),
+        meaning,
+        span: span(word.span()),
+    }
+}

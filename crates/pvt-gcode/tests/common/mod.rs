@@ -1,0 +1,128 @@
+//! Helpers shared by the integration tests: compact renderings of results and errors.
+#![allow(dead_code)]
+
+use std::fmt::Write;
+
+use pvt_core::{ArcDirection, Axis, ElementKind, Plane, Position};
+use pvt_gcode::{compile, line_col, Compiled, GcodeDiagnostic, GcodeOptions};
+
+/// A number with up to six decimals, trailing zeros trimmed, `-0` shown as `0`.
+pub fn num(x: f64) -> String {
+    let s = format!("{x:.6}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" {
+        "0".to_owned()
+    } else {
+        s.to_owned()
+    }
+}
+
+fn position(p: &Position, axes: &[Axis]) -> String {
+    axes.iter()
+        .map(|a| format!("{a}{}", num(p[a.index()])))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// `line:col code message` for one diagnostic (code without the `pvtc::gcode::` prefix).
+pub fn diagnostic_line(source: &str, d: &GcodeDiagnostic) -> String {
+    // Every diagnostic's own code must agree with miette's.
+    let miette_code = miette::Diagnostic::code(d).map(|c| c.to_string());
+    assert_eq!(miette_code.as_deref(), Some(d.code()));
+    let (line, col) = line_col(source, d.span().start);
+    let code = d.code().trim_start_matches("pvtc::gcode::");
+    format!("{line}:{col} {code}: {d}")
+}
+
+/// A summary of a compiled program: units, contours, elements, end points, feeds, warnings.
+pub fn render_compiled(source: &str, compiled: &Compiled) -> String {
+    let toolpath = &compiled.toolpath;
+    let axes = toolpath.moved_axes();
+    let mut out = String::new();
+    let names: Vec<_> = axes.iter().map(ToString::to_string).collect();
+    writeln!(
+        out,
+        "units {}; axes {}",
+        toolpath.units.name(),
+        names.join(" ")
+    )
+    .unwrap();
+    for contour in &toolpath.contours {
+        let start = &contour.elements[0].start;
+        writeln!(
+            out,
+            "{} contour from {}",
+            contour.motion.name(),
+            position(start, &axes)
+        )
+        .unwrap();
+        for e in &contour.elements {
+            let what = match e.kind {
+                ElementKind::Line => "line".to_owned(),
+                ElementKind::Arc(arc) => {
+                    let dir = match arc.direction {
+                        ArcDirection::Clockwise => "cw",
+                        ArcDirection::CounterClockwise => "ccw",
+                    };
+                    let plane = match arc.plane {
+                        Plane::XY => "XY",
+                        Plane::ZX => "ZX",
+                        Plane::YZ => "YZ",
+                    };
+                    let sweep = arc.sweep(&e.start, &e.end).sweep.to_degrees();
+                    format!(
+                        "arc {dir} {plane} centre {} {} sweep {}°",
+                        num(arc.center[0]),
+                        num(arc.center[1]),
+                        num(sweep)
+                    )
+                }
+            };
+            writeln!(
+                out,
+                "  {}: {what} to {} at {}/s",
+                e.span.line,
+                position(&e.end, &axes),
+                num(e.feed)
+            )
+            .unwrap();
+        }
+    }
+    for w in &compiled.warnings {
+        writeln!(out, "warning {}", diagnostic_line(source, w)).unwrap();
+    }
+    out
+}
+
+/// Every diagnostic of a failed compile, one per line; or the summary when it compiled.
+pub fn render(source: &str, options: &GcodeOptions) -> String {
+    match compile(source, options) {
+        Ok(compiled) => render_compiled(source, &compiled),
+        Err(errors) => {
+            let mut out = format!("{errors}\n");
+            for d in &errors.diagnostics {
+                writeln!(out, "{}", diagnostic_line(source, d)).unwrap();
+            }
+            out
+        }
+    }
+}
+
+/// Compiles with default options and a feed, panicking with the diagnostics on failure.
+pub fn ok(source: &str) -> Compiled {
+    compile(source, &GcodeOptions::default())
+        .unwrap_or_else(|_| panic!("{}", render(source, &GcodeOptions::default())))
+}
+
+/// The (code, line, column) of every error of a program that must fail.
+pub fn errors(source: &str) -> Vec<(&'static str, usize, usize)> {
+    let errors = compile(source, &GcodeOptions::default()).expect_err("the program must fail");
+    errors
+        .diagnostics
+        .iter()
+        .map(|d| {
+            let (line, col) = line_col(source, d.span().start);
+            (d.code().trim_start_matches("pvtc::gcode::"), line, col)
+        })
+        .collect()
+}
