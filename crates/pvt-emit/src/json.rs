@@ -1,0 +1,279 @@
+//! The pvtc JSON program document, version 1: writer and reader.
+//!
+//! Owns the JSON spelling of a program, for tools. Layout (one segment per line):
+//!
+//! ```json
+//! {
+//!   "format": "pvtc-program",
+//!   "version": 1,
+//!   "source": "samples/gcode/octagon.ngc",
+//!   "settings": {"planner": "contour (seed 000)", "chord tolerance": "0.001 mm"},
+//!   "units": "mm",
+//!   "velocity_units": "mm/s",
+//!   "time_units": "s",
+//!   "axes": ["X", "Y"],
+//!   "total_time": 1.2,
+//!   "contours": [
+//!     {"kind": "feed", "start": [0.0, 0.0], "segments": [
+//!       {"p": [1.0, 0.0], "v": [10.0, 0.0], "t": 0.15, "line": 4}
+//!     ]}
+//!   ]
+//! }
+//! ```
+//!
+//! `axes` lists the axes the program moves in X Y Z A B C order; `p` is a segment's end
+//! position, `v` its end velocity (units/s), `t` its duration (s) and `line` the source
+//! line it came from. Numbers are shortest round-trip, so they read back bit for bit.
+//! A change that breaks a reader of these fields bumps `version`.
+
+use crate::number::push_exact;
+use crate::stream::{Header, ProgramWriter, Totals};
+use pvt_core::{Axis, Interpolation, Motion, PvtContour, PvtProgram, SegmentRef, Units};
+use serde::Deserialize;
+use std::io::{self, Write};
+
+/// Value of the `format` field.
+pub const FORMAT: &str = "pvtc-program";
+/// Value of the `version` field written by this crate.
+pub const VERSION: u32 = 1;
+
+/// Streams a pvtc JSON document to `W`.
+pub struct JsonWriter<W> {
+    out: W,
+    text: String,
+    totals: Totals,
+}
+
+impl<W: Write> JsonWriter<W> {
+    /// A writer into `out`.
+    pub fn new(out: W) -> JsonWriter<W> {
+        JsonWriter {
+            out,
+            text: String::with_capacity(256),
+            totals: Totals::default(),
+        }
+    }
+
+    /// The output, once finished.
+    pub fn into_inner(self) -> W {
+        self.out
+    }
+
+    fn flush_text(&mut self) -> io::Result<()> {
+        self.out.write_all(self.text.as_bytes())?;
+        self.text.clear();
+        Ok(())
+    }
+
+    fn end_contour(&mut self) {
+        if self.totals.contours > 0 {
+            self.text.push_str("\n    ]}");
+        }
+    }
+}
+
+impl<W: Write> ProgramWriter for JsonWriter<W> {
+    fn begin(&mut self, header: &Header<'_>) -> io::Result<()> {
+        let units = header.units.name();
+        let t = &mut self.text;
+        t.push_str(&format!(
+            "{{\n  \"format\": \"{FORMAT}\",\n  \"version\": {VERSION},\n"
+        ));
+        t.push_str(&format!(
+            "  \"source\": {},\n  \"settings\": {{",
+            quote(&header.options.source)
+        ));
+        for (i, (name, value)) in header.options.settings.iter().enumerate() {
+            t.push_str(if i == 0 { "" } else { ", " });
+            t.push_str(&format!("{}: {}", quote(name), quote(value)));
+        }
+        t.push_str(&format!(
+            "}},\n  \"units\": \"{units}\",\n  \"velocity_units\": \"{units}/s\",\n"
+        ));
+        t.push_str(&format!(
+            "  \"time_units\": \"s\",\n  \"interpolation\": \"{}\",\n",
+            interpolation_name(header.interpolation)
+        ));
+        let axes: Vec<String> = header.axes.iter().map(|a| format!("\"{a}\"")).collect();
+        t.push_str(&format!(
+            "  \"axes\": [{}],\n  \"contours\": [",
+            axes.join(", ")
+        ));
+        self.flush_text()
+    }
+
+    fn contour(&mut self, motion: Motion, start: &[f64]) -> io::Result<()> {
+        self.end_contour();
+        let first = self.totals.contours == 0;
+        self.totals.add_contour();
+        self.text.push_str(if first {
+            "\n    {\"kind\": "
+        } else {
+            ",\n    {\"kind\": "
+        });
+        self.text.push_str(&quote(motion.name()));
+        self.text.push_str(", \"start\": ");
+        list(&mut self.text, start);
+        self.text.push_str(", \"segments\": [");
+        self.flush_text()
+    }
+
+    fn segment(&mut self, seg: &SegmentRef<'_>) -> io::Result<()> {
+        let t = &mut self.text;
+        t.push_str(if self.totals.segments_in_contour == 0 {
+            "\n      {\"p\": "
+        } else {
+            ",\n      {\"p\": "
+        });
+        self.totals.add_segment(seg.duration);
+        list(t, seg.end);
+        t.push_str(", \"v\": ");
+        list(t, seg.velocity);
+        t.push_str(", \"t\": ");
+        push_exact(t, seg.duration);
+        t.push_str(", \"line\": ");
+        t.push_str(itoa::Buffer::new().format(seg.line));
+        t.push('}');
+        self.flush_text()
+    }
+
+    fn finish(&mut self) -> io::Result<()> {
+        self.end_contour();
+        self.text.push_str(&format!(
+            "\n  ],\n  \"segment_count\": {},\n  \"total_time\": ",
+            self.totals.segments
+        ));
+        push_exact(&mut self.text, self.totals.time);
+        self.text.push_str("\n}\n");
+        self.flush_text()?;
+        self.out.flush()
+    }
+
+    fn supports(&self, _: Interpolation) -> bool {
+        true
+    }
+}
+
+fn interpolation_name(i: Interpolation) -> &'static str {
+    match i {
+        Interpolation::Pvt => "pvt",
+        Interpolation::Pt => "pt",
+    }
+}
+
+fn quote(s: &str) -> String {
+    serde_json::to_string(s).expect("a string always serializes")
+}
+
+fn list(text: &mut String, values: &[f64]) {
+    text.push('[');
+    for (i, x) in values.iter().enumerate() {
+        if i > 0 {
+            text.push_str(", ");
+        }
+        push_exact(text, *x);
+    }
+    text.push(']');
+}
+
+/// Why a JSON document is not a pvtc program.
+#[derive(Debug, thiserror::Error)]
+pub enum ReadError {
+    /// Not JSON, or not the document's shape.
+    #[error("not a pvtc JSON program: {0}")]
+    Json(#[from] serde_json::Error),
+    /// Valid JSON with a value this version does not accept.
+    #[error("not a pvtc JSON program: {0}")]
+    Content(String),
+}
+
+#[derive(Deserialize)]
+struct Document {
+    format: String,
+    version: u32,
+    units: String,
+    #[serde(default)]
+    interpolation: Option<String>,
+    axes: Vec<String>,
+    contours: Vec<ContourDocument>,
+}
+
+#[derive(Deserialize)]
+struct ContourDocument {
+    kind: String,
+    start: Vec<f64>,
+    segments: Vec<SegmentDocument>,
+}
+
+#[derive(Deserialize)]
+struct SegmentDocument {
+    p: Vec<f64>,
+    v: Vec<f64>,
+    t: f64,
+    #[serde(default)]
+    line: u32,
+}
+
+/// Reads a pvtc JSON program document (version 1).
+pub fn read(text: &str) -> Result<PvtProgram, ReadError> {
+    let doc: Document = serde_json::from_str(text)?;
+    let bad = |what: String| ReadError::Content(what);
+    if doc.format != FORMAT || doc.version != VERSION {
+        return Err(bad(format!(
+            "format {:?} version {} (expected {FORMAT:?} version {VERSION})",
+            doc.format, doc.version
+        )));
+    }
+    let units = match doc.units.as_str() {
+        "mm" => Units::Millimetre,
+        "in" => Units::Inch,
+        other => return Err(bad(format!("unknown units {other:?}"))),
+    };
+    let interpolation = match doc.interpolation.as_deref() {
+        None | Some("pvt") => Interpolation::Pvt,
+        Some("pt") => Interpolation::Pt,
+        Some(other) => return Err(bad(format!("unknown interpolation {other:?}"))),
+    };
+    let mut axes = Vec::with_capacity(doc.axes.len());
+    for name in &doc.axes {
+        let mut chars = name.chars();
+        match (chars.next().and_then(Axis::from_letter), chars.next()) {
+            (Some(axis), None) => axes.push(axis),
+            _ => return Err(bad(format!("unknown axis {name:?}"))),
+        }
+    }
+    let dim = axes.len();
+    let mut contours = Vec::with_capacity(doc.contours.len());
+    for (c, cd) in doc.contours.into_iter().enumerate() {
+        let motion = match cd.kind.as_str() {
+            "feed" => Motion::Feed,
+            "rapid" => Motion::Rapid,
+            other => return Err(bad(format!("contour {}: unknown kind {other:?}", c + 1))),
+        };
+        if cd.start.len() != dim {
+            return Err(bad(format!(
+                "contour {}: start has {} values for {dim} axes",
+                c + 1,
+                cd.start.len()
+            )));
+        }
+        let mut contour = PvtContour::new(motion, cd.start);
+        for (i, s) in cd.segments.iter().enumerate() {
+            if s.p.len() != dim || s.v.len() != dim {
+                return Err(bad(format!(
+                    "contour {}, segment {}: p and v need {dim} values",
+                    c + 1,
+                    i + 1
+                )));
+            }
+            contour.push(&s.p, &s.v, s.t, s.line);
+        }
+        contours.push(contour);
+    }
+    Ok(PvtProgram {
+        axes,
+        units,
+        interpolation,
+        contours,
+    })
+}

@@ -1,0 +1,159 @@
+//! The streaming interface every back end implements.
+//!
+//! Owns the order in which a program reaches a back end: `begin`, then per contour
+//! `contour` and its `segment`s, then `finish`. A back end may write as soon as it is
+//! called, so a program of any length goes out in constant memory; it checks each value
+//! before writing it ([`crate::validate`]). It must not plan or look ahead.
+
+use crate::validate::{check_segment, check_start, InvalidProgram};
+use crate::EmitOptions;
+use pvt_core::{Axis, Interpolation, Motion, SegmentRef, Units};
+use std::io;
+
+/// What a back end needs to know before the first contour.
+#[derive(Debug, Clone, Copy)]
+pub struct Header<'a> {
+    /// Axes of every position and velocity, in order.
+    pub axes: &'a [Axis],
+    /// Units of linear positions.
+    pub units: Units,
+    /// PVT or PT.
+    pub interpolation: Interpolation,
+    /// Source name and settings.
+    pub options: &'a EmitOptions,
+}
+
+/// Running totals a back end may print at the end.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Totals {
+    /// Contours written.
+    pub contours: usize,
+    /// Segments written.
+    pub segments: usize,
+    /// Segments written in the current contour.
+    pub segments_in_contour: usize,
+    /// Sum of piece times, seconds.
+    pub time: f64,
+    /// Piece times that are not a whole number of milliseconds.
+    pub fractional_ms: usize,
+}
+
+impl Totals {
+    /// Counts one contour.
+    pub fn add_contour(&mut self) {
+        self.contours += 1;
+        self.segments_in_contour = 0;
+    }
+
+    /// Counts one segment of `duration` seconds.
+    pub fn add_segment(&mut self, duration: f64) {
+        self.segments += 1;
+        self.segments_in_contour += 1;
+        self.time += duration;
+        if (duration * 1000.0).fract() != 0.0 {
+            self.fractional_ms += 1;
+        }
+    }
+}
+
+/// A back end fed one piece at a time.
+pub trait ProgramWriter {
+    /// Starts the program.
+    fn begin(&mut self, header: &Header<'_>) -> io::Result<()>;
+    /// Starts a contour at rest at `start`.
+    fn contour(&mut self, motion: Motion, start: &[f64]) -> io::Result<()>;
+    /// Writes one segment of the current contour.
+    fn segment(&mut self, segment: &SegmentRef<'_>) -> io::Result<()>;
+    /// Ends the program.
+    fn finish(&mut self) -> io::Result<()>;
+    /// Whether the back end can express `interpolation` (all take PVT).
+    fn supports(&self, interpolation: Interpolation) -> bool {
+        interpolation == Interpolation::Pvt
+    }
+}
+
+/// A writer that validates every value before its back end sees it, and that passes a
+/// contour on only when its first segment arrives, so back ends never see an empty one.
+pub struct Checked<W> {
+    inner: W,
+    contour: usize,
+    segment: usize,
+    pending: Option<(Motion, Vec<f64>)>,
+}
+
+/// A failure while streaming: a bad value or an I/O error.
+#[derive(Debug, thiserror::Error)]
+pub enum StreamError {
+    /// A value no controller may receive.
+    #[error(transparent)]
+    Invalid(#[from] InvalidProgram),
+    /// Writing failed.
+    #[error(transparent)]
+    Io(#[from] io::Error),
+    /// The format cannot express the program's interpolation.
+    #[error("this output format cannot express {0:?} interpolation")]
+    Unsupported(Interpolation),
+}
+
+impl<W: ProgramWriter> Checked<W> {
+    /// Wraps a back end.
+    pub fn new(inner: W) -> Checked<W> {
+        Checked {
+            inner,
+            contour: 0,
+            segment: 0,
+            pending: None,
+        }
+    }
+
+    /// Starts the program; refuses an interpolation the back end cannot express.
+    pub fn begin(&mut self, header: &Header<'_>) -> Result<(), StreamError> {
+        if !self.inner.supports(header.interpolation) {
+            return Err(StreamError::Unsupported(header.interpolation));
+        }
+        Ok(self.inner.begin(header)?)
+    }
+
+    /// Starts a contour at rest at `start`, after checking it.
+    pub fn contour(&mut self, motion: Motion, start: &[f64], line: u32) -> Result<(), StreamError> {
+        check_start(start, self.contour + 1, line)?;
+        self.pending = Some((motion, start.to_vec()));
+        Ok(())
+    }
+
+    /// Writes a segment, after checking it.
+    pub fn segment(&mut self, segment: &SegmentRef<'_>) -> Result<(), StreamError> {
+        if let Some((motion, start)) = self.pending.take() {
+            self.contour += 1;
+            self.segment = 0;
+            self.inner.contour(motion, &start)?;
+        }
+        self.segment += 1;
+        check_segment(segment, self.contour, self.segment)?;
+        Ok(self.inner.segment(segment)?)
+    }
+
+    /// Ends the program and returns the back end.
+    pub fn finish(mut self) -> Result<W, StreamError> {
+        self.inner.finish()?;
+        Ok(self.inner)
+    }
+}
+
+impl<T: ProgramWriter + ?Sized> ProgramWriter for Box<T> {
+    fn begin(&mut self, header: &Header<'_>) -> io::Result<()> {
+        (**self).begin(header)
+    }
+    fn contour(&mut self, motion: Motion, start: &[f64]) -> io::Result<()> {
+        (**self).contour(motion, start)
+    }
+    fn segment(&mut self, segment: &SegmentRef<'_>) -> io::Result<()> {
+        (**self).segment(segment)
+    }
+    fn finish(&mut self) -> io::Result<()> {
+        (**self).finish()
+    }
+    fn supports(&self, interpolation: Interpolation) -> bool {
+        (**self).supports(interpolation)
+    }
+}

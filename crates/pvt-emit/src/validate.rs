@@ -1,0 +1,74 @@
+//! The last check before output: every number finite, every piece time positive.
+//!
+//! Owns the guarantee that no back end prints NaN, infinity or a non-positive time. It
+//! must not repair anything: a program that fails is an internal error of a planner.
+
+use pvt_core::{PvtProgram, SegmentRef};
+
+/// A program value no controller may receive, with where it is.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("internal error: contour {contour}, segment {segment} (source line {line}) has {what}; no output was written")]
+pub struct InvalidProgram {
+    /// 1-based contour number.
+    pub contour: usize,
+    /// 1-based segment number within the contour (0: the contour's start).
+    pub segment: usize,
+    /// Source line of the segment.
+    pub line: u32,
+    /// What is wrong, in words.
+    pub what: String,
+}
+
+impl InvalidProgram {
+    /// Stable code of this error.
+    pub const CODE: &'static str = "pvtc::emit::invalid_program";
+}
+
+/// Checks a contour's start position.
+pub fn check_start(start: &[f64], contour: usize, line: u32) -> Result<(), InvalidProgram> {
+    if start.iter().all(|x| x.is_finite()) {
+        return Ok(());
+    }
+    Err(InvalidProgram {
+        contour,
+        segment: 0,
+        line,
+        what: "a start position that is not finite".into(),
+    })
+}
+
+/// Checks one segment's piece time, positions and velocities.
+pub fn check_segment(
+    seg: &SegmentRef<'_>,
+    contour: usize,
+    segment: usize,
+) -> Result<(), InvalidProgram> {
+    let fail = |what: String| InvalidProgram {
+        contour,
+        segment,
+        line: seg.line,
+        what,
+    };
+    if !(seg.duration.is_finite() && seg.duration > 0.0) {
+        return Err(fail(format!("piece time {} s", seg.duration)));
+    }
+    if seg.end.iter().chain(seg.velocity).any(|x| !x.is_finite()) {
+        return Err(fail("a position or velocity that is not finite".into()));
+    }
+    Ok(())
+}
+
+/// Checks every position, velocity and piece time of `program`.
+pub fn validate(program: &PvtProgram) -> Result<(), InvalidProgram> {
+    for (c, contour) in program.contours.iter().enumerate() {
+        check_start(
+            &contour.start,
+            c + 1,
+            contour.lines.first().copied().unwrap_or(0),
+        )?;
+        for (i, seg) in contour.segments().enumerate() {
+            check_segment(&seg, c + 1, i + 1)?;
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,126 @@
+//! Back-end tests on a small hand-made program: exact text, round trips, validation.
+
+use pvt_core::{Axis, Interpolation, Motion, PvtContour, PvtProgram, Units};
+use pvt_emit::{emit_to_vec, json, EmitOptions, Format, StreamError};
+
+fn program() -> PvtProgram {
+    let mut c = PvtContour::new(Motion::Feed, vec![0.0, 0.0]);
+    c.push(
+        &[10.0, 0.0],
+        &[70.71067811865476, 70.71067811865476],
+        0.2,
+        3,
+    );
+    c.push(&[10.0, 10.0], &[0.0, 0.0], 0.2005, 4);
+    PvtProgram {
+        axes: vec![Axis::X, Axis::Y],
+        units: Units::Millimetre,
+        interpolation: Interpolation::Pvt,
+        contours: vec![c],
+    }
+}
+
+fn options() -> EmitOptions {
+    EmitOptions {
+        source: "corner.ngc".into(),
+        settings: vec![("planner".into(), "contour".into())],
+        program_number: 1,
+    }
+}
+
+fn text(format: Format) -> String {
+    String::from_utf8(emit_to_vec(&program(), format, &options()).unwrap()).unwrap()
+}
+
+#[test]
+fn pmac_lines_carry_time_then_positions_and_velocities() {
+    let t = text(Format::Pmac);
+    let body: Vec<&str> = t.lines().filter(|l| !l.starts_with(';')).collect();
+    assert_eq!(
+        body,
+        [
+            "OPEN PROG 1 CLEAR",
+            "ABS",
+            "PVT200.0000",
+            "TA200.0000 X10.000000:70.710678 Y0.000000:70.710678",
+            "TA200.5000 X10.000000:0.000000 Y10.000000:0.000000",
+            "CLOSE"
+        ]
+    );
+    assert!(t.contains("; warning: 1 of 2 piece times are not whole ms"));
+}
+
+#[test]
+fn json_reads_back_bit_for_bit() {
+    let t = text(Format::Json);
+    let value: serde_json::Value = serde_json::from_str(&t).unwrap();
+    assert_eq!(value["axes"], serde_json::json!(["X", "Y"]));
+    assert_eq!(value["contours"][0]["kind"], "feed");
+    assert_eq!(value["contours"][0]["segments"][1]["line"], 4);
+    assert_eq!(json::read(&t).unwrap(), program());
+}
+
+#[test]
+fn movepvt_declares_interleaved_arrays() {
+    let t = text(Format::MovePvt);
+    let body = &t[t.find("#define PVTC_AXIS_COUNT").unwrap()..];
+    let expected = "#define PVTC_AXIS_COUNT 2
+
+/* contour 1: feed */
+static double pvtc_c1_start[PVTC_AXIS_COUNT] = {
+    0.0, 0.0,
+};
+static double pvtc_c1_position[] = {
+    10.0, 0.0,
+    10.0, 10.0,
+};
+static double pvtc_c1_velocity[] = {
+    70.71067811865476, 70.71067811865476,
+    0.0, 0.0,
+};
+static double pvtc_c1_time[] = {
+    0.2,
+    0.2005,
+};
+#define PVTC_C1_POINTS ((long)(sizeof pvtc_c1_time / sizeof pvtc_c1_time[0]))
+
+#define PVTC_CONTOUR_COUNT 1
+";
+    assert!(body.starts_with(expected), "{body}");
+    assert!(body.contains("{\"feed\", PVTC_C1_POINTS, pvtc_c1_start, pvtc_c1_position, pvtc_c1_velocity, pvtc_c1_time},"));
+}
+
+#[test]
+fn pmac_refuses_pt_and_json_marks_it() {
+    let mut p = program();
+    p.interpolation = Interpolation::Pt;
+    assert!(matches!(
+        emit_to_vec(&p, Format::Pmac, &options()),
+        Err(StreamError::Unsupported(Interpolation::Pt))
+    ));
+    let t = String::from_utf8(emit_to_vec(&p, Format::Json, &options()).unwrap()).unwrap();
+    assert!(t.contains("\"interpolation\": \"pt\""));
+    assert_eq!(json::read(&t).unwrap().interpolation, Interpolation::Pt);
+}
+
+#[test]
+fn nan_and_non_positive_times_never_reach_an_output() {
+    for bad in [f64::NAN, 0.0, -1.0, f64::INFINITY] {
+        let mut p = program();
+        p.contours[0].durations[1] = bad;
+        for format in Format::ALL {
+            match emit_to_vec(&p, format, &options()) {
+                Err(StreamError::Invalid(e)) => {
+                    assert_eq!((e.contour, e.segment, e.line), (1, 2, 4))
+                }
+                other => panic!("{format:?} with time {bad}: {other:?}"),
+            }
+        }
+    }
+    let mut p = program();
+    p.contours[0].velocities[0] = f64::NAN;
+    assert!(matches!(
+        emit_to_vec(&p, Format::Json, &options()),
+        Err(StreamError::Invalid(_))
+    ));
+}
