@@ -1,0 +1,176 @@
+//! Source positions: where each entity of an ASCII DXF file starts.
+//!
+//! Owns a light scan of the raw bytes, independent of the `dxf` crate, that records for
+//! every entity record in the BLOCKS and ENTITIES sections its type, handle, layer,
+//! paper-space flag and byte/line span. The `dxf` crate keeps no positions, so spans are
+//! looked up here by handle. It must not interpret geometry, and it must never fail:
+//! anything it cannot make sense of simply has no span (binary DXF files have none).
+
+use std::collections::HashMap;
+
+use pvt_core::Span;
+
+/// One `0/TYPE` record and the group codes that follow it up to the next `0`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Record {
+    /// Entity type as written (`LINE`, `HATCH`, …).
+    pub kind: String,
+    /// Handle (group 5), 0 when absent or unreadable.
+    pub handle: u64,
+    /// Layer (group 8), empty when absent.
+    pub layer: String,
+    /// Group 67 was 1.
+    pub paper_space: bool,
+    /// Bytes and first line of the record.
+    pub span: Span,
+    /// True for records in the ENTITIES section, false for BLOCKS.
+    pub in_entities: bool,
+}
+
+/// Spans of the entity records of an ASCII DXF file.
+#[derive(Debug, Default)]
+pub struct SourceMap {
+    /// Every entity record, in file order.
+    pub records: Vec<Record>,
+    by_handle: HashMap<u64, usize>,
+}
+
+/// True when the bytes look like ASCII DXF (not binary DXF or DXB).
+pub fn is_ascii_dxf(bytes: &[u8]) -> bool {
+    !(bytes.starts_with(b"AutoCAD Binary DXF") || bytes.starts_with(b"AutoCAD DXB"))
+}
+
+impl SourceMap {
+    /// Scans the bytes; binary files and anything unreadable give an empty map.
+    pub fn scan(bytes: &[u8]) -> SourceMap {
+        let mut map = SourceMap::default();
+        if !is_ascii_dxf(bytes) {
+            return map;
+        }
+        // Lines with their byte offsets; a trailing '\r' is dropped.
+        let mut lines: Vec<(usize, &[u8])> = Vec::new();
+        let mut start = 0;
+        for (i, &b) in bytes.iter().enumerate() {
+            if b == b'\n' {
+                lines.push((start, trim_cr(&bytes[start..i])));
+                start = i + 1;
+            }
+        }
+        if start < bytes.len() {
+            lines.push((start, trim_cr(&bytes[start..])));
+        }
+        let mut section = String::new();
+        let mut expect_section_name = false;
+        let mut open: Option<Record> = None;
+        let mut k = 0;
+        while k + 1 < lines.len() {
+            let (offset, code_line) = lines[k];
+            let value = String::from_utf8_lossy(lines[k + 1].1).trim().to_string();
+            let code: Option<i32> = std::str::from_utf8(code_line)
+                .ok()
+                .and_then(|s| s.trim().parse().ok());
+            k += 2;
+            let Some(code) = code else { continue };
+            if code == 0 {
+                if let Some(mut r) = open.take() {
+                    r.span.end = offset;
+                    map.push(r);
+                }
+                match value.as_str() {
+                    "SECTION" => expect_section_name = true,
+                    "ENDSEC" => section.clear(),
+                    "BLOCK" | "ENDBLK" | "EOF" => {}
+                    kind if section == "ENTITIES" || section == "BLOCKS" => {
+                        open = Some(Record {
+                            kind: kind.to_string(),
+                            handle: 0,
+                            layer: String::new(),
+                            paper_space: false,
+                            span: Span {
+                                start: offset,
+                                end: offset,
+                                line: u32::try_from(k - 1).unwrap_or(u32::MAX),
+                            },
+                            in_entities: section == "ENTITIES",
+                        });
+                    }
+                    _ => {}
+                }
+                continue;
+            }
+            if code == 2 && expect_section_name {
+                section = value;
+                expect_section_name = false;
+                continue;
+            }
+            if let Some(r) = open.as_mut() {
+                match code {
+                    5 => r.handle = u64::from_str_radix(&value, 16).unwrap_or(0),
+                    8 => r.layer = value,
+                    67 => r.paper_space = value == "1",
+                    _ => {}
+                }
+            }
+        }
+        if let Some(mut r) = open.take() {
+            r.span.end = bytes.len();
+            map.push(r);
+        }
+        map
+    }
+
+    fn push(&mut self, r: Record) {
+        if r.handle != 0 {
+            self.by_handle.entry(r.handle).or_insert(self.records.len());
+        }
+        self.records.push(r);
+    }
+
+    /// The span of the record with this handle and type, if the scan found one.
+    pub fn span(&self, handle: u64, kind: &str) -> Option<Span> {
+        let r = &self.records[*self.by_handle.get(&handle)?];
+        (r.kind == kind || (kind == "LINE" && r.kind == "3DLINE")).then_some(r.span)
+    }
+}
+
+impl SourceMap {
+    /// Spans of the records of type `kind` that directly follow the record with `handle`
+    /// (the VERTEX records of a POLYLINE, whose handles the `dxf` crate does not keep).
+    pub fn following(&self, handle: u64, kind: &str) -> Vec<Span> {
+        let Some(&i) = self.by_handle.get(&handle) else {
+            return Vec::new();
+        };
+        self.records[i + 1..]
+            .iter()
+            .take_while(|r| r.kind == kind)
+            .map(|r| r.span)
+            .collect()
+    }
+}
+
+fn trim_cr(line: &[u8]) -> &[u8] {
+    line.strip_suffix(b"\r").unwrap_or(line)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn finds_entity_lines_and_handles() {
+        let text = "0\r\nSECTION\r\n2\r\nENTITIES\r\n0\r\nLINE\r\n5\r\n1F\r\n8\r\nCUT\r\n10\r\n0\r\n0\r\nTEXT\r\n67\r\n1\r\n0\r\nENDSEC\r\n0\r\nEOF\r\n";
+        let map = SourceMap::scan(text.as_bytes());
+        assert_eq!(map.records.len(), 2);
+        let line = map.span(0x1F, "LINE").unwrap();
+        assert_eq!(line.line, 5);
+        assert_eq!(&text[line.start..line.start + 1], "0");
+        assert_eq!(&text[line.end..line.end + 6], "0\r\nTEX");
+        assert_eq!(map.records[0].layer, "CUT");
+        assert!(map.records[1].paper_space);
+        assert_eq!(map.span(0x1F, "ARC"), None);
+        assert!(SourceMap::scan(b"AutoCAD Binary DXF\r\n\x1a\x00")
+            .records
+            .is_empty());
+        assert!(SourceMap::scan(b"\xff\xfe\n0\n").records.is_empty());
+    }
+}
