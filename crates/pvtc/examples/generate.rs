@@ -1,0 +1,165 @@
+//! Writes deterministic large G-code programs for benchmarks and memory tests.
+//!
+//! ```sh
+//! cargo run --release -p pvtc --example generate -- surfacing 1000000 > /tmp/surf_1m.ngc
+//! cargo run --release -p pvtc --example generate -- pocket 100000 > /tmp/pocket_100k.ngc
+//! cargo run --release -p pvtc --example generate -- mixed 10000 > /tmp/mixed_10k.ngc
+//! ```
+//!
+//! - `surfacing`: a 3D raster of short G1 moves over a smooth surface, as CAM 3D
+//!   finishing posts emit it (X Y Z on every line, 4 decimals);
+//! - `pocket`: concentric G2/G3 arcs and G1 step-overs (I/J centre offsets);
+//! - `mixed`: N words, comments, `;` comments, modal words and feed changes between
+//!   G1/G2/G3 moves, and the occasional G0 retract.
+//!
+//! The same kind and line count always give the same bytes.
+
+use std::io::{self, BufWriter, Write};
+
+fn main() -> io::Result<()> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let (kind, lines) = match args.as_slice() {
+        [kind, n] => (kind.as_str(), n.parse::<usize>().expect("line count")),
+        _ => {
+            eprintln!("usage: generate surfacing|pocket|mixed LINES");
+            std::process::exit(2);
+        }
+    };
+    let mut out = BufWriter::with_capacity(1 << 20, io::stdout().lock());
+    match kind {
+        "surfacing" => surfacing(&mut out, lines)?,
+        "pocket" => pocket(&mut out, lines)?,
+        "mixed" => mixed(&mut out, lines)?,
+        _ => {
+            eprintln!("unknown kind {kind}");
+            std::process::exit(2);
+        }
+    }
+    out.flush()
+}
+
+/// Height of the surfaced part at (x, y): gentle waves, always below zero.
+fn surface(x: f64, y: f64) -> f64 {
+    -2.0 + libm::sin(x * 0.05) * libm::cos(y * 0.07) - 0.001 * (x - 50.0) * (y - 40.0) / 10.0
+}
+
+fn surfacing(out: &mut impl Write, lines: usize) -> io::Result<()> {
+    writeln!(out, "(surfacing benchmark program, {lines} lines)")?;
+    writeln!(out, "G21 G90 G94 G17")?;
+    writeln!(out, "G0 Z5.0000")?;
+    writeln!(out, "G0 X0.0000 Y0.0000")?;
+    writeln!(out, "G1 Z{:.4} F1500", surface(0.0, 0.0))?;
+    let per_row = 500;
+    let step = 0.2;
+    let mut written = 5;
+    let mut row = 0usize;
+    while written < lines {
+        let y = row as f64 * 0.5;
+        for i in 1..=per_row {
+            if written >= lines {
+                break;
+            }
+            let k = if row % 2 == 0 { i } else { per_row - i };
+            let x = k as f64 * step;
+            writeln!(out, "X{x:.4} Y{y:.4} Z{:.4}", surface(x, y))?;
+            written += 1;
+        }
+        row += 1;
+    }
+    writeln!(out, "G0 Z5.0000")?;
+    writeln!(out, "M2")
+}
+
+fn pocket(out: &mut impl Write, lines: usize) -> io::Result<()> {
+    writeln!(out, "(pocket benchmark program, {lines} lines)")?;
+    writeln!(out, "G21 G90 G94 G17")?;
+    writeln!(out, "G0 X1.0000 Y0.0000")?;
+    writeln!(out, "G1 F800")?;
+    let mut r = 1.0;
+    let mut written = 4;
+    while written + 4 < lines {
+        // A full circle as two half arcs, then a step-over.
+        writeln!(out, "G3 X{:.4} Y0.0000 I{:.4} J0.0000", -r, -r)?;
+        writeln!(out, "G3 X{r:.4} Y0.0000 I{r:.4} J0.0000")?;
+        writeln!(out, "G1 X{:.4} Y0.0000", r + 0.5)?;
+        r += 0.5;
+        written += 3;
+        if r > 200.0 {
+            writeln!(out, "G1 X1.0000 Y0.0000")?;
+            r = 1.0;
+            written += 1;
+        }
+    }
+    writeln!(out, "M2")
+}
+
+/// A small deterministic generator (64-bit LCG), so the file never depends on a crate.
+struct Lcg(u64);
+
+impl Lcg {
+    fn next(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+fn mixed(out: &mut impl Write, lines: usize) -> io::Result<()> {
+    let mut rng = Lcg(42);
+    writeln!(out, "%")?;
+    writeln!(out, "(mixed benchmark program, {lines} lines)")?;
+    writeln!(out, "N10 G21 G90 G94 G17 ; metric, absolute")?;
+    writeln!(out, "N15 G1 F900")?;
+    let (mut x, mut y) = (0.0f64, 0.0f64);
+    let mut n = 20;
+    let mut written = 4;
+    let mut modal_g1 = true;
+    while written < lines {
+        let roll = rng.next();
+        let (nx, ny) = (x + rng.next() * 4.0 - 2.0, y + rng.next() * 4.0 - 2.0);
+        if roll < 0.6 {
+            writeln!(
+                out,
+                "N{n} G1 X{nx:.3} Y{ny:.3} F{}",
+                600 + (rng.next() * 10.0) as u32 * 100
+            )?;
+            modal_g1 = true;
+        } else if roll < 0.8 {
+            // A half circle to the new point, centre at the midpoint: always consistent.
+            let (i, j) = ((nx - x) / 2.0, (ny - y) / 2.0);
+            let g = if roll < 0.7 { 2 } else { 3 };
+            writeln!(
+                out,
+                "N{n} G{g} X{:.4} Y{:.4} I{i:.4} J{j:.4} (arc)",
+                x + 2.0 * i,
+                y + 2.0 * j
+            )?;
+            let (ex, ey) = (x + 2.0 * i, y + 2.0 * j);
+            let (ex, ey) = ((ex * 1e4).round() / 1e4, (ey * 1e4).round() / 1e4);
+            x = ex;
+            y = ey;
+            modal_g1 = false;
+            n += 10;
+            written += 1;
+            continue;
+        } else if roll < 0.95 && modal_g1 {
+            writeln!(out, "N{n} X{nx:.3} Y{ny:.3}")?;
+        } else if roll < 0.95 {
+            writeln!(out, "N{n} G1 X{nx:.3} Y{ny:.3}")?;
+            modal_g1 = true;
+        } else {
+            writeln!(out, "N{n} G0 X{nx:.3} Y{ny:.3} ; reposition")?;
+            writeln!(out, "G1 F900")?;
+            modal_g1 = true;
+            written += 1;
+        }
+        x = (nx * 1e3).round() / 1e3;
+        y = (ny * 1e3).round() / 1e3;
+        n += 10;
+        written += 1;
+    }
+    writeln!(out, "M30")?;
+    writeln!(out, "%")
+}

@@ -1,0 +1,260 @@
+//! Batch compilation: many inputs into one directory, in parallel.
+//!
+//! Owns expanding inputs (files, directories, globs) into jobs, naming outputs, running
+//! the jobs on a rayon pool with a progress bar (drawn only on a terminal) and the
+//! summary. Every job is the single-file pipeline unchanged, so a batch output is
+//! byte-identical to compiling that file alone; a failing file never stops the others and
+//! never leaves a partial output. It must not compile anything itself.
+
+use crate::args::CompileArgs;
+use crate::pipeline::{compile, Failure, Source};
+use crate::{output, EXIT_INPUT_ERROR, EXIT_USAGE};
+use indicatif::{ProgressBar, ProgressStyle};
+use rayon::prelude::*;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+/// File extensions a directory is searched for (lower case).
+pub const EXTENSIONS: [&str; 6] = ["ngc", "nc", "gcode", "tap", "cnc", "dxf"];
+
+/// One input and where its output goes.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Job {
+    /// The input file.
+    pub input: PathBuf,
+    /// The output file.
+    pub output: PathBuf,
+}
+
+/// How one job ended.
+#[derive(Debug)]
+pub struct Outcome {
+    /// The job.
+    pub job: Job,
+    /// `None` on success, else the first diagnostic in one line and their count.
+    pub failure: Option<(String, usize)>,
+}
+
+/// Runs `pvtc compile` with several inputs or `--out-dir`.
+pub fn run(args: &CompileArgs) -> ExitCode {
+    let Some(out_dir) = args.out_dir.as_deref() else {
+        eprintln!("error: several inputs need --out-dir DIR (one output per input)");
+        return ExitCode::from(EXIT_USAGE);
+    };
+    let jobs = match plan_jobs(&args.inputs, out_dir, args.format.into()) {
+        Ok(jobs) => jobs,
+        Err(message) => {
+            eprintln!("error: {message}");
+            return ExitCode::from(EXIT_USAGE);
+        }
+    };
+    if let Err(e) = std::fs::create_dir_all(out_dir) {
+        eprintln!("error: cannot create {}: {e}", out_dir.display());
+        return ExitCode::from(EXIT_INPUT_ERROR);
+    }
+    let outcomes = match args.jobs {
+        Some(n) => match rayon::ThreadPoolBuilder::new().num_threads(n.get()).build() {
+            Ok(pool) => pool.install(|| run_jobs(&jobs, args)),
+            Err(e) => {
+                eprintln!("error: cannot start {n} threads: {e}");
+                return ExitCode::from(EXIT_INPUT_ERROR);
+            }
+        },
+        None => run_jobs(&jobs, args),
+    };
+    summarize(&outcomes)
+}
+
+/// Compiles every job in parallel, in input order in the result.
+pub fn run_jobs(jobs: &[Job], args: &CompileArgs) -> Vec<Outcome> {
+    let bar = ProgressBar::new(jobs.len() as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} files {elapsed_precise} {wide_msg}")
+            .expect("a valid template"),
+    );
+    let outcomes = jobs
+        .par_iter()
+        .map(|job| {
+            let outcome = run_job(job, args);
+            bar.inc(1);
+            outcome
+        })
+        .collect();
+    bar.finish_and_clear();
+    outcomes
+}
+
+fn run_job(job: &Job, args: &CompileArgs) -> Outcome {
+    let result = Source::read(&job.input).and_then(|source| {
+        let compiled = compile(&source, &args.compile_options(&source.name))?;
+        output::write_file(&job.output, &compiled.bytes)
+    });
+    let failure = result.err().map(|f| first_diagnostic(&f));
+    Outcome {
+        job: job.clone(),
+        failure,
+    }
+}
+
+/// The first diagnostic of a failure in one line, and how many there are.
+fn first_diagnostic(failure: &Failure) -> (String, usize) {
+    match failure {
+        Failure::Io {
+            path,
+            action,
+            error,
+        } => (
+            format!("pvtc::io: cannot {action} {}: {error}", path.display()),
+            1,
+        ),
+        Failure::Usage(message) => (format!("pvtc::usage: {message}"), 1),
+        Failure::Input(reports) => {
+            let first = reports.first().map(|r| {
+                let code = r.code().map(|c| c.to_string()).unwrap_or_default();
+                let line = r
+                    .labels()
+                    .and_then(|mut labels| labels.next())
+                    .and_then(|label| r.source_code().map(|s| (label, s)))
+                    .and_then(|(label, s)| {
+                        s.read_span(label.inner(), 0, 0).ok().map(|c| c.line() + 1)
+                    });
+                match line {
+                    Some(line) => format!("{code} (line {line}): {r}"),
+                    None => format!("{code}: {r}"),
+                }
+            });
+            (first.unwrap_or_default(), reports.len())
+        }
+    }
+}
+
+fn summarize(outcomes: &[Outcome]) -> ExitCode {
+    let failed: Vec<&Outcome> = outcomes.iter().filter(|o| o.failure.is_some()).collect();
+    for o in &failed {
+        let (first, count) = o.failure.as_ref().expect("failed");
+        let more = if *count > 1 {
+            format!(" (and {} more)", count - 1)
+        } else {
+            String::new()
+        };
+        eprintln!("failed: {}: {first}{more}", o.job.input.display());
+    }
+    eprintln!(
+        "{} files compiled, {} failed",
+        outcomes.len() - failed.len(),
+        failed.len()
+    );
+    if failed.is_empty() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(EXIT_INPUT_ERROR)
+    }
+}
+
+/// Expands inputs into jobs with outputs under `out_dir`, sorted by input path.
+///
+/// A file keeps its name; files found under a directory keep their path relative to it.
+/// The extension becomes the format's. Two inputs that would write the same output are
+/// an error, as are inputs that match nothing.
+pub fn plan_jobs(
+    inputs: &[PathBuf],
+    out_dir: &Path,
+    format: pvt_emit::Format,
+) -> Result<Vec<Job>, String> {
+    let mut by_output: BTreeMap<PathBuf, PathBuf> = BTreeMap::new();
+    for input in inputs {
+        for (file, relative) in expand(input)? {
+            let output = out_dir.join(relative.with_extension(format.extension()));
+            if let Some(other) = by_output.insert(output.clone(), file.clone()) {
+                if other != file {
+                    return Err(format!(
+                        "{} and {} would both write {}",
+                        other.display(),
+                        file.display(),
+                        output.display()
+                    ));
+                }
+            }
+        }
+    }
+    let mut jobs: Vec<Job> = by_output
+        .into_iter()
+        .map(|(output, input)| Job { input, output })
+        .collect();
+    jobs.sort_by(|a, b| a.input.cmp(&b.input));
+    Ok(jobs)
+}
+
+/// The files an input names, each with the path its output keeps.
+fn expand(input: &Path) -> Result<Vec<(PathBuf, PathBuf)>, String> {
+    if input == Path::new("-") {
+        return Err("standard input cannot be part of a batch".into());
+    }
+    if input.is_dir() {
+        let mut files = Vec::new();
+        walk(input, &mut files).map_err(|e| format!("{}: {e}", input.display()))?;
+        files.sort();
+        let found: Vec<_> = files
+            .into_iter()
+            .map(|f| {
+                let relative = f.strip_prefix(input).unwrap_or(&f).to_path_buf();
+                (f, relative)
+            })
+            .collect();
+        if found.is_empty() {
+            return Err(format!(
+                "{} holds no {} file",
+                input.display(),
+                EXTENSIONS.join("/")
+            ));
+        }
+        return Ok(found);
+    }
+    if input.exists() {
+        let name = input
+            .file_name()
+            .map(PathBuf::from)
+            .unwrap_or_else(|| input.to_path_buf());
+        return Ok(vec![(input.to_path_buf(), name)]);
+    }
+    let pattern = input.to_string_lossy();
+    let matches: Vec<PathBuf> = glob::glob(&pattern)
+        .map_err(|e| format!("{pattern}: {e}"))?
+        .filter_map(Result::ok)
+        .filter(|p| p.is_file())
+        .collect();
+    if matches.is_empty() {
+        return Err(format!(
+            "{pattern}: no such file, directory or matching files"
+        ));
+    }
+    Ok(matches
+        .into_iter()
+        .map(|m| {
+            let name = m
+                .file_name()
+                .map(PathBuf::from)
+                .unwrap_or_else(|| m.clone());
+            (m, name)
+        })
+        .collect())
+}
+
+fn walk(dir: &Path, files: &mut Vec<PathBuf>) -> std::io::Result<()> {
+    for entry in std::fs::read_dir(dir)? {
+        let path = entry?.path();
+        if path.is_dir() {
+            walk(&path, files)?;
+        } else if has_known_extension(&path) {
+            files.push(path);
+        }
+    }
+    Ok(())
+}
+
+fn has_known_extension(path: &Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| EXTENSIONS.contains(&e.to_ascii_lowercase().as_str()))
+}

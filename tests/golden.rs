@@ -1,0 +1,300 @@
+//! Golden files: every sample in samples/ compiled to every format must equal, byte for
+//! byte, the file under tests/golden/ — what a controller would receive. Run with
+//! `PVTC_BLESS=1` to rewrite the golden files after an intended change, then review the
+//! diff before committing it.
+//!
+//! Every sample's JSON output is also checked against the definition of the motion: each
+//! segment's cubic ends exactly at its point with its velocity, and (seed 000's defining
+//! property) its speed at mid-time is the mean of its end speeds.
+
+use pvt_core::PvtProgram;
+use pvt_emit::Format;
+use pvtc::CompileOptions;
+use pvtc_tests::{close, compile_file, root, samples};
+
+/// `samples/KIND/STEM.EXT` → `tests/golden/KIND/STEM.FORMAT_EXT`.
+fn golden_name(sample: &str, format: Format) -> String {
+    let mut parts = sample.rsplit('/');
+    let stem = parts.next().unwrap().rsplit_once('.').unwrap().0;
+    let kind = parts.next().unwrap();
+    format!("tests/golden/{kind}/{stem}.{}", format.extension())
+}
+
+/// The options a sample is compiled with: defaults, and for drawings a feed of 1200.
+fn options_for(sample: &str, format: Format) -> CompileOptions {
+    let mut options = CompileOptions::new(format);
+    if sample.ends_with(".dxf") {
+        options.input = pvtc::InputKind::Dxf;
+        options.feed = Some(1200.0);
+    }
+    options
+}
+
+fn check_golden(sample: &str) {
+    for format in Format::ALL {
+        let actual = compile_file(sample, &options_for(sample, format));
+        let again = compile_file(sample, &options_for(sample, format));
+        assert_eq!(actual, again, "{sample}: output differs between two runs");
+        let path = root().join(golden_name(sample, format));
+        if std::env::var_os("PVTC_BLESS").is_some() {
+            std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+            std::fs::write(&path, &actual).unwrap();
+            continue;
+        }
+        let expected = std::fs::read(&path).unwrap_or_else(|e| {
+            panic!(
+                "{}: {e} (run with PVTC_BLESS=1 to create it)",
+                path.display()
+            )
+        });
+        if actual != expected {
+            let (a, e) = (
+                String::from_utf8_lossy(&actual),
+                String::from_utf8_lossy(&expected),
+            );
+            let line = a
+                .lines()
+                .zip(e.lines())
+                .position(|(x, y)| x != y)
+                .unwrap_or(a.lines().count().min(e.lines().count()));
+            panic!(
+                "{} differs from {sample} compiled to {}: first at line {}\n  expected: {:?}\n  actual:   {:?}",
+                path.display(),
+                format.name(),
+                line + 1,
+                e.lines().nth(line),
+                a.lines().nth(line)
+            );
+        }
+    }
+}
+
+fn program_of(sample: &str) -> PvtProgram {
+    let json = compile_file(sample, &options_for(sample, Format::Json));
+    pvt_emit::json::read(std::str::from_utf8(&json).unwrap()).unwrap()
+}
+
+fn norm(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+/// Checks exactness at the points and the mid-segment speed of every segment.
+fn check_motion(sample: &str) {
+    let program = program_of(sample);
+    assert!(program.segment_count() > 0, "{sample}: no motion");
+    for (c, contour) in program.contours.iter().enumerate() {
+        let mut prev_speed = 0.0;
+        for i in 0..contour.len() {
+            let seg = contour.segment(i);
+            let t = seg.duration;
+            let scale = norm(seg.velocity).max(prev_speed).max(1.0);
+            let mut mid = vec![0.0; contour.dim];
+            for (k, m) in mid.iter_mut().enumerate() {
+                let cubic = contour.hermite(i, k);
+                let end = cubic.end();
+                let size = seg.end[k].abs().max(1.0);
+                assert!(
+                    close(end.position, seg.end[k], 1e-9, 1e-9 * size),
+                    "{sample} c{c} s{i} axis {k} position"
+                );
+                assert!(
+                    close(end.velocity, seg.velocity[k], 1e-9, 1e-9 * scale),
+                    "{sample} c{c} s{i} axis {k} velocity"
+                );
+                *m = cubic.at(t / 2.0).velocity;
+            }
+            let end_speed = norm(seg.velocity);
+            if prev_speed > 0.0 || end_speed > 0.0 {
+                let want = 0.5 * (prev_speed + end_speed);
+                assert!(
+                    close(norm(&mid), want, 1e-9, 0.0),
+                    "{sample} c{c} s{i}: mid speed {} vs {want}",
+                    norm(&mid)
+                );
+            }
+            prev_speed = end_speed;
+        }
+    }
+}
+
+#[test]
+fn gcode_samples_match_their_golden_files() {
+    let list = samples("gcode", ".ngc");
+    assert!(
+        list.len() >= 5,
+        "samples/gcode holds the AN208 paths and the quad circle"
+    );
+    for sample in &list {
+        check_golden(sample);
+    }
+}
+
+#[test]
+fn gcode_samples_are_exact_at_the_points_and_at_mid_segment() {
+    for sample in samples("gcode", ".ngc") {
+        check_motion(&sample);
+    }
+}
+
+#[test]
+fn dxf_samples_match_their_golden_files() {
+    let list = samples("dxf", ".dxf");
+    assert!(
+        list.len() >= 5,
+        "samples/dxf holds a drawing per entity kind"
+    );
+    for sample in &list {
+        check_golden(sample);
+    }
+}
+
+#[test]
+fn dxf_samples_are_exact_at_the_points_and_at_mid_segment() {
+    for sample in samples("dxf", ".dxf") {
+        check_motion(&sample);
+    }
+}
+
+#[test]
+fn quad_circle_arc_and_points_agree() {
+    // The arc by chord tolerance and the 3000 explicit points trace the same quarter circle.
+    let arc = program_of("samples/gcode/quad_circle_arc.ngc");
+    let pts = program_of("samples/gcode/quad_circle_points.ngc");
+    for p in [&arc, &pts] {
+        assert_eq!(p.contours.len(), 2, "a rapid to X1000 Y0, then the arc");
+        assert_eq!(p.contours[1].start, vec![1000.0, 0.0]);
+        let feed = &p.contours[1];
+        for seg in feed.segments() {
+            assert!(
+                (norm(seg.end) - 1000.0).abs() < 1e-3,
+                "every point on the circle"
+            );
+        }
+    }
+    assert_eq!(pts.contours[1].len(), 3000);
+    // 0.001 chord tolerance at radius 1000: 556 equal pieces of the quarter.
+    assert_eq!(arc.contours[1].len(), 556);
+    // Time ≈ (chord length + the two half-speed ramp segments, each worth one more chord) / feed.
+    let feed = 6283.185 / 60.0;
+    for p in [&arc, &pts] {
+        let c = &p.contours[1];
+        let mut prev = c.start.clone();
+        let mut chords = Vec::new();
+        for seg in c.segments() {
+            chords.push(((seg.end[0] - prev[0]).powi(2) + (seg.end[1] - prev[1]).powi(2)).sqrt());
+            prev = seg.end.to_vec();
+        }
+        let length: f64 = chords.iter().sum();
+        assert!((length - 1000.0 * std::f64::consts::FRAC_PI_2).abs() < 1e-2);
+        let expected = (length + chords[0] + chords[chords.len() - 1]) / feed;
+        assert!(
+            close(c.total_time(), expected, 1e-6, 0.0),
+            "{} vs {expected}",
+            c.total_time()
+        );
+    }
+}
+
+#[test]
+fn step_is_one_rest_to_rest_move_at_the_feed() {
+    let p = program_of("samples/gcode/an208_step.ngc");
+    assert_eq!(p.axes, vec![pvt_core::Axis::X]);
+    assert_eq!(p.contours.len(), 1);
+    let c = &p.contours[0];
+    assert_eq!(c.len(), 1);
+    // Rest to rest: T = 1.5·d / feed, so the peak speed (mid-time) is the feed.
+    assert!(close(c.durations[0], 1.5 * 5000.0 / 20_000.0, 1e-15, 0.0));
+}
+
+/// `digits "." n*digit`, optionally signed; never a negative zero.
+fn is_fixed(text: &str, decimals: usize, signed: bool) -> bool {
+    let body = match text.strip_prefix('-') {
+        Some(rest) if signed => {
+            if rest.bytes().all(|b| b == b'0' || b == b'.') {
+                return false;
+            }
+            rest
+        }
+        _ => text,
+    };
+    match body.split_once('.') {
+        Some((int, frac)) => {
+            !int.is_empty()
+                && int.bytes().all(|b| b.is_ascii_digit())
+                && frac.len() == decimals
+                && frac.bytes().all(|b| b.is_ascii_digit())
+        }
+        None => false,
+    }
+}
+
+/// One line of the body of a PMAC program, checked against grammars/pmac.ebnf.
+fn pmac_line_matches_grammar(line: &str) -> bool {
+    if line.starts_with(';') || line == "ABS" || line == "CLOSE" {
+        return true;
+    }
+    if let Some(n) = line
+        .strip_prefix("OPEN PROG ")
+        .and_then(|r| r.strip_suffix(" CLEAR"))
+    {
+        return !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit());
+    }
+    if let Some(t) = line.strip_prefix("PVT") {
+        return is_fixed(t, 4, false);
+    }
+    let Some(rest) = line.strip_prefix("TA") else {
+        return false;
+    };
+    let mut words = rest.split(' ');
+    let time_ok = words
+        .next()
+        .is_some_and(|t| is_fixed(t, 4, false) && t.parse::<f64>().unwrap() > 0.0);
+    let mut count = 0;
+    for word in words {
+        count += 1;
+        let Some((axis, pv)) = word.split_at_checked(1) else {
+            return false;
+        };
+        let Some((p, v)) = pv.split_once(':') else {
+            return false;
+        };
+        if !"XYZABC".contains(axis) || !is_fixed(p, 6, true) || !is_fixed(v, 6, true) {
+            return false;
+        }
+    }
+    time_ok && count > 0
+}
+
+#[test]
+fn golden_pmac_files_follow_the_pmac_grammar() {
+    let grammar = std::fs::read_to_string(root().join("grammars/pmac.ebnf")).unwrap();
+    assert!(
+        grammar.contains("piece_line"),
+        "grammars/pmac.ebnf defines the piece line"
+    );
+    for sample in samples("gcode", ".ngc")
+        .into_iter()
+        .chain(samples("dxf", ".dxf"))
+    {
+        let path = root().join(golden_name(&sample, Format::Pmac));
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.ends_with("CLOSE\n"));
+        for (i, line) in text.lines().enumerate() {
+            assert!(
+                pmac_line_matches_grammar(line),
+                "{}:{}: {line:?}",
+                path.display(),
+                i + 1
+            );
+        }
+    }
+    // The checker itself rejects what the grammar excludes.
+    for bad in [
+        "TA1.0000 X-0.000000:1.000000",
+        "TA1.000 X1.000000:0.000000",
+        "TA1.0000",
+        "X1.000000:0.000000 TA1.0000",
+    ] {
+        assert!(!pmac_line_matches_grammar(bad), "{bad}");
+    }
+}
