@@ -298,3 +298,74 @@ fn golden_pmac_files_follow_the_pmac_grammar() {
         assert!(!pmac_line_matches_grammar(bad), "{bad}");
     }
 }
+
+/// Every planner on the AN208 series and the quad circle: JSON golden files, and the
+/// motion of each ends exactly at its points.
+#[test]
+fn every_planner_matches_its_golden_files() {
+    use pvt_core::{Planner, Timing};
+    let cases: [(&str, f64); 4] = [
+        ("samples/csv/an208_step.csv", 1.0e6),
+        ("samples/csv/an208_zigzag.csv", 1.0e6),
+        ("samples/csv/an208_octagon.csv", 1.0e6),
+        ("samples/gcode/quad_circle_arc.ngc", 2000.0),
+    ];
+    for (sample, accel) in cases {
+        for planner in Planner::ALL {
+            let mut options = options_for(sample, Format::Json);
+            if sample.ends_with(".csv") {
+                options.input = pvtc::InputKind::Csv;
+            }
+            options.planner = planner;
+            options.accel = (planner == Planner::Lspb).then_some(accel);
+            if sample.ends_with(".ngc") && planner != Planner::Contour && planner != Planner::Lspb {
+                // Seed 002's fixed time slice for the quad circle's velocity methods.
+                options.timing = Timing::TimeSlice(0.005);
+            }
+            let actual = compile_file(sample, &options);
+            let stem = sample
+                .rsplit('/')
+                .next()
+                .unwrap()
+                .rsplit_once('.')
+                .unwrap()
+                .0;
+            let path = root().join(format!(
+                "tests/golden/planners/{stem}.{}.json",
+                planner.name()
+            ));
+            if std::env::var_os("PVTC_BLESS").is_some() {
+                std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+                std::fs::write(&path, &actual).unwrap();
+            } else {
+                let expected = std::fs::read(&path).unwrap_or_else(|e| {
+                    panic!("{}: {e} (PVTC_BLESS=1 creates it)", path.display())
+                });
+                assert!(
+                    actual == expected,
+                    "{} differs from {sample} planned by {}",
+                    path.display(),
+                    planner.name()
+                );
+            }
+            let program = pvt_emit::json::read(std::str::from_utf8(&actual).unwrap()).unwrap();
+            assert!(program.segment_count() > 0, "{sample} {}", planner.name());
+            if program.interpolation == pvt_core::Interpolation::Pvt {
+                for contour in &program.contours {
+                    for i in 0..contour.len() {
+                        let seg = contour.segment(i);
+                        for k in 0..contour.dim {
+                            let end = contour.hermite(i, k).end();
+                            let scale = seg.end[k].abs().max(1.0);
+                            assert!(
+                                close(end.position, seg.end[k], 1e-9, 1e-9 * scale),
+                                "{sample} {} s{i}",
+                                planner.name()
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+}

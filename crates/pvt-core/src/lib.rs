@@ -23,7 +23,10 @@ pub mod toolpath;
 pub mod vector;
 
 pub use axis::{Axis, Position, Units, AXIS_COUNT};
-pub use check::{check_program, CheckOptions, CheckReport};
+pub use check::{
+    check_program, AxisLimits, AxisReport, CheckOptions, CheckReport, Peak, Quantity, SpeedReport,
+    Violation,
+};
 pub use discretize::{flatten_contour, ChordTolerance};
 pub use hermite::{HermiteSegment, State};
 pub use plan::{
@@ -33,5 +36,6 @@ pub use plan::{
 pub use polyline::Polyline;
 pub use program::{Interpolation, PvtContour, PvtProgram, SegmentRef};
 pub use toolpath::{
-    Arc, ArcDirection, Contour, Element, ElementKind, Motion, Plane, Span, Toolpath,
+    Arc, ArcDirection, Contour, CoolantState, Element, ElementKind, EventKind, Motion, Plane,
+    ProgramEvent, Span, SpindleState, Toolpath,
 };

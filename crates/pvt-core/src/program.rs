@@ -5,7 +5,7 @@
 
 use crate::axis::{Axis, Units};
 use crate::hermite::HermiteSegment;
-use crate::toolpath::Motion;
+use crate::toolpath::{Motion, ProgramEvent};
 
 /// A whole planned program.
 #[derive(Debug, Clone, PartialEq)]
@@ -18,6 +18,8 @@ pub struct PvtProgram {
     pub interpolation: Interpolation,
     /// Rest-to-rest contours in execution order.
     pub contours: Vec<PvtContour>,
+    /// Events between contours (indices into `contours`), in order.
+    pub events: Vec<ProgramEvent>,
 }
 
 impl PvtProgram {

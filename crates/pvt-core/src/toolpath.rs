@@ -169,6 +169,115 @@ pub struct Contour {
     pub elements: Vec<Element>,
 }
 
+/// Spindle state set by M3, M4 and M5.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SpindleState {
+    /// M3.
+    Clockwise,
+    /// M4.
+    CounterClockwise,
+    /// M5.
+    Off,
+}
+
+/// Coolant state set by M7, M8 and M9.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CoolantState {
+    /// M7.
+    Mist,
+    /// M8.
+    Flood,
+    /// M9.
+    Off,
+}
+
+/// What a program asks the machine to do that is not motion.
+#[derive(Debug, Clone, PartialEq)]
+pub enum EventKind {
+    /// G4: wait this many seconds at rest.
+    Dwell {
+        /// Seconds.
+        seconds: f64,
+    },
+    /// M0 (or M1 when `optional`): stop until the operator resumes.
+    Pause {
+        /// M1, optional stop.
+        optional: bool,
+    },
+    /// M3/M4/M5.
+    Spindle {
+        /// New state.
+        state: SpindleState,
+    },
+    /// S word.
+    SpindleSpeed {
+        /// Revolutions per minute.
+        rpm: f64,
+    },
+    /// M7/M8/M9.
+    Coolant {
+        /// New state.
+        state: CoolantState,
+    },
+    /// T word: select a tool.
+    ToolSelect {
+        /// Tool number.
+        tool: u32,
+    },
+    /// M6: change to the selected tool.
+    ToolChange,
+    /// `(MSG, …)`: show a message to the operator.
+    Message {
+        /// The text.
+        text: String,
+    },
+}
+
+impl EventKind {
+    /// The name used in every output (`dwell`, `spindle_cw`, `coolant_off`, …).
+    pub fn name(&self) -> &'static str {
+        match self {
+            EventKind::Dwell { .. } => "dwell",
+            EventKind::Pause { optional: false } => "pause",
+            EventKind::Pause { optional: true } => "optional_pause",
+            EventKind::Spindle {
+                state: SpindleState::Clockwise,
+            } => "spindle_cw",
+            EventKind::Spindle {
+                state: SpindleState::CounterClockwise,
+            } => "spindle_ccw",
+            EventKind::Spindle {
+                state: SpindleState::Off,
+            } => "spindle_off",
+            EventKind::SpindleSpeed { .. } => "spindle_speed",
+            EventKind::Coolant {
+                state: CoolantState::Mist,
+            } => "coolant_mist",
+            EventKind::Coolant {
+                state: CoolantState::Flood,
+            } => "coolant_flood",
+            EventKind::Coolant {
+                state: CoolantState::Off,
+            } => "coolant_off",
+            EventKind::ToolSelect { .. } => "tool_select",
+            EventKind::ToolChange => "tool_change",
+            EventKind::Message { .. } => "message",
+        }
+    }
+}
+
+/// An event and where it happens: at rest, before contour `before_contour` (a value equal
+/// to the number of contours means after the last one).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ProgramEvent {
+    /// Index of the contour the event precedes.
+    pub before_contour: usize,
+    /// What happens.
+    pub kind: EventKind,
+    /// Source line.
+    pub line: u32,
+}
+
 /// Everything a source asks for, in order, in one set of units.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Toolpath {
@@ -176,6 +285,8 @@ pub struct Toolpath {
     pub units: Units,
     /// Contours in execution order.
     pub contours: Vec<Contour>,
+    /// Events between contours, in order; each happens with the machine at rest.
+    pub events: Vec<ProgramEvent>,
 }
 
 impl Toolpath {

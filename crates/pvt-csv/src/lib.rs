@@ -73,6 +73,7 @@ impl PointSeries {
                 motion: Motion::Feed,
                 elements,
             }],
+            events: Vec::new(),
         }
     }
 }

@@ -287,7 +287,7 @@ impl FitSpline {
         }
         let mut y: Vec<P3> = Vec::with_capacity(points.len());
         for &p in points {
-            if y.last().map_or(true, |&q| norm(sub(p, q)) > 0.0) {
+            if y.last().is_none_or(|&q| norm(sub(p, q)) > 0.0) {
                 y.push(p);
             }
         }

@@ -209,7 +209,7 @@ impl<'a> Reader<'a> {
     /// True when `layer` is one of the selected layers.
     pub fn layer_selected(&self, layer: &str) -> bool {
         let layer = layer.to_lowercase();
-        self.layers.as_ref().map_or(true, |v| v.contains(&layer))
+        self.layers.as_ref().is_none_or(|v| v.contains(&layer))
     }
 
     /// Reads the model-space entities with `xf` mapping drawing units to output units.

@@ -248,7 +248,11 @@ pub fn read_drawing(bytes: &[u8], options: &DxfOptions) -> Result<Drawing, DxfEr
     );
     let contours = chain::build_contours(&chains, options.start_point, options.safe_z, feed, rapid);
     Ok(Drawing {
-        toolpath: Toolpath { units, contours },
+        toolpath: Toolpath {
+            units,
+            contours,
+            events: Vec::new(),
+        },
         warnings,
     })
 }

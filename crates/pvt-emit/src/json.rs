@@ -28,7 +28,9 @@
 
 use crate::number::push_exact;
 use crate::stream::{Header, ProgramWriter, Totals};
-use pvt_core::{Axis, Interpolation, Motion, PvtContour, PvtProgram, SegmentRef, Units};
+use pvt_core::{
+    Axis, EventKind, Interpolation, Motion, ProgramEvent, PvtContour, PvtProgram, SegmentRef, Units,
+};
 use serde::Deserialize;
 use std::io::{self, Write};
 
@@ -42,6 +44,8 @@ pub struct JsonWriter<W> {
     out: W,
     text: String,
     totals: Totals,
+    /// Events, as JSON objects, printed after the contours (they are few).
+    events: Vec<String>,
 }
 
 impl<W: Write> JsonWriter<W> {
@@ -51,6 +55,7 @@ impl<W: Write> JsonWriter<W> {
             out,
             text: String::with_capacity(256),
             totals: Totals::default(),
+            events: Vec::new(),
         }
     }
 
@@ -137,10 +142,43 @@ impl<W: Write> ProgramWriter for JsonWriter<W> {
         self.flush_text()
     }
 
+    fn event(&mut self, event: &ProgramEvent) -> io::Result<()> {
+        let mut e = format!(
+            "{{\"before_contour\": {}, \"event\": \"{}\", \"line\": {}",
+            self.totals.contours,
+            event.kind.name(),
+            event.line
+        );
+        match &event.kind {
+            EventKind::Dwell { seconds } => {
+                e.push_str(", \"seconds\": ");
+                push_exact(&mut e, *seconds);
+            }
+            EventKind::SpindleSpeed { rpm } => {
+                e.push_str(", \"rpm\": ");
+                push_exact(&mut e, *rpm);
+            }
+            EventKind::ToolSelect { tool } => e.push_str(&format!(", \"tool\": {tool}")),
+            EventKind::Message { text } => e.push_str(&format!(", \"text\": {}", quote(text))),
+            _ => {}
+        }
+        e.push('}');
+        self.events.push(e);
+        Ok(())
+    }
+
     fn finish(&mut self) -> io::Result<()> {
         self.end_contour();
+        self.text.push_str("\n  ],\n  \"events\": [");
+        for (i, e) in self.events.iter().enumerate() {
+            self.text
+                .push_str(if i == 0 { "\n    " } else { ",\n    " });
+            self.text.push_str(e);
+        }
+        self.text
+            .push_str(if self.events.is_empty() { "]" } else { "\n  ]" });
         self.text.push_str(&format!(
-            "\n  ],\n  \"segment_count\": {},\n  \"total_time\": ",
+            ",\n  \"segment_count\": {},\n  \"total_time\": ",
             self.totals.segments
         ));
         push_exact(&mut self.text, self.totals.time);
@@ -275,5 +313,6 @@ pub fn read(text: &str) -> Result<PvtProgram, ReadError> {
         units,
         interpolation,
         contours,
+        events: Vec::new(),
     })
 }

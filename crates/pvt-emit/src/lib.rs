@@ -12,6 +12,7 @@
 pub mod json;
 pub mod movepvt;
 mod number;
+pub mod plot;
 pub mod pmac;
 pub mod stream;
 pub mod validate;
@@ -92,7 +93,11 @@ pub fn emit(
         options,
     };
     writer.begin(&header)?;
-    for contour in &program.contours {
+    let mut events = program.events.iter().peekable();
+    for (index, contour) in program.contours.iter().enumerate() {
+        while let Some(event) = events.next_if(|e| e.before_contour <= index) {
+            writer.event(event)?;
+        }
         writer.contour(
             contour.motion,
             &contour.start,
@@ -101,6 +106,9 @@ pub fn emit(
         for seg in contour.segments() {
             writer.segment(&seg)?;
         }
+    }
+    for event in events {
+        writer.event(event)?;
     }
     writer.finish()?;
     Ok(())

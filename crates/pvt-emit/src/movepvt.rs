@@ -14,7 +14,7 @@
 
 use crate::number::push_exact;
 use crate::stream::{Header, ProgramWriter};
-use pvt_core::{Motion, SegmentRef};
+use pvt_core::{EventKind, Motion, ProgramEvent, SegmentRef};
 use std::io::{self, Write};
 
 /// Streams MovePVT arrays as C source to `W`.
@@ -24,6 +24,8 @@ pub struct MovePvtWriter<W> {
     velocities: String,
     times: String,
     kinds: Vec<Motion>,
+    /// The last contour's arrays are already closed (an event followed it).
+    closed: bool,
 }
 
 impl<W: Write> MovePvtWriter<W> {
@@ -35,6 +37,7 @@ impl<W: Write> MovePvtWriter<W> {
             velocities: String::new(),
             times: String::new(),
             kinds: Vec::new(),
+            closed: false,
         }
     }
 
@@ -52,7 +55,7 @@ impl<W: Write> MovePvtWriter<W> {
     /// Closes the open contour's arrays and writes its count.
     fn end_contour(&mut self) -> io::Result<()> {
         let n = self.kinds.len();
-        if n == 0 {
+        if n == 0 || self.closed {
             return Ok(());
         }
         self.text.push_str("};\n");
@@ -117,6 +120,7 @@ impl<W: Write> ProgramWriter for MovePvtWriter<W> {
     fn contour(&mut self, motion: Motion, start: &[f64]) -> io::Result<()> {
         self.end_contour()?;
         self.kinds.push(motion);
+        self.closed = false;
         let n = self.kinds.len();
         self.text
             .push_str(&format!("\n/* contour {n}: {} */\n", motion.name()));
@@ -133,6 +137,24 @@ impl<W: Write> ProgramWriter for MovePvtWriter<W> {
         push_row(&mut self.text, seg.end);
         push_row(&mut self.velocities, seg.velocity);
         push_row(&mut self.times, &[seg.duration]);
+        self.flush_text()
+    }
+
+    fn event(&mut self, event: &ProgramEvent) -> io::Result<()> {
+        self.end_contour()?;
+        self.closed = true;
+        let detail = match &event.kind {
+            EventKind::Dwell { seconds } => format!(" {seconds} s"),
+            EventKind::SpindleSpeed { rpm } => format!(" {rpm} rpm"),
+            EventKind::ToolSelect { tool } => format!(" T{tool}"),
+            EventKind::Message { text } => format!(" {}", c_comment(text)),
+            _ => String::new(),
+        };
+        self.text.push_str(&format!(
+            "\n/* event at rest: {}{detail} (line {}) */\n",
+            event.kind.name(),
+            event.line
+        ));
         self.flush_text()
     }
 

@@ -22,7 +22,7 @@
 
 use crate::number::push_fixed;
 use crate::stream::{Header, ProgramWriter, Totals};
-use pvt_core::{Axis, Motion, SegmentRef};
+use pvt_core::{Axis, EventKind, Motion, ProgramEvent, SegmentRef};
 use std::io::{self, Write};
 
 /// Decimals of positions and velocities.
@@ -125,6 +125,31 @@ impl<W: Write> ProgramWriter for PmacWriter<W> {
             push_fixed(t, *v, POSITION_DECIMALS);
         }
         t.push('\n');
+        self.flush_line()
+    }
+
+    fn event(&mut self, event: &ProgramEvent) -> io::Result<()> {
+        let t = &mut self.line;
+        match &event.kind {
+            EventKind::Dwell { seconds } => {
+                t.push_str("DWELL");
+                push_fixed(t, seconds * 1000.0, TIME_DECIMALS);
+                t.push_str(&format!(" ; G4 from line {}\n", event.line));
+            }
+            kind => {
+                // M-codes are machine-specific on a PMAC: the event is stated, not guessed.
+                t.push_str(&format!("; event {} from line {}", kind.name(), event.line));
+                match kind {
+                    EventKind::SpindleSpeed { rpm } => t.push_str(&format!(": {rpm} rpm")),
+                    EventKind::ToolSelect { tool } => t.push_str(&format!(": T{tool}")),
+                    EventKind::Message { text } => {
+                        t.push_str(&format!(": {}", text.replace('\n', " ")))
+                    }
+                    _ => {}
+                }
+                t.push('\n');
+            }
+        }
         self.flush_line()
     }
 

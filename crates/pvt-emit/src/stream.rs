@@ -7,7 +7,7 @@
 
 use crate::validate::{check_segment, check_start, InvalidProgram};
 use crate::EmitOptions;
-use pvt_core::{Axis, Interpolation, Motion, SegmentRef, Units};
+use pvt_core::{Axis, Interpolation, Motion, ProgramEvent, SegmentRef, Units};
 use std::io;
 
 /// What a back end needs to know before the first contour.
@@ -64,6 +64,8 @@ pub trait ProgramWriter {
     fn contour(&mut self, motion: Motion, start: &[f64]) -> io::Result<()>;
     /// Writes one segment of the current contour.
     fn segment(&mut self, segment: &SegmentRef<'_>) -> io::Result<()>;
+    /// Writes an event that happens at rest before the next contour (or at the end).
+    fn event(&mut self, event: &ProgramEvent) -> io::Result<()>;
     /// Ends the program.
     fn finish(&mut self) -> io::Result<()>;
     /// Whether the back end can express `interpolation` (all take PVT).
@@ -133,6 +135,11 @@ impl<W: ProgramWriter> Checked<W> {
         Ok(self.inner.segment(segment)?)
     }
 
+    /// Writes an event at rest between contours.
+    pub fn event(&mut self, event: &ProgramEvent) -> Result<(), StreamError> {
+        Ok(self.inner.event(event)?)
+    }
+
     /// Ends the program and returns the back end.
     pub fn finish(mut self) -> Result<W, StreamError> {
         self.inner.finish()?;
@@ -149,6 +156,9 @@ impl<T: ProgramWriter + ?Sized> ProgramWriter for Box<T> {
     }
     fn segment(&mut self, segment: &SegmentRef<'_>) -> io::Result<()> {
         (**self).segment(segment)
+    }
+    fn event(&mut self, event: &ProgramEvent) -> io::Result<()> {
+        (**self).event(event)
     }
     fn finish(&mut self) -> io::Result<()> {
         (**self).finish()

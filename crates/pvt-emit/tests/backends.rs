@@ -17,6 +17,7 @@ fn program() -> PvtProgram {
         units: Units::Millimetre,
         interpolation: Interpolation::Pvt,
         contours: vec![c],
+        events: Vec::new(),
     }
 }
 
@@ -123,4 +124,58 @@ fn nan_and_non_positive_times_never_reach_an_output() {
         emit_to_vec(&p, Format::Json, &options()),
         Err(StreamError::Invalid(_))
     ));
+}
+
+#[test]
+fn events_come_out_at_rest_between_contours() {
+    use pvt_core::{EventKind, ProgramEvent, SpindleState};
+    let mut p = program();
+    p.events = vec![
+        ProgramEvent {
+            before_contour: 0,
+            kind: EventKind::SpindleSpeed { rpm: 12000.0 },
+            line: 1,
+        },
+        ProgramEvent {
+            before_contour: 0,
+            kind: EventKind::Dwell { seconds: 0.5 },
+            line: 2,
+        },
+        ProgramEvent {
+            before_contour: 1,
+            kind: EventKind::Spindle {
+                state: SpindleState::Off,
+            },
+            line: 9,
+        },
+    ];
+    let pmac = String::from_utf8(emit_to_vec(&p, Format::Pmac, &options()).unwrap()).unwrap();
+    let lines: Vec<&str> = pmac.lines().collect();
+    let dwell = lines
+        .iter()
+        .position(|l| *l == "DWELL500.0000 ; G4 from line 2")
+        .unwrap();
+    let first_piece = lines.iter().position(|l| l.starts_with("TA")).unwrap();
+    let off = lines
+        .iter()
+        .position(|l| *l == "; event spindle_off from line 9")
+        .unwrap();
+    assert!(dwell < first_piece && first_piece < off, "{pmac}");
+    assert!(pmac.contains("; event spindle_speed from line 1: 12000 rpm"));
+
+    let json = String::from_utf8(emit_to_vec(&p, Format::Json, &options()).unwrap()).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(
+        v["events"][1],
+        serde_json::json!({"before_contour": 0, "event": "dwell", "line": 2, "seconds": 0.5})
+    );
+    assert_eq!(v["events"][2]["before_contour"], 1);
+    assert_eq!(v["events"][2]["event"], "spindle_off");
+
+    let c = String::from_utf8(emit_to_vec(&p, Format::MovePvt, &options()).unwrap()).unwrap();
+    let event = c.find("/* event at rest: spindle_off (line 9) */").unwrap();
+    assert!(
+        c.find("#define PVTC_C1_POINTS").unwrap() < event,
+        "the contour is closed before the event"
+    );
 }

@@ -129,6 +129,7 @@ impl<'a> Interpreter<'a> {
         let toolpath = Toolpath {
             units: self.output(),
             contours: self.contours.finish(),
+            events: Vec::new(),
         };
         Ok(Compiled {
             toolpath,

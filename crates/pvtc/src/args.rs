@@ -1,14 +1,16 @@
 //! Command-line arguments.
 //!
-//! Owns the flags and their help text. It must not read files or compile anything.
+//! Owns the flags, their help text and their conversion into pipeline options. It must
+//! not read files or compile anything.
 
 use crate::pipeline::{CompileOptions, DrawingOptions, InputKind};
 use clap::{Parser, Subcommand, ValueEnum};
-use pvt_core::Units;
+use pvt_core::{AxisLimits, Planner, Timing, Units};
 use pvt_emit::Format;
 use std::path::PathBuf;
 
-/// pvtc compiles G-code part programs into position-velocity-time motion for controllers.
+/// pvtc compiles G-code part programs, DXF drawings and point-time series into
+/// position-velocity-time motion for controllers.
 #[derive(Debug, Parser)]
 #[command(name = "pvtc", version, about, long_about = None)]
 pub struct Cli {
@@ -20,8 +22,13 @@ pub struct Cli {
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Compile a part program into PVT motion.
+    /// Compile inputs into PVT motion (PMAC program, MovePVT arrays or JSON).
     Compile(CompileArgs),
+    /// Report what a program's motion will do: peaks, servo-sampled values, path error,
+    /// speed against feed; exit 1 when a given limit is exceeded.
+    Check(CheckArgs),
+    /// Plot a program's path, speed, velocities and accelerations as SVG.
+    Plot(PlotArgs),
 }
 
 /// Output format names on the command line.
@@ -29,7 +36,7 @@ pub enum Command {
 pub enum FormatArg {
     /// PMAC motion program in PVT mode (`TA<ms> X<pos>:<vel> …`).
     Pmac,
-    /// MovePVT position, velocity and time arrays as C source.
+    /// MovePVT (or, for --planner pt, MovePT) arrays as C source.
     Movepvt,
     /// The pvtc JSON document, version 1.
     Json,
@@ -52,6 +59,8 @@ pub enum InputArg {
     Gcode,
     /// DXF drawing (ASCII or binary).
     Dxf,
+    /// Point-time series (CSV with a header row).
+    Csv,
 }
 
 /// Unit names on the command line.
@@ -63,11 +72,105 @@ pub enum UnitsArg {
     In,
 }
 
+/// How diagnostics are printed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum DiagnosticsArg {
+    /// For people: file, line, column, the offending text underlined, a help line.
+    Human,
+    /// For tools: one JSON object per diagnostic per line on standard error.
+    Json,
+}
+
+/// Options shared by every subcommand that compiles a source.
+#[derive(Debug, Clone, clap::Args)]
+pub struct PipelineArgs {
+    /// Kind of input; by default from the file name (.dxf, .csv, otherwise G-code).
+    #[arg(long = "input-format", value_enum)]
+    pub input_format: Option<InputArg>,
+    /// Planner: contour (seed 000, default), pt, chord, const-accel, spline or lspb.
+    #[arg(long, value_name = "NAME", default_value = "contour", value_parser = planner)]
+    pub planner: Planner,
+    /// Fixed time per piece (seed 002) for pt/chord/const-accel/spline/lspb, e.g. 5ms;
+    /// default: time = distance / feed.
+    #[arg(long = "time-slice", value_name = "T", value_parser = duration)]
+    pub time_slice: Option<f64>,
+    /// Acceleration for lspb blends, program units/s².
+    #[arg(long, value_name = "A", value_parser = positive_number)]
+    pub accel: Option<f64>,
+    /// Make every piece time a whole multiple of this, e.g. 1ms (PMAC takes whole ms).
+    #[arg(long, value_name = "T", value_parser = duration)]
+    pub quantize: Option<f64>,
+    /// Feed, program units per minute: for moves before the first F word; required for
+    /// drawings, which have none.
+    #[arg(long, value_name = "F", value_parser = positive_number)]
+    pub feed: Option<f64>,
+    /// Rapid (G0) rate, program units per minute [default: 5000 mm/min in program units].
+    #[arg(long, value_name = "F", value_parser = positive_number)]
+    pub rapid: Option<f64>,
+    /// Chord tolerance for arcs and curves, program units [default: 0.001 mm].
+    #[arg(long, value_name = "T", value_parser = positive_number)]
+    pub tolerance: Option<f64>,
+    /// DXF: cut only this layer (repeatable; default every layer).
+    #[arg(long = "layer", value_name = "NAME")]
+    pub layers: Vec<String>,
+    /// DXF: end points closer than this are joined, drawing units [default: 0.01 mm].
+    #[arg(long = "join-tolerance", value_name = "T", value_parser = positive_number)]
+    pub join_tolerance: Option<f64>,
+    /// DXF: where the machine starts, `X,Y`; the nearest contour is cut first [default: 0,0].
+    #[arg(long = "start-point", value_name = "X,Y", value_parser = point)]
+    pub start_point: Option<[f64; 2]>,
+    /// DXF: travel between contours at this Z, plunging at the feed.
+    #[arg(long = "safe-z", value_name = "Z", value_parser = finite_number)]
+    pub safe_z: Option<f64>,
+    /// DXF and CSV: the input's units (DXF: overrides $INSUNITS) [default: mm].
+    #[arg(long, value_enum)]
+    pub units: Option<UnitsArg>,
+    /// Fail when there is any warning.
+    #[arg(long = "deny-warnings")]
+    pub deny_warnings: bool,
+    /// How to print diagnostics.
+    #[arg(long, value_enum, default_value = "human")]
+    pub diagnostics: DiagnosticsArg,
+}
+
+impl PipelineArgs {
+    /// The pipeline options these arguments ask for, for a source named `name`.
+    pub fn compile_options(&self, name: &str, format: Format) -> CompileOptions {
+        CompileOptions {
+            format,
+            input: match self.input_format {
+                Some(InputArg::Gcode) => InputKind::Gcode,
+                Some(InputArg::Dxf) => InputKind::Dxf,
+                Some(InputArg::Csv) => InputKind::Csv,
+                None => InputKind::from_name(name),
+            },
+            feed: self.feed,
+            rapid: self.rapid,
+            tolerance: self.tolerance,
+            planner: self.planner,
+            timing: self.time_slice.map_or(Timing::FromFeed, Timing::TimeSlice),
+            accel: self.accel,
+            quantize: self.quantize,
+            drawing: DrawingOptions {
+                layers: self.layers.clone(),
+                join_tolerance: self.join_tolerance,
+                start_point: self.start_point.unwrap_or([0.0, 0.0]),
+                safe_z: self.safe_z,
+                units: self.units.map(|u| match u {
+                    UnitsArg::Mm => Units::Millimetre,
+                    UnitsArg::In => Units::Inch,
+                }),
+            },
+        }
+    }
+}
+
 /// Arguments of `pvtc compile`.
 #[derive(Debug, clap::Args)]
 pub struct CompileArgs {
-    /// Part programs or drawings to compile: files, directories (searched recursively
-    /// for .ngc .nc .gcode .tap .cnc .dxf) or glob patterns; `-` reads standard input.
+    /// Part programs, drawings or point-time series: files, directories (searched
+    /// recursively for .ngc .nc .gcode .tap .cnc .dxf .csv) or glob patterns; `-` is
+    /// standard input.
     #[arg(required = true, value_name = "INPUT")]
     pub inputs: Vec<PathBuf>,
     /// Where to write the result of a single input; `-` or none writes standard output.
@@ -82,60 +185,108 @@ pub struct CompileArgs {
     /// Output format.
     #[arg(long, value_enum, default_value = "pmac")]
     pub format: FormatArg,
-    /// Kind of input; by default taken from the file name (G-code otherwise).
-    #[arg(long = "input-format", value_enum)]
-    pub input_format: Option<InputArg>,
-    /// Feed for feed moves before the program's first F word, program units per minute.
-    #[arg(long, value_name = "F", value_parser = positive_number)]
-    pub feed: Option<f64>,
-    /// Rapid (G0) rate, program units per minute [default: 5000 mm/min in program units].
-    #[arg(long, value_name = "F", value_parser = positive_number)]
-    pub rapid: Option<f64>,
-    /// Chord tolerance for arcs, program units [default: 0.001 mm in program units].
-    #[arg(long, value_name = "T", value_parser = positive_number)]
-    pub tolerance: Option<f64>,
-    /// DXF: cut only this layer (repeatable; default every layer).
-    #[arg(long = "layer", value_name = "NAME")]
-    pub layers: Vec<String>,
-    /// DXF: end points closer than this are joined, drawing units [default: 0.01 mm].
-    #[arg(long = "join-tolerance", value_name = "T", value_parser = positive_number)]
-    pub join_tolerance: Option<f64>,
-    /// DXF: where the machine starts, `X,Y`; the nearest contour is cut first [default: 0,0].
-    #[arg(long = "start-point", value_name = "X,Y", value_parser = point)]
-    pub start_point: Option<[f64; 2]>,
-    /// DXF: travel between contours at this Z, plunging at the feed [default: stay in the drawing's Z].
-    #[arg(long = "safe-z", value_name = "Z", value_parser = finite_number)]
-    pub safe_z: Option<f64>,
-    /// DXF: the drawing's units, overriding its $INSUNITS.
-    #[arg(long, value_enum)]
-    pub units: Option<UnitsArg>,
+    /// How to read and plan the input.
+    #[command(flatten)]
+    pub pipeline: PipelineArgs,
 }
 
 impl CompileArgs {
-    /// The pipeline options these arguments ask for, for a source named `name`.
+    /// The pipeline options for a source named `name`.
     pub fn compile_options(&self, name: &str) -> CompileOptions {
-        CompileOptions {
-            format: self.format.into(),
-            input: match self.input_format {
-                Some(InputArg::Gcode) => InputKind::Gcode,
-                Some(InputArg::Dxf) => InputKind::Dxf,
-                None => InputKind::from_name(name),
-            },
-            feed: self.feed,
-            rapid: self.rapid,
-            tolerance: self.tolerance,
-            drawing: DrawingOptions {
-                layers: self.layers.clone(),
-                join_tolerance: self.join_tolerance,
-                start_point: self.start_point.unwrap_or([0.0, 0.0]),
-                safe_z: self.safe_z,
-                units: self.units.map(|u| match u {
-                    UnitsArg::Mm => Units::Millimetre,
-                    UnitsArg::In => Units::Inch,
-                }),
-            },
-        }
+        self.pipeline.compile_options(name, self.format.into())
     }
+}
+
+/// Arguments of `pvtc check`.
+#[derive(Debug, clap::Args)]
+pub struct CheckArgs {
+    /// A source (compiled first with the options below) or a pvtc JSON program (.json).
+    #[arg(value_name = "INPUT")]
+    pub input: PathBuf,
+    /// Servo period the controller samples at, e.g. 0.5ms or 250us.
+    #[arg(long = "servo-period", value_name = "T", default_value = "0.5ms", value_parser = duration)]
+    pub servo_period: f64,
+    /// Velocity limit of an axis, `X=500` (units/s); repeatable.
+    #[arg(long = "max-vel", value_name = "AXIS=V", value_parser = axis_limit)]
+    pub max_vel: Vec<(pvt_core::Axis, f64)>,
+    /// Acceleration limit of an axis, `X=5000` (units/s²); repeatable.
+    #[arg(long = "max-accel", value_name = "AXIS=A", value_parser = axis_limit)]
+    pub max_accel: Vec<(pvt_core::Axis, f64)>,
+    /// Jerk limit of an axis, `X=1e6` (units/s³); repeatable.
+    #[arg(long = "max-jerk", value_name = "AXIS=J", value_parser = axis_limit)]
+    pub max_jerk: Vec<(pvt_core::Axis, f64)>,
+    /// Print one JSON object instead of the table.
+    #[arg(long)]
+    pub json: bool,
+    /// How to read and plan the input.
+    #[command(flatten)]
+    pub pipeline: PipelineArgs,
+}
+
+impl CheckArgs {
+    /// The limits per axis these arguments give.
+    pub fn limits(&self) -> std::collections::BTreeMap<pvt_core::Axis, AxisLimits> {
+        let mut limits: std::collections::BTreeMap<pvt_core::Axis, AxisLimits> = Default::default();
+        for (axis, v) in &self.max_vel {
+            limits.entry(*axis).or_default().velocity = Some(*v);
+        }
+        for (axis, a) in &self.max_accel {
+            limits.entry(*axis).or_default().acceleration = Some(*a);
+        }
+        for (axis, j) in &self.max_jerk {
+            limits.entry(*axis).or_default().jerk = Some(*j);
+        }
+        limits
+    }
+}
+
+/// Arguments of `pvtc plot`.
+#[derive(Debug, clap::Args)]
+pub struct PlotArgs {
+    /// A source (compiled first with the options below) or a pvtc JSON program (.json).
+    #[arg(value_name = "INPUT")]
+    pub input: PathBuf,
+    /// The SVG file to write; `-` writes standard output.
+    #[arg(short, long, value_name = "FILE.svg")]
+    pub output: PathBuf,
+    /// How to read and plan the input.
+    #[command(flatten)]
+    pub pipeline: PipelineArgs,
+}
+
+fn planner(text: &str) -> Result<Planner, String> {
+    text.parse::<Planner>()
+        .map_err(|e| format!("{e}; one of contour, pt, chord, const-accel, spline, lspb"))
+}
+
+/// A duration: a number with `s`, `ms` or `us` (no unit: seconds).
+pub fn duration(text: &str) -> Result<f64, String> {
+    let t = text.trim();
+    let (number, scale) = if let Some(n) = t.strip_suffix("ms") {
+        (n, 1e-3)
+    } else if let Some(n) = t.strip_suffix("us").or_else(|| t.strip_suffix("µs")) {
+        (n, 1e-6)
+    } else if let Some(n) = t.strip_suffix('s') {
+        (n, 1.0)
+    } else {
+        (t, 1.0)
+    };
+    Ok(positive_number(number)? * scale)
+}
+
+fn axis_limit(text: &str) -> Result<(pvt_core::Axis, f64), String> {
+    let (axis, value) = text
+        .split_once('=')
+        .ok_or("expected AXIS=VALUE, e.g. X=500")?;
+    let mut chars = axis.trim().chars();
+    let axis = match (
+        chars.next().and_then(pvt_core::Axis::from_letter),
+        chars.next(),
+    ) {
+        (Some(a), None) => a,
+        _ => return Err(format!("unknown axis {axis:?}: one of X Y Z A B C")),
+    };
+    Ok((axis, positive_number(value)?))
 }
 
 fn finite_number(text: &str) -> Result<f64, String> {
@@ -156,5 +307,29 @@ fn positive_number(text: &str) -> Result<f64, String> {
         Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
         Ok(_) => Err("must be a finite number greater than zero".into()),
         Err(e) => Err(e.to_string()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn durations_take_units() {
+        assert_eq!(duration("0.5ms"), Ok(0.0005));
+        assert_eq!(duration("250us"), Ok(0.00025));
+        assert_eq!(duration("2s"), Ok(2.0));
+        assert_eq!(duration("0.001"), Ok(0.001));
+        assert!(duration("-1ms").is_err() && duration("fast").is_err());
+    }
+
+    #[test]
+    fn axis_limits_parse() {
+        assert_eq!(axis_limit("x=500"), Ok((pvt_core::Axis::X, 500.0)));
+        assert!(
+            axis_limit("Q=1").is_err()
+                && axis_limit("X500").is_err()
+                && axis_limit("X=-1").is_err()
+        );
     }
 }

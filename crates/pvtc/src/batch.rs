@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 /// File extensions a directory is searched for (lower case).
-pub const EXTENSIONS: [&str; 6] = ["ngc", "nc", "gcode", "tap", "cnc", "dxf"];
+pub const EXTENSIONS: [&str; 7] = ["ngc", "nc", "gcode", "tap", "cnc", "dxf", "csv"];
 
 /// One input and where its output goes.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -88,6 +88,13 @@ pub fn run_jobs(jobs: &[Job], args: &CompileArgs) -> Vec<Outcome> {
 fn run_job(job: &Job, args: &CompileArgs) -> Outcome {
     let result = Source::read(&job.input).and_then(|source| {
         let compiled = compile(&source, &args.compile_options(&source.name))?;
+        let warned = compiled
+            .warnings
+            .iter()
+            .any(|w| w.severity() == Some(miette::Severity::Warning));
+        if args.pipeline.deny_warnings && warned {
+            return Err(Failure::Input(compiled.warnings));
+        }
         output::write_file(&job.output, &compiled.bytes)
     });
     let failure = result.err().map(|f| first_diagnostic(&f));

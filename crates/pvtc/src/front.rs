@@ -1,46 +1,66 @@
-//! Choosing and calling a front end: bytes in, a toolpath and its warnings out.
+//! Choosing and calling a front end: bytes in, a toolpath or point series out.
 //!
 //! Owns the mapping from CLI options to each front end's options and from each front
 //! end's diagnostics to printable reports. It must not plan or write output.
 
-use crate::pipeline::{CompileOptions, Failure, InputKind};
-use miette::{NamedSource, Report};
-use pvt_core::Toolpath;
+use crate::pipeline::{CompileOptions, Failure, InputKind, Source};
+use miette::Report;
+use pvt_core::{Toolpath, Units};
+use pvt_csv::PointSeries;
 
-/// A toolpath with the warnings met while reading it.
-pub type FrontResult = Result<(Toolpath, Vec<Report>), Failure>;
+/// What a front end produced.
+#[derive(Debug)]
+pub enum Input {
+    /// Geometry with feeds (G-code, DXF).
+    Toolpath(Toolpath),
+    /// Points with times (CSV).
+    Series(PointSeries),
+}
 
-/// Reads `bytes` (named `name`) with the front end `options.input` selects.
-pub fn read(name: &str, bytes: &[u8], options: &CompileOptions) -> FrontResult {
-    match options.input {
-        InputKind::Gcode => gcode(name, bytes, options),
-        InputKind::Dxf => dxf(bytes, options),
+impl Input {
+    /// Units of the input's coordinates.
+    pub fn units(&self) -> Units {
+        match self {
+            Input::Toolpath(t) => t.units,
+            Input::Series(s) => s.units,
+        }
     }
 }
 
-fn gcode(name: &str, bytes: &[u8], options: &CompileOptions) -> FrontResult {
+/// An input with the warnings met while reading it.
+pub type FrontResult = Result<(Input, Vec<Report>), Failure>;
+
+/// Reads `source` with the front end `options.input` selects.
+pub fn read(source: &Source, options: &CompileOptions) -> FrontResult {
+    match options.input {
+        InputKind::Gcode => gcode(source, options),
+        InputKind::Dxf => dxf(&source.bytes, options),
+        InputKind::Csv => csv(source, options),
+    }
+}
+
+fn gcode(source: &Source, options: &CompileOptions) -> FrontResult {
     // Invalid UTF-8 (a Latin-1 comment, say) becomes U+FFFD; spans refer to this text.
-    let text = String::from_utf8_lossy(bytes).into_owned();
-    let named = || NamedSource::new(name, text.clone());
+    let named = source.named_text();
     let gcode_options = pvt_gcode::GcodeOptions {
         default_feed: options.feed,
         rapid: options.rapid,
         ..Default::default()
     };
-    match pvt_gcode::compile(&text, &gcode_options) {
+    match pvt_gcode::compile(named.inner(), &gcode_options) {
         Ok(compiled) => {
             let warnings = compiled
                 .warnings
                 .into_iter()
-                .map(|w| Report::new(w).with_source_code(named()))
+                .map(|w| Report::new(w).with_source_code(named.clone()))
                 .collect();
-            Ok((compiled.toolpath, warnings))
+            Ok((Input::Toolpath(compiled.toolpath), warnings))
         }
         Err(errors) => Err(Failure::Input(
             errors
                 .diagnostics
                 .into_iter()
-                .map(|e| Report::new(e).with_source_code(named()))
+                .map(|e| Report::new(e).with_source_code(named.clone()))
                 .collect(),
         )),
     }
@@ -66,11 +86,26 @@ fn dxf(bytes: &[u8], options: &CompileOptions) -> FrontResult {
     };
     match pvt_dxf::read_drawing(bytes, &dxf_options) {
         Ok(drawing) => Ok((
-            drawing.toolpath,
+            Input::Toolpath(drawing.toolpath),
             drawing.warnings.into_iter().map(Report::new).collect(),
         )),
         Err(errors) => Err(Failure::Input(
             errors.errors.into_iter().map(Report::new).collect(),
+        )),
+    }
+}
+
+fn csv(source: &Source, options: &CompileOptions) -> FrontResult {
+    let named = source.named_text();
+    let units = options.drawing.units.unwrap_or_default();
+    match pvt_csv::read_points(named.inner(), units) {
+        Ok(series) => Ok((Input::Series(series), Vec::new())),
+        Err(errors) => Err(Failure::Input(
+            errors
+                .diagnostics
+                .into_iter()
+                .map(|e| Report::new(e).with_source_code(named.clone()))
+                .collect(),
         )),
     }
 }

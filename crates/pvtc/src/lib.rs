@@ -1,23 +1,27 @@
 //! pvtc: the command line, a small layer on top of the pipeline crates.
 //!
-//! Owns arguments ([`args`]), reading inputs and choosing a front end ([`pipeline`]),
-//! writing outputs atomically ([`output`]) and rendering diagnostics ([`report`]).
+//! Owns arguments ([`args`]), reading inputs and choosing a front end ([`front`],
+//! [`pipeline`]), batch runs ([`batch`]), writing outputs atomically ([`output`]), the
+//! check and plot commands' rendering ([`check`], [`plot`]) and diagnostics ([`report`]).
 //! Architecture invariant: no geometry, planning or formatting happens here; a failed run
 //! never creates or changes an output file.
 
 pub mod args;
 pub mod batch;
+pub mod check;
 pub mod front;
 pub mod output;
 pub mod pipeline;
+pub mod plot;
 pub mod report;
 
 pub use args::{Cli, Command, CompileArgs};
-pub use pipeline::{compile, CompileOptions, DrawingOptions, Failure, InputKind, Source};
+pub use pipeline::{compile, plan, CompileOptions, DrawingOptions, Failure, InputKind, Source};
 
+use report::Reporter;
 use std::process::ExitCode;
 
-/// Exit status of a run whose input had errors.
+/// Exit status of a run whose input had errors (or whose check found a limit exceeded).
 pub const EXIT_INPUT_ERROR: u8 = 1;
 /// Exit status of a run whose command line asks for something impossible.
 pub const EXIT_USAGE: u8 = 2;
@@ -26,6 +30,8 @@ pub const EXIT_USAGE: u8 = 2;
 pub fn run(cli: Cli) -> ExitCode {
     match cli.command {
         Command::Compile(args) => compile_command(&args),
+        Command::Check(args) => check::run(&args),
+        Command::Plot(args) => plot::run(&args),
     }
 }
 
@@ -33,19 +39,21 @@ fn compile_command(args: &CompileArgs) -> ExitCode {
     if args.out_dir.is_some() || args.inputs.len() > 1 {
         return batch::run(args);
     }
+    let reporter = Reporter::new(&args.pipeline);
     let source = match Source::read(&args.inputs[0]) {
         Ok(source) => source,
-        Err(failure) => return report::fail(&failure),
+        Err(failure) => return reporter.fail(&failure),
     };
     let options = args.compile_options(&source.name);
-    match compile(&source, &options) {
-        Ok(compiled) => {
-            report::warnings(&compiled.warnings);
-            match output::write(args.output.as_deref(), &compiled.bytes) {
-                Ok(()) => ExitCode::SUCCESS,
-                Err(failure) => report::fail(&failure),
-            }
-        }
-        Err(failure) => report::fail(&failure),
+    let compiled = match compile(&source, &options) {
+        Ok(compiled) => compiled,
+        Err(failure) => return reporter.fail(&failure),
+    };
+    if let Err(code) = reporter.warnings(&compiled.warnings) {
+        return code;
+    }
+    match output::write(args.output.as_deref(), &compiled.bytes) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(failure) => reporter.fail(&failure),
     }
 }

@@ -44,9 +44,33 @@ pub fn write_file(path: &Path, bytes: &[u8]) -> Result<(), Failure> {
         .suffix(".partial")
         .tempfile_in(dir)
         .map_err(fail)?;
+    temp.as_file()
+        .set_permissions(permissions_for(path))
+        .map_err(fail)?;
     temp.write_all(bytes)
         .and_then(|()| temp.as_file().sync_all())
         .map_err(fail)?;
     temp.persist(path).map_err(|e| fail(e.error))?;
     Ok(())
+}
+
+/// The permissions the output gets: those of the file it replaces, or else `rw-r--r--`
+/// (a temporary file is created private, which an output must not stay).
+fn permissions_for(path: &Path) -> std::fs::Permissions {
+    if let Ok(meta) = std::fs::metadata(path) {
+        return meta.permissions();
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::Permissions::from_mode(0o644)
+    }
+    #[cfg(not(unix))]
+    {
+        let mut p = std::fs::metadata(Path::new("."))
+            .map(|m| m.permissions())
+            .expect("the working directory exists");
+        p.set_readonly(false);
+        p
+    }
 }

@@ -1,10 +1,14 @@
-//! The pipeline: source → front end → toolpath → planner → back end → bytes.
+//! The pipeline: source → front end → toolpath or point series → planner → back end → bytes.
 //!
 //! Owns the order of the phases and the settings each gets. It must not parse, plan or
 //! format by itself, and it does no output I/O (see [`crate::output`]).
 
-use miette::{LabeledSpan, NamedSource, Report};
-use pvt_core::{plan_toolpath, ChordTolerance, PlanOptions, PvtProgram, Units};
+use crate::front::{self, Input};
+use miette::{LabeledSpan, NamedSource, Report, Severity};
+use pvt_core::{
+    plan_timed, plan_toolpath_report, ChordTolerance, PlanOptions, PlanReport, Planned, Planner,
+    PvtProgram, Timing, Toolpath, Units,
+};
 use pvt_emit::{emit_to_vec, EmitOptions, Format, StreamError};
 use std::io::Read;
 use std::path::{Path, PathBuf};
@@ -53,6 +57,14 @@ impl Source {
             bytes: text.as_bytes().to_vec(),
         }
     }
+
+    /// The source as text (invalid UTF-8 becomes U+FFFD) with its name, for diagnostics.
+    pub fn named_text(&self) -> NamedSource<String> {
+        NamedSource::new(
+            self.name.clone(),
+            String::from_utf8_lossy(&self.bytes).into_owned(),
+        )
+    }
 }
 
 /// The front ends.
@@ -62,14 +74,18 @@ pub enum InputKind {
     Gcode,
     /// DXF drawing.
     Dxf,
+    /// Point-time series as CSV.
+    Csv,
 }
 
 impl InputKind {
-    /// The front end a file name suggests: `.dxf` is a drawing, anything else G-code.
+    /// The front end a file name suggests: `.dxf` drawing, `.csv` series, else G-code.
     pub fn from_name(name: &str) -> InputKind {
         let lower = name.to_ascii_lowercase();
         if lower.ends_with(".dxf") {
             InputKind::Dxf
+        } else if lower.ends_with(".csv") {
+            InputKind::Csv
         } else {
             InputKind::Gcode
         }
@@ -87,7 +103,7 @@ pub struct DrawingOptions {
     pub start_point: [f64; 2],
     /// Safe Z for travel between contours.
     pub safe_z: Option<f64>,
-    /// The drawing's units, overriding $INSUNITS.
+    /// The input's units (DXF: overriding $INSUNITS; CSV: default mm).
     pub units: Option<Units>,
 }
 
@@ -98,12 +114,20 @@ pub struct CompileOptions {
     pub format: Format,
     /// Front end.
     pub input: InputKind,
-    /// Feed for moves before the first F word, program units per minute.
+    /// Feed for moves before the first F word (required for drawings), units per minute.
     pub feed: Option<f64>,
     /// Rapid rate, program units per minute; `None` is 5000 mm/min.
     pub rapid: Option<f64>,
     /// Chord tolerance, program units; `None` is 0.001 mm.
     pub tolerance: Option<f64>,
+    /// The planner.
+    pub planner: Planner,
+    /// Piece times of the time-based planners.
+    pub timing: Timing,
+    /// Acceleration for lspb, units/s².
+    pub accel: Option<f64>,
+    /// Piece-time quantum, seconds.
+    pub quantize: Option<f64>,
     /// Options only drawings use.
     pub drawing: DrawingOptions,
 }
@@ -117,6 +141,10 @@ impl CompileOptions {
             feed: None,
             rapid: None,
             tolerance: None,
+            planner: Planner::Contour,
+            timing: Timing::FromFeed,
+            accel: None,
+            quantize: None,
             drawing: DrawingOptions::default(),
         }
     }
@@ -129,6 +157,10 @@ pub struct Compiled {
     pub bytes: Vec<u8>,
     /// The planned program.
     pub program: PvtProgram,
+    /// The geometry the program was planned from (for checking and plotting).
+    pub toolpath: Toolpath,
+    /// What planning changed.
+    pub report: PlanReport,
     /// Warnings, ready to print.
     pub warnings: Vec<Report>,
 }
@@ -165,32 +197,57 @@ impl Failure {
     }
 }
 
-/// Compiles `source` into the bytes of `options.format`.
-pub fn compile(source: &Source, options: &CompileOptions) -> Result<Compiled, Failure> {
-    let (toolpath, warnings) = crate::front::read(&source.name, &source.bytes, options)?;
-    let text = String::from_utf8_lossy(&source.bytes).into_owned();
-    let named = || NamedSource::new(source.name.clone(), text.clone());
-    let units = toolpath.units;
+/// Reads and plans `source` into a program, without writing any format.
+pub fn plan(
+    source: &Source,
+    options: &CompileOptions,
+) -> Result<(Planned, Toolpath, Vec<Report>), Failure> {
+    let (input, mut warnings) = front::read(source, options)?;
+    let units = input.units();
     let tolerance = options
         .tolerance
         .unwrap_or(units.from_mm(ChordTolerance::DEFAULT_MM));
     let tolerance =
         ChordTolerance::new(tolerance).expect("the CLI accepts only positive tolerances");
-    let program = plan_toolpath(
-        &toolpath,
-        &PlanOptions {
-            tolerance,
-            ..PlanOptions::default()
-        },
-    )
-    .map_err(|e| {
-        Failure::Input(vec![
-            at_line(e.code(), &e.to_string(), e.line(), &text).with_source_code(named())
-        ])
+    let plan_options = PlanOptions {
+        tolerance,
+        planner: options.planner,
+        timing: options.timing,
+        accel: options.accel,
+        quantize: options.quantize,
+    };
+    let (planned, toolpath) = match input {
+        Input::Toolpath(toolpath) => (plan_toolpath_report(&toolpath, &plan_options), toolpath),
+        Input::Series(series) => (
+            plan_timed(
+                &series.points,
+                series.axes.clone(),
+                series.units,
+                &plan_options,
+            ),
+            series.toolpath(),
+        ),
+    };
+    let planned = planned.map_err(|e| {
+        let report = if e.line() == 0 {
+            miette::miette!(code = e.code().to_string(), "{e}")
+        } else {
+            at_line(e.code(), &e.to_string(), e.line(), source)
+                .with_source_code(source.named_text())
+        };
+        Failure::Input(vec![report])
     })?;
+    warnings.extend(plan_notes(&planned.report, options));
+    Ok((planned, toolpath, warnings))
+}
+
+/// Compiles `source` into the bytes of `options.format`.
+pub fn compile(source: &Source, options: &CompileOptions) -> Result<Compiled, Failure> {
+    let (planned, toolpath, mut warnings) = plan(source, options)?;
+    let program = planned.program;
     let emit_options = EmitOptions {
         source: source.name.clone(),
-        settings: settings(options, units, tolerance),
+        settings: settings(options, program.units),
         program_number: 1,
     };
     let bytes = emit_to_vec(&program, options.format, &emit_options).map_err(|e| match e {
@@ -198,9 +255,9 @@ pub fn compile(source: &Source, options: &CompileOptions) -> Result<Compiled, Fa
             pvt_emit::InvalidProgram::CODE,
             &invalid.to_string(),
             invalid.line,
-            &text,
+            source,
         )
-        .with_source_code(named())]),
+        .with_source_code(source.named_text())]),
         StreamError::Io(error) => Failure::Io {
             path: PathBuf::from("<memory>"),
             action: "write",
@@ -208,28 +265,84 @@ pub fn compile(source: &Source, options: &CompileOptions) -> Result<Compiled, Fa
         },
         StreamError::Unsupported(interpolation) => Failure::Input(vec![miette::miette!(
             code = "pvtc::emit::unsupported_interpolation",
-            help = "choose --format json or movepvt, or a PVT planner",
+            help =
+                "PMAC PVT mode needs velocities: choose a PVT planner, or --format json or movepvt",
             "the {} format cannot express {interpolation:?} motion",
             options.format.name()
         )]),
     })?;
+    if options.format == Format::Pmac && options.quantize.is_none() {
+        warnings.extend(fractional_ms_warning(&program));
+    }
     Ok(Compiled {
         bytes,
         program,
+        toolpath,
+        report: planned.report,
         warnings,
     })
 }
 
-/// A diagnostic labelling the whole of 1-based `line` of `text`.
-fn at_line(code: &str, message: &str, line: u32, text: &str) -> Report {
+/// Seed 003: PMAC rounds piece times to whole milliseconds without telling anyone.
+fn fractional_ms_warning(program: &PvtProgram) -> Option<Report> {
+    let durations = program.contours.iter().flat_map(|c| &c.durations);
+    let fractional = durations.filter(|t| (**t * 1000.0).fract() != 0.0).count();
+    (fractional > 0).then(|| {
+        miette::miette!(
+            severity = Severity::Warning,
+            code = "pvtc::emit::fractional_ms",
+            help = "pass --quantize 1ms to make every piece time whole while keeping the path",
+            "{fractional} of {} piece times are not whole milliseconds; PMAC rounds TA to whole ms, which changes speeds and times",
+            program.segment_count()
+        )
+    })
+}
+
+/// Notes on what planning changed (quantization, lengthened blends, ignored velocities).
+fn plan_notes(report: &PlanReport, options: &CompileOptions) -> Vec<Report> {
+    let mut notes = Vec::new();
+    if let Some(q) = options.quantize {
+        notes.push(miette::miette!(
+            severity = Severity::Advice,
+            code = "pvtc::plan::quantized",
+            "piece times made whole multiples of {} ms; largest change of mid-segment speed: {:.4} %",
+            q * 1000.0,
+            report.quantize_speed_change * 100.0
+        ));
+    }
+    if report.lengthened_segments > 0 {
+        notes.push(miette::miette!(
+            severity = Severity::Warning,
+            code = "pvtc::plan::lengthened",
+            "{} segments were too short for their blends at --accel; their times were raised",
+            report.lengthened_segments
+        ));
+    }
+    if report.velocities_ignored {
+        notes.push(miette::miette!(
+            severity = Severity::Warning,
+            code = "pvtc::plan::velocities_ignored",
+            "the input gives velocities, which the {} planner does not use",
+            options.planner.name()
+        ));
+    }
+    notes
+}
+
+/// A diagnostic labelling the whole of 1-based `line` of the source.
+fn at_line(code: &str, message: &str, line: u32, source: &Source) -> Report {
+    let text = &source.bytes;
     let mut start = 0;
     for _ in 1..line.max(1) {
-        match text[start..].find('\n') {
+        match text[start..].iter().position(|&b| b == b'\n') {
             Some(i) => start += i + 1,
             None => break,
         }
     }
-    let end = text[start..].find('\n').map_or(text.len(), |i| start + i);
+    let end = text[start..]
+        .iter()
+        .position(|&b| b == b'\n')
+        .map_or(text.len(), |i| start + i);
     miette::miette!(
         code = code.to_string(),
         labels = vec![LabeledSpan::at(start..end, "this line")],
@@ -237,12 +350,12 @@ fn at_line(code: &str, message: &str, line: u32, text: &str) -> Report {
     )
 }
 
-fn settings(
-    options: &CompileOptions,
-    units: Units,
-    tolerance: ChordTolerance,
-) -> Vec<(String, String)> {
+/// The settings every output header names, in a fixed order.
+fn settings(options: &CompileOptions, units: Units) -> Vec<(String, String)> {
     let u = units.name();
+    let tolerance = options
+        .tolerance
+        .unwrap_or(units.from_mm(ChordTolerance::DEFAULT_MM));
     let rapid = match options.rapid {
         Some(r) => format!("{r} {u}/min"),
         None if units == Units::Millimetre => {
@@ -257,14 +370,36 @@ fn settings(
         Some(f) => format!("{f} {u}/min"),
         None => "none (every feed move needs an F word)".into(),
     };
-    vec![
+    let mut out = vec![
         (
             "planner".into(),
-            "contour (seed 000: bisector velocities, mid-segment speed = mean of end speeds)"
-                .into(),
+            planner_description(options.planner).into(),
         ),
-        ("chord tolerance".into(), format!("{} {u}", tolerance.get())),
+        ("chord tolerance".into(), format!("{tolerance} {u}")),
         ("rapid".into(), rapid),
         ("default feed".into(), feed),
-    ]
+    ];
+    if let Timing::TimeSlice(t) = options.timing {
+        out.push(("time slice".into(), format!("{t} s")));
+    }
+    if let Some(a) = options.accel {
+        out.push(("acceleration".into(), format!("{a} {u}/s^2")));
+    }
+    if let Some(q) = options.quantize {
+        out.push(("piece times quantized to".into(), format!("{q} s")));
+    }
+    out
+}
+
+fn planner_description(planner: Planner) -> &'static str {
+    match planner {
+        Planner::Contour => {
+            "contour (seed 000: bisector velocities, mid-segment speed = mean of end speeds)"
+        }
+        Planner::Pt => "pt (seed 001: constant velocity between points)",
+        Planner::Chord => "chord (seed 001/002: forward-difference velocities, last at rest)",
+        Planner::ConstAccel => "const-accel (seed 001: constant-acceleration velocity fit)",
+        Planner::Spline => "spline (C2 cubic spline through the points, rest at both ends)",
+        Planner::Lspb => "lspb (seed 004: linear segments with parabolic blends)",
+    }
 }

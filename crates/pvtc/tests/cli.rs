@@ -201,3 +201,306 @@ fn movepvt_output_compiles_as_c() {
         assert!(status.success(), "{sample}.c does not compile");
     }
 }
+
+#[test]
+fn diagnostics_json_gives_code_line_and_column() {
+    let o = pvtc(&["compile", "-", "--diagnostics", "json"], Some(BAD_LINE_3));
+    assert_eq!(o.status.code(), Some(1));
+    let first = stderr(&o).lines().next().unwrap().to_string();
+    let v: serde_json::Value = serde_json::from_str(&first).unwrap();
+    assert_eq!(v["code"], "pvtc::gcode::unknown_word");
+    assert_eq!(v["severity"], "error");
+    assert_eq!(
+        (v["line"].as_u64(), v["column"].as_u64()),
+        (Some(3), Some(7))
+    );
+    assert_eq!(v["file"], "<stdin>");
+}
+
+#[test]
+fn deny_warnings_turns_a_warning_into_a_failure() {
+    let program = "G1 X0 F100\nX10\n";
+    let ok = pvtc(&["compile", "-"], Some(program));
+    assert!(ok.status.success());
+    assert!(stderr(&ok).contains("pvtc::gcode::zero_length_move"));
+    let denied = pvtc(&["compile", "-", "--deny-warnings"], Some(program));
+    assert_eq!(denied.status.code(), Some(1));
+    assert!(denied.stdout.is_empty());
+}
+
+#[test]
+fn pmac_warns_about_fractional_milliseconds_unless_quantized() {
+    let o = pvtc(&["compile", "samples/gcode/an208_zigzag.ngc"], None);
+    assert!(
+        stderr(&o).contains("pvtc::emit::fractional_ms"),
+        "{}",
+        stderr(&o)
+    );
+    let q = pvtc(
+        &[
+            "compile",
+            "samples/gcode/an208_zigzag.ngc",
+            "--quantize",
+            "1ms",
+        ],
+        None,
+    );
+    assert!(q.status.success(), "{}", stderr(&q));
+    assert!(!stderr(&q).contains("fractional_ms"));
+    assert!(stderr(&q).contains("pvtc::plan::quantized"));
+    let text = String::from_utf8(q.stdout).unwrap();
+    for line in text.lines().filter(|l| l.starts_with("TA")) {
+        let ms = &line[2..line.find(' ').unwrap()];
+        assert!(ms.ends_with(".0000"), "{line}");
+    }
+}
+
+#[test]
+fn pt_planner_is_refused_by_pmac_and_written_as_json() {
+    let o = pvtc(
+        &["compile", "samples/csv/an208_step.csv", "--planner", "pt"],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        stderr(&o).contains("pvtc::emit::unsupported_interpolation"),
+        "{}",
+        stderr(&o)
+    );
+    let j = pvtc(
+        &[
+            "compile",
+            "samples/csv/an208_step.csv",
+            "--planner",
+            "pt",
+            "--format",
+            "json",
+        ],
+        None,
+    );
+    assert!(j.status.success(), "{}", stderr(&j));
+    let v: serde_json::Value = serde_json::from_slice(&j.stdout).unwrap();
+    assert_eq!(v["interpolation"], "pt");
+}
+
+#[test]
+fn lspb_needs_an_acceleration() {
+    let o = pvtc(
+        &[
+            "compile",
+            "samples/gcode/an208_zigzag.ngc",
+            "--planner",
+            "lspb",
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        stderr(&o).contains("pvtc::plan::missing_accel"),
+        "{}",
+        stderr(&o)
+    );
+    let ok = pvtc(
+        &[
+            "compile",
+            "samples/gcode/an208_zigzag.ngc",
+            "--planner",
+            "lspb",
+            "--accel",
+            "400000",
+        ],
+        None,
+    );
+    assert!(ok.status.success(), "{}", stderr(&ok));
+}
+
+#[test]
+fn check_reports_seed_001_step_acceleration_as_json() {
+    let o = pvtc(
+        &[
+            "check",
+            "samples/csv/an208_step.csv",
+            "--planner",
+            "pt",
+            "--servo-period",
+            "500us",
+            "--json",
+        ],
+        None,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let a = v["peaks"]["X"]["sampled_acceleration"].as_f64().unwrap();
+    assert!(
+        (a - 4.0e7).abs() <= 4.0e7 * 1e-6,
+        "seed 001: 40 million counts/s², got {a}"
+    );
+    assert!((v["total_time"].as_f64().unwrap() - 1.75).abs() < 1e-9);
+    assert!(v["max_path_error"].as_f64().is_some());
+}
+
+#[test]
+fn check_exits_1_when_a_limit_is_exceeded() {
+    let o = pvtc(
+        &[
+            "check",
+            "samples/gcode/an208_octagon.ngc",
+            "--max-vel",
+            "X=1000",
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("LIMIT EXCEEDED: X velocity"));
+    let ok = pvtc(
+        &[
+            "check",
+            "samples/gcode/an208_octagon.ngc",
+            "--max-vel",
+            "X=1e9",
+        ],
+        None,
+    );
+    assert!(ok.status.success());
+    assert!(String::from_utf8_lossy(&ok.stdout).contains("limits: none exceeded"));
+}
+
+#[test]
+fn check_reads_a_pvtc_json_program() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("octagon.json");
+    let c = pvtc(
+        &[
+            "compile",
+            "samples/gcode/an208_octagon.ngc",
+            "--format",
+            "json",
+            "-o",
+            json.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert!(c.status.success());
+    let o = pvtc(&["check", json.to_str().unwrap(), "--json"], None);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let direct = pvtc(
+        &["check", "samples/gcode/an208_octagon.ngc", "--json"],
+        None,
+    );
+    let d: serde_json::Value = serde_json::from_slice(&direct.stdout).unwrap();
+    assert_eq!(v["total_time"], d["total_time"]);
+    for axis in ["X", "Y"] {
+        for q in [
+            "velocity",
+            "acceleration",
+            "jerk",
+            "sampled_velocity",
+            "sampled_acceleration",
+        ] {
+            let (a, b) = (
+                v["peaks"][axis][q].as_f64().unwrap(),
+                d["peaks"][axis][q].as_f64().unwrap(),
+            );
+            assert!(
+                (a - b).abs() <= 1e-9 * a.abs().max(b.abs()),
+                "{axis} {q}: {a} vs {b}"
+            );
+        }
+    }
+    assert!(
+        v["max_path_error"].is_null(),
+        "no geometry in a JSON program"
+    );
+}
+
+#[test]
+fn batch_compiles_a_folder_and_matches_single_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = pvtc(
+        &[
+            "compile",
+            "samples/gcode",
+            "--out-dir",
+            out.to_str().unwrap(),
+            "--format",
+            "json",
+        ],
+        None,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("files compiled, 0 failed"),
+        "{}",
+        stderr(&o)
+    );
+    for name in ["an208_octagon", "quad_circle_arc"] {
+        let single = pvtc(
+            &[
+                "compile",
+                &format!("samples/gcode/{name}.ngc"),
+                "--format",
+                "json",
+            ],
+            None,
+        )
+        .stdout;
+        assert_eq!(
+            std::fs::read(out.join(format!("{name}.json"))).unwrap(),
+            single,
+            "{name}"
+        );
+    }
+}
+
+#[test]
+fn batch_keeps_going_past_a_bad_file_and_exits_1() {
+    let dir = tempfile::tempdir().unwrap();
+    let inputs = dir.path().join("in");
+    std::fs::create_dir(&inputs).unwrap();
+    std::fs::write(inputs.join("good.ngc"), "G1 X1 F100\n").unwrap();
+    std::fs::write(inputs.join("bad.ngc"), BAD_LINE_3).unwrap();
+    let out = dir.path().join("out");
+    let o = pvtc(
+        &[
+            "compile",
+            inputs.to_str().unwrap(),
+            "--out-dir",
+            out.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(1));
+    let err = stderr(&o);
+    assert!(
+        err.contains("bad.ngc: pvtc::gcode::unknown_word (line 3)"),
+        "{err}"
+    );
+    assert!(err.contains("1 files compiled, 1 failed"), "{err}");
+    assert!(out.join("good.pmac").exists());
+    assert!(!out.join("bad.pmac").exists());
+    assert_eq!(
+        std::fs::read_dir(&out).unwrap().count(),
+        1,
+        "no partial or temporary file"
+    );
+}
+
+#[test]
+fn plot_writes_an_svg() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("octagon.svg");
+    let o = pvtc(
+        &[
+            "plot",
+            "samples/gcode/an208_octagon.ngc",
+            "-o",
+            svg.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.starts_with("<svg") && text.trim_end().ends_with("</svg>"));
+}

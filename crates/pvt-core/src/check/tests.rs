@@ -155,6 +155,7 @@ fn one_piece(p0: f64, v0: f64, p1: f64, v1: f64, t: f64) -> PvtProgram {
         units: Units::Millimetre,
         interpolation: Interpolation::Pvt,
         contours: vec![c],
+        events: Vec::new(),
     }
 }
 
@@ -168,6 +169,7 @@ fn closed_form_peaks_match_hand_values() {
         units: Units::Millimetre,
         interpolation: Interpolation::Pvt,
         contours: vec![c],
+        events: Vec::new(),
     };
     let x = *check_program(&program, None, &CheckOptions::default())
         .axis(Axis::X)

@@ -15,7 +15,7 @@ use crate::axis::{Axis, Units};
 use crate::discretize::flatten_contour;
 use crate::polyline::Polyline;
 use crate::program::{Interpolation, PvtContour, PvtProgram};
-use crate::toolpath::{Motion, Toolpath};
+use crate::toolpath::{Motion, ProgramEvent, Toolpath};
 use crate::vector::{distance, max_abs};
 
 /// What planning changed that the user should hear about.
@@ -49,7 +49,13 @@ pub fn plan_toolpath_report(
     let axes: Vec<Axis> = toolpath.moved_axes();
     let mut report = PlanReport::default();
     let mut contours: Vec<PvtContour> = Vec::with_capacity(toolpath.contours.len());
-    for contour in toolpath.contours.iter().filter(|c| !c.elements.is_empty()) {
+    // Program contour index of each toolpath contour (empty ones are left out).
+    let mut index_of = Vec::with_capacity(toolpath.contours.len() + 1);
+    for contour in &toolpath.contours {
+        index_of.push(contours.len());
+        if contour.elements.is_empty() {
+            continue;
+        }
         let polyline = flatten_contour(contour, &axes, options.tolerance);
         let planned = if options.planner == Planner::Contour {
             let planned = plan_contour(&polyline, contour.motion)?;
@@ -68,11 +74,21 @@ pub fn plan_toolpath_report(
             contours.push(planned);
         }
     }
+    index_of.push(contours.len());
+    let events = toolpath
+        .events
+        .iter()
+        .map(|e| ProgramEvent {
+            before_contour: index_of[e.before_contour.min(toolpath.contours.len())],
+            ..e.clone()
+        })
+        .collect();
     let program = PvtProgram {
         axes,
         units: toolpath.units,
         interpolation: interpolation(options),
         contours,
+        events,
     };
     Ok(Planned { program, report })
 }
@@ -110,6 +126,7 @@ pub fn plan_timed(
         units,
         interpolation: interpolation(&options),
         contours,
+        events: Vec::new(),
     };
     Ok(Planned { program, report })
 }

@@ -82,7 +82,7 @@ impl TimedPoints {
             && self
                 .velocities
                 .as_ref()
-                .map_or(true, |v| v.len() == n * self.dim);
+                .is_none_or(|v| v.len() == n * self.dim);
         if !shape_ok {
             return Err(PlanError::BadShape);
         }

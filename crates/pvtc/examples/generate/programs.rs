@@ -1,41 +1,19 @@
-//! Writes deterministic large G-code programs for benchmarks and memory tests.
-//!
-//! ```sh
-//! cargo run --release -p pvtc --example generate -- surfacing 1000000 > /tmp/surf_1m.ngc
-//! cargo run --release -p pvtc --example generate -- pocket 100000 > /tmp/pocket_100k.ngc
-//! cargo run --release -p pvtc --example generate -- mixed 10000 > /tmp/mixed_10k.ngc
-//! ```
-//!
-//! - `surfacing`: a 3D raster of short G1 moves over a smooth surface, as CAM 3D
-//!   finishing posts emit it (X Y Z on every line, 4 decimals);
-//! - `pocket`: concentric G2/G3 arcs and G1 step-overs (I/J centre offsets);
-//! - `mixed`: N words, comments, `;` comments, modal words and feed changes between
-//!   G1/G2/G3 moves, and the occasional G0 retract.
-//!
-//! The same kind and line count always give the same bytes.
+//! Deterministic large G-code programs for benchmarks and memory tests (shared by the
+//! `generate` example and the `pipeline` benchmark).
 
-use std::io::{self, BufWriter, Write};
+use std::io::{self, Write};
 
-fn main() -> io::Result<()> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let (kind, lines) = match args.as_slice() {
-        [kind, n] => (kind.as_str(), n.parse::<usize>().expect("line count")),
-        _ => {
-            eprintln!("usage: generate surfacing|pocket|mixed LINES");
-            std::process::exit(2);
-        }
-    };
-    let mut out = BufWriter::with_capacity(1 << 20, io::stdout().lock());
+/// Writes a program of `kind` (`surfacing`, `pocket`, `mixed`) with about `lines` lines.
+pub fn write(kind: &str, lines: usize, out: &mut impl Write) -> io::Result<()> {
     match kind {
-        "surfacing" => surfacing(&mut out, lines)?,
-        "pocket" => pocket(&mut out, lines)?,
-        "mixed" => mixed(&mut out, lines)?,
-        _ => {
-            eprintln!("unknown kind {kind}");
-            std::process::exit(2);
-        }
+        "surfacing" => surfacing(out, lines),
+        "pocket" => pocket(out, lines),
+        "mixed" => mixed(out, lines),
+        _ => Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!("unknown kind {kind}"),
+        )),
     }
-    out.flush()
 }
 
 /// Height of the surfaced part at (x, y): gentle waves, always below zero.
@@ -84,7 +62,7 @@ fn pocket(out: &mut impl Write, lines: usize) -> io::Result<()> {
         writeln!(out, "G1 X{:.4} Y0.0000", r + 0.5)?;
         r += 0.5;
         written += 3;
-        if r > 200.0 {
+        if r > 20.0 {
             writeln!(out, "G1 X1.0000 Y0.0000")?;
             r = 1.0;
             written += 1;

@@ -1,0 +1,278 @@
+//! The panels of the plot, drawn with plotters into one SVG document.
+//!
+//! Owns the layout (title, path panel with its colour scale, then speed, axis velocity
+//! and axis acceleration against time) and the styles. It must not sample the motion:
+//! it draws the [`Samples`] it is given, in their order, so the output is deterministic.
+
+use super::sample::Samples;
+use super::scale::{extent, padded, tick, Units};
+use super::{PlotError, PlotOptions};
+use plotters::coord::types::RangedCoordf64;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use pvt_core::{Interpolation, Motion, PvtProgram};
+use std::ops::Range;
+
+/// The font family every label asks for (the SVG viewer picks the face).
+pub(super) const FONT: &str = "sans-serif";
+/// Gap around each chart, pixels.
+pub(super) const MARGIN: u32 = 12;
+/// Height of the x label area of a chart, pixels.
+pub(super) const X_LABELS: u32 = 46;
+/// Width of the y label area of a chart, pixels.
+pub(super) const Y_LABELS: u32 = 78;
+/// Colour of rapid motion.
+pub(super) const RAPID: RGBColor = RGBColor(150, 150, 150);
+
+/// A drawing area of the SVG document.
+pub(super) type Area<'b> = DrawingArea<SVGBackend<'b>, Shift>;
+/// A chart with numeric axes on an SVG area.
+pub(super) type Chart<'a, 'b> =
+    ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// A stretch of samples of one kind of motion; it also holds the next stretch's first
+/// sample, so consecutive stretches join.
+pub(super) struct Run {
+    /// Rapid or feed.
+    pub motion: Motion,
+    /// Indices into the samples.
+    pub range: Range<usize>,
+}
+
+/// What every panel draws from.
+pub(super) struct Ctx<'a> {
+    /// The program plotted.
+    pub program: &'a PvtProgram,
+    /// Its sampled motion.
+    pub samples: &'a Samples,
+    /// Units of its quantities.
+    pub units: Units,
+    /// Stretches of feed and rapid motion, in time order.
+    pub runs: Vec<Run>,
+}
+
+impl Ctx<'_> {
+    /// Axis names in column order.
+    pub(super) fn axis_name(&self, axis: usize) -> String {
+        self.program.axes[axis].to_string()
+    }
+}
+
+/// Maps a plotters error into a [`PlotError`].
+pub(super) fn failed<E: std::fmt::Display>(e: E) -> PlotError {
+    PlotError::Draw(e.to_string())
+}
+
+/// The whole document.
+pub(super) fn render(
+    program: &PvtProgram,
+    samples: &Samples,
+    options: &PlotOptions,
+) -> Result<String, PlotError> {
+    let ctx = Ctx {
+        program,
+        samples,
+        units: Units::of(program),
+        runs: runs(samples),
+    };
+    let mut svg = String::new();
+    {
+        let size = (options.width.max(400), options.height.max(600));
+        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+        root.fill(&WHITE).map_err(failed)?;
+        let body = root
+            .titled(
+                &options.title,
+                (FONT, 26).into_font().style(FontStyle::Bold),
+            )
+            .map_err(failed)?;
+        let (w, h) = body.dim_in_pixel();
+        let (top, bottom) = body.split_vertically(h * 42 / 100);
+        let (path, legend) = top.split_horizontally(w.saturating_sub(170));
+        super::path::path_panel(&path, &ctx)?;
+        super::path::legend_panel(&legend, &ctx)?;
+        let rows = bottom.split_evenly((3, 1));
+        speed_panel(&rows[0], &ctx)?;
+        axes_panel(&rows[1], &ctx, Quantity::Velocity)?;
+        axes_panel(&rows[2], &ctx, Quantity::Acceleration)?;
+        root.present().map_err(failed)?;
+    }
+    Ok(svg)
+}
+
+/// Splits the samples where the motion changes between feed and rapid.
+fn runs(samples: &Samples) -> Vec<Run> {
+    let mut out: Vec<Run> = Vec::new();
+    for (i, at) in samples.at.iter().enumerate() {
+        match out.last_mut() {
+            Some(run) if run.motion == at.motion => run.range.end = i + 1,
+            Some(run) => {
+                run.range.end = i + 1;
+                out.push(Run {
+                    motion: at.motion,
+                    range: i..i + 1,
+                });
+            }
+            None => out.push(Run {
+                motion: at.motion,
+                range: i..i + 1,
+            }),
+        }
+    }
+    out
+}
+
+/// `area` below a panel title `caption`.
+pub(super) fn titled<'b>(area: &Area<'b>, caption: &str) -> Result<Area<'b>, PlotError> {
+    area.titled(caption, (FONT, 18)).map_err(failed)
+}
+
+/// A chart filling `area` with ranges `x`, `y` and labelled axes.
+pub(super) fn chart<'a, 'b>(
+    area: &'a Area<'b>,
+    (x, y): ((f64, f64), (f64, f64)),
+    (x_desc, y_desc): (&str, &str),
+) -> Result<Chart<'a, 'b>, PlotError> {
+    let mut chart = ChartBuilder::on(area)
+        .margin(MARGIN)
+        .x_label_area_size(X_LABELS)
+        .y_label_area_size(Y_LABELS)
+        .build_cartesian_2d(x.0..x.1, y.0..y.1)
+        .map_err(failed)?;
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .x_labels(8)
+        .y_labels(6)
+        .x_label_formatter(&|v| tick(*v))
+        .y_label_formatter(&|v| tick(*v))
+        .label_style((FONT, 13))
+        .axis_desc_style((FONT, 15))
+        .light_line_style(RGBColor(238, 238, 238))
+        .bold_line_style(RGBColor(215, 215, 215))
+        .draw()
+        .map_err(failed)?;
+    Ok(chart)
+}
+
+/// The time axis range of the program.
+fn time_range(ctx: &Ctx) -> (f64, f64) {
+    let end = ctx.samples.time.last().copied().unwrap_or(0.0);
+    (0.0, if end > 0.0 { end } else { 1.0 })
+}
+
+/// Vector speed against time: feed dark blue, rapid grey.
+fn speed_panel(area: &Area, ctx: &Ctx) -> Result<(), PlotError> {
+    let (_, hi) = extent(ctx.samples.speed.iter().copied())?;
+    let y = padded((0.0, hi));
+    let unit = format!("speed ({}/s)", ctx.units.speed);
+    let area = titled(area, "vector speed against time")?;
+    let mut chart = chart(&area, (time_range(ctx), (0.0, y.1)), ("time (s)", &unit))?;
+    let s = ctx.samples;
+    for run in &ctx.runs {
+        let style = match run.motion {
+            Motion::Feed => RGBColor(31, 60, 140).stroke_width(2),
+            Motion::Rapid => RAPID.stroke_width(1),
+        };
+        let points = run.range.clone().map(|i| (s.time[i], s.speed[i]));
+        chart
+            .draw_series(LineSeries::new(points, style))
+            .map_err(failed)?;
+    }
+    Ok(())
+}
+
+/// The per-axis quantity a panel shows.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Quantity {
+    Velocity,
+    Acceleration,
+}
+
+/// Line colour of axis column `axis`.
+fn axis_colour(axis: usize) -> RGBColor {
+    const COLOURS: [RGBColor; 6] = [
+        RGBColor(214, 39, 40),
+        RGBColor(31, 119, 180),
+        RGBColor(44, 160, 44),
+        RGBColor(148, 103, 189),
+        RGBColor(255, 127, 14),
+        RGBColor(140, 86, 75),
+    ];
+    COLOURS[axis % COLOURS.len()]
+}
+
+/// Caption and y description of a per-axis panel.
+fn describe(ctx: &Ctx, q: Quantity) -> (String, String) {
+    let faded = if ctx.runs.iter().any(|r| r.motion == Motion::Rapid) {
+        " (faded: rapid)"
+    } else {
+        ""
+    };
+    match q {
+        Quantity::Velocity => (
+            format!("axis velocity against time{faded}"),
+            format!("velocity ({})", ctx.units.joined("/s")),
+        ),
+        Quantity::Acceleration => {
+            let pt = ctx.program.interpolation == Interpolation::Pt;
+            let note = if pt {
+                " (PT: impulses at the points not drawn)"
+            } else {
+                ""
+            };
+            (
+                format!("axis acceleration against time{faded}{note}"),
+                format!("acceleration ({})", ctx.units.joined("/s²")),
+            )
+        }
+    }
+}
+
+/// Each axis' velocity or acceleration against time, one colour an axis.
+fn axes_panel(area: &Area, ctx: &Ctx, q: Quantity) -> Result<(), PlotError> {
+    let s = ctx.samples;
+    let values = match q {
+        Quantity::Velocity => &s.velocity,
+        Quantity::Acceleration => &s.acceleration,
+    };
+    let (lo, hi) = extent(values.iter().copied())?;
+    let (caption, y_desc) = describe(ctx, q);
+    let area = titled(area, &caption)?;
+    let mut chart = chart(
+        &area,
+        (time_range(ctx), padded((lo.min(0.0), hi.max(0.0)))),
+        ("time (s)", &y_desc),
+    )?;
+    for axis in 0..s.dim {
+        let colour = axis_colour(axis);
+        for (n, run) in ctx.runs.iter().enumerate() {
+            let style = match run.motion {
+                Motion::Feed => colour.stroke_width(2),
+                Motion::Rapid => colour.mix(0.4).stroke_width(1),
+            };
+            let points = run
+                .range
+                .clone()
+                .map(|i| (s.time[i], values[i * s.dim + axis]));
+            let series = chart
+                .draw_series(LineSeries::new(points, style))
+                .map_err(failed)?;
+            if n == 0 {
+                series.label(ctx.axis_name(axis)).legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+                });
+            }
+        }
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .label_font((FONT, 13))
+        .background_style(WHITE.mix(0.85))
+        .border_style(RGBColor(180, 180, 180))
+        .draw()
+        .map_err(failed)?;
+    Ok(())
+}

@@ -1,0 +1,225 @@
+//! The path panel (the motion in its plane, coloured by speed) and its colour scale.
+//!
+//! Owns how the path is projected (first two axes, or position against time for a
+//! one-axis program), the equal aspect ratio, the speed colouring, the markers of the
+//! programmed points and the legend. It must not sample the motion.
+
+use super::draw::{chart, failed, titled, Area, Ctx, FONT, MARGIN, RAPID, X_LABELS, Y_LABELS};
+use super::scale::{bin, equal_aspect, extent, padded, ramp, tick, BINS};
+use super::PlotError;
+use plotters::prelude::*;
+use pvt_core::{Motion, PvtProgram};
+
+/// Most programmed points marked; beyond it every n-th is.
+const MAX_MARKERS: usize = 2_000;
+
+/// The two coordinates the path panel plots.
+#[derive(Clone, Copy)]
+enum Plane {
+    /// Axis columns 0 and 1.
+    Axes,
+    /// Time and axis column 0.
+    Time,
+}
+
+impl Plane {
+    fn of(ctx: &Ctx) -> Plane {
+        if ctx.samples.dim >= 2 {
+            Plane::Axes
+        } else {
+            Plane::Time
+        }
+    }
+
+    /// The plotted point of a position at a time.
+    fn point(self, time: f64, position: &[f64]) -> (f64, f64) {
+        match self {
+            Plane::Axes => (position[0], position[1]),
+            Plane::Time => (time, position[0]),
+        }
+    }
+}
+
+/// The programmed points (contour starts and segment ends) as (time, position), every
+/// n-th of them beyond `max` (and the last).
+fn programmed_points(program: &PvtProgram, max: usize) -> Vec<(f64, &[f64])> {
+    let starts = program.contours.iter().filter(|c| !c.is_empty()).count();
+    let total = program.segment_count() + starts;
+    let stride = total.div_ceil(max.max(2) - 1).max(1);
+    let keep = |r: usize| r % stride == 0 || r + 1 == total;
+    let mut out = Vec::new();
+    let (mut clock, mut r) = (0.0, 0);
+    for contour in program.contours.iter().filter(|c| !c.is_empty()) {
+        if keep(r) {
+            out.push((clock, &contour.start[..]));
+        }
+        r += 1;
+        for seg in contour.segments() {
+            clock += seg.duration;
+            if keep(r) {
+                out.push((clock, seg.end));
+            }
+            r += 1;
+        }
+    }
+    out
+}
+
+/// The path with the programmed points marked, rapid grey, feed coloured by speed.
+pub(super) fn path_panel(area: &Area, ctx: &Ctx) -> Result<(), PlotError> {
+    let plane = Plane::of(ctx);
+    let s = ctx.samples;
+    let marks: Vec<(f64, f64)> = programmed_points(ctx.program, MAX_MARKERS)
+        .into_iter()
+        .map(|(t, p)| plane.point(t, p))
+        .collect();
+    let all: Vec<(f64, f64)> = (0..s.len())
+        .map(|i| plane.point(s.time[i], s.position(i)))
+        .chain(marks.iter().copied())
+        .collect();
+    let x = padded(extent(all.iter().map(|p| p.0))?);
+    let y = padded(extent(all.iter().map(|p| p.1))?);
+    let (caption, names) = match plane {
+        Plane::Axes => {
+            let (a, b) = (ctx.axis_name(0), ctx.axis_name(1));
+            let units = &ctx.units.axis;
+            let names = (format!("{a} ({})", units[0]), format!("{b} ({})", units[1]));
+            (
+                format!("path in the {a}{b} plane, coloured by speed"),
+                names,
+            )
+        }
+        Plane::Time => {
+            let a = ctx.axis_name(0);
+            let names = (
+                "time (s)".to_string(),
+                format!("{a} ({})", ctx.units.axis[0]),
+            );
+            (format!("{a} against time, coloured by speed"), names)
+        }
+    };
+    let area = titled(area, &caption)?;
+    let (x, y) = match plane {
+        Plane::Axes => equal_aspect(x, y, plot_pixels(&area)),
+        Plane::Time => (x, y),
+    };
+    let mut chart = chart(&area, (x, y), (&names.0, &names.1))?;
+    let scale = speed_scale(ctx)?;
+    for run in &ctx.runs {
+        let points: Vec<(f64, f64)> = run
+            .range
+            .clone()
+            .map(|i| plane.point(s.time[i], s.position(i)))
+            .collect();
+        let paths = match run.motion {
+            Motion::Rapid => vec![PathElement::new(points, RAPID.stroke_width(1))],
+            Motion::Feed => coloured(&points, &s.speed[run.range.clone()], scale),
+        };
+        chart.draw_series(paths).map_err(failed)?;
+    }
+    let marker = |p: &(f64, f64)| Circle::new(*p, 4, BLACK.stroke_width(1));
+    chart
+        .draw_series(marks.iter().map(marker))
+        .map_err(failed)?;
+    Ok(())
+}
+
+/// Pixel size of the plotting area a [`chart`] on `area` gets.
+fn plot_pixels(area: &Area) -> (u32, u32) {
+    let (w, h) = area.dim_in_pixel();
+    (
+        w.saturating_sub(2 * MARGIN + Y_LABELS),
+        h.saturating_sub(2 * MARGIN + X_LABELS),
+    )
+}
+
+/// The range the colour scale spans: speeds of feed samples (of all when none is feed).
+fn speed_scale(ctx: &Ctx) -> Result<(f64, f64), PlotError> {
+    let s = ctx.samples;
+    let feed = (0..s.len()).filter(|&i| s.at[i].motion == Motion::Feed);
+    match extent(feed.map(|i| s.speed[i])) {
+        Err(PlotError::Empty) => extent(s.speed.iter().copied()),
+        other => other,
+    }
+}
+
+/// Polylines through `points`, one per stretch of equal speed colour.
+fn coloured(
+    points: &[(f64, f64)],
+    speed: &[f64],
+    scale: (f64, f64),
+) -> Vec<PathElement<(f64, f64)>> {
+    let mut out = Vec::new();
+    let mut start = 0;
+    let colour_of = |i: usize| bin((speed[i] + speed[i + 1]) / 2.0, scale);
+    for i in 0..points.len().saturating_sub(1) {
+        let last = i + 2 == points.len();
+        if last || colour_of(i + 1) != colour_of(start) {
+            let style = ramp(colour_of(start)).stroke_width(2);
+            out.push(PathElement::new(points[start..i + 2].to_vec(), style));
+            start = i + 1;
+        }
+    }
+    out
+}
+
+/// The colour scale of the speed, min and max with units, and the key to the marks.
+pub(super) fn legend_panel(area: &Area, ctx: &Ctx) -> Result<(), PlotError> {
+    let scale = speed_scale(ctx)?;
+    let unit = format!("speed ({}/s)", ctx.units.speed);
+    let area = titled(area, "speed scale")?;
+    let (_, h) = area.dim_in_pixel();
+    let (bar, key) = area.split_vertically(h.saturating_sub(110));
+    let (lo, hi) = if scale.1 > scale.0 {
+        scale
+    } else {
+        padded(scale)
+    };
+    let mut c = ChartBuilder::on(&bar)
+        .margin(MARGIN)
+        .y_label_area_size(Y_LABELS)
+        .build_cartesian_2d(0.0..1.0, lo..hi)
+        .map_err(failed)?;
+    c.configure_mesh()
+        .disable_mesh()
+        .disable_x_axis()
+        .y_desc(unit.as_str())
+        .y_label_formatter(&|v| tick(*v))
+        .label_style((FONT, 13))
+        .axis_desc_style((FONT, 15))
+        .draw()
+        .map_err(failed)?;
+    let step = (hi - lo) / BINS as f64;
+    let rects = (0..BINS).map(|b| {
+        let y0 = lo + step * b as f64;
+        Rectangle::new([(0.0, y0), (1.0, y0 + step)], ramp(b).filled())
+    });
+    c.draw_series(rects).map_err(failed)?;
+    key_text(&key, ctx, scale)
+}
+
+/// The key under the colour bar: speed extremes, rapid line, point marker.
+fn key_text(area: &Area, ctx: &Ctx, (lo, hi): (f64, f64)) -> Result<(), PlotError> {
+    let font = (FONT, 13).into_font();
+    let unit = format!("{}/s", ctx.units.speed);
+    let lines = [
+        format!("min {} {unit}", tick(lo)),
+        format!("max {} {unit}", tick(hi)),
+        "rapid".to_string(),
+        "programmed point".to_string(),
+    ];
+    for (n, line) in lines.iter().enumerate() {
+        let y = 14 + 20 * n as i32;
+        area.draw(&Text::new(line.as_str(), (40, y), font.clone()))
+            .map_err(failed)?;
+    }
+    let rapid = PathElement::new(vec![(12, 61), (34, 61)], RAPID.stroke_width(1));
+    area.draw(&rapid).map_err(failed)?;
+    area.draw(&Circle::new((23, 81), 4, BLACK.stroke_width(1)))
+        .map_err(failed)?;
+    if ctx.samples.decimated {
+        let note = Text::new("(piece ends only)", (40, 94), font);
+        area.draw(&note).map_err(failed)?;
+    }
+    Ok(())
+}

@@ -1,0 +1,202 @@
+//! `pvtc check`: compiles (or reads) a program and prints what its motion will do.
+//!
+//! Owns loading the program to check (a source through the pipeline, or a pvtc JSON
+//! program) and rendering pvt-core's [`CheckReport`] as a table or as JSON. It must not
+//! compute any of the numbers.
+
+use crate::args::CheckArgs;
+use crate::pipeline::{plan, Failure, Source};
+use crate::report::Reporter;
+use crate::EXIT_INPUT_ERROR;
+use pvt_core::{check_program, CheckOptions, CheckReport, Peak, PvtProgram, Toolpath};
+use pvt_emit::Format;
+use std::fmt::Write as _;
+use std::process::ExitCode;
+
+/// Runs `pvtc check`.
+pub fn run(args: &CheckArgs) -> ExitCode {
+    let reporter = Reporter::new(&args.pipeline);
+    let (program, toolpath) = match load(&args.input, &args.pipeline, &reporter) {
+        Ok(loaded) => loaded,
+        Err(code) => return code,
+    };
+    let options = CheckOptions {
+        servo_period: args.servo_period,
+        limits: args.limits(),
+    };
+    let report = check_program(&program, toolpath.as_ref(), &options);
+    let units = program.units.name();
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&to_json(&report)).expect("JSON")
+        );
+    } else {
+        print!("{}", table(&report, units));
+    }
+    if report.exceeded() {
+        ExitCode::from(EXIT_INPUT_ERROR)
+    } else {
+        ExitCode::SUCCESS
+    }
+}
+
+/// Loads the program named by `input`: a pvtc JSON program, or a source compiled with
+/// the pipeline arguments (whose toolpath then serves as the true geometry).
+pub fn load(
+    input: &std::path::Path,
+    pipeline: &crate::args::PipelineArgs,
+    reporter: &Reporter,
+) -> Result<(PvtProgram, Option<Toolpath>), ExitCode> {
+    let source = Source::read(input).map_err(|f| reporter.fail(&f))?;
+    if pipeline.input_format.is_none() && source.name.to_ascii_lowercase().ends_with(".json") {
+        let text = String::from_utf8_lossy(&source.bytes);
+        return match pvt_emit::json::read(&text) {
+            Ok(program) => Ok((program, None)),
+            Err(e) => Err(reporter.fail(&Failure::Input(vec![miette::miette!(
+                code = "pvtc::json::read",
+                "{}: {e}",
+                source.name
+            )]))),
+        };
+    }
+    let options = pipeline.compile_options(&source.name, Format::Json);
+    let (planned, toolpath, warnings) = plan(&source, &options).map_err(|f| reporter.fail(&f))?;
+    reporter.warnings(&warnings)?;
+    Ok((planned.program, Some(toolpath)))
+}
+
+fn peak_json(p: &Peak) -> serde_json::Value {
+    serde_json::json!({"value": p.value, "time": p.time, "line": p.line})
+}
+
+/// The report as one JSON object (see the README for the fields).
+pub fn to_json(report: &CheckReport) -> serde_json::Value {
+    let mut peaks = serde_json::Map::new();
+    for a in &report.axes {
+        peaks.insert(
+            a.axis.to_string(),
+            serde_json::json!({
+                "velocity": a.velocity.value,
+                "acceleration": a.acceleration.value,
+                "jerk": a.jerk.value,
+                "sampled_velocity": a.sampled_velocity.value,
+                "sampled_acceleration": a.sampled_acceleration.value,
+                "at": {
+                    "velocity": peak_json(&a.velocity),
+                    "acceleration": peak_json(&a.acceleration),
+                    "jerk": peak_json(&a.jerk),
+                    "sampled_velocity": peak_json(&a.sampled_velocity),
+                    "sampled_acceleration": peak_json(&a.sampled_acceleration),
+                },
+            }),
+        );
+    }
+    let speed = report.speed.map(|s| {
+        serde_json::json!({"min": peak_json(&s.min), "max": peak_json(&s.max), "rms_error": s.rms_error, "samples": s.samples})
+    });
+    let violations: Vec<serde_json::Value> = report
+        .violations
+        .iter()
+        .map(|v| {
+            serde_json::json!({
+                "axis": v.axis.to_string(), "quantity": v.quantity.name(), "value": v.value,
+                "limit": v.limit, "time": v.time, "line": v.line,
+            })
+        })
+        .collect();
+    serde_json::json!({
+        "total_time": report.total_time,
+        "servo_period": report.servo_period,
+        "max_path_error": report.max_path_error(),
+        "path_error": report.path_error.as_ref().map(peak_json),
+        "peaks": peaks,
+        "speed": speed,
+        "violations": violations,
+        "exceeded": report.exceeded(),
+    })
+}
+
+/// The report as a table for people.
+pub fn table(report: &CheckReport, units: &str) -> String {
+    let mut t = String::new();
+    let _ = writeln!(
+        t,
+        "total time: {:.6} s (servo period {} ms)",
+        report.total_time,
+        report.servo_period * 1000.0
+    );
+    let _ = writeln!(
+        t,
+        "\n{:<4} {:>14} {:>14} {:>16} {:>14} {:>16}",
+        "axis", "|v| peak", "|a| peak", "|j| peak", "sampled |v|", "sampled |a|"
+    );
+    let _ = writeln!(
+        t,
+        "{:<4} {:>14} {:>14} {:>16} {:>14} {:>16}",
+        "",
+        format!("{units}/s"),
+        format!("{units}/s²"),
+        format!("{units}/s³"),
+        format!("{units}/s"),
+        format!("{units}/s²")
+    );
+    for a in &report.axes {
+        let _ = writeln!(
+            t,
+            "{:<4} {:>14.6} {:>14.6} {:>16.6} {:>14.6} {:>16.6}",
+            a.axis.to_string(),
+            a.velocity.value,
+            a.acceleration.value,
+            a.jerk.value,
+            a.sampled_velocity.value,
+            a.sampled_acceleration.value
+        );
+        let at = |p: &Peak| format!("t={:.4} s line {}", p.time, p.line);
+        let _ = writeln!(
+            t,
+            "     at: |v| {}, |a| {}, |j| {}",
+            at(&a.velocity),
+            at(&a.acceleration),
+            at(&a.jerk)
+        );
+    }
+    if let Some(s) = &report.speed {
+        let _ = writeln!(
+            t,
+            "\nvector speed: min {:.6} {units}/s (line {}), max {:.6} {units}/s (line {}), RMS error against feed {:.6} {units}/s over {} samples",
+            s.min.value, s.min.line, s.max.value, s.max.line, s.rms_error, s.samples
+        );
+    }
+    match &report.path_error {
+        Some(p) => {
+            let _ = writeln!(
+                t,
+                "largest distance from the source geometry: {:.9} {units} at t={:.4} s (line {})",
+                p.value, p.time, p.line
+            );
+        }
+        None => {
+            let _ = writeln!(
+                t,
+                "largest distance from the source geometry: not known (no source geometry)"
+            );
+        }
+    }
+    if report.violations.is_empty() {
+        let _ = writeln!(t, "limits: none exceeded");
+    }
+    for v in &report.violations {
+        let _ = writeln!(
+            t,
+            "LIMIT EXCEEDED: {} {} {:.6} > {:.6} at t={:.4} s (line {})",
+            v.axis,
+            v.quantity.name(),
+            v.value,
+            v.limit,
+            v.time,
+            v.line
+        );
+    }
+    t
+}

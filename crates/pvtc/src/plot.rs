@@ -1,0 +1,38 @@
+//! `pvtc plot`: compiles (or reads) a program and writes its SVG plot.
+//!
+//! Owns loading the program and writing the file; the drawing is pvt-emit's `plot`
+//! back end. It must not draw anything itself.
+
+use crate::args::PlotArgs;
+use crate::output;
+use crate::report::Reporter;
+use crate::EXIT_INPUT_ERROR;
+use std::process::ExitCode;
+
+/// Runs `pvtc plot`.
+pub fn run(args: &PlotArgs) -> ExitCode {
+    let reporter = Reporter::new(&args.pipeline);
+    let (program, _) = match crate::check::load(&args.input, &args.pipeline, &reporter) {
+        Ok(loaded) => loaded,
+        Err(code) => return code,
+    };
+    let options = pvt_emit::plot::PlotOptions {
+        title: format!(
+            "{} ({})",
+            args.input.display(),
+            args.pipeline.planner.name()
+        ),
+        ..Default::default()
+    };
+    let svg = match pvt_emit::plot::plot_svg(&program, &options) {
+        Ok(svg) => svg,
+        Err(e) => {
+            eprintln!("error: cannot plot: {e}");
+            return ExitCode::from(EXIT_INPUT_ERROR);
+        }
+    };
+    match output::write(Some(&args.output), svg.as_bytes()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(failure) => reporter.fail(&failure),
+    }
+}
