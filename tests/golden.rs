@@ -242,6 +242,11 @@ fn pmac_line_matches_grammar(line: &str) -> bool {
     if let Some(t) = line.strip_prefix("PVT") {
         return is_fixed(t, 4, false);
     }
+    if let Some(rest) = line.strip_prefix("DWELL") {
+        return rest.split_once(" ; G4 from line ").is_some_and(|(t, n)| {
+            is_fixed(t, 4, false) && !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit())
+        });
+    }
     let Some(rest) = line.strip_prefix("TA") else {
         return false;
     };

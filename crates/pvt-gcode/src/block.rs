@@ -6,6 +6,8 @@
 
 use std::ops::Range;
 
+use crate::params::ParamRef;
+
 /// One word: a letter and its value, with where it was written.
 ///
 /// Small and `Copy`, so a block's words live in one reused buffer without allocation.
@@ -53,6 +55,19 @@ pub(crate) struct Block {
     pub line_number: Option<u64>,
     /// The words in the order written (the `N` word not included).
     pub words: Vec<Word>,
+    /// Parameter assignments, in the order written; they take effect after the line.
+    pub assignments: Vec<Assignment>,
+    /// The text of a `(MSG, …)` comment, if the line has one.
+    pub message: Option<String>,
+}
+
+/// One `#… = value` on a line.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Assignment {
+    /// The parameter set.
+    pub param: ParamRef,
+    /// Its new value.
+    pub value: f64,
 }
 
 impl Block {
@@ -64,6 +79,8 @@ impl Block {
         self.block_delete = false;
         self.line_number = None;
         self.words.clear();
+        self.assignments.clear();
+        self.message = None;
     }
 
     /// Byte range of the whole line.

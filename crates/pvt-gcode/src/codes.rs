@@ -4,7 +4,7 @@
 //! Owns the classification only; it must not hold modal state or execute anything.
 //! Growing the dialect (issue 4) means moving rows from [`Feature`] to executed codes.
 
-use pvt_core::{ArcDirection, Plane, Units};
+use pvt_core::{ArcDirection, CoolantState, Plane, SpindleState, Units};
 
 /// A motion mode (modal group 1).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -46,6 +46,44 @@ pub(crate) enum Distance {
     Incremental,
 }
 
+/// Feed rate mode (G93/G94).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub(crate) enum FeedMode {
+    /// G93: F is the inverse of the minutes each feed move takes.
+    InverseTime,
+    /// G94: F is units per minute.
+    #[default]
+    PerMinute,
+}
+
+/// Path control mode (G61/G64).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub(crate) enum PathMode {
+    /// G61/G61.1: the machine comes to rest at the end of every move.
+    ExactStop,
+    /// G64: continuous contouring.
+    #[default]
+    Continuous,
+}
+
+/// Non-modal codes (modal group 0) pvtc executes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum NonModal {
+    /// G4: dwell P seconds.
+    Dwell,
+    /// G53: this block's axis words are machine coordinates.
+    MachineCoords,
+    /// G92: offset the coordinate system so the axes given read their values here.
+    SetOffset,
+    /// G92.1 or G92.2: clear the G92 offsets (G92.2 keeps them for G92.3).
+    ClearOffset {
+        /// G92.2: keep the values for G92.3.
+        keep: bool,
+    },
+    /// G92.3: restore offsets cleared by G92.2.
+    RestoreOffset,
+}
+
 /// An RS274NGC feature beyond what pvtc compiles.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct Feature {
@@ -66,9 +104,19 @@ pub(crate) enum GCode {
     Units(Units),
     /// G90/G91.
     Distance(Distance),
-    /// G94: feed in units per minute, the only feed mode.
-    FeedPerMinute,
-    /// A code that cancels or selects a state pvtc is always in (G40, G49, G91.1).
+    /// G93/G94.
+    FeedMode(FeedMode),
+    /// G61/G61.1 (exact stop) or G64 (continuous).
+    PathMode(PathMode),
+    /// G90.1/G91.1: arc centres absolute or incremental.
+    ArcCenters(Distance),
+    /// G7 (diameter, `true`) or G8 (radius) lathe mode.
+    Diameter(bool),
+    /// G54…G59, G59.1…G59.3: work coordinate system 0…8.
+    CoordSystem(usize),
+    /// Modal group 0: G4, G53, G92 and friends.
+    NonModal(NonModal),
+    /// A code that cancels or selects a state pvtc is always in (G40, G49).
     NoOp(&'static str),
     /// A known code pvtc does not execute.
     Unsupported(Feature),
@@ -104,10 +152,24 @@ pub(crate) fn g_code(tenths: u32) -> Option<GCode> {
         210 => Units(pvt_core::Units::Millimetre),
         900 => Distance(self::Distance::Absolute),
         910 => Distance(self::Distance::Incremental),
-        940 => FeedPerMinute,
+        930 => FeedMode(self::FeedMode::InverseTime),
+        940 => FeedMode(self::FeedMode::PerMinute),
+        610 | 611 => PathMode(self::PathMode::ExactStop),
+        640 => PathMode(self::PathMode::Continuous),
+        901 => ArcCenters(self::Distance::Absolute),
+        911 => ArcCenters(self::Distance::Incremental),
+        70 => Diameter(true),
+        80 => Diameter(false),
+        540 | 550 | 560 | 570 | 580 | 590 => CoordSystem((tenths as usize - 540) / 10),
+        591..=593 => CoordSystem(tenths as usize - 585),
+        40 => NonModal(self::NonModal::Dwell),
+        530 => NonModal(self::NonModal::MachineCoords),
+        920 => NonModal(self::NonModal::SetOffset),
+        921 => NonModal(self::NonModal::ClearOffset { keep: false }),
+        922 => NonModal(self::NonModal::ClearOffset { keep: true }),
+        923 => NonModal(self::NonModal::RestoreOffset),
         400 => NoOp("cutter radius compensation off"),
         490 => NoOp("tool length compensation off"),
-        911 => NoOp("incremental arc centres"),
         50..=53 | 330 | 331 | 382..=385 | 730 | 760 | 810..=890 => Motion(MotionMode::Unsupported),
         _ => return unsupported_g(tenths).map(Unsupported),
     })
@@ -116,23 +178,16 @@ pub(crate) fn g_code(tenths: u32) -> Option<GCode> {
 /// The feature of a G code pvtc knows but does not execute (motion group excluded).
 fn unsupported_g(tenths: u32) -> Option<Feature> {
     Some(match tenths {
-        40 => feature("dwell", false),
-        70 | 80 => feature("lathe diameter/radius mode", false),
         100 => feature("setting offset tables", true),
         171 | 181 | 191 => feature("UVW planes", false),
-        280 | 281 | 300 | 301 => feature("moves to stored home positions", true),
+        280 | 281 | 300 | 301 => feature(
+            "moves to stored home positions; pvtc has no stored positions",
+            true,
+        ),
         410 | 411 | 420 | 421 => feature("cutter radius compensation", false),
         430..=432 => feature("tool length compensation", false),
         520 => feature("local coordinate offsets", true),
-        530 => feature("machine coordinates", true),
-        540 | 550 | 560 | 570 | 580 | 590 | 591 | 592 | 593 => {
-            feature("work coordinate systems", false)
-        }
-        610 | 611 | 640 => feature("path control modes", false),
         700 | 710 | 720 => feature("lathe cycles", true),
-        901 => feature("absolute arc centres", false),
-        920..=923 => feature("coordinate offsets (G92)", true),
-        930 => feature("inverse time feed", false),
         950 => feature("feed per revolution", false),
         960 | 970 => feature("spindle speed modes", false),
         980 | 990 => feature("canned cycle return levels", false),
@@ -153,8 +208,14 @@ pub(crate) fn motion_feature(tenths: u32) -> &'static str {
 /// What an M code does.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum MCode {
-    /// M0/M1: program pause; ends the current contour.
-    Pause,
+    /// M0 (`false`) or M1 (optional, `true`): program pause; ends the current contour.
+    Pause(bool),
+    /// M3/M4/M5.
+    Spindle(SpindleState),
+    /// M7/M8/M9.
+    Coolant(CoolantState),
+    /// M6.
+    ToolChange,
     /// M2/M30: program end; nothing after it is read.
     End,
     /// A known code pvtc does not execute.
@@ -165,11 +226,16 @@ pub(crate) enum MCode {
 pub(crate) fn m_code(tenths: u32) -> Option<MCode> {
     use MCode::*;
     Some(match tenths {
-        0 | 10 => Pause,
+        0 => Pause(false),
+        10 => Pause(true),
         20 | 300 => End,
-        30 | 40 | 50 => Unsupported("spindle control"),
-        60 => Unsupported("tool change"),
-        70 | 80 | 90 => Unsupported("coolant control"),
+        30 => Spindle(SpindleState::Clockwise),
+        40 => Spindle(SpindleState::CounterClockwise),
+        50 => Spindle(SpindleState::Off),
+        60 => ToolChange,
+        70 => Coolant(CoolantState::Mist),
+        80 => Coolant(CoolantState::Flood),
+        90 => Coolant(CoolantState::Off),
         190 => Unsupported("spindle orientation"),
         480..=530 if tenths % 10 == 0 => Unsupported("feed and speed overrides"),
         600 => Unsupported("pallet change"),
@@ -189,10 +255,7 @@ pub(crate) fn letter_meaning(letter: u8) -> &'static str {
         b'H' => "H selects a tool length offset, which pvtc does not use",
         b'L' => "L is a loop count or G10 selector, which pvtc does not use",
         b'O' => "O words (subroutines, program numbers) are not read by pvtc",
-        b'P' => "P is a dwell time or cycle parameter, which pvtc does not use",
         b'Q' => "Q is a canned-cycle peck increment, which pvtc does not use",
-        b'S' => "S is the spindle speed, which pvtc does not use",
-        b'T' => "T selects a tool, which pvtc does not use",
         b'U' | b'V' | b'W' => "U, V and W are secondary axes, which pvtc does not drive",
         _ => "pvtc does not know this letter",
     }
@@ -220,7 +283,8 @@ mod tests {
             matches!(g_code(410), Some(GCode::Unsupported(f)) if f.name == "cutter radius compensation")
         );
         assert_eq!(g_code(7000), None);
-        assert_eq!(m_code(60), Some(MCode::Unsupported("tool change")));
+        assert_eq!(m_code(60), Some(MCode::ToolChange));
+        assert_eq!(m_code(600), Some(MCode::Unsupported("pallet change")));
         assert_eq!(m_code(300), Some(MCode::End));
         assert_eq!(m_code(485), None);
         assert_eq!(m_code(15), None);

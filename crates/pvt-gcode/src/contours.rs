@@ -1,50 +1,54 @@
-//! Contour building: rapid moves each on their own, runs of feed moves together.
+//! Contour collecting: the [`ToolpathSink`] behind [`crate::compile`], stream to
+//! [`pvt_core::Toolpath`] parts.
 //!
-//! Owns where one contour ends and the next begins; it must not know G-code.
+//! Owns grouping streamed elements into contours and placing events between them; it must
+//! not know G-code nor decide where contours end (the interpreter does).
 
-use pvt_core::{Contour, Element, Motion};
+use pvt_core::{Contour, Element, EventKind, Motion, ProgramEvent};
 
-/// Collects elements into rest-to-rest contours.
+use crate::ToolpathSink;
+
+/// Collects a streamed toolpath into contours and events.
 #[derive(Debug, Default)]
-pub(crate) struct Contours {
-    done: Vec<Contour>,
+pub(crate) struct CollectingSink {
+    /// Finished contours.
+    pub contours: Vec<Contour>,
+    /// Events, each before the contour of its index.
+    pub events: Vec<ProgramEvent>,
     run: Vec<Element>,
+    motion: Option<Motion>,
 }
 
-impl Contours {
-    /// Adds a move: a rapid is a contour of its own, a feed move joins the current run.
-    pub fn push(&mut self, motion: Motion, element: Element) {
-        match motion {
-            Motion::Rapid => {
-                self.end_run();
-                self.done.push(Contour {
-                    motion,
-                    elements: vec![element],
-                });
-            }
-            Motion::Feed => self.run.push(element),
+impl CollectingSink {
+    /// Ends the open contour, if any, and returns everything collected.
+    pub fn finish(mut self) -> (Vec<Contour>, Vec<ProgramEvent>) {
+        self.end_contour();
+        (self.contours, self.events)
+    }
+}
+
+impl ToolpathSink for CollectingSink {
+    fn element(&mut self, motion: Motion, element: &Element) {
+        if self.motion.is_some_and(|m| m != motion) {
+            self.end_contour();
         }
+        self.motion = Some(motion);
+        self.run.push(*element);
     }
 
-    /// Ends the current run of feed moves (the machine comes to rest).
-    pub fn end_run(&mut self) {
-        if !self.run.is_empty() {
+    fn end_contour(&mut self) {
+        if let Some(motion) = self.motion.take() {
             let elements = std::mem::take(&mut self.run);
-            self.done.push(Contour {
-                motion: Motion::Feed,
-                elements,
-            });
+            self.contours.push(Contour { motion, elements });
         }
     }
 
-    /// All contours, the last run ended.
-    pub fn finish(mut self) -> Vec<Contour> {
-        self.end_run();
-        self.done
-    }
-
-    /// True while no move has been added.
-    pub fn is_empty(&self) -> bool {
-        self.done.is_empty() && self.run.is_empty()
+    fn event(&mut self, event: &EventKind, line: u32) {
+        self.end_contour();
+        self.events.push(ProgramEvent {
+            before_contour: self.contours.len(),
+            kind: event.clone(),
+            line,
+        });
     }
 }

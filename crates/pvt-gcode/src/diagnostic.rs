@@ -43,17 +43,20 @@ pub enum GcodeDiagnostic {
         span: SourceSpan,
     },
 
-    /// An RS274NGC feature this version of pvtc does not compile (`G81`, `G41`, `M6`, `#1`).
-    #[error("{code} ({feature}) is not supported by pvtc")]
+    /// An RS274NGC feature pvtc does not compile (`G81`, `G41`, `O100 sub`, `#<_hal[…]>`);
+    /// reported once per feature, at its first place, with the number of places.
+    #[error("{code} ({feature}) is not supported by pvtc{}", places_note(*places))]
     #[diagnostic(
         code(pvtc::gcode::unsupported),
-        help("post the program without {feature}, or remove the block")
+        help("post the program without {feature}, or remove the blocks that use it")
     )]
     Unsupported {
         /// The code or token, e.g. `G81`.
         code: String,
         /// The feature it belongs to, in machinist's words.
         feature: &'static str,
+        /// How many places in the program use the feature (the span is the first).
+        places: usize,
         /// The code.
         #[label("{feature}")]
         span: SourceSpan,
@@ -332,6 +335,107 @@ pub enum GcodeDiagnostic {
         span: SourceSpan,
     },
 
+    /// An expression with no value: division by zero, SQRT of a negative number, …
+    #[error("expression error: {detail}")]
+    #[diagnostic(
+        code(pvtc::gcode::math_error),
+        help("check the operands of this operator or function")
+    )]
+    MathError {
+        /// What went wrong, with the operands.
+        detail: String,
+        /// The operator or function call.
+        #[label("no value")]
+        span: SourceSpan,
+    },
+
+    /// A named parameter read before any assignment.
+    #[error("parameter {name} is read before it is assigned")]
+    #[diagnostic(
+        code(pvtc::gcode::undefined_parameter),
+        help("assign it on an earlier line, e.g. {name} = 1.0 (assignments take effect after their line)")
+    )]
+    UndefinedParameter {
+        /// The parameter as written, e.g. `#<depth>`.
+        name: String,
+        /// The parameter read.
+        #[label("not assigned yet")]
+        span: SourceSpan,
+    },
+
+    /// A `*nn` checksum that does not match the line.
+    #[error("checksum *{written} does not match the line (its checksum is {computed})")]
+    #[diagnostic(
+        code(pvtc::gcode::checksum_mismatch),
+        help("the checksum is the XOR of every byte of the line before `*`; the line may be corrupted")
+    )]
+    ChecksumMismatch {
+        /// The checksum written.
+        written: u64,
+        /// The checksum of the text before `*`.
+        computed: u64,
+        /// The checksum.
+        #[label("wrong checksum")]
+        span: SourceSpan,
+    },
+
+    /// A code that needs a word the block does not give (G4 without P, G92 without axes).
+    #[error("{code} needs {needs}")]
+    #[diagnostic(code(pvtc::gcode::missing_word), help("add {needs} to the block"))]
+    MissingWord {
+        /// The code, e.g. `G4`.
+        code: String,
+        /// What it needs, e.g. `a P word (seconds)`.
+        needs: &'static str,
+        /// The code.
+        #[label("incomplete")]
+        span: SourceSpan,
+    },
+
+    /// A feed move in inverse time mode (G93) without its own F word.
+    #[error("feed move in inverse time mode (G93) without an F word")]
+    #[diagnostic(
+        code(pvtc::gcode::inverse_time_feed),
+        help(
+            "under G93 every G1/G2/G3 block needs F (1 / minutes the move takes); or program G94"
+        )
+    )]
+    InverseTimeFeed {
+        /// The move.
+        #[label("for how long?")]
+        span: SourceSpan,
+    },
+
+    /// A word whose value is not one its code accepts (T-1, G2 P0, G4 P-1).
+    #[error("{word}: {expected}")]
+    #[diagnostic(code(pvtc::gcode::bad_value), help("correct the value of this word"))]
+    BadValue {
+        /// The word as read.
+        word: String,
+        /// What the value must be.
+        expected: &'static str,
+        /// The word.
+        #[label("bad value")]
+        span: SourceSpan,
+    },
+
+    /// Warning: a word pvtc reads but that has no effect on the toolpath.
+    #[error("{word} is ignored: {reason}")]
+    #[diagnostic(
+        code(pvtc::gcode::ignored_word),
+        severity(Warning),
+        help("remove the word if the program does not need it")
+    )]
+    IgnoredWord {
+        /// The word as read.
+        word: String,
+        /// Why it has no effect.
+        reason: &'static str,
+        /// The word.
+        #[label("ignored")]
+        span: SourceSpan,
+    },
+
     /// A program without any motion (empty, or only comments and modes).
     #[error("the program has no motion")]
     #[diagnostic(
@@ -372,6 +476,13 @@ impl GcodeDiagnostic {
             D::ZeroLengthMove { .. } => "pvtc::gcode::zero_length_move",
             D::AfterProgramEnd { .. } => "pvtc::gcode::after_program_end",
             D::NoMotion { .. } => "pvtc::gcode::no_motion",
+            D::MathError { .. } => "pvtc::gcode::math_error",
+            D::UndefinedParameter { .. } => "pvtc::gcode::undefined_parameter",
+            D::ChecksumMismatch { .. } => "pvtc::gcode::checksum_mismatch",
+            D::MissingWord { .. } => "pvtc::gcode::missing_word",
+            D::InverseTimeFeed { .. } => "pvtc::gcode::inverse_time_feed",
+            D::BadValue { .. } => "pvtc::gcode::bad_value",
+            D::IgnoredWord { .. } => "pvtc::gcode::ignored_word",
         }
     }
 
@@ -385,7 +496,7 @@ impl GcodeDiagnostic {
     pub fn is_warning(&self) -> bool {
         matches!(
             self,
-            Self::ZeroLengthMove { .. } | Self::AfterProgramEnd { .. }
+            Self::ZeroLengthMove { .. } | Self::AfterProgramEnd { .. } | Self::IgnoredWord { .. }
         )
     }
 
@@ -413,7 +524,14 @@ impl GcodeDiagnostic {
             | D::OutOfRange { span, .. }
             | D::ZeroLengthMove { span }
             | D::AfterProgramEnd { span, .. }
-            | D::NoMotion { span } => span,
+            | D::NoMotion { span }
+            | D::MathError { span, .. }
+            | D::UndefinedParameter { span, .. }
+            | D::ChecksumMismatch { span, .. }
+            | D::MissingWord { span, .. }
+            | D::InverseTimeFeed { span }
+            | D::BadValue { span, .. }
+            | D::IgnoredWord { span, .. } => span,
         }
     }
 }
@@ -426,6 +544,39 @@ pub struct GcodeErrors {
     /// The errors, sorted by source position.
     #[related]
     pub diagnostics: Vec<GcodeDiagnostic>,
+}
+
+/// ` (N places; the first is shown)` for a feature used in more than one place.
+fn places_note(places: usize) -> String {
+    if places > 1 {
+        format!(" ({places} places; the first is shown)")
+    } else {
+        String::new()
+    }
+}
+
+/// Merges the `unsupported` diagnostics of one feature into the first, counting places.
+pub(crate) fn merge_unsupported(errors: &mut Vec<GcodeDiagnostic>) {
+    let mut firsts: Vec<(&'static str, usize)> = Vec::new();
+    let mut kept = Vec::with_capacity(errors.len());
+    for d in errors.drain(..) {
+        let GcodeDiagnostic::Unsupported { feature, .. } = d else {
+            kept.push(d);
+            continue;
+        };
+        match firsts.iter().find(|(f, _)| *f == feature) {
+            Some(&(_, index)) => {
+                if let Some(GcodeDiagnostic::Unsupported { places, .. }) = kept.get_mut(index) {
+                    *places += 1;
+                }
+            }
+            None => {
+                firsts.push((feature, kept.len()));
+                kept.push(d);
+            }
+        }
+    }
+    *errors = kept;
 }
 
 fn count_errors(n: usize) -> String {

@@ -1,27 +1,28 @@
-//! The modal interpreter: blocks in program order to toolpath elements.
+//! The modal interpreter: blocks in program order to toolpath elements and events.
 //!
-//! Owns the modal state (motion mode, plane, length units, distance mode, feed), the
-//! current position and the order in which one block's words take effect: plane, units,
-//! distance mode, feed, motion, stop. It must not parse text (that is [`crate::parser`])
-//! nor compute arc centres (that is [`crate::arcs`]).
+//! Owns the modal state (motion, plane, units, distance and arc-centre modes, feed mode,
+//! path mode, lathe diameter mode, coordinate system, G92 offsets, feed), the current
+//! position and the order in which one block takes effect, as RS274NGC executes it:
+//! message, feed mode, S, T, M6, M3/M4/M5, M7/M8/M9, G4, plane, units, coordinate
+//! system, path mode, distance modes, F (read in the block's units), G92 family, motion
+//! (G53 applying to it), stop.
+//! It hands elements and events to a [`ToolpathSink`] as they are made and keeps none;
+//! it must not parse text (that is [`crate::parser`]) nor compute arc centres (that is
+//! [`crate::arcs`]). Its moves live in [`motion`].
 //!
-//! Units: the output is in the units of the first G20/G21, or millimetres when a move
-//! comes first; later coordinates, offsets and feeds are converted into them. Rotary
-//! axes are degrees and never converted. Every axis starts at 0.
+//! Positions are machine coordinates in output units: a program coordinate plus the
+//! active work offset (G54…G59.3, from [`GcodeOptions::work_offsets`]) plus the G92
+//! offset. Rotary axes are degrees and never converted. Every axis starts at 0.
 
-use std::ops::Range;
+mod motion;
 
-use pvt_core::{
-    Arc, ArcDirection, Axis, Element, ElementKind, Motion, Plane, Position, Span, Toolpath, Units,
-};
+use pvt_core::{EventKind, Position, Units, AXIS_COUNT};
 
-use crate::arcs::{self, ArcProblem, ArcTolerance};
-use crate::block::{cover, Block, Word};
-use crate::codes::{Distance, MotionMode};
-use crate::contours::Contours;
-use crate::diagnostic::{span, GcodeDiagnostic};
+use crate::block::{Block, Word};
+use crate::codes::{Distance, FeedMode, MotionMode, NonModal, PathMode};
+use crate::diagnostic::{merge_unsupported, span, GcodeDiagnostic};
 use crate::request::{Request, Stop};
-use crate::{Compiled, GcodeErrors, GcodeOptions};
+use crate::{GcodeErrors, GcodeOptions, StreamSummary, ToolpathSink};
 
 /// Whether to read on after a block.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -32,13 +33,30 @@ pub(crate) enum Flow {
     End(Word),
 }
 
-/// The modal state RS274NGC keeps between blocks (the part this cut uses).
+/// The modal state RS274NGC keeps between blocks (the part pvtc uses).
 #[derive(Debug, Clone, Copy, Default)]
 struct Modal {
     motion: Option<MotionMode>,
-    plane: Plane,
+    plane: pvt_core::Plane,
     units: Units,
     distance: Distance,
+    arc_centers: ArcCenters,
+    feed_mode: FeedMode,
+    path_mode: PathMode,
+    /// G7: X words are diameters.
+    diameter: bool,
+    /// Work coordinate system, 0 (G54) … 8 (G59.3).
+    coord_system: usize,
+}
+
+/// G90.1/G91.1, incremental by default.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct ArcCenters(Distance);
+
+impl Default for ArcCenters {
+    fn default() -> Self {
+        ArcCenters(Distance::Incremental)
+    }
 }
 
 /// The feed in effect: as written, and in output units per minute.
@@ -48,33 +66,49 @@ struct Feed {
     per_minute: f64,
 }
 
-/// Executes blocks one at a time and collects the toolpath and diagnostics.
+/// Executes blocks one at a time, streaming the toolpath into a sink.
 pub(crate) struct Interpreter<'a> {
     options: &'a GcodeOptions,
+    sink: &'a mut dyn ToolpathSink,
     modal: Modal,
     output_units: Option<Units>,
     position: Position,
     feed: Option<Feed>,
     /// A missing or bad feed was reported and no F word came since.
     feed_reported: bool,
-    contours: Contours,
+    /// G92 offsets and those G92.2 kept, output units.
+    g92: Position,
+    g92_kept: Position,
+    /// Elements were sent since the last end of contour.
+    open: bool,
+    /// Any element was sent.
+    moved: bool,
+    path_tolerance: Option<f64>,
     errors: Vec<GcodeDiagnostic>,
     warnings: Vec<GcodeDiagnostic>,
+    /// Diagnostics of the block being read, before they are sorted into the two above.
+    pending: Vec<GcodeDiagnostic>,
 }
 
 impl<'a> Interpreter<'a> {
-    /// A machine at 0 in every axis, in G0-less, G17, G21, G90, G94 state.
-    pub fn new(options: &'a GcodeOptions) -> Self {
+    /// A machine at 0 in every axis, in G17 G21 G90 G91.1 G94 G64 G54 G8 state.
+    pub fn new(options: &'a GcodeOptions, sink: &'a mut dyn ToolpathSink) -> Self {
         Interpreter {
             options,
+            sink,
             modal: Modal::default(),
-            output_units: None,
-            position: [0.0; pvt_core::AXIS_COUNT],
+            output_units: options.units,
+            position: [0.0; AXIS_COUNT],
             feed: None,
             feed_reported: false,
-            contours: Contours::default(),
+            g92: [0.0; AXIS_COUNT],
+            g92_kept: [0.0; AXIS_COUNT],
+            open: false,
+            moved: false,
+            path_tolerance: None,
             errors: Vec::new(),
             warnings: Vec::new(),
+            pending: Vec::new(),
         }
     }
 
@@ -88,15 +122,29 @@ impl<'a> Interpreter<'a> {
         self.warnings.push(diagnostic);
     }
 
-    /// Executes one block in RS274NGC order: modes, feed, motion, stop.
+    /// Executes one block in RS274NGC order (see the module documentation).
     pub fn execute(&mut self, block: &Block) -> Flow {
-        let request = Request::read(block, &mut self.errors);
+        let request = Request::read(block, &mut self.pending);
+        for d in std::mem::take(&mut self.pending) {
+            self.push(d);
+        }
+        if let Some(text) = &block.message {
+            self.event(EventKind::Message { text: text.clone() }, block.line);
+        }
+        if let Some((mode, _)) = request.feed_mode {
+            self.modal.feed_mode = mode;
+        }
+        self.machine_events(&request, block.line);
+        self.dwell(&request, block.line);
         self.set_modes(&request);
+        // F after the units of its block, so `G21 F254` is 254 mm/min.
         self.set_feed(&request);
+        self.set_offsets(&request);
+        self.check_p_word(&request);
         self.run_motion(&request, block);
         match request.stop {
-            Some((Stop::Pause, _)) => {
-                self.contours.end_run();
+            Some((Stop::Pause(optional), _)) => {
+                self.event(EventKind::Pause { optional }, block.line);
                 Flow::Continue
             }
             Some((Stop::End, word)) => Flow::End(word),
@@ -113,27 +161,25 @@ impl<'a> Interpreter<'a> {
         flow
     }
 
-    /// The toolpath, or every error in source order.
-    pub fn finish(mut self) -> Result<Compiled, GcodeErrors> {
-        if self.errors.is_empty() && self.contours.is_empty() {
+    /// Ends the last contour; the summary, or every error in source order.
+    pub fn finish(mut self) -> Result<StreamSummary, GcodeErrors> {
+        self.end_contour();
+        if self.errors.is_empty() && !self.moved {
             self.errors
                 .push(GcodeDiagnostic::NoMotion { span: span(0..0) });
         }
         if !self.errors.is_empty() {
             self.errors.sort_by_key(|d| d.span().start);
+            merge_unsupported(&mut self.errors);
             return Err(GcodeErrors {
                 diagnostics: self.errors,
             });
         }
         self.warnings.sort_by_key(|d| d.span().start);
-        let toolpath = Toolpath {
+        Ok(StreamSummary {
             units: self.output(),
-            contours: self.contours.finish(),
-            events: Vec::new(),
-        };
-        Ok(Compiled {
-            toolpath,
             warnings: self.warnings,
+            path_tolerance: self.path_tolerance,
         })
     }
 
@@ -142,6 +188,72 @@ impl<'a> Interpreter<'a> {
             self.warnings.push(diagnostic);
         } else {
             self.errors.push(diagnostic);
+        }
+    }
+
+    /// Ends the current contour, if one is open: the machine comes to rest.
+    fn end_contour(&mut self) {
+        if self.open {
+            self.open = false;
+            self.sink.end_contour();
+        }
+    }
+
+    /// An event, at rest: it ends the current contour.
+    fn event(&mut self, kind: EventKind, line: u32) {
+        self.end_contour();
+        self.sink.event(&kind, line);
+    }
+
+    /// S, T, M6, M3/M4/M5 and M7/M8/M9, in that order.
+    fn machine_events(&mut self, request: &Request, line: u32) {
+        if let Some(s) = request.s {
+            match s.value >= 0.0 {
+                true => self.event(EventKind::SpindleSpeed { rpm: s.value }, line),
+                false => self.push(bad_value(s, "a spindle speed must not be negative")),
+            }
+        }
+        if let Some(t) = request.t {
+            match whole(t.value) {
+                Some(tool) => self.event(EventKind::ToolSelect { tool }, line),
+                None => self.push(bad_value(t, "a tool number must be a whole number ≥ 0")),
+            }
+        }
+        if request.tool_change.is_some() {
+            self.event(EventKind::ToolChange, line);
+        }
+        if let Some((state, _)) = request.spindle {
+            self.event(EventKind::Spindle { state }, line);
+        }
+        if let Some((state, _)) = request.coolant {
+            self.event(EventKind::Coolant { state }, line);
+        }
+    }
+
+    /// G4: dwell P seconds.
+    fn dwell(&mut self, request: &Request, line: u32) {
+        let Some((NonModal::Dwell, g4)) = request.non_modal else {
+            return;
+        };
+        match request.p {
+            Some(p) if p.value >= 0.0 => self.event(EventKind::Dwell { seconds: p.value }, line),
+            Some(p) => self.push(bad_value(p, "a dwell time must not be negative")),
+            None => self.push(missing(g4, "a P word (seconds)")),
+        }
+    }
+
+    /// A P word no code of the block uses is a warning.
+    fn check_p_word(&mut self, request: &Request) {
+        let Some(p) = request.p else { return };
+        let used = matches!(request.non_modal, Some((NonModal::Dwell, _)))
+            || matches!(request.path_mode, Some((PathMode::Continuous, _)))
+            || matches!(self.modal.motion, Some(MotionMode::Arc(_)));
+        if !used {
+            self.push(GcodeDiagnostic::IgnoredWord {
+                word: p.name(),
+                reason: "no code of this block takes P (G4, G64, G2/G3 do)",
+                span: span(p.span()),
+            });
         }
     }
 
@@ -156,387 +268,114 @@ impl<'a> Interpreter<'a> {
     }
 
     fn set_modes(&mut self, request: &Request) {
+        let m = &mut self.modal;
         if let Some((plane, _)) = request.plane {
-            self.modal.plane = plane;
+            m.plane = plane;
         }
         if let Some((units, _)) = request.units {
             self.output_units.get_or_insert(units);
-            self.modal.units = units;
+            m.units = units;
+        }
+        if let Some((system, _)) = request.coord_system {
+            m.coord_system = system;
+        }
+        if let Some((mode, _)) = request.path_mode {
+            m.path_mode = mode;
         }
         if let Some((distance, _)) = request.distance {
-            self.modal.distance = distance;
+            m.distance = distance;
+        }
+        if let Some((centers, _)) = request.arc_centers {
+            m.arc_centers = ArcCenters(centers);
+        }
+        if let Some((diameter, _)) = request.diameter {
+            m.diameter = diameter;
         }
         if let Some((mode, _)) = request.motion {
-            self.modal.motion = Some(mode);
+            m.motion = Some(mode);
+        }
+        if let (Some((PathMode::Continuous, _)), Some(p)) = (request.path_mode, request.p) {
+            let tolerance = p.value.abs() * self.scale();
+            self.path_tolerance = Some(tolerance);
         }
     }
 
-    fn set_feed(&mut self, request: &Request) {
-        let Some(word) = request.feed else { return };
-        let per_minute = word.value * self.scale();
-        if !per_minute.is_finite() {
-            return self.push(out_of_range("feed", per_minute, word.span()));
-        }
-        self.feed = Some(Feed {
-            written: word.value,
-            per_minute,
-        });
-        self.feed_reported = false;
+    /// The work plus G92 offset of axis `i`, output units (degrees for rotary axes).
+    fn offset(&self, i: usize) -> f64 {
+        let work = self
+            .options
+            .work_offsets
+            .get(self.modal.coord_system)
+            .map_or(0.0, |w| w[i]);
+        let work = match pvt_core::Axis::ALL.get(i) {
+            Some(axis) if axis.is_rotary() => work,
+            _ => self.output().from_mm(work),
+        };
+        work + self.g92[i]
     }
 
-    fn run_motion(&mut self, request: &Request, block: &Block) {
-        if request.no_move {
+    /// G92, G92.1, G92.2, G92.3.
+    fn set_offsets(&mut self, request: &Request) {
+        let Some((code, word)) = request.non_modal else {
             return;
-        }
-        let has_axes = request.has_axis_words();
-        match self.modal.motion {
-            Some(MotionMode::Arc(direction)) => {
-                if has_axes
-                    || request.offsets.iter().any(Option::is_some)
-                    || request.radius.is_some()
-                {
-                    self.arc_move(direction, request, block);
+        };
+        match code {
+            NonModal::SetOffset => {
+                if !request.has_axis_words() {
+                    return self.push(missing(word, "at least one axis word"));
                 }
-            }
-            Some(MotionMode::Unsupported) => {}
-            Some(mode @ (MotionMode::Rapid | MotionMode::Linear)) => {
-                self.reject_arc_words(request, mode.name());
-                if has_axes {
-                    self.line_move(mode, request, block);
-                }
-            }
-            mode @ (None | Some(MotionMode::Cancel)) => {
-                self.reject_arc_words(request, mode.map_or("not set", MotionMode::name));
-                if let Some(&word) = request.axis_words().next() {
-                    self.push(GcodeDiagnostic::NoMotionMode {
-                        word: word.name(),
-                        span: span(word.span()),
-                    });
-                    if let Ok(end) = self.target(request) {
-                        self.position = end;
+                self.output_units.get_or_insert(self.modal.units);
+                for axis in pvt_core::Axis::ALL {
+                    let i = axis.index();
+                    if let Some(w) = request.axes[i] {
+                        let wanted = self.program_value(axis, w.value);
+                        self.g92[i] = self.position[i] - (self.offset(i) - self.g92[i]) - wanted;
                     }
                 }
             }
+            NonModal::ClearOffset { keep } => {
+                self.g92_kept = if keep { self.g92 } else { [0.0; AXIS_COUNT] };
+                self.g92 = [0.0; AXIS_COUNT];
+            }
+            NonModal::RestoreOffset => self.g92 = self.g92_kept,
+            NonModal::Dwell | NonModal::MachineCoords => {}
         }
     }
 
-    fn reject_arc_words(&mut self, request: &Request, mode: &'static str) {
-        for &word in request.offsets.iter().chain([&request.radius]).flatten() {
-            self.push(GcodeDiagnostic::ArcWordWithoutArc {
-                word: word.name(),
-                mode,
-                span: span(word.span()),
-            });
+    /// An axis word's value in output units (degrees for rotary axes), G7 applied.
+    fn program_value(&self, axis: pvt_core::Axis, value: f64) -> f64 {
+        let value = if self.modal.diameter && axis == pvt_core::Axis::X {
+            value / 2.0
+        } else {
+            value
+        };
+        if axis.is_rotary() {
+            value
+        } else {
+            value * self.scale()
         }
-    }
-
-    /// The end position of the block's move, in output units.
-    fn target(&self, request: &Request) -> Result<Position, GcodeDiagnostic> {
-        const WHAT: [&str; 6] = [
-            "X coordinate",
-            "Y coordinate",
-            "Z coordinate",
-            "A angle",
-            "B angle",
-            "C angle",
-        ];
-        let scale = self.scale();
-        let mut end = self.position;
-        for axis in Axis::ALL {
-            let i = axis.index();
-            let Some(word) = request.axes[i] else {
-                continue;
-            };
-            let value = if axis.is_rotary() {
-                word.value
-            } else {
-                word.value * scale
-            };
-            end[i] = match self.modal.distance {
-                Distance::Absolute => value,
-                Distance::Incremental => end[i] + value,
-            };
-            if !end[i].is_finite() {
-                return Err(out_of_range(WHAT[i], end[i], word.span()));
-            }
-        }
-        Ok(end)
-    }
-
-    /// The feed of a feed move, units per second; `None` (reported once) when there is none.
-    fn feed_rate(&mut self, request: &Request, block: &Block) -> Option<f64> {
-        let per_minute = match (self.feed, self.options.default_feed) {
-            (Some(feed), _) => feed.per_minute,
-            (None, Some(default)) => default,
-            (None, None) => {
-                if !self.feed_reported {
-                    self.feed_reported = true;
-                    let at = move_span(request, block);
-                    self.push(GcodeDiagnostic::NoFeed { span: span(at) });
-                }
-                return None;
-            }
-        };
-        if per_minute > 0.0 && per_minute.is_finite() {
-            return Some(per_minute / 60.0);
-        }
-        if !self.feed_reported {
-            self.feed_reported = true;
-            let feed = match self.feed {
-                Some(feed) => format!("F{}", feed.written),
-                None => format!("default feed {per_minute}"),
-            };
-            let at = request
-                .feed
-                .map_or_else(|| move_span(request, block), |w| w.span());
-            self.push(GcodeDiagnostic::ZeroFeed {
-                feed,
-                span: span(at),
-            });
-        }
-        None
-    }
-
-    /// The rapid rate, units per second.
-    fn rapid_rate(&self) -> f64 {
-        let per_minute = match self.options.rapid {
-            Some(rapid) if rapid > 0.0 && rapid.is_finite() => rapid,
-            _ => self.output().from_mm(crate::DEFAULT_RAPID_MM_PER_MIN),
-        };
-        per_minute / 60.0
-    }
-
-    fn line_move(&mut self, mode: MotionMode, request: &Request, block: &Block) {
-        self.output_units.get_or_insert(Units::Millimetre);
-        let end = match self.target(request) {
-            Ok(end) => end,
-            Err(diagnostic) => return self.push(diagnostic),
-        };
-        let (motion, feed) = match mode {
-            MotionMode::Rapid => (Motion::Rapid, Some(self.rapid_rate())),
-            _ => (Motion::Feed, self.feed_rate(request, block)),
-        };
-        let start = std::mem::replace(&mut self.position, end);
-        let Some(feed) = feed else { return };
-        if end == start {
-            return self.warn(GcodeDiagnostic::ZeroLengthMove {
-                span: span(block.span()),
-            });
-        }
-        let element = Element {
-            kind: ElementKind::Line,
-            start,
-            end,
-            feed,
-            span: element_span(block),
-        };
-        self.contours.push(motion, element);
-    }
-
-    fn arc_move(&mut self, direction: ArcDirection, request: &Request, block: &Block) {
-        self.output_units.get_or_insert(Units::Millimetre);
-        let end = match self.target(request) {
-            Ok(end) => end,
-            Err(diagnostic) => return self.push(diagnostic),
-        };
-        let center = self.arc_center(direction, request, block, &end);
-        let feed = self.feed_rate(request, block);
-        let start = std::mem::replace(&mut self.position, end);
-        let (Some(center), Some(feed)) = (center, feed) else {
-            return;
-        };
-        let arc = Arc {
-            plane: self.modal.plane,
-            center,
-            direction,
-            extra_turns: 0,
-        };
-        let element = Element {
-            kind: ElementKind::Arc(arc),
-            start,
-            end,
-            feed,
-            span: element_span(block),
-        };
-        self.contours.push(Motion::Feed, element);
-    }
-
-    /// The arc's centre in its plane, or `None` after reporting why there is none.
-    fn arc_center(
-        &mut self,
-        direction: ArcDirection,
-        request: &Request,
-        block: &Block,
-        end: &Position,
-    ) -> Option<[f64; 2]> {
-        let plane = self.modal.plane;
-        let words = match center_words(plane, direction, request, block) {
-            Ok(words) => words,
-            Err(diagnostic) => {
-                self.push(diagnostic);
-                return None;
-            }
-        };
-        let (start, end) = (plane.project(&self.position), plane.project(end));
-        let scale = self.scale();
-        let tolerance = self.arc_tolerance();
-        let found = match words {
-            CenterWords::Radius(r) => {
-                arcs::center_from_radius(start, end, r.value * scale, direction, tolerance)
-            }
-            CenterWords::Offsets(offsets) => {
-                let offset = |w: Option<Word>| w.map_or(0.0, |w| w.value * scale);
-                let offsets = [offset(offsets[0]), offset(offsets[1])];
-                arcs::center_from_offsets(start, end, offsets, tolerance)
-            }
-        };
-        match found {
-            Ok(center) if center.iter().all(|c| c.is_finite()) => Some(center),
-            Ok(center) => {
-                let value = if center[0].is_finite() {
-                    center[1]
-                } else {
-                    center[0]
-                };
-                let at = move_span(request, block);
-                self.push(out_of_range("arc centre", value, at));
-                None
-            }
-            Err(problem) => {
-                self.report_arc_problem(problem, request, block);
-                None
-            }
-        }
-    }
-
-    fn arc_tolerance(&self) -> ArcTolerance {
-        ArcTolerance {
-            absolute: self.output().from_mm(self.options.arc_abs_tolerance_mm),
-            relative: self.options.arc_rel_tolerance,
-        }
-    }
-
-    fn report_arc_problem(&mut self, problem: ArcProblem, request: &Request, block: &Block) {
-        let units = self.output().name();
-        let r_span = || {
-            span(
-                request
-                    .radius
-                    .map_or_else(|| move_span(request, block), |w| w.span()),
-            )
-        };
-        let offsets_span = || {
-            span(
-                cover(request.offsets.iter().flatten())
-                    .unwrap_or_else(|| move_span(request, block)),
-            )
-        };
-        let tolerance = self.arc_tolerance();
-        self.push(match problem {
-            ArcProblem::ZeroRadius => GcodeDiagnostic::ArcZeroRadius {
-                span: offsets_span(),
-            },
-            ArcProblem::FullCircleR => GcodeDiagnostic::ArcFullCircleR { span: r_span() },
-            ArcProblem::RadiusTooSmall { radius, half_chord } => {
-                GcodeDiagnostic::ArcRadiusTooSmall {
-                    radius,
-                    half_chord,
-                    units,
-                    span: r_span(),
-                }
-            }
-            ArcProblem::RadiusMismatch {
-                start_radius,
-                end_radius,
-            } => GcodeDiagnostic::ArcRadiusMismatch {
-                start_radius,
-                end_radius,
-                abs_tolerance: tolerance.absolute,
-                rel_tolerance: tolerance.relative,
-                units,
-                span: span(move_span(request, block)),
-            },
-        });
     }
 }
 
-/// How a block gives its arc's centre: offsets in the plane's (first, second) order, or R.
-#[derive(Debug, Clone, Copy)]
-enum CenterWords {
-    Offsets([Option<Word>; 2]),
-    Radius(Word),
+/// `value` as a tool number: whole, ≥ 0, within `u32`.
+fn whole(value: f64) -> Option<u32> {
+    let rounded = value.round();
+    ((value - rounded).abs() < 1e-6 && (0.0..=f64::from(u32::MAX)).contains(&rounded))
+        .then_some(rounded as u32)
 }
 
-/// The centre words of an arc block in `plane`, or the diagnostic for a wrong set.
-fn center_words(
-    plane: Plane,
-    direction: ArcDirection,
-    request: &Request,
-    block: &Block,
-) -> Result<CenterWords, GcodeDiagnostic> {
-    let (first, second, normal) = plane.axes();
-    if let Some(word) = request.offsets[normal.index()] {
-        let (name, plane, at) = (word.name(), plane_name(plane), span(word.span()));
-        return Err(GcodeDiagnostic::ArcOffsetOffPlane {
-            word: name,
-            plane,
-            span: at,
-        });
-    }
-    let offsets = [
-        request.offsets[first.index()],
-        request.offsets[second.index()],
-    ];
-    match (offsets, request.radius) {
-        ([None, None], None) => {
-            let mode = MotionMode::Arc(direction).name();
-            let at = request
-                .motion
-                .map_or_else(|| move_span(request, block), |(_, w)| w.span());
-            Err(GcodeDiagnostic::ArcMissingCenter {
-                mode,
-                span: span(at),
-            })
-        }
-        ([None, None], Some(r)) => Ok(CenterWords::Radius(r)),
-        (_, Some(r)) => Err(GcodeDiagnostic::ArcRWithCenter {
-            span: span(r.span()),
-        }),
-        (offsets, None) => Ok(CenterWords::Offsets(offsets)),
+fn bad_value(word: Word, expected: &'static str) -> GcodeDiagnostic {
+    GcodeDiagnostic::BadValue {
+        word: word.name(),
+        expected,
+        span: span(word.span()),
     }
 }
 
-/// The words that make the move (motion code, axes, centre), or the whole block.
-fn move_span(request: &Request, block: &Block) -> Range<usize> {
-    let motion = request.motion.as_ref().map(|(_, w)| w);
-    let words = motion
-        .into_iter()
-        .chain(request.axis_words())
-        .chain(request.offsets.iter().flatten())
-        .chain(&request.radius);
-    cover(words).unwrap_or_else(|| block.span())
-}
-
-fn element_span(block: &Block) -> Span {
-    Span {
-        start: block.start,
-        end: block.end,
-        line: block.line,
-    }
-}
-
-fn out_of_range(what: &'static str, value: f64, at: Range<usize>) -> GcodeDiagnostic {
-    GcodeDiagnostic::OutOfRange {
-        what,
-        value,
-        span: span(at),
-    }
-}
-
-fn plane_name(plane: Plane) -> &'static str {
-    match plane {
-        Plane::XY => "XY (G17)",
-        Plane::ZX => "ZX (G18)",
-        Plane::YZ => "YZ (G19)",
+fn missing(word: Word, needs: &'static str) -> GcodeDiagnostic {
+    GcodeDiagnostic::MissingWord {
+        code: word.name(),
+        needs,
+        span: span(word.span()),
     }
 }

@@ -7,14 +7,27 @@
 //! whatever the input.
 //!
 //! The pipeline, one line at a time and without per-word allocation:
-//! `parser` (text → block of words) → `request` (words → what the block
-//! asks for) → `interpreter` (modal state → elements) → `contours`.
+//! `parser` (text → block of words, `value` evaluating parameters and expressions) →
+//! `request` (words → what the block asks for) → `interpreter` (modal state → elements
+//! and events) → a [`ToolpathSink`]. [`compile_into`] streams; [`compile`] collects into
+//! a [`pvt_core::Toolpath`] through the same path.
 //!
-//! Dialect of this version: G0 G1 G2 G3 (I/J/K centre offsets or R), G17 G18 G19, G20
-//! G21, G90 G91, G94, G80, F, X Y Z A B C, M0 M1 M2 M30; G40, G49 and G91.1 are accepted
-//! as they select what pvtc always does. Every axis starts at 0. Lines with block delete
-//! (`/`) are executed (the block delete switch is off). Other RS274NGC codes are reported
-//! as `unsupported`, naming the feature.
+//! Dialect (see `grammars/gcode.ebnf` and the issue 4 list): G0 G1 G2 G3 in G17/G18/G19
+//! (I/J/K under G90.1 or G91.1, R, P turns, helices), G4, G7/G8, G20/G21, G53, G54–G59.3,
+//! G61/G61.1/G64 (P), G80, G90/G91, G92/G92.1/G92.2/G92.3, G93/G94, F S T, X Y Z A B C,
+//! M0 M1 M2 M30 M3 M4 M5 M6 M7 M8 M9, parameters (`#1`, `#<name>`) and expressions,
+//! `(MSG, …)`, `*nn` checksums. G40 and G49 are accepted as they select what pvtc always
+//! does. Every axis starts at 0. Lines with block delete (`/`) are executed (the switch
+//! is off). O-words, canned cycles, cutter and tool length compensation, G5.x, G38.x,
+//! G28/G30 and reads of machine-specific parameters are `unsupported`, one diagnostic
+//! per feature with the count of places, and the program fails.
+//!
+//! Contours: a rapid move is a contour of its own; feed moves run together until a
+//! rapid, an event or a stop. Every event (G4 dwell, M0/M1 pause, S, T, M6, M3/M4/M5,
+//! M7/M8/M9, `(MSG, …)`) happens with the machine at rest, so it ends the current
+//! contour. G61 (exact stop) ends the contour after every move, so each block's end is a
+//! rest point. G64's P tolerance is recorded ([`StreamSummary::path_tolerance`]): the
+//! contour planner passes exactly through every programmed point, which meets any P.
 
 mod arcs;
 mod block;
@@ -22,10 +35,14 @@ mod codes;
 mod contours;
 mod diagnostic;
 mod interpreter;
+mod params;
 mod parser;
 mod request;
+mod sink;
+mod value;
 
 pub use diagnostic::{line_col, GcodeDiagnostic, GcodeErrors};
+pub use sink::{StreamSummary, ToolpathSink};
 
 use interpreter::{Flow, Interpreter};
 use parser::{LineKind, SourceLines};
@@ -50,6 +67,13 @@ pub struct GcodeOptions {
     /// both tolerances (as LinuxCNC does); an R that falls short of half the chord by no
     /// more than either gives a half circle.
     pub arc_rel_tolerance: f64,
+    /// Output units; `None` keeps those of the program (its first G20/G21, millimetres
+    /// when a move comes first). Coordinates and feeds are converted into them.
+    pub units: Option<pvt_core::Units>,
+    /// Work offsets of G54, G55, G56, G57, G58, G59, G59.1, G59.2, G59.3 (rows), each
+    /// X Y Z in millimetres and A B C in degrees; zero by default. A position in the
+    /// output is the program coordinate plus the active row plus any G92 offset.
+    pub work_offsets: [[f64; 6]; 9],
 }
 
 impl Default for GcodeOptions {
@@ -59,6 +83,8 @@ impl Default for GcodeOptions {
             rapid: None,
             arc_abs_tolerance_mm: 0.002,
             arc_rel_tolerance: 0.001,
+            units: None,
+            work_offsets: [[0.0; 6]; 9],
         }
     }
 }
@@ -68,22 +94,52 @@ impl Default for GcodeOptions {
 pub struct Compiled {
     /// The moves, grouped into contours, in the output units (see [`compile`]).
     pub toolpath: pvt_core::Toolpath,
-    /// Warnings (zero-length moves, blocks after the program end), in source order.
+    /// Warnings (zero-length moves, ignored words, blocks after the program end), in
+    /// source order.
     pub warnings: Vec<GcodeDiagnostic>,
+    /// The last G64 P tolerance, output units (see [`StreamSummary::path_tolerance`]).
+    pub path_tolerance: Option<f64>,
 }
 
 /// Compiles G-code `source` into a toolpath, or returns every error in source order.
 ///
-/// Output units are those of the first G20/G21, millimetres when a move comes before
-/// either; coordinates and feeds after a later switch are converted. Element feeds are
-/// in output units per second. Reading stops at M2/M30 or at a second `%` line.
+/// Output units: see [`GcodeOptions::units`]. Element feeds are in output units per
+/// second. Reading stops at M2/M30 or at a second `%` line.
 pub fn compile(source: &str, options: &GcodeOptions) -> Result<Compiled, GcodeErrors> {
-    let mut interpreter = Interpreter::new(options);
+    let mut sink = contours::CollectingSink::default();
+    let summary = compile_into(source, options, &mut sink)?;
+    let (contours, events) = sink.finish();
+    Ok(Compiled {
+        toolpath: pvt_core::Toolpath {
+            units: summary.units,
+            contours,
+            events,
+        },
+        warnings: summary.warnings,
+        path_tolerance: summary.path_tolerance,
+    })
+}
+
+/// Compiles G-code `source`, handing each element, contour end and event to `sink` as
+/// soon as it is made (nothing is accumulated); returns the units and warnings, or every
+/// error in source order (the sink's input is then incomplete: discard it).
+pub fn compile_into(
+    source: &str,
+    options: &GcodeOptions,
+    sink: &mut dyn ToolpathSink,
+) -> Result<StreamSummary, GcodeErrors> {
+    let mut interpreter = Interpreter::new(options, sink);
+    let mut params = params::Parameters::default();
     let mut block = block::Block::default();
     let mut lines = SourceLines::new(source);
     let mut percent_lines = 0;
     while let Some(line) = lines.next() {
-        let end = match parser::parse_line(line, &mut block) {
+        let parsed = parser::parse_line(line, &mut block, &params);
+        // All assignments of a line take effect after the line is read.
+        for assignment in &block.assignments {
+            params.set(&assignment.param, assignment.value);
+        }
+        let end = match parsed {
             Ok(LineKind::Percent) => {
                 percent_lines += 1;
                 (percent_lines == 2).then(|| "the closing `%`".to_owned())
@@ -103,7 +159,7 @@ pub fn compile(source: &str, options: &GcodeOptions) -> Result<Compiled, GcodeEr
             }
         };
         if let Some(end) = end {
-            if let Some(warning) = ignored_after_end(lines, &mut block, end) {
+            if let Some(warning) = ignored_after_end(lines, &mut block, &params, end) {
                 interpreter.warn(warning);
             }
             break;
@@ -116,10 +172,11 @@ pub fn compile(source: &str, options: &GcodeOptions) -> Result<Compiled, GcodeEr
 fn ignored_after_end(
     lines: SourceLines<'_>,
     block: &mut block::Block,
+    params: &params::Parameters,
     end: String,
 ) -> Option<GcodeDiagnostic> {
     for line in lines {
-        let empty = match parser::parse_line(line, block) {
+        let empty = match parser::parse_line(line, block, params) {
             Ok(LineKind::Percent) => true,
             Ok(LineKind::Block) => block.words.is_empty() && block.line_number.is_none(),
             Err(_) => false,

@@ -5,15 +5,16 @@
 //! give words a meaning: a well-formed `Q5` is the interpreter's to reject. A malformed
 //! line yields one diagnostic and no block; the caller carries on with the next line.
 
-use nom::branch::alt;
 use nom::bytes::complete::{take_till, take_while};
 use nom::character::complete::{char, digit1, one_of, satisfy};
 use nom::combinator::{opt, recognize, rest};
 use nom::sequence::{delimited, preceded};
 use nom::{IResult, Parser};
 
-use crate::block::{Block, Word};
+use crate::block::{Assignment, Block, Word};
 use crate::diagnostic::{span, GcodeDiagnostic};
+use crate::params::{normalize, ParamRef, Parameters};
+use crate::value::Reader;
 
 /// What a line turned out to be.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -95,13 +96,52 @@ pub(crate) fn blanks(i: &str) -> IResult<&str, &str> {
     take_while(|c| c == ' ' || c == '\t').parse(i)
 }
 
-/// `number = [ sign ] , ( digits , [ "." , [ digits ] ] | "." , digits )`; no exponent.
+/// `number = [ sign ] , { blank } , digits-with-blanks [ "." … ]`: RS274NGC allows blanks
+/// between the digits (`1 0.5` is 10.5); trailing blanks are not part of the number.
+/// Hand-written rather than nom, to stay allocation-free and fast.
 pub(crate) fn number(i: &str) -> IResult<&str, &str> {
-    // Not nom's `digit0`: in nom 8.0.0 it returns a wrong remainder at the end of a &str.
-    let digits0 = take_while(|c: char| c.is_ascii_digit());
-    let digits_first = recognize((digit1, opt((char('.'), digits0))));
-    let dot_first = recognize((char('.'), digit1));
-    recognize((opt(one_of("+-")), alt((digits_first, dot_first)))).parse(i)
+    let fail = || nom::Err::Error(nom::error::Error::new(i, nom::error::ErrorKind::Digit));
+    let b = i.as_bytes();
+    let mut at = usize::from(matches!(b.first(), Some(b'+' | b'-')));
+    let (mut end, mut digits, mut dots) = (0, 0, 0);
+    while let Some(&c) = b.get(at) {
+        match c {
+            b'0'..=b'9' => digits += 1,
+            b'.' if dots == 0 => dots += 1,
+            b' ' | b'\t' => {
+                at += 1;
+                continue;
+            }
+            _ => break,
+        }
+        at += 1;
+        end = at;
+    }
+    if digits == 0 {
+        return Err(fail());
+    }
+    Ok((&i[end..], &i[..end]))
+}
+
+/// The value of text [`number`] accepted; infinite when too large.
+pub(crate) fn number_value(text: &str) -> f64 {
+    if !text.contains([' ', '\t']) {
+        return text.parse().unwrap_or(f64::NAN);
+    }
+    let mut buffer = [0u8; 64];
+    let mut len = 0;
+    for b in text.bytes().filter(|b| *b != b' ' && *b != b'\t') {
+        if len == buffer.len() {
+            let joined: String = text.chars().filter(|c| *c != ' ' && *c != '\t').collect();
+            return joined.parse().unwrap_or(f64::NAN);
+        }
+        buffer[len] = b;
+        len += 1;
+    }
+    std::str::from_utf8(&buffer[..len])
+        .ok()
+        .and_then(|t| t.parse().ok())
+        .unwrap_or(f64::NAN)
 }
 
 /// `letter`: an ASCII letter, either case.
@@ -112,6 +152,18 @@ pub(crate) fn letter(i: &str) -> IResult<&str, char> {
 /// `word = letter , { blank } , number`.
 pub(crate) fn word(i: &str) -> IResult<&str, (char, &str)> {
     (letter, preceded(blanks, number)).parse(i)
+}
+
+/// `checksum = "*" , { blank } , digit , { digit }`.
+pub(crate) fn checksum(i: &str) -> IResult<&str, &str> {
+    preceded((char('*'), blanks), digit1).parse(i)
+}
+
+/// The text of a `(MSG, …)` comment's message, if `comment` (its inside) is one.
+pub(crate) fn message(comment: &str) -> Option<&str> {
+    let c = comment.trim_start();
+    let head = c.get(..4)?;
+    head.eq_ignore_ascii_case("msg,").then(|| c[4..].trim())
 }
 
 /// `comment = "(" , { any character but ")" } , ")"`.
@@ -141,56 +193,199 @@ pub(crate) fn percent_line(i: &str) -> IResult<&str, &str> {
 
 // ---- a line to a block ----
 
-/// Parses one line into `block` (reset first).
+/// Parses one line into `block` (reset first), reading parameters from `params`.
 ///
 /// A malformed line gives its first error; `block` then holds the words that could be
 /// read around the bad text, so the interpreter can keep its state close to the intent.
 pub(crate) fn parse_line(
     line: SourceLine<'_>,
     block: &mut Block,
+    params: &Parameters,
 ) -> Result<LineKind, GcodeDiagnostic> {
     let text = line.text;
     block.reset(line.start, line.start + text.len(), line.number);
     if percent_line(text).is_ok() {
         return Ok(LineKind::Percent);
     }
-    let at = |rest: &str| line.start + text.len() - rest.len();
-    let (mut i, mut first_error) = line_head(text, line.start, block);
+    let (i, mut first_error) = line_head(text, line.start, block);
+    let mut reader = Reader::new(text, line.start, text.len() - i.len(), params);
     loop {
-        i = blanks(i).map_or(i, |(r, _)| r);
-        if i.is_empty() || end_comment(i).is_ok() {
-            break;
-        }
-        if let Ok((after, _)) = comment(i) {
-            i = after;
-            continue;
-        }
-        let (result, after) = match word(i) {
-            Ok((after, (l, n))) => (
-                read_word(&i[..i.len() - after.len()], l, n, at(i), after),
-                after,
-            ),
-            Err(_) => (Err(bad_item(i, at(i))), i),
+        reader.skip_blanks();
+        let at = reader.pos;
+        let rest = &text[at..];
+        let result = match rest.as_bytes().first() {
+            None => break,
+            Some(b';') if end_comment(rest).is_ok() => break,
+            Some(b'(') => read_comment(&mut reader, block),
+            Some(b'#') => read_assignment(&mut reader, block),
+            Some(b'*') => read_checksum(&mut reader, text),
+            Some(b'O' | b'o') => read_o_word(&mut reader, block),
+            Some(c) if c.is_ascii_alphabetic() || *c == b'$' => read_word(&mut reader, block),
+            Some(_) => Err(bad_item(rest, line.start + at)),
         };
-        i = match result {
-            Ok(word) => {
-                block.words.push(word);
-                after
-            }
+        if let Err(diagnostic) = result {
             // Carry on after the bad text, and at least one character further.
-            Err(diagnostic) => {
-                let first_char = i.chars().next().map_or(0, char::len_utf8);
-                let skip = (diagnostic.span().end.saturating_sub(at(i)))
-                    .max(i.len() - after.len())
-                    .max(first_char);
-                first_error.get_or_insert(diagnostic);
-                &i[skip.min(i.len())..]
+            let first_char = rest.chars().next().map_or(0, char::len_utf8);
+            let mut skip = (diagnostic.span().end.saturating_sub(line.start))
+                .max(reader.pos)
+                .max(at + first_char)
+                .min(text.len());
+            while !text.is_char_boundary(skip) {
+                skip += 1;
             }
-        };
+            reader.pos = skip;
+            first_error.get_or_insert(diagnostic);
+        }
     }
     match first_error {
         Some(diagnostic) => Err(diagnostic),
         None => Ok(LineKind::Block),
+    }
+}
+
+/// A `( … )` comment at the reader; a `(MSG, …)` one sets the block's message.
+fn read_comment(reader: &mut Reader<'_>, block: &mut Block) -> Result<(), GcodeDiagnostic> {
+    let rest = reader.rest();
+    match comment(rest) {
+        Ok((after, inside)) => {
+            if let Some(text) = message(inside) {
+                block.message = Some(text.to_owned());
+            }
+            reader.pos += rest.len() - after.len();
+            Ok(())
+        }
+        Err(_) => {
+            let at = reader.absolute(reader.pos);
+            Err(syntax(
+                at..at + rest.len(),
+                "comment is not closed: `(` needs a `)` on the same line".to_owned(),
+                "close the comment with `)` before the line ends",
+            ))
+        }
+    }
+}
+
+/// `#param = value` at the reader.
+fn read_assignment(reader: &mut Reader<'_>, block: &mut Block) -> Result<(), GcodeDiagnostic> {
+    let hash = reader.pos;
+    reader.pos += 1;
+    reader.skip_blanks();
+    let param = if reader.rest().starts_with('<') {
+        let (_, name) = reader.name()?;
+        ParamRef::Named(normalize(name).into_owned())
+    } else {
+        ParamRef::Numbered(reader.index()?)
+    };
+    let target_end = reader.pos;
+    reader.skip_blanks();
+    if !reader.rest().starts_with('=') {
+        let written = reader.text_between(hash, target_end);
+        let detail = format!(
+            "`{written}` alone: a parameter on a line must be assigned (`{written} = value`)"
+        );
+        let range = reader.absolute(hash)..reader.absolute(target_end);
+        return Err(syntax(range, detail, HINT_ASSIGNMENT));
+    }
+    reader.pos += 1;
+    let value = reader.real_value()?;
+    block.assignments.push(Assignment { param, value });
+    Ok(())
+}
+
+/// `*nn` at the reader: the XOR of every byte of the line before the `*`.
+fn read_checksum(reader: &mut Reader<'_>, text: &str) -> Result<(), GcodeDiagnostic> {
+    let star = reader.pos;
+    let rest = reader.rest();
+    let Ok((after, digits)) = checksum(rest) else {
+        let at = reader.absolute(star);
+        return Err(syntax(
+            at..at + 1,
+            "`*` must be followed by a checksum (a whole number)".to_owned(),
+            HINT_CHECKSUM,
+        ));
+    };
+    reader.pos += rest.len() - after.len();
+    let computed = text.as_bytes()[..star].iter().fold(0u8, |acc, b| acc ^ b);
+    let written: u64 = digits.parse().unwrap_or(u64::MAX);
+    if written != u64::from(computed) {
+        return Err(GcodeDiagnostic::ChecksumMismatch {
+            written,
+            computed: computed.into(),
+            span: span(reader.absolute(star)..reader.absolute(reader.pos)),
+        });
+    }
+    Ok(())
+}
+
+/// An `O` word: a program number alone on its line (Fanuc style) is kept as a word the
+/// interpreter warns about; anything else is subroutines or control flow, unsupported.
+fn read_o_word(reader: &mut Reader<'_>, block: &mut Block) -> Result<(), GcodeDiagnostic> {
+    let at = reader.pos;
+    let rest = reader.rest();
+    if let Ok((after, (_, n))) = word(rest) {
+        let tail = after.trim_start_matches([' ', '\t']);
+        if block.words.is_empty() && (tail.is_empty() || tail.starts_with(['(', ';'])) {
+            reader.pos += rest.len() - after.len();
+            block.words.push(Word {
+                letter: b'O',
+                value: number_value(n),
+                start: reader.absolute(at),
+                end: reader.absolute(reader.pos),
+            });
+            return Ok(());
+        }
+    }
+    let len = rest.trim_end().len().max(1);
+    reader.pos += len;
+    let shown: String = rest.trim_end().chars().take(40).collect();
+    Err(GcodeDiagnostic::Unsupported {
+        code: shown,
+        feature: "O-word subroutines and control flow",
+        places: 1,
+        span: span(reader.absolute(at)..reader.absolute(at + len)),
+    })
+}
+
+/// A letter (or `$`) and its value: a number, parameter, expression or function.
+fn read_word(reader: &mut Reader<'_>, block: &mut Block) -> Result<(), GcodeDiagnostic> {
+    let at = reader.pos;
+    let rest = reader.rest();
+    let letter = rest.as_bytes()[0].to_ascii_uppercase();
+    reader.pos += 1;
+    reader.skip_blanks();
+    if !starts_value(reader.rest()) {
+        return Err(bad_number(rest, reader.absolute(at)));
+    }
+    reader.word_start = Some(at);
+    let value = reader.real_value();
+    reader.word_start = None;
+    let value = value?;
+    let word = Word {
+        letter,
+        value,
+        start: reader.absolute(at),
+        end: reader.absolute(reader.pos),
+    };
+    if letter == b'N' {
+        let detail = format!(
+            "line number `{}` must start the block",
+            reader.text_between(at, reader.pos)
+        );
+        return Err(syntax(word.span(), detail, HINT_LINE_NUMBER));
+    }
+    block.words.push(word);
+    Ok(())
+}
+
+/// True when `i` starts a value: a number, `[`, `#`, or a function name and `[`.
+fn starts_value(i: &str) -> bool {
+    match i.as_bytes().first() {
+        Some(b'0'..=b'9' | b'.' | b'+' | b'-' | b'[' | b'#') => true,
+        Some(c) if c.is_ascii_alphabetic() => {
+            let name = i.bytes().take_while(u8::is_ascii_alphabetic).count();
+            i[name..].trim_start_matches([' ', '\t']).starts_with('[')
+        }
+        _ => false,
     }
 }
 
@@ -221,26 +416,13 @@ fn line_head<'a>(
     (after, None)
 }
 
-/// Checks a well-formed word: finite value, not an `N` word, no exponent after it.
-fn read_word(
-    text: &str,
-    l: char,
-    n: &str,
-    start: usize,
-    after: &str,
-) -> Result<Word, GcodeDiagnostic> {
-    let word = make_word(l, n, start, start + text.len())?;
-    check_after_number(after, word.end)?;
-    if word.letter == b'N' {
-        let detail = format!("line number `{text}` must start the block");
-        return Err(syntax(word.span(), detail, HINT_LINE_NUMBER));
-    }
-    Ok(word)
-}
-
-const HINT_NUMBER: &str = "write a word as a letter and a decimal number, e.g. X-.5, Y3., F+200";
+pub(crate) const HINT_NUMBER: &str =
+    "write a word as a letter and a decimal number, e.g. X-.5, Y3., F+200";
 const HINT_LINE_NUMBER: &str =
     "a line number is N and a whole number at the start of the block, e.g. N10";
+const HINT_ASSIGNMENT: &str = "assign a parameter as #1 = 2.5 or #<name> = [#1 * 2]";
+const HINT_CHECKSUM: &str =
+    "a checksum is `*` and the XOR of every byte of the line before it, e.g. N1 G1 X1*96";
 
 fn syntax(range: std::ops::Range<usize>, detail: String, hint: &'static str) -> GcodeDiagnostic {
     GcodeDiagnostic::Syntax {
@@ -250,29 +432,8 @@ fn syntax(range: std::ops::Range<usize>, detail: String, hint: &'static str) -> 
     }
 }
 
-/// A word from its letter and number text; a number too large to be finite is an error.
-fn make_word(l: char, n: &str, start: usize, end: usize) -> Result<Word, GcodeDiagnostic> {
-    match n.parse::<f64>() {
-        Ok(value) if value.is_finite() => Ok(Word {
-            letter: l.to_ascii_uppercase() as u8,
-            value,
-            start,
-            end,
-        }),
-        _ => {
-            let shown: String = n.chars().take(24).collect();
-            let more = if n.len() > 24 { "…" } else { "" };
-            Err(syntax(
-                start..end,
-                format!("number `{shown}{more}` is too large"),
-                "numbers must be below about 1.8e308",
-            ))
-        }
-    }
-}
-
 /// True when `after` (the text right after a number) starts an exponent such as `e3`.
-fn starts_exponent(after: &str) -> bool {
+pub(crate) fn starts_exponent(after: &str) -> bool {
     let Some(next) = after.strip_prefix(['e', 'E']) else {
         return false;
     };
@@ -280,18 +441,8 @@ fn starts_exponent(after: &str) -> bool {
     next.starts_with(|c: char| c.is_ascii_digit())
 }
 
-/// Rejects an exponent (`1e3`) glued to a number.
-fn check_after_number(after: &str, at: usize) -> Result<(), GcodeDiagnostic> {
-    if !starts_exponent(after) {
-        return Ok(());
-    }
-    let len = token_len(after);
-    let detail = format!("exponent `{}` is not G-code", &after[..len]);
-    Err(syntax(at..at + len, detail, HINT_NUMBER))
-}
-
 /// Length of the token at the start of `i`: up to a blank, comment or line end.
-fn token_len(i: &str) -> usize {
+pub(crate) fn token_len(i: &str) -> usize {
     i.find([' ', '\t', '(', ';'])
         .unwrap_or(i.len())
         .max(i.chars().next().map_or(0, char::len_utf8))
@@ -303,22 +454,17 @@ fn bad_item(i: &str, at: usize) -> GcodeDiagnostic {
         return syntax(at..at, "unexpected end of line".to_owned(), HINT_NUMBER);
     };
     let one = at..at + c.len_utf8();
-    let token = at..at + token_len(i);
     match c {
-        '(' => syntax(
-            at..at + i.len(),
-            "comment is not closed: `(` needs a `)` on the same line".to_owned(),
-            "close the comment with `)` before the line ends",
-        ),
         ')' => syntax(
             one,
             "`)` without an opening `(`".to_owned(),
             "comments are written (like this)",
         ),
-        '#' => unsupported(token, "#", "parameters"),
-        '[' => unsupported(token, "[", "expressions"),
-        '*' => unsupported(token, "*", "checksums"),
-        '<' | '>' | '=' => unsupported(token, &c.to_string(), "parameters"),
+        '[' => syntax(
+            at..at + token_len(i),
+            "an expression must be the value of a word, e.g. X[1+2]".to_owned(),
+            HINT_NUMBER,
+        ),
         '0'..='9' | '+' | '-' | '.' => {
             let len = number(i).map_or(c.len_utf8(), |(r, _)| i.len() - r.len());
             syntax(
@@ -327,7 +473,6 @@ fn bad_item(i: &str, at: usize) -> GcodeDiagnostic {
                 HINT_NUMBER,
             )
         }
-        c if c.is_ascii_alphabetic() => bad_number(i, at),
         c => GcodeDiagnostic::UnknownWord {
             word: c.escape_debug().to_string(),
             meaning: "not a G-code letter",
@@ -336,36 +481,15 @@ fn bad_item(i: &str, at: usize) -> GcodeDiagnostic {
     }
 }
 
-/// A letter not followed by a number.
+/// A letter not followed by a value.
 fn bad_number(i: &str, at: usize) -> GcodeDiagnostic {
-    let after_letter = &i[1..];
-    let value = blanks(after_letter).map_or(after_letter, |(r, _)| r);
-    let value_at = at + i.len() - value.len();
-    match value.chars().next() {
-        Some('#') => unsupported(value_at..value_at + token_len(value), "#", "parameters"),
-        Some('[') => unsupported(value_at..value_at + token_len(value), "[", "expressions"),
-        _ => {
-            let len = token_len(i);
-            let letter = &i[..1];
-            syntax(
-                at..at + len,
-                format!("`{}`: {letter} must be followed by a number", &i[..len]),
-                HINT_NUMBER,
-            )
-        }
-    }
-}
-
-fn unsupported(
-    range: std::ops::Range<usize>,
-    code: &str,
-    feature: &'static str,
-) -> GcodeDiagnostic {
-    GcodeDiagnostic::Unsupported {
-        code: code.to_owned(),
-        feature,
-        span: span(range),
-    }
+    let len = token_len(i);
+    let letter = &i[..1];
+    syntax(
+        at..at + len,
+        format!("`{}`: {letter} must be followed by a number", &i[..len]),
+        HINT_NUMBER,
+    )
 }
 
 #[cfg(test)]

@@ -4,17 +4,17 @@
 //! unsupported features, two codes of one modal group, a repeated word); it must not
 //! change modal state or produce motion (that is [`crate::interpreter`]).
 
-use pvt_core::{Axis, Plane, Units, AXIS_COUNT};
+use pvt_core::{Axis, CoolantState, Plane, SpindleState, Units, AXIS_COUNT};
 
 use crate::block::{Block, Word};
-use crate::codes::{self, Distance, GCode, MCode, MotionMode};
+use crate::codes::{self, Distance, FeedMode, GCode, MCode, MotionMode, NonModal, PathMode};
 use crate::diagnostic::{span, GcodeDiagnostic};
 
 /// A program stop (modal group 4).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Stop {
-    /// M0/M1.
-    Pause,
+    /// M0 (`false`) or M1 (optional, `true`).
+    Pause(bool),
     /// M2/M30.
     End,
 }
@@ -27,6 +27,18 @@ pub(crate) struct Request {
     pub units: Option<(Units, Word)>,
     pub distance: Option<(Distance, Word)>,
     pub stop: Option<(Stop, Word)>,
+    pub feed_mode: Option<(FeedMode, Word)>,
+    pub path_mode: Option<(PathMode, Word)>,
+    pub arc_centers: Option<(Distance, Word)>,
+    pub diameter: Option<(bool, Word)>,
+    pub coord_system: Option<(usize, Word)>,
+    pub non_modal: Option<(NonModal, Word)>,
+    pub spindle: Option<(SpindleState, Word)>,
+    pub coolant: Option<(CoolantState, Word)>,
+    pub tool_change: Option<((), Word)>,
+    pub p: Option<Word>,
+    pub s: Option<Word>,
+    pub t: Option<Word>,
     /// X Y Z A B C, indexed by [`Axis::index`].
     pub axes: [Option<Word>; AXIS_COUNT],
     /// I J K.
@@ -52,6 +64,14 @@ impl Request {
                 }
                 b'R' => put_word(&mut request.radius, word, errors),
                 b'F' => put_word(&mut request.feed, word, errors),
+                b'P' => put_word(&mut request.p, word, errors),
+                b'S' => put_word(&mut request.s, word, errors),
+                b'T' => put_word(&mut request.t, word, errors),
+                b'$' => errors.push(ignored(
+                    word,
+                    "spindle selection ($) is not part of a toolpath",
+                )),
+                b'O' => errors.push(ignored(word, "a program number names the program only")),
                 letter => match Axis::from_letter(char::from(letter)) {
                     Some(axis) => put_word(&mut request.axes[axis.index()], word, errors),
                     None => errors.push(GcodeDiagnostic::UnknownWord {
@@ -96,7 +116,37 @@ impl Request {
             GCode::Distance(d) => {
                 put_mode(&mut self.distance, d, word, errors, modes("distance mode"))
             }
-            GCode::FeedPerMinute | GCode::NoOp(_) => {}
+            GCode::FeedMode(m) => {
+                put_mode(&mut self.feed_mode, m, word, errors, modes("feed mode"))
+            }
+            GCode::PathMode(m) => {
+                put_mode(&mut self.path_mode, m, word, errors, modes("path mode"))
+            }
+            GCode::ArcCenters(d) => put_mode(
+                &mut self.arc_centers,
+                d,
+                word,
+                errors,
+                modes("arc centre mode"),
+            ),
+            GCode::Diameter(d) => {
+                put_mode(&mut self.diameter, d, word, errors, modes("lathe mode"))
+            }
+            GCode::CoordSystem(c) => put_mode(
+                &mut self.coord_system,
+                c,
+                word,
+                errors,
+                modes("coordinate system"),
+            ),
+            GCode::NonModal(n) => put_mode(
+                &mut self.non_modal,
+                n,
+                word,
+                errors,
+                modes("non-modal group"),
+            ),
+            GCode::NoOp(_) => {}
             GCode::Unsupported(feature) => {
                 errors.push(unsupported(word, feature.name));
                 self.no_move |= feature.uses_axis_words;
@@ -105,10 +155,29 @@ impl Request {
     }
 
     fn read_m(&mut self, word: Word, errors: &mut Vec<GcodeDiagnostic>) {
+        let modes =
+            |group| move |first: Word, second: Word| conflicting_modes(first, second, group);
         match codes::tenths(word.value).and_then(codes::m_code) {
-            Some(MCode::Pause) => {
-                put_mode(&mut self.stop, Stop::Pause, word, errors, stop_conflict)
+            Some(MCode::Pause(optional)) => put_mode(
+                &mut self.stop,
+                Stop::Pause(optional),
+                word,
+                errors,
+                stop_conflict,
+            ),
+            Some(MCode::Spindle(s)) => {
+                put_mode(&mut self.spindle, s, word, errors, modes("spindle"))
             }
+            Some(MCode::Coolant(c)) => {
+                put_mode(&mut self.coolant, c, word, errors, modes("coolant"))
+            }
+            Some(MCode::ToolChange) => put_mode(
+                &mut self.tool_change,
+                (),
+                word,
+                errors,
+                modes("tool change"),
+            ),
             Some(MCode::End) => put_mode(&mut self.stop, Stop::End, word, errors, stop_conflict),
             Some(MCode::Unsupported(feature)) => errors.push(unsupported(word, feature)),
             None => errors.push(unknown_code(word, "not an RS274NGC M code")),
@@ -175,10 +244,19 @@ fn stop_conflict(first: Word, second: Word) -> GcodeDiagnostic {
     conflicting_modes(first, second, "program stop")
 }
 
+fn ignored(word: Word, reason: &'static str) -> GcodeDiagnostic {
+    GcodeDiagnostic::IgnoredWord {
+        word: word.name(),
+        reason,
+        span: span(word.span()),
+    }
+}
+
 fn unsupported(word: Word, feature: &'static str) -> GcodeDiagnostic {
     GcodeDiagnostic::Unsupported {
         code: word.name(),
         feature,
+        places: 1,
         span: span(word.span()),
     }
 }

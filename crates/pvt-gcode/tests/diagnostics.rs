@@ -58,8 +58,8 @@ fn unsupported_features_are_named() {
     let messages: Vec<_> = errors.diagnostics.iter().map(ToString::to_string).collect();
     assert_eq!(messages, ["G81 (canned cycles) is not supported by pvtc"]);
     assert_eq!(after_head("G41 X1\n"), [("unsupported", 3, 1)]);
-    assert_eq!(after_head("G1 X1 M6\n"), [("unsupported", 3, 7)]);
-    assert_eq!(after_head("G1 X#1\n"), [("unsupported", 3, 5)]);
+    assert_eq!(after_head("G1 X1 M60\n"), [("unsupported", 3, 7)]);
+    assert_eq!(after_head("G1 X#<_x>\n"), [("unsupported", 3, 5)]);
     assert_eq!(after_head("G38.2 Z-5\n"), [("unsupported", 3, 1)]);
 }
 
@@ -198,4 +198,63 @@ fn errors_render_with_miette() {
     );
     assert!(rendered.contains("part.ngc"), "{rendered}");
     assert!(rendered.contains("line 3, columns 4 to 7"), "{rendered}");
+}
+
+#[test]
+fn issue_4_codes_name_line_and_column() {
+    assert_eq!(after_head("G1 X[1/0]\n"), [("math_error", 3, 7)]);
+    assert_eq!(
+        after_head("G1 X#<depth>\n"),
+        [("undefined_parameter", 3, 5)]
+    );
+    assert_eq!(after_head("G1 X1 *3\n"), [("checksum_mismatch", 3, 7)]);
+    assert_eq!(after_head("G4\n"), [("missing_word", 3, 1)]);
+    assert_eq!(after_head("G92\n"), [("missing_word", 3, 1)]);
+    assert_eq!(after_head("G93 G1 X5\n"), [("inverse_time_feed", 3, 5)]);
+    assert_eq!(after_head("T-1\n"), [("bad_value", 3, 1)]);
+    assert_eq!(after_head("G4 P-1\n"), [("bad_value", 3, 4)]);
+    assert_eq!(after_head("G2 X0 Y0 I5 P0\n"), [("bad_value", 3, 13)]);
+    assert_eq!(after_head("G1 X#0\n"), [("out_of_range", 3, 5)]);
+    assert_eq!(after_head("G28\n"), [("unsupported", 3, 1)]);
+    assert_eq!(after_head("o100 sub\n"), [("unsupported", 3, 1)]);
+    assert_eq!(after_head("G43 H1\n")[0], ("unsupported", 3, 1));
+}
+
+#[test]
+fn unsupported_features_are_reported_once_with_their_count() {
+    let source = format!("{HEAD}G81 X1 Y1 Z-1 R1\nG83 X2 Q1\nG38.2 Z-1\nG82 X3\n");
+    let errors = compile(&source, &GcodeOptions::default()).unwrap_err();
+    let messages: Vec<_> = errors
+        .diagnostics
+        .iter()
+        .filter(|d| d.code() == "pvtc::gcode::unsupported")
+        .map(ToString::to_string)
+        .collect();
+    assert_eq!(
+        messages,
+        [
+            "G81 (canned cycles) is not supported by pvtc (3 places; the first is shown)",
+            "G38.2 (probing) is not supported by pvtc"
+        ]
+    );
+}
+
+#[test]
+fn ignored_words_are_warnings() {
+    let source = "O10\nG21 G1 X1 F100 P2 $1\n";
+    let compiled = compile(source, &GcodeOptions::default()).unwrap();
+    let warnings: Vec<_> = compiled
+        .warnings
+        .iter()
+        .map(|w| (w.code(), line_col(source, w.span().start)))
+        .collect();
+    assert_eq!(
+        warnings,
+        [
+            ("pvtc::gcode::ignored_word", (1, 1)),
+            ("pvtc::gcode::ignored_word", (2, 16)),
+            ("pvtc::gcode::ignored_word", (2, 19))
+        ]
+    );
+    assert!(compiled.warnings.iter().all(|w| w.is_warning()));
 }

@@ -1,9 +1,9 @@
 //! Command-line arguments.
 //!
-//! Owns the flags, their help text and their conversion into pipeline options. It must
-//! not read files or compile anything.
+//! Owns the flags, their help text and their conversion into pipeline options (reading
+//! the `--offsets` file through [`crate::offsets`]). It must not compile anything.
 
-use crate::pipeline::{CompileOptions, DrawingOptions, InputKind};
+use crate::pipeline::{CompileOptions, DrawingOptions, Failure, InputKind};
 use clap::{Parser, Subcommand, ValueEnum};
 use pvt_core::{AxisLimits, Planner, Timing, Units};
 use pvt_emit::Format;
@@ -122,9 +122,21 @@ pub struct PipelineArgs {
     /// DXF: travel between contours at this Z, plunging at the feed.
     #[arg(long = "safe-z", value_name = "Z", value_parser = finite_number)]
     pub safe_z: Option<f64>,
-    /// DXF and CSV: the input's units (DXF: overrides $INSUNITS) [default: mm].
+    /// Units: G-code output is converted into them (default: the program's own); DXF
+    /// and CSV input is read in them (DXF: overriding $INSUNITS; CSV default: mm).
     #[arg(long, value_enum)]
     pub units: Option<UnitsArg>,
+    /// G-code: work offsets for G54–G59.3 from this file (lines like `G54 X100 Y50 Z-20`,
+    /// millimetres and degrees) [default: all zero].
+    #[arg(long, value_name = "FILE")]
+    pub offsets: Option<PathBuf>,
+    /// G-code: a centre-format arc is refused when its start and end radii differ by
+    /// more than this many mm and by more than --arc-rel-tolerance [default: 0.002].
+    #[arg(long = "arc-abs-tolerance", value_name = "MM", value_parser = positive_number)]
+    pub arc_abs_tolerance: Option<f64>,
+    /// G-code: relative arc radius tolerance (0.001 = 0.1 %) [default: 0.001].
+    #[arg(long = "arc-rel-tolerance", value_name = "R", value_parser = positive_number)]
+    pub arc_rel_tolerance: Option<f64>,
     /// Fail when there is any warning.
     #[arg(long = "deny-warnings")]
     pub deny_warnings: bool,
@@ -134,9 +146,15 @@ pub struct PipelineArgs {
 }
 
 impl PipelineArgs {
-    /// The pipeline options these arguments ask for, for a source named `name`.
-    pub fn compile_options(&self, name: &str, format: Format) -> CompileOptions {
-        CompileOptions {
+    /// The pipeline options these arguments ask for, for a source named `name`; reads the
+    /// `--offsets` file if one is given.
+    pub fn compile_options(&self, name: &str, format: Format) -> Result<CompileOptions, Failure> {
+        let work_offsets = match &self.offsets {
+            Some(path) => crate::offsets::read(path)?,
+            None => [[0.0; 6]; 9],
+        };
+        let defaults = pvt_gcode::GcodeOptions::default();
+        Ok(CompileOptions {
             format,
             input: match self.input_format {
                 Some(InputArg::Gcode) => InputKind::Gcode,
@@ -151,6 +169,11 @@ impl PipelineArgs {
             timing: self.time_slice.map_or(Timing::FromFeed, Timing::TimeSlice),
             accel: self.accel,
             quantize: self.quantize,
+            work_offsets,
+            arc_abs_tolerance_mm: self
+                .arc_abs_tolerance
+                .unwrap_or(defaults.arc_abs_tolerance_mm),
+            arc_rel_tolerance: self.arc_rel_tolerance.unwrap_or(defaults.arc_rel_tolerance),
             drawing: DrawingOptions {
                 layers: self.layers.clone(),
                 join_tolerance: self.join_tolerance,
@@ -161,7 +184,7 @@ impl PipelineArgs {
                     UnitsArg::In => Units::Inch,
                 }),
             },
-        }
+        })
     }
 }
 
@@ -192,7 +215,7 @@ pub struct CompileArgs {
 
 impl CompileArgs {
     /// The pipeline options for a source named `name`.
-    pub fn compile_options(&self, name: &str) -> CompileOptions {
+    pub fn compile_options(&self, name: &str) -> Result<CompileOptions, Failure> {
         self.pipeline.compile_options(name, self.format.into())
     }
 }

@@ -87,7 +87,7 @@ pub fn run_jobs(jobs: &[Job], args: &CompileArgs) -> Vec<Outcome> {
 
 fn run_job(job: &Job, args: &CompileArgs) -> Outcome {
     let result = Source::read(&job.input).and_then(|source| {
-        let compiled = compile(&source, &args.compile_options(&source.name))?;
+        let compiled = compile(&source, &args.compile_options(&source.name)?)?;
         let warned = compiled
             .warnings
             .iter()

@@ -60,7 +60,9 @@ pub fn load(
             )]))),
         };
     }
-    let options = pipeline.compile_options(&source.name, Format::Json);
+    let options = pipeline
+        .compile_options(&source.name, Format::Json)
+        .map_err(|f| reporter.fail(&f))?;
     let (planned, toolpath, warnings) = plan(&source, &options).map_err(|f| reporter.fail(&f))?;
     reporter.warnings(&warnings)?;
     Ok((planned.program, Some(toolpath)))

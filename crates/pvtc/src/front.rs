@@ -45,7 +45,10 @@ fn gcode(source: &Source, options: &CompileOptions) -> FrontResult {
     let gcode_options = pvt_gcode::GcodeOptions {
         default_feed: options.feed,
         rapid: options.rapid,
-        ..Default::default()
+        arc_abs_tolerance_mm: options.arc_abs_tolerance_mm,
+        arc_rel_tolerance: options.arc_rel_tolerance,
+        units: options.drawing.units,
+        work_offsets: options.work_offsets,
     };
     match pvt_gcode::compile(named.inner(), &gcode_options) {
         Ok(compiled) => {

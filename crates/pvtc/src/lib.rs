@@ -10,6 +10,7 @@ pub mod args;
 pub mod batch;
 pub mod check;
 pub mod front;
+pub mod offsets;
 pub mod output;
 pub mod pipeline;
 pub mod plot;
@@ -44,7 +45,10 @@ fn compile_command(args: &CompileArgs) -> ExitCode {
         Ok(source) => source,
         Err(failure) => return reporter.fail(&failure),
     };
-    let options = args.compile_options(&source.name);
+    let options = match args.compile_options(&source.name) {
+        Ok(options) => options,
+        Err(failure) => return reporter.fail(&failure),
+    };
     let compiled = match compile(&source, &options) {
         Ok(compiled) => compiled,
         Err(failure) => return reporter.fail(&failure),

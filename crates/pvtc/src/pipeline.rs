@@ -103,7 +103,7 @@ pub struct DrawingOptions {
     pub start_point: [f64; 2],
     /// Safe Z for travel between contours.
     pub safe_z: Option<f64>,
-    /// The input's units (DXF: overriding $INSUNITS; CSV: default mm).
+    /// Units: G-code output converted into them; DXF and CSV read in them.
     pub units: Option<Units>,
 }
 
@@ -128,6 +128,12 @@ pub struct CompileOptions {
     pub accel: Option<f64>,
     /// Piece-time quantum, seconds.
     pub quantize: Option<f64>,
+    /// G-code work offsets, G54…G59.3 rows of X Y Z (mm) A B C (degrees).
+    pub work_offsets: [[f64; 6]; 9],
+    /// G-code arc check: absolute radius tolerance, mm.
+    pub arc_abs_tolerance_mm: f64,
+    /// G-code arc check: relative radius tolerance.
+    pub arc_rel_tolerance: f64,
     /// Options only drawings use.
     pub drawing: DrawingOptions,
 }
@@ -145,6 +151,9 @@ impl CompileOptions {
             timing: Timing::FromFeed,
             accel: None,
             quantize: None,
+            work_offsets: [[0.0; 6]; 9],
+            arc_abs_tolerance_mm: 0.002,
+            arc_rel_tolerance: 0.001,
             drawing: DrawingOptions::default(),
         }
     }

@@ -504,3 +504,47 @@ fn plot_writes_an_svg() {
     let text = std::fs::read_to_string(&svg).unwrap();
     assert!(text.starts_with("<svg") && text.trim_end().ends_with("</svg>"));
 }
+
+#[test]
+fn offsets_file_and_units_conversion_apply_to_gcode() {
+    let dir = tempfile::tempdir().unwrap();
+    let offsets = dir.path().join("offsets.txt");
+    std::fs::write(&offsets, "# work offsets\nG55 X100 Y50\n").unwrap();
+    let program = "G21 G90 G55\nG1 X10 Y0 F600\n";
+    let o = pvtc(
+        &[
+            "compile",
+            "-",
+            "--format",
+            "json",
+            "--offsets",
+            offsets.to_str().unwrap(),
+        ],
+        Some(program),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let last = v["contours"].as_array().unwrap().last().unwrap().clone();
+    assert_eq!(last["segments"][0]["p"], serde_json::json!([110.0, 50.0]));
+    let inch = pvtc(
+        &["compile", "-", "--format", "json", "--units", "in"],
+        Some("G21 G1 X25.4 F600\n"),
+    );
+    let v: serde_json::Value = serde_json::from_slice(&inch.stdout).unwrap();
+    assert_eq!(v["units"], "in");
+    assert_eq!(
+        v["contours"][0]["segments"][0]["p"],
+        serde_json::json!([1.0])
+    );
+    std::fs::write(&offsets, "G54 X1\nG60 X2\n").unwrap();
+    let bad = pvtc(
+        &["compile", "-", "--offsets", offsets.to_str().unwrap()],
+        Some(program),
+    );
+    assert_eq!(bad.status.code(), Some(1));
+    assert!(
+        stderr(&bad).contains("pvtc::offsets::syntax"),
+        "{}",
+        stderr(&bad)
+    );
+}

@@ -1,6 +1,22 @@
 //! Parser tests, and the check that `grammars/gcode.ebnf` and the parser agree.
 
 use super::*;
+use crate::value::Reader;
+
+/// Parameters the examples may read: `#1` = 3, `#<scale>` = 2.
+fn params() -> Parameters {
+    let mut p = Parameters::default();
+    p.set(&ParamRef::Numbered(1), 3.0);
+    p.set(&ParamRef::Named("scale".to_owned()), 2.0);
+    p
+}
+
+/// Whether a value reader accepts all of `text` as one value starting with `first`.
+fn value(text: &str, first: char) -> bool {
+    let p = params();
+    let mut reader = Reader::new(text, 0, 0, &p);
+    text.starts_with(first) && reader.real_value().is_ok() && reader.pos == text.len()
+}
 
 fn line(text: &str) -> SourceLine<'_> {
     SourceLine {
@@ -12,7 +28,7 @@ fn line(text: &str) -> SourceLine<'_> {
 
 fn parse(text: &str) -> Result<Block, GcodeDiagnostic> {
     let mut block = Block::default();
-    parse_line(line(text), &mut block).map(|_| block)
+    parse_line(line(text), &mut block, &params()).map(|_| block)
 }
 
 fn full<O>(result: IResult<&str, O>) -> bool {
@@ -22,23 +38,43 @@ fn full<O>(result: IResult<&str, O>) -> bool {
 /// Whether the parser of `production` accepts all of `text`; `None` for an unknown name.
 fn accepts(production: &str, text: &str) -> Option<bool> {
     Some(match production {
-        "program" => SourceLines::new(text).all(|l| parse_line(l, &mut Block::default()).is_ok()),
+        "program" => {
+            SourceLines::new(text).all(|l| parse_line(l, &mut Block::default(), &params()).is_ok())
+        }
         "newline" => full(newline(text)),
         "line" => parse(text).is_ok(),
         "percent_line" => full(percent_line(text)),
         "block" => matches!(
-            parse_line(line(text), &mut Block::default()),
+            parse_line(line(text), &mut Block::default(), &params()),
             Ok(LineKind::Block)
         ),
         "block_delete" => full(block_delete(text)),
         "line_number" => full(line_number(text)),
-        "word" => full(word(text)),
+        "word" => parse(text).is_ok_and(|b| b.words.len() == 1),
+        "digits" => {
+            text.chars()
+                .all(|c| c.is_ascii_digit() || c == ' ' || c == '\t')
+                && full(number(text))
+        }
         "letter" => full(letter(text)),
         "number" => full(number(text)),
         "digit" => full(satisfy(|c: char| c.is_ascii_digit()).parse(text)),
         "comment" => full(comment(text)),
         "end_comment" => full(end_comment(text)),
         "blank" => full(satisfy(|c| c == ' ' || c == '\t').parse(text)),
+        "real_value" => value(text, text.chars().next().unwrap_or(' ')),
+        "expression" => value(text, '['),
+        "parameter" => value(text, '#'),
+        "function" => value(
+            text,
+            text.chars()
+                .next()
+                .filter(char::is_ascii_alphabetic)
+                .unwrap_or(' '),
+        ),
+        "assignment" => parse(text).is_ok_and(|b| b.assignments.len() == 1 && b.words.is_empty()),
+        "checksum" => full(checksum(text)),
+        "message" => matches!(comment(text), Ok(("", inside)) if message(inside).is_some()),
         _ => return None,
     })
 }
@@ -99,7 +135,7 @@ fn grammar_file_examples() {
     }
     assert_eq!(
         examples.len(),
-        14,
+        22,
         "every parser in the table has a production: {examples:?}"
     );
 }
@@ -144,12 +180,23 @@ fn malformed_text_is_located() {
     assert_eq!(error("G1 X"), ("pvtc::gcode::syntax", 3..4));
     assert_eq!(error("G1 X1e3"), ("pvtc::gcode::syntax", 5..7));
     assert_eq!(error("G1 (open"), ("pvtc::gcode::syntax", 3..8));
-    assert_eq!(error("G1 5"), ("pvtc::gcode::syntax", 3..4));
     assert_eq!(error("G1 @"), ("pvtc::gcode::unknown_word", 3..4));
     assert_eq!(error("G1 é"), ("pvtc::gcode::unknown_word", 3..5));
-    assert_eq!(error("G1 X#1"), ("pvtc::gcode::unsupported", 4..6));
-    assert_eq!(error("#1=5"), ("pvtc::gcode::unsupported", 0..4));
-    assert_eq!(error("G1 X[1+2]"), ("pvtc::gcode::unsupported", 4..9));
+    assert_eq!(
+        error("G1 X#<nope>"),
+        ("pvtc::gcode::undefined_parameter", 4..11)
+    );
+    assert_eq!(error("#1"), ("pvtc::gcode::syntax", 0..2));
+    assert_eq!(error("G1 X[1+2"), ("pvtc::gcode::syntax", 4..8));
+    assert_eq!(error("G1 X[1/0]"), ("pvtc::gcode::math_error", 6..7));
+    assert_eq!(error("G1 X[SQRT[-1]]"), ("pvtc::gcode::math_error", 5..13));
+    assert_eq!(error("G1 X#0"), ("pvtc::gcode::out_of_range", 4..6));
+    assert_eq!(error("G1 X1 *1"), ("pvtc::gcode::checksum_mismatch", 6..8));
+    assert_eq!(error("o100 sub"), ("pvtc::gcode::unsupported", 0..8));
+    assert_eq!(
+        error("G92 Z[25.0 - #<_hal[plasmac.float-switch-travel]>]"),
+        ("pvtc::gcode::unsupported", 13..49)
+    );
     assert_eq!(error("G1 N5"), ("pvtc::gcode::syntax", 3..5));
     assert_eq!(error("N5.5 G1"), ("pvtc::gcode::syntax", 0..4));
 }
@@ -157,7 +204,7 @@ fn malformed_text_is_located() {
 #[test]
 fn words_around_bad_text_are_still_read() {
     let mut block = Block::default();
-    let result = parse_line(line("G1 X--1 Y2e3 Z3 #4 F100 (open"), &mut block);
+    let result = parse_line(line("G1 X--1 Y2e3 Z3 #4 F100 (open"), &mut block, &params());
     // Only the first error of the line is reported.
     assert_eq!(result.unwrap_err().span(), 3..7);
     let letters: String = block.words.iter().map(Word::letter_char).collect();
@@ -196,4 +243,75 @@ fn numbers_at_the_end_of_a_line_keep_their_fraction() {
     // `recognize` around it cut `4.95` to `4.`; the parser must not use it.
     assert_eq!(number("4.95"), Ok(("", "4.95")));
     assert_eq!(parse("G0 Y4.95").unwrap().words[1].value, 4.95);
+}
+
+#[test]
+fn blanks_inside_numbers_join_the_digits() {
+    let b = parse("G 1 X 1 0.5 Y- 2 .5").unwrap();
+    let got: Vec<_> = b.words.iter().map(|w| (w.letter_char(), w.value)).collect();
+    assert_eq!(got, [('G', 1.0), ('X', 10.5), ('Y', -2.5)]);
+    assert_eq!(parse("G1 5").unwrap().words[0].value, 15.0);
+}
+
+fn value_of(text: &str) -> f64 {
+    let b = parse(&format!("X{text}")).unwrap_or_else(|d| panic!("{text}: {d}"));
+    b.words[0].value
+}
+
+#[test]
+fn expressions_follow_rs274ngc_precedence() {
+    assert_eq!(value_of("[1 + 2 * 3]"), 7.0);
+    assert_eq!(value_of("[2 ** 3 ** 2]"), 64.0);
+    assert_eq!(value_of("[-2 ** 2]"), 4.0);
+    assert_eq!(value_of("[7 MOD 3]"), 1.0);
+    assert_eq!(value_of("[-7 MOD 3]"), 2.0);
+    assert_eq!(value_of("[1 + 1 EQ 2]"), 1.0);
+    assert_eq!(value_of("[1 LT 2 AND 3 GE 3]"), 1.0);
+    assert_eq!(value_of("[0 OR 0 XOR 1]"), 1.0);
+    assert_eq!(value_of("[1 NE 1]"), 0.0);
+    assert_eq!(value_of("[#<scale>*-25.372]"), -50.744);
+    assert_eq!(value_of("-#1"), -3.0);
+    assert_eq!(value_of("##1"), 0.0);
+    assert_eq!(value_of("#[#1-2]"), 3.0);
+    assert_eq!(value_of("ABS[-2]"), 2.0);
+    assert!((value_of("SIN[30]") - 0.5).abs() < 1e-12);
+    assert!((value_of("COS[60]") - 0.5).abs() < 1e-12);
+    assert!((value_of("ATAN[1]/[1]") - 45.0).abs() < 1e-12);
+    assert!((value_of("ACOS[0]") - 90.0).abs() < 1e-12);
+    assert_eq!(value_of("FIX[-1.5]"), -2.0);
+    assert_eq!(value_of("FUP[1.2]"), 2.0);
+    assert_eq!(value_of("ROUND[2.5]"), 3.0);
+    assert_eq!(value_of("SQRT[16]"), 4.0);
+    assert!((value_of("LN[EXP[2]]") - 2.0).abs() < 1e-12);
+    assert_eq!(value_of("EXISTS[#<scale>]"), 1.0);
+    assert_eq!(value_of("EXISTS[#<other>]"), 0.0);
+    assert_eq!(value_of("[[1+2]/[3-1]]"), 1.5);
+}
+
+#[test]
+fn assignments_are_collected_not_applied() {
+    let b = parse("#1 = 5 #<a b> = [#1 + 1] G1 X#1").unwrap();
+    assert_eq!(b.words[1].value, 3.0, "X reads #1 from before the line");
+    assert_eq!(b.assignments.len(), 2);
+    assert_eq!(b.assignments[0].value, 5.0);
+    assert_eq!(b.assignments[1].param, ParamRef::Named("ab".to_owned()));
+    assert_eq!(b.assignments[1].value, 4.0);
+}
+
+#[test]
+fn messages_checksums_and_program_numbers() {
+    let b = parse("G0 X1 (MSG, change tool) ").unwrap();
+    assert_eq!(b.message.as_deref(), Some("change tool"));
+    assert!(parse("N1 G1 X1*96").is_ok());
+    let o = parse("O1001 (part)").unwrap();
+    assert_eq!(o.words[0].letter, b'O');
+    assert_eq!(error("O1 G1 X1").0, "pvtc::gcode::unsupported");
+}
+
+#[test]
+fn deep_nesting_is_an_error_not_a_stack_overflow() {
+    let deep = format!("X{}1{}", "[".repeat(10_000), "]".repeat(10_000));
+    assert_eq!(error(&deep).0, "pvtc::gcode::syntax");
+    let hashes = format!("X{}1", "#".repeat(10_000));
+    assert_eq!(error(&hashes).0, "pvtc::gcode::syntax");
 }

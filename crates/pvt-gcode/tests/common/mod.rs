@@ -47,7 +47,8 @@ pub fn render_compiled(source: &str, compiled: &Compiled) -> String {
         names.join(" ")
     )
     .unwrap();
-    for contour in &toolpath.contours {
+    for (index, contour) in toolpath.contours.iter().enumerate() {
+        render_events(&mut out, compiled, index);
         let start = &contour.elements[0].start;
         writeln!(
             out,
@@ -88,10 +89,34 @@ pub fn render_compiled(source: &str, compiled: &Compiled) -> String {
             .unwrap();
         }
     }
+    render_events(&mut out, compiled, toolpath.contours.len());
+    if let Some(p) = compiled.path_tolerance {
+        writeln!(out, "G64 P tolerance {}", num(p)).unwrap();
+    }
     for w in &compiled.warnings {
         writeln!(out, "warning {}", diagnostic_line(source, w)).unwrap();
     }
     out
+}
+
+/// The events before contour `index`, one line each.
+fn render_events(out: &mut String, compiled: &Compiled, index: usize) {
+    use pvt_core::EventKind;
+    for event in compiled
+        .toolpath
+        .events
+        .iter()
+        .filter(|e| e.before_contour == index)
+    {
+        let detail = match &event.kind {
+            EventKind::Dwell { seconds } => format!(" {}s", num(*seconds)),
+            EventKind::SpindleSpeed { rpm } => format!(" {}", num(*rpm)),
+            EventKind::ToolSelect { tool } => format!(" {tool}"),
+            EventKind::Message { text } => format!(" {text:?}"),
+            _ => String::new(),
+        };
+        writeln!(out, "  {}: event {}{detail}", event.line, event.kind.name()).unwrap();
+    }
 }
 
 /// Every diagnostic of a failed compile, one per line; or the summary when it compiled.

@@ -1,0 +1,490 @@
+//! Moves: G0/G1 lines and G2/G3 arcs from a block's words and the modal state.
+//!
+//! Owns end points (distance mode, offsets, G53), centres (I/J/K by G90.1/G91.1, or R),
+//! feeds (G94 units per minute, G93 inverse time) and where contours end (rapids, G61).
+//! It must not read words (that is [`crate::request`]) nor change modes.
+
+use std::ops::Range;
+
+use pvt_core::{
+    Arc, ArcDirection, Axis, Element, ElementKind, Motion, Plane, Position, Span, Units,
+};
+
+use super::{Feed, Interpreter};
+use crate::arcs::{self, ArcProblem, ArcTolerance};
+use crate::block::{cover, Block, Word};
+use crate::codes::{Distance, FeedMode, MotionMode, NonModal, PathMode};
+use crate::diagnostic::{span, GcodeDiagnostic};
+use crate::request::Request;
+
+impl Interpreter<'_> {
+    /// F: the feed for G94 moves (under G93 each move reads its own F).
+    pub(super) fn set_feed(&mut self, request: &Request) {
+        let Some(word) = request.feed else { return };
+        if self.modal.feed_mode == FeedMode::InverseTime {
+            return;
+        }
+        let per_minute = word.value * self.scale();
+        if !per_minute.is_finite() {
+            return self.push(out_of_range("feed", per_minute, word.span()));
+        }
+        self.feed = Some(Feed {
+            written: word.value,
+            per_minute,
+        });
+        self.feed_reported = false;
+    }
+
+    /// The block's move in the motion mode in effect.
+    pub(super) fn run_motion(&mut self, request: &Request, block: &Block) {
+        let offsets_use_axes = matches!(request.non_modal, Some((NonModal::SetOffset, _)));
+        if request.no_move || offsets_use_axes {
+            return;
+        }
+        let has_axes = request.has_axis_words();
+        match self.modal.motion {
+            Some(MotionMode::Arc(direction)) => {
+                if has_axes
+                    || request.offsets.iter().any(Option::is_some)
+                    || request.radius.is_some()
+                {
+                    self.arc_move(direction, request, block);
+                }
+            }
+            Some(MotionMode::Unsupported) => {}
+            Some(mode @ (MotionMode::Rapid | MotionMode::Linear)) => {
+                self.reject_arc_words(request, mode.name());
+                if has_axes {
+                    self.line_move(mode, request, block);
+                }
+            }
+            mode @ (None | Some(MotionMode::Cancel)) => {
+                self.reject_arc_words(request, mode.map_or("not set", MotionMode::name));
+                if let Some(&word) = request.axis_words().next() {
+                    self.push(GcodeDiagnostic::NoMotionMode {
+                        word: word.name(),
+                        span: span(word.span()),
+                    });
+                    if let Ok(end) = self.target(request) {
+                        self.position = end;
+                    }
+                }
+            }
+        }
+    }
+
+    fn reject_arc_words(&mut self, request: &Request, mode: &'static str) {
+        for &word in request.offsets.iter().chain([&request.radius]).flatten() {
+            self.push(GcodeDiagnostic::ArcWordWithoutArc {
+                word: word.name(),
+                mode,
+                span: span(word.span()),
+            });
+        }
+    }
+
+    /// The end position of the block's move: machine coordinates, output units.
+    fn target(&self, request: &Request) -> Result<Position, GcodeDiagnostic> {
+        const WHAT: [&str; 6] = [
+            "X coordinate",
+            "Y coordinate",
+            "Z coordinate",
+            "A angle",
+            "B angle",
+            "C angle",
+        ];
+        let machine = matches!(request.non_modal, Some((NonModal::MachineCoords, _)));
+        let mut end = self.position;
+        for axis in Axis::ALL {
+            let i = axis.index();
+            let Some(word) = request.axes[i] else {
+                continue;
+            };
+            let value = self.program_value(axis, word.value);
+            end[i] = match (machine, self.modal.distance) {
+                (true, _) => value,
+                (false, Distance::Absolute) => value + self.offset(i),
+                (false, Distance::Incremental) => end[i] + value,
+            };
+            if !end[i].is_finite() {
+                return Err(out_of_range(WHAT[i], end[i], word.span()));
+            }
+        }
+        Ok(end)
+    }
+
+    /// The feed of a feed move of `length`, units per second; `None` (reported) when
+    /// there is none.
+    fn feed_rate(&mut self, request: &Request, block: &Block, length: f64) -> Option<f64> {
+        if self.modal.feed_mode == FeedMode::InverseTime {
+            return self.inverse_time_rate(request, block, length);
+        }
+        let per_minute = match (self.feed, self.options.default_feed) {
+            (Some(feed), _) => feed.per_minute,
+            (None, Some(default)) => default,
+            (None, None) => {
+                if !self.feed_reported {
+                    self.feed_reported = true;
+                    let at = move_span(request, block);
+                    self.push(GcodeDiagnostic::NoFeed { span: span(at) });
+                }
+                return None;
+            }
+        };
+        if per_minute > 0.0 && per_minute.is_finite() {
+            return Some(per_minute / 60.0);
+        }
+        if !self.feed_reported {
+            self.feed_reported = true;
+            let feed = match self.feed {
+                Some(feed) => format!("F{}", feed.written),
+                None => format!("default feed {per_minute}"),
+            };
+            let at = request
+                .feed
+                .map_or_else(|| move_span(request, block), |w| w.span());
+            self.push(GcodeDiagnostic::ZeroFeed {
+                feed,
+                span: span(at),
+            });
+        }
+        None
+    }
+
+    /// G93: the block's F is 1 / the minutes the move takes.
+    fn inverse_time_rate(&mut self, request: &Request, block: &Block, length: f64) -> Option<f64> {
+        let Some(f) = request.feed else {
+            let at = move_span(request, block);
+            self.push(GcodeDiagnostic::InverseTimeFeed { span: span(at) });
+            return None;
+        };
+        let rate = length * f.value / 60.0;
+        if f.value > 0.0 && rate.is_finite() {
+            return Some(rate.max(f64::MIN_POSITIVE));
+        }
+        self.push(GcodeDiagnostic::ZeroFeed {
+            feed: f.name(),
+            span: span(f.span()),
+        });
+        None
+    }
+
+    /// The rapid rate, units per second.
+    fn rapid_rate(&self) -> f64 {
+        let per_minute = match self.options.rapid {
+            Some(rapid) if rapid > 0.0 && rapid.is_finite() => rapid,
+            _ => self.output().from_mm(crate::DEFAULT_RAPID_MM_PER_MIN),
+        };
+        per_minute / 60.0
+    }
+
+    fn line_move(&mut self, mode: MotionMode, request: &Request, block: &Block) {
+        self.output_units.get_or_insert(Units::Millimetre);
+        let end = match self.target(request) {
+            Ok(end) => end,
+            Err(diagnostic) => return self.push(diagnostic),
+        };
+        let start = self.position;
+        let (motion, feed) = match mode {
+            MotionMode::Rapid => (Motion::Rapid, Some(self.rapid_rate())),
+            _ => {
+                let length = line_length(&start, &end);
+                (Motion::Feed, self.feed_rate(request, block, length))
+            }
+        };
+        self.position = end;
+        let Some(feed) = feed else { return };
+        if end == start {
+            return self.warn(GcodeDiagnostic::ZeroLengthMove {
+                span: span(block.span()),
+            });
+        }
+        let element = Element {
+            kind: ElementKind::Line,
+            start,
+            end,
+            feed,
+            span: element_span(block),
+        };
+        self.emit(motion, &element);
+    }
+
+    fn arc_move(&mut self, direction: ArcDirection, request: &Request, block: &Block) {
+        self.output_units.get_or_insert(Units::Millimetre);
+        let end = match self.target(request) {
+            Ok(end) => end,
+            Err(diagnostic) => return self.push(diagnostic),
+        };
+        let center = self.arc_center(direction, request, block, &end);
+        let turns = self.arc_turns(request);
+        let start = std::mem::replace(&mut self.position, end);
+        let (Some(center), Some(extra_turns)) = (center, turns) else {
+            return;
+        };
+        let arc = Arc {
+            plane: self.modal.plane,
+            center,
+            direction,
+            extra_turns,
+        };
+        let length = arc_length(&arc, &start, &end);
+        let Some(feed) = self.feed_rate(request, block, length) else {
+            return;
+        };
+        let element = Element {
+            kind: ElementKind::Arc(arc),
+            start,
+            end,
+            feed,
+            span: element_span(block),
+        };
+        self.emit(Motion::Feed, &element);
+    }
+
+    /// Extra full turns from the P word (P1, the default, is none).
+    fn arc_turns(&mut self, request: &Request) -> Option<u32> {
+        let Some(p) = request.p else { return Some(0) };
+        let rounded = p.value.round();
+        if (p.value - rounded).abs() < 1e-6 && (1.0..=1e6).contains(&rounded) {
+            return Some(rounded as u32 - 1);
+        }
+        self.push(GcodeDiagnostic::BadValue {
+            word: p.name(),
+            expected: "the turns of an arc must be a whole number from 1",
+            span: span(p.span()),
+        });
+        None
+    }
+
+    /// Sends an element to the sink: a rapid is a contour of its own; a feed move joins
+    /// the open contour, which G61 ends after every move.
+    fn emit(&mut self, motion: Motion, element: &Element) {
+        if motion == Motion::Rapid {
+            self.end_contour();
+        }
+        self.sink.element(motion, element);
+        self.open = true;
+        self.moved = true;
+        if motion == Motion::Rapid || self.modal.path_mode == PathMode::ExactStop {
+            self.end_contour();
+        }
+    }
+
+    /// The arc's centre in its plane, or `None` after reporting why there is none.
+    fn arc_center(
+        &mut self,
+        direction: ArcDirection,
+        request: &Request,
+        block: &Block,
+        end: &Position,
+    ) -> Option<[f64; 2]> {
+        let plane = self.modal.plane;
+        let words = match center_words(plane, direction, request, block) {
+            Ok(words) => words,
+            Err(diagnostic) => {
+                self.push(diagnostic);
+                return None;
+            }
+        };
+        let (start, end) = (plane.project(&self.position), plane.project(end));
+        let scale = self.scale();
+        let tolerance = self.arc_tolerance();
+        let found = match words {
+            CenterWords::Radius(r) => {
+                arcs::center_from_radius(start, end, r.value * scale, direction, tolerance)
+            }
+            CenterWords::Offsets(offsets) => {
+                let offsets = self.center_offsets(plane, offsets, start);
+                arcs::center_from_offsets(start, end, offsets, tolerance)
+            }
+        };
+        match found {
+            Ok(center) if center.iter().all(|c| c.is_finite()) => Some(center),
+            Ok(center) => {
+                let value = if center[0].is_finite() {
+                    center[1]
+                } else {
+                    center[0]
+                };
+                let at = move_span(request, block);
+                self.push(out_of_range("arc centre", value, at));
+                None
+            }
+            Err(problem) => {
+                self.report_arc_problem(problem, request, block);
+                None
+            }
+        }
+    }
+
+    /// I/J/K as offsets from the start in the plane: G91.1 as written, G90.1 from
+    /// absolute centre coordinates (work and G92 offsets applied).
+    fn center_offsets(&self, plane: Plane, words: [Option<Word>; 2], start: [f64; 2]) -> [f64; 2] {
+        let scale = self.scale();
+        let (first, second, _) = plane.axes();
+        let mut offsets = [0.0; 2];
+        for (k, axis) in [first, second].into_iter().enumerate() {
+            let value = words[k].map_or(0.0, |w| w.value * scale);
+            offsets[k] = match self.modal.arc_centers.0 {
+                Distance::Incremental => value,
+                Distance::Absolute => value + self.offset(axis.index()) - start[k],
+            };
+        }
+        offsets
+    }
+
+    fn arc_tolerance(&self) -> ArcTolerance {
+        ArcTolerance {
+            absolute: self.output().from_mm(self.options.arc_abs_tolerance_mm),
+            relative: self.options.arc_rel_tolerance,
+        }
+    }
+
+    fn report_arc_problem(&mut self, problem: ArcProblem, request: &Request, block: &Block) {
+        let units = self.output().name();
+        let r_span = || {
+            span(
+                request
+                    .radius
+                    .map_or_else(|| move_span(request, block), |w| w.span()),
+            )
+        };
+        let offsets_span = || {
+            span(
+                cover(request.offsets.iter().flatten())
+                    .unwrap_or_else(|| move_span(request, block)),
+            )
+        };
+        let tolerance = self.arc_tolerance();
+        self.push(match problem {
+            ArcProblem::ZeroRadius => GcodeDiagnostic::ArcZeroRadius {
+                span: offsets_span(),
+            },
+            ArcProblem::FullCircleR => GcodeDiagnostic::ArcFullCircleR { span: r_span() },
+            ArcProblem::RadiusTooSmall { radius, half_chord } => {
+                GcodeDiagnostic::ArcRadiusTooSmall {
+                    radius,
+                    half_chord,
+                    units,
+                    span: r_span(),
+                }
+            }
+            ArcProblem::RadiusMismatch {
+                start_radius,
+                end_radius,
+            } => GcodeDiagnostic::ArcRadiusMismatch {
+                start_radius,
+                end_radius,
+                abs_tolerance: tolerance.absolute,
+                rel_tolerance: tolerance.relative,
+                units,
+                span: span(move_span(request, block)),
+            },
+        });
+    }
+}
+
+/// How a block gives its arc's centre: offsets in the plane's (first, second) order, or R.
+#[derive(Debug, Clone, Copy)]
+enum CenterWords {
+    Offsets([Option<Word>; 2]),
+    Radius(Word),
+}
+
+/// The centre words of an arc block in `plane`, or the diagnostic for a wrong set.
+fn center_words(
+    plane: Plane,
+    direction: ArcDirection,
+    request: &Request,
+    block: &Block,
+) -> Result<CenterWords, GcodeDiagnostic> {
+    let (first, second, normal) = plane.axes();
+    if let Some(word) = request.offsets[normal.index()] {
+        let (name, plane, at) = (word.name(), plane_name(plane), span(word.span()));
+        return Err(GcodeDiagnostic::ArcOffsetOffPlane {
+            word: name,
+            plane,
+            span: at,
+        });
+    }
+    let offsets = [
+        request.offsets[first.index()],
+        request.offsets[second.index()],
+    ];
+    match (offsets, request.radius) {
+        ([None, None], None) => {
+            let mode = MotionMode::Arc(direction).name();
+            let at = request
+                .motion
+                .map_or_else(|| move_span(request, block), |(_, w)| w.span());
+            Err(GcodeDiagnostic::ArcMissingCenter {
+                mode,
+                span: span(at),
+            })
+        }
+        ([None, None], Some(r)) => Ok(CenterWords::Radius(r)),
+        (_, Some(r)) => Err(GcodeDiagnostic::ArcRWithCenter {
+            span: span(r.span()),
+        }),
+        (offsets, None) => Ok(CenterWords::Offsets(offsets)),
+    }
+}
+
+/// The words that make the move (motion code, axes, centre), or the whole block.
+fn move_span(request: &Request, block: &Block) -> Range<usize> {
+    let motion = request.motion.as_ref().map(|(_, w)| w);
+    let words = motion
+        .into_iter()
+        .chain(request.axis_words())
+        .chain(request.offsets.iter().flatten())
+        .chain(&request.radius);
+    cover(words).unwrap_or_else(|| block.span())
+}
+
+fn element_span(block: &Block) -> Span {
+    Span {
+        start: block.start,
+        end: block.end,
+        line: block.line,
+    }
+}
+
+fn out_of_range(what: &'static str, value: f64, at: Range<usize>) -> GcodeDiagnostic {
+    GcodeDiagnostic::OutOfRange {
+        what,
+        value,
+        span: span(at),
+    }
+}
+
+fn plane_name(plane: Plane) -> &'static str {
+    match plane {
+        Plane::XY => "XY (G17)",
+        Plane::ZX => "ZX (G18)",
+        Plane::YZ => "YZ (G19)",
+    }
+}
+
+/// Length of a straight move as the planner measures path length: Euclidean over every
+/// axis, rotary degrees included, so a G93 move takes its 1/F minutes.
+fn line_length(start: &Position, end: &Position) -> f64 {
+    start
+        .iter()
+        .zip(end)
+        .map(|(a, b)| (b - a) * (b - a))
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// Length of a (helical) arc: the mean-radius sweep in its plane and every other axis's
+/// change, measured as [`line_length`] does.
+fn arc_length(arc: &Arc, start: &Position, end: &Position) -> f64 {
+    let sweep = arc.sweep(start, end);
+    let in_plane = sweep.sweep.abs() * (sweep.start_radius + sweep.end_radius) / 2.0;
+    let (first, second, _) = arc.plane.axes();
+    let others: f64 = (0..start.len())
+        .filter(|&i| i != first.index() && i != second.index())
+        .map(|i| (end[i] - start[i]) * (end[i] - start[i]))
+        .sum();
+    (in_plane * in_plane + others).sqrt()
+}
