@@ -160,6 +160,23 @@ pub struct Element {
     pub span: Span,
 }
 
+impl Element {
+    /// Sets `moved[axis]` for every axis this element moves (an arc always moves the two
+    /// axes of its plane).
+    pub fn mark_moved_axes(&self, moved: &mut [bool; AXIS_COUNT]) {
+        for (i, flag) in moved.iter_mut().enumerate() {
+            if self.start[i] != self.end[i] {
+                *flag = true;
+            }
+        }
+        if let ElementKind::Arc(arc) = self.kind {
+            let (a, b, _) = arc.plane.axes();
+            moved[a.index()] = true;
+            moved[b.index()] = true;
+        }
+    }
+}
+
 /// A run of elements the machine moves through without stopping, rest to rest.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Contour {
@@ -294,16 +311,7 @@ impl Toolpath {
     pub fn moved_axes(&self) -> Vec<Axis> {
         let mut moved = [false; AXIS_COUNT];
         for element in self.contours.iter().flat_map(|c| &c.elements) {
-            for (i, flag) in moved.iter_mut().enumerate() {
-                if element.start[i] != element.end[i] {
-                    *flag = true;
-                }
-            }
-            if let ElementKind::Arc(arc) = element.kind {
-                let (a, b, _) = arc.plane.axes();
-                moved[a.index()] = true;
-                moved[b.index()] = true;
-            }
+            element.mark_moved_axes(&mut moved);
         }
         Axis::ALL.into_iter().filter(|a| moved[a.index()]).collect()
     }

@@ -45,7 +45,7 @@ pub use diagnostic::{line_col, GcodeDiagnostic, GcodeErrors};
 pub use sink::{StreamSummary, ToolpathSink};
 
 use interpreter::{Flow, Interpreter};
-use parser::{LineKind, SourceLines};
+use parser::{LineKind, SourceLine, SourceLines};
 
 /// The rapid rate when [`GcodeOptions::rapid`] is `None`, millimetres per minute.
 pub const DEFAULT_RAPID_MM_PER_MIN: f64 = 5000.0;
@@ -128,63 +128,144 @@ pub fn compile_into(
     options: &GcodeOptions,
     sink: &mut dyn ToolpathSink,
 ) -> Result<StreamSummary, GcodeErrors> {
-    let mut interpreter = Interpreter::new(options, sink);
-    let mut params = params::Parameters::default();
-    let mut block = block::Block::default();
-    let mut lines = SourceLines::new(source);
-    let mut percent_lines = 0;
-    while let Some(line) = lines.next() {
-        let parsed = parser::parse_line(line, &mut block, &params);
-        // All assignments of a line take effect after the line is read.
-        for assignment in &block.assignments {
-            params.set(&assignment.param, assignment.value);
+    let mut reader = Reader::new(options, sink);
+    for line in SourceLines::new(source) {
+        if !reader.source_line(line) {
+            break;
         }
-        let end = match parsed {
-            Ok(LineKind::Percent) => {
-                percent_lines += 1;
-                (percent_lines == 2).then(|| "the closing `%`".to_owned())
+    }
+    reader.finish()
+}
+
+/// Reads `input` line by line (constant memory, whatever its length) into `sink`.
+///
+/// Spans are byte offsets into `input`. Invalid UTF-8 in a line becomes U+FFFD, which
+/// shifts the columns after it on that line only. A read error is returned as such.
+pub fn compile_read(
+    input: &mut dyn std::io::BufRead,
+    options: &GcodeOptions,
+    sink: &mut dyn ToolpathSink,
+) -> std::io::Result<Result<StreamSummary, GcodeErrors>> {
+    let mut reader = Reader::new(options, sink);
+    let mut buffer = Vec::with_capacity(256);
+    let mut offset = 0usize;
+    loop {
+        buffer.clear();
+        let read = input.read_until(b'\n', &mut buffer)?;
+        if read == 0 {
+            break;
+        }
+        let mut bytes = &buffer[..];
+        let mut start = offset;
+        if offset == 0 {
+            if let Some(rest) = bytes.strip_prefix("\u{feff}".as_bytes()) {
+                bytes = rest;
+                start += 3;
             }
-            Ok(LineKind::Block) => match interpreter.execute(&block) {
+        }
+        offset += read;
+        let bytes = bytes.strip_suffix(b"\n").unwrap_or(bytes);
+        let bytes = bytes.strip_suffix(b"\r").unwrap_or(bytes);
+        let text = String::from_utf8_lossy(bytes);
+        if !reader.line(&text, start) {
+            break;
+        }
+    }
+    Ok(reader.finish())
+}
+
+/// The G-code front end fed one line at a time; [`compile_into`] and [`compile_read`]
+/// drive it.
+pub struct Reader<'a> {
+    interpreter: Interpreter<'a>,
+    params: params::Parameters,
+    block: block::Block,
+    percent_lines: u32,
+    number: u32,
+    /// Set once the program has ended (M2/M30, closing `%`): what ended it.
+    ended: Option<String>,
+}
+
+impl<'a> Reader<'a> {
+    /// A reader compiling into `sink`.
+    pub fn new(options: &'a GcodeOptions, sink: &'a mut dyn ToolpathSink) -> Reader<'a> {
+        Reader {
+            interpreter: Interpreter::new(options, sink),
+            params: params::Parameters::default(),
+            block: block::Block::default(),
+            percent_lines: 0,
+            number: 0,
+            ended: None,
+        }
+    }
+
+    /// Reads the next line (`text` without its line end, starting at byte `start` of the
+    /// source); returns false when nothing after it can matter.
+    pub fn line(&mut self, text: &str, start: usize) -> bool {
+        let number = self.number.saturating_add(1);
+        self.source_line(SourceLine {
+            text,
+            start,
+            number,
+        })
+    }
+
+    fn source_line(&mut self, line: SourceLine<'_>) -> bool {
+        self.number = line.number;
+        if let Some(end) = &self.ended {
+            let Some(warning) = after_end(line, &mut self.block, &self.params, end) else {
+                return true;
+            };
+            self.interpreter.warn(warning);
+            return false;
+        }
+        let parsed = parser::parse_line(line, &mut self.block, &self.params);
+        // All assignments of a line take effect after the line is read.
+        for assignment in &self.block.assignments {
+            self.params.set(&assignment.param, assignment.value);
+        }
+        self.ended = match parsed {
+            Ok(LineKind::Percent) => {
+                self.percent_lines += 1;
+                (self.percent_lines == 2).then(|| "the closing `%`".to_owned())
+            }
+            Ok(LineKind::Block) => match self.interpreter.execute(&self.block) {
                 Flow::Continue => None,
                 Flow::End(word) => Some(word.name()),
             },
             // The words read around the bad text still set modes, feed and position, but
             // whatever else they cause is not reported: the line has its error already.
             Err(diagnostic) => {
-                interpreter.report(diagnostic);
-                match interpreter.execute_quietly(&block) {
+                self.interpreter.report(diagnostic);
+                match self.interpreter.execute_quietly(&self.block) {
                     Flow::Continue => None,
                     Flow::End(word) => Some(word.name()),
                 }
             }
         };
-        if let Some(end) = end {
-            if let Some(warning) = ignored_after_end(lines, &mut block, &params, end) {
-                interpreter.warn(warning);
-            }
-            break;
-        }
+        true
     }
-    interpreter.finish()
+
+    /// Ends the program: its summary, or every error met.
+    pub fn finish(self) -> Result<StreamSummary, GcodeErrors> {
+        self.interpreter.finish()
+    }
 }
 
-/// A warning naming the first block after the program end that has any content.
-fn ignored_after_end(
-    lines: SourceLines<'_>,
+/// A warning if `line`, after the program end, has any content.
+fn after_end(
+    line: SourceLine<'_>,
     block: &mut block::Block,
     params: &params::Parameters,
-    end: String,
+    end: &str,
 ) -> Option<GcodeDiagnostic> {
-    for line in lines {
-        let empty = match parser::parse_line(line, block, params) {
-            Ok(LineKind::Percent) => true,
-            Ok(LineKind::Block) => block.words.is_empty() && block.line_number.is_none(),
-            Err(_) => false,
-        };
-        if !empty {
-            let span = diagnostic::span(line.start..line.start + line.text.len());
-            return Some(GcodeDiagnostic::AfterProgramEnd { end, span });
-        }
-    }
-    None
+    let empty = match parser::parse_line(line, block, params) {
+        Ok(LineKind::Percent) => true,
+        Ok(LineKind::Block) => block.words.is_empty() && block.line_number.is_none(),
+        Err(_) => false,
+    };
+    (!empty).then(|| GcodeDiagnostic::AfterProgramEnd {
+        end: end.to_owned(),
+        span: diagnostic::span(line.start..line.start + line.text.len()),
+    })
 }

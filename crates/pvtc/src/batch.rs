@@ -86,6 +86,21 @@ pub fn run_jobs(jobs: &[Job], args: &CompileArgs) -> Vec<Outcome> {
 }
 
 fn run_job(job: &Job, args: &CompileArgs) -> Outcome {
+    let name = job.input.display().to_string();
+    let streamable = args
+        .compile_options(&name)
+        .ok()
+        .filter(|o| crate::stream::can_stream(&job.input, o) && !args.pipeline.deny_warnings);
+    if let Some(options) = streamable {
+        let result = output::write_file_with(&job.output, |out| {
+            crate::stream::compile_streaming(&job.input, &name, &options, out)
+        });
+        let failure = result.err().map(|f| first_diagnostic(&f));
+        return Outcome {
+            job: job.clone(),
+            failure,
+        };
+    }
     let result = Source::read(&job.input).and_then(|source| {
         let compiled = compile(&source, &args.compile_options(&source.name)?)?;
         let warned = compiled

@@ -15,6 +15,7 @@ pub mod output;
 pub mod pipeline;
 pub mod plot;
 pub mod report;
+pub mod stream;
 
 pub use args::{Cli, Command, CompileArgs};
 pub use pipeline::{compile, plan, CompileOptions, DrawingOptions, Failure, InputKind, Source};
@@ -41,7 +42,21 @@ fn compile_command(args: &CompileArgs) -> ExitCode {
         return batch::run(args);
     }
     let reporter = Reporter::new(&args.pipeline);
-    let source = match Source::read(&args.inputs[0]) {
+    let input = &args.inputs[0];
+    if let Ok(options) = args.compile_options(&input.display().to_string()) {
+        if stream::can_stream(input, &options) && !args.pipeline.deny_warnings {
+            let name = input.display().to_string();
+            let result = output::write_with(args.output.as_deref(), |out| {
+                stream::compile_streaming(input, &name, &options, out)
+            });
+            return match result.map(|warnings| reporter.warnings(&warnings)) {
+                Ok(Ok(())) => ExitCode::SUCCESS,
+                Ok(Err(code)) => code,
+                Err(failure) => reporter.fail(&failure),
+            };
+        }
+    }
+    let source = match Source::read(input) {
         Ok(source) => source,
         Err(failure) => return reporter.fail(&failure),
     };

@@ -30,6 +30,21 @@ fn write_stdout(bytes: &[u8]) -> Result<(), Failure> {
 
 /// Writes `bytes` to a temporary file beside `path`, then renames it onto `path`.
 pub fn write_file(path: &Path, bytes: &[u8]) -> Result<(), Failure> {
+    write_file_with(path, |out| {
+        out.write_all(bytes).map_err(|error| Failure::Io {
+            path: path.to_path_buf(),
+            action: "write",
+            error,
+        })
+    })
+}
+
+/// Lets `write` fill a temporary file beside `path`, then renames it onto `path`; if
+/// `write` fails, the temporary file is removed and `path` is left as it was.
+pub fn write_file_with<T>(
+    path: &Path,
+    write: impl FnOnce(&mut dyn Write) -> Result<T, Failure>,
+) -> Result<T, Failure> {
     let fail = |error| Failure::Io {
         path: path.to_path_buf(),
         action: "write",
@@ -47,11 +62,32 @@ pub fn write_file(path: &Path, bytes: &[u8]) -> Result<(), Failure> {
     temp.as_file()
         .set_permissions(permissions_for(path))
         .map_err(fail)?;
-    temp.write_all(bytes)
+    let value = write(&mut temp)?;
+    temp.flush()
         .and_then(|()| temp.as_file().sync_all())
         .map_err(fail)?;
     temp.persist(path).map_err(|e| fail(e.error))?;
-    Ok(())
+    Ok(value)
+}
+
+/// Lets `write` fill `path` atomically, or standard output for `None` or `-`.
+pub fn write_with<T>(
+    path: Option<&Path>,
+    write: impl FnOnce(&mut dyn Write) -> Result<T, Failure>,
+) -> Result<T, Failure> {
+    match path {
+        Some(p) if p != Path::new("-") => write_file_with(p, write),
+        _ => {
+            let mut out = std::io::stdout().lock();
+            let value = write(&mut out)?;
+            out.flush().map_err(|error| Failure::Io {
+                path: "<stdout>".into(),
+                action: "write",
+                error,
+            })?;
+            Ok(value)
+        }
+    }
 }
 
 /// The permissions the output gets: those of the file it replaces, or else `rw-r--r--`

@@ -296,13 +296,17 @@ pub fn compile(source: &Source, options: &CompileOptions) -> Result<Compiled, Fa
 fn fractional_ms_warning(program: &PvtProgram) -> Option<Report> {
     let durations = program.contours.iter().flat_map(|c| &c.durations);
     let fractional = durations.filter(|t| (**t * 1000.0).fract() != 0.0).count();
+    fractional_ms_report(fractional, program.segment_count())
+}
+
+/// The warning for `fractional` of `segments` piece times that are not whole ms.
+pub(crate) fn fractional_ms_report(fractional: usize, segments: usize) -> Option<Report> {
     (fractional > 0).then(|| {
         miette::miette!(
             severity = Severity::Warning,
             code = "pvtc::emit::fractional_ms",
             help = "pass --quantize 1ms to make every piece time whole while keeping the path",
-            "{fractional} of {} piece times are not whole milliseconds; PMAC rounds TA to whole ms, which changes speeds and times",
-            program.segment_count()
+            "{fractional} of {segments} piece times are not whole milliseconds; PMAC rounds TA to whole ms, which changes speeds and times"
         )
     })
 }
@@ -360,7 +364,7 @@ fn at_line(code: &str, message: &str, line: u32, source: &Source) -> Report {
 }
 
 /// The settings every output header names, in a fixed order.
-fn settings(options: &CompileOptions, units: Units) -> Vec<(String, String)> {
+pub(crate) fn settings(options: &CompileOptions, units: Units) -> Vec<(String, String)> {
     let u = units.name();
     let tolerance = options
         .tolerance

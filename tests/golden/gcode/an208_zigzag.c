@@ -27,7 +27,7 @@ static double pvtc_c1_velocity[] = {
 };
 static double pvtc_c1_time[] = {
     0.6421749405827134,
-    0.8193295112627904,
+    0.8193295112627906,
     1.7610297458485704,
 };
 #define PVTC_C1_POINTS ((long)(sizeof pvtc_c1_time / sizeof pvtc_c1_time[0]))

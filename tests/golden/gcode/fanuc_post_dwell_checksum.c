@@ -86,8 +86,8 @@ static double pvtc_c5_velocity[] = {
     0.0, 0.0, 0.0,
 };
 static double pvtc_c5_time[] = {
-    2.327443824400847,
-    2.327443824400847,
+    2.3274438244008464,
+    2.3274438244008464,
 };
 #define PVTC_C5_POINTS ((long)(sizeof pvtc_c5_time / sizeof pvtc_c5_time[0]))
 

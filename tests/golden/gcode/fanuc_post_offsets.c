@@ -34,7 +34,7 @@ static double pvtc_c1_velocity[] = {
     0.0, 0.0, 0.0,
 };
 static double pvtc_c1_time[] = {
-    1.1171730357124061,
+    1.1171730357124063,
     22.343460714248124,
 };
 #define PVTC_C1_POINTS ((long)(sizeof pvtc_c1_time / sizeof pvtc_c1_time[0]))
@@ -83,7 +83,7 @@ static double pvtc_c4_velocity[] = {
 };
 static double pvtc_c4_time[] = {
     3.9101056249934216,
-    16.75759553568609,
+    16.757595535686093,
 };
 #define PVTC_C4_POINTS ((long)(sizeof pvtc_c4_time / sizeof pvtc_c4_time[0]))
 

@@ -38,24 +38,27 @@ const REPEAT_TOLERANCE: f64 = 1e-12;
 ///
 /// Returns the positive root of seed 000's quadratic, computed in the cancellation-free form.
 pub fn segment_time(d: &[f64], v0: &[f64], v1: &[f64], vmid: f64) -> f64 {
-    let (mut ss, mut ds, mut dd) = (0.0, 0.0, 0.0);
+    // In units of the chord length L and vmid the quadratic is
+    // (1 − |s|²/16vmid²)·τ² + (3/4)(u·s/vmid)·τ − 9/4 = 0 with T = τ·L/vmid, which neither
+    // overflows nor underflows for any finite chord (seed 000's form squares |d|).
+    let length = norm(d);
+    let (mut ss, mut us) = (0.0, 0.0);
     for k in 0..d.len() {
-        let s = v0[k] + v1[k];
+        let s = (v0[k] + v1[k]) / vmid;
         ss += s * s;
-        ds += d[k] * s;
-        dd += d[k] * d[k];
+        us += d[k] / length * s;
     }
-    let m2 = vmid * vmid;
-    let a = 1.0 - ss / (16.0 * m2);
-    let b = 0.75 * ds / m2;
-    let c = -2.25 * dd / m2;
+    let a = 1.0 - ss / 16.0;
+    let b = 0.75 * us;
+    let c = -2.25;
     let root = (b * b - 4.0 * a * c).sqrt();
-    if b >= 0.0 {
+    let tau = if b >= 0.0 {
         // q < 0 and c < 0: c/q is the positive root without subtracting near-equal numbers.
         2.0 * c / (-b - root)
     } else {
         (root - b) / (2.0 * a)
-    }
+    };
+    tau * (length / vmid)
 }
 
 /// The segment whose end velocity waits for the next point's direction.
@@ -133,6 +136,14 @@ impl ContourStream {
         let mut chord = vec![0.0; self.dim];
         sub_into(point, from, &mut chord);
         let len = norm(&chord);
+        // A segment's time is at most about 3·len/feed; one that overflows is refused here
+        // rather than written as NaN or infinity.
+        if !(len.is_finite() && (4.0 * len / feed).is_finite()) {
+            return Err(PlanError::BadDuration {
+                line,
+                duration: f64::INFINITY,
+            });
+        }
         let unit: Vec<f64> = chord.iter().map(|x| x / len).collect();
         if let Some(mut p) = self.pending.take() {
             p.speed_cap = p.speed_cap.min(feed);

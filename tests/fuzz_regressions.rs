@@ -1,0 +1,65 @@
+//! Inputs that once broke an invariant under fuzzing (fuzz/), kept as regressions: each
+//! is run the way its fuzz target runs it, and whatever plans must pass the back ends'
+//! validation (no NaN, infinity or non-positive time) in every format.
+
+use pvt_core::{plan_timed, plan_toolpath, PlanOptions, Planner, PvtProgram, Units};
+use pvt_emit::{emit_to_vec, EmitOptions, Format};
+use pvtc_tests::root;
+
+fn assert_valid(name: &str, program: &PvtProgram) {
+    for format in Format::ALL {
+        if let Err(e) = emit_to_vec(program, format, &EmitOptions::default()) {
+            assert!(
+                matches!(e, pvt_emit::StreamError::Unsupported(_)),
+                "{name} as {}: {e}",
+                format.name()
+            );
+        }
+    }
+}
+
+#[test]
+fn fuzz_findings_stay_fixed() {
+    let dir = root().join("tests/fuzz-regressions");
+    let mut names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    names.sort();
+    assert!(!names.is_empty());
+    for name in names {
+        let name = name.to_string_lossy().into_owned();
+        let bytes = std::fs::read(dir.join(&name)).unwrap();
+        let text = String::from_utf8_lossy(&bytes);
+        if name.ends_with(".ngc") {
+            let toolpath = pvt_gcode::compile(&text, &Default::default())
+                .expect("valid G-code")
+                .toolpath;
+            if let Ok(program) = plan_toolpath(&toolpath, &PlanOptions::default()) {
+                assert_valid(&name, &program);
+            }
+        } else if name.ends_with(".csv") {
+            let series = pvt_csv::read_points(&text, Units::Millimetre).expect("valid CSV");
+            for planner in Planner::ALL {
+                let options = PlanOptions {
+                    planner,
+                    accel: Some(1000.0),
+                    ..PlanOptions::default()
+                };
+                if let Ok(planned) =
+                    plan_timed(&series.points, series.axes.clone(), series.units, &options)
+                {
+                    assert_valid(&format!("{name} ({})", planner.name()), &planned.program);
+                }
+            }
+        } else {
+            // The dxf crate panics on this file; pvt-dxf must turn that into a read error.
+            let result = pvt_dxf::read_drawing(&bytes, &pvt_dxf::DxfOptions::with_feed(1200.0));
+            if let Ok(drawing) = result {
+                if let Ok(program) = plan_toolpath(&drawing.toolpath, &PlanOptions::default()) {
+                    assert_valid(&name, &program);
+                }
+            }
+        }
+    }
+}
