@@ -30,6 +30,7 @@ pub const EXIT_USAGE: u8 = 2;
 
 /// Runs a parsed command line and returns the process exit status.
 pub fn run(cli: Cli) -> ExitCode {
+    report::install_panic_hook();
     match cli.command {
         Command::Compile(args) => compile_command(&args),
         Command::Check(args) => check::run(&args),

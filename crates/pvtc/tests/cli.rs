@@ -548,3 +548,23 @@ fn offsets_file_and_units_conversion_apply_to_gcode() {
         stderr(&bad)
     );
 }
+
+#[test]
+fn a_dxf_the_dxf_crate_panics_on_is_a_clean_read_error() {
+    let o = pvtc(
+        &[
+            "compile",
+            "tests/fuzz-regressions/dxf_chrono_panic.dxf",
+            "--feed",
+            "1200",
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(1));
+    let err = stderr(&o);
+    assert!(err.contains("pvtc::dxf::read"), "{err}");
+    assert!(
+        !err.contains("panicked"),
+        "no panic trace for a caught panic: {err}"
+    );
+}
