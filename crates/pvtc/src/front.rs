@@ -42,14 +42,7 @@ pub fn read(source: &Source, options: &CompileOptions) -> FrontResult {
 fn gcode(source: &Source, options: &CompileOptions) -> FrontResult {
     // Invalid UTF-8 (a Latin-1 comment, say) becomes U+FFFD; spans refer to this text.
     let named = source.named_text();
-    let gcode_options = pvt_gcode::GcodeOptions {
-        default_feed: options.feed,
-        rapid: options.rapid,
-        arc_abs_tolerance_mm: options.arc_abs_tolerance_mm,
-        arc_rel_tolerance: options.arc_rel_tolerance,
-        units: options.drawing.units,
-        work_offsets: options.work_offsets,
-    };
+    let gcode_options = gcode_options(options);
     match pvt_gcode::compile(named.inner(), &gcode_options) {
         Ok(compiled) => {
             let warnings = compiled
@@ -66,6 +59,18 @@ fn gcode(source: &Source, options: &CompileOptions) -> FrontResult {
                 .map(|e| Report::new(e).with_source_code(named.clone()))
                 .collect(),
         )),
+    }
+}
+
+/// The G-code front end's options for these pipeline options.
+pub fn gcode_options(options: &CompileOptions) -> pvt_gcode::GcodeOptions {
+    pvt_gcode::GcodeOptions {
+        default_feed: options.feed,
+        rapid: options.rapid,
+        arc_abs_tolerance_mm: options.arc_abs_tolerance_mm,
+        arc_rel_tolerance: options.arc_rel_tolerance,
+        units: options.drawing.units,
+        work_offsets: options.work_offsets,
     }
 }
 

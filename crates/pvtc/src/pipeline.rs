@@ -259,27 +259,8 @@ pub fn compile(source: &Source, options: &CompileOptions) -> Result<Compiled, Fa
         settings: settings(options, program.units),
         program_number: 1,
     };
-    let bytes = emit_to_vec(&program, options.format, &emit_options).map_err(|e| match e {
-        StreamError::Invalid(invalid) => Failure::Input(vec![at_line(
-            pvt_emit::InvalidProgram::CODE,
-            &invalid.to_string(),
-            invalid.line,
-            source,
-        )
-        .with_source_code(source.named_text())]),
-        StreamError::Io(error) => Failure::Io {
-            path: PathBuf::from("<memory>"),
-            action: "write",
-            error,
-        },
-        StreamError::Unsupported(interpolation) => Failure::Input(vec![miette::miette!(
-            code = "pvtc::emit::unsupported_interpolation",
-            help =
-                "PMAC PVT mode needs velocities: choose a PVT planner, or --format json or movepvt",
-            "the {} format cannot express {interpolation:?} motion",
-            options.format.name()
-        )]),
-    })?;
+    let bytes = emit_to_vec(&program, options.format, &emit_options)
+        .map_err(|e| emit_failure(e, options, Some(source)))?;
     if options.format == Format::Pmac && options.quantize.is_none() {
         warnings.extend(fractional_ms_warning(&program));
     }
@@ -290,6 +271,41 @@ pub fn compile(source: &Source, options: &CompileOptions) -> Result<Compiled, Fa
         report: planned.report,
         warnings,
     })
+}
+
+/// A back end's refusal as a failure; `source` (when known) labels the line at fault.
+pub(crate) fn emit_failure(
+    e: StreamError,
+    options: &CompileOptions,
+    source: Option<&Source>,
+) -> Failure {
+    match e {
+        StreamError::Invalid(invalid) => {
+            let report = match source {
+                Some(source) => at_line(
+                    pvt_emit::InvalidProgram::CODE,
+                    &invalid.to_string(),
+                    invalid.line,
+                    source,
+                )
+                .with_source_code(source.named_text()),
+                None => miette::miette!(code = pvt_emit::InvalidProgram::CODE, "{invalid}"),
+            };
+            Failure::Input(vec![report])
+        }
+        StreamError::Io(error) => Failure::Io {
+            path: PathBuf::from("<output>"),
+            action: "write",
+            error,
+        },
+        StreamError::Unsupported(interpolation) => Failure::Input(vec![miette::miette!(
+            code = "pvtc::emit::unsupported_interpolation",
+            help =
+                "PMAC PVT mode needs velocities: choose a PVT planner, or --format json or movepvt",
+            "the {} format cannot express {interpolation:?} motion",
+            options.format.name()
+        )]),
+    }
 }
 
 /// Seed 003: PMAC rounds piece times to whole milliseconds without telling anyone.

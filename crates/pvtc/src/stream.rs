@@ -214,17 +214,6 @@ pub fn can_stream(path: &std::path::Path, options: &crate::CompileOptions) -> bo
         && options.quantize.is_none()
 }
 
-fn gcode_options(options: &crate::CompileOptions) -> pvt_gcode::GcodeOptions {
-    pvt_gcode::GcodeOptions {
-        default_feed: options.feed,
-        rapid: options.rapid,
-        arc_abs_tolerance_mm: options.arc_abs_tolerance_mm,
-        arc_rel_tolerance: options.arc_rel_tolerance,
-        units: options.drawing.units,
-        work_offsets: options.work_offsets,
-    }
-}
-
 fn open(path: &std::path::Path) -> Result<std::io::BufReader<std::fs::File>, crate::Failure> {
     std::fs::File::open(path)
         .map(|f| std::io::BufReader::with_capacity(1 << 18, f))
@@ -269,7 +258,7 @@ pub fn compile_streaming(
     options: &crate::CompileOptions,
     out: &mut dyn std::io::Write,
 ) -> Result<Vec<miette::Report>, crate::Failure> {
-    let gcode = gcode_options(options);
+    let gcode = crate::front::gcode_options(options);
     let io = |error| crate::Failure::Io {
         path: path.to_path_buf(),
         action: "read",
@@ -309,7 +298,7 @@ pub fn compile_streaming(
     };
     writer
         .begin(&header)
-        .map_err(|e| emit_failure(e, options))?;
+        .map_err(|e| crate::pipeline::emit_failure(e, options, None))?;
     let mut sink = PlanningSink::new(writer, axes, tolerance);
     if let Err(errors) = pvt_gcode::compile_read(&mut open(path)?, &gcode, &mut sink).map_err(io)? {
         return Err(crate::Failure::Input(reports(
@@ -327,29 +316,10 @@ pub fn compile_streaming(
                 "{name}: {e}"
             )]))
         }
-        Err(StreamFailure::Emit(e)) => return Err(emit_failure(e, options)),
+        Err(StreamFailure::Emit(e)) => return Err(crate::pipeline::emit_failure(e, options, None)),
     }
     if options.format == pvt_emit::Format::Pmac {
         warnings.extend(crate::pipeline::fractional_ms_report(fractional, segments));
     }
     Ok(warnings)
-}
-
-fn emit_failure(e: StreamError, options: &crate::CompileOptions) -> crate::Failure {
-    match e {
-        StreamError::Io(error) => crate::Failure::Io {
-            path: "<output>".into(),
-            action: "write",
-            error,
-        },
-        StreamError::Invalid(invalid) => crate::Failure::Input(vec![miette::miette!(
-            code = pvt_emit::InvalidProgram::CODE,
-            "{invalid}"
-        )]),
-        StreamError::Unsupported(i) => crate::Failure::Input(vec![miette::miette!(
-            code = "pvtc::emit::unsupported_interpolation",
-            "the {} format cannot express {i:?} motion",
-            options.format.name()
-        )]),
-    }
 }
