@@ -310,9 +310,13 @@ pub(crate) fn emit_failure(
 
 /// Seed 003: PMAC rounds piece times to whole milliseconds without telling anyone.
 fn fractional_ms_warning(program: &PvtProgram) -> Option<Report> {
-    let durations = program.contours.iter().flat_map(|c| &c.durations);
-    let fractional = durations.filter(|t| (**t * 1000.0).fract() != 0.0).count();
-    fractional_ms_report(fractional, program.segment_count())
+    let mut totals = pvt_emit::stream::Totals::default();
+    program
+        .contours
+        .iter()
+        .flat_map(|c| &c.durations)
+        .for_each(|t| totals.add_segment(*t));
+    fractional_ms_report(totals.fractional_ms, totals.segments)
 }
 
 /// The warning for `fractional` of `segments` piece times that are not whole ms.

@@ -11,6 +11,7 @@ use pvt_core::{
     plan::{ContourStream, PlanError},
     Axis, ChordTolerance, Element, ElementKind, EventKind, Motion, ProgramEvent,
 };
+use pvt_emit::stream::Totals;
 use pvt_emit::{Checked, ProgramWriter, StreamError};
 
 /// Why streaming stopped.
@@ -32,10 +33,8 @@ pub struct PlanningSink<W: ProgramWriter> {
     contours: usize,
     point: Vec<f64>,
     failure: Option<StreamFailure>,
-    /// Segments written, and those whose time is not a whole millisecond.
-    pub segments: usize,
-    /// Segments whose piece time is not a whole number of milliseconds.
-    pub fractional_ms: usize,
+    /// Segments written, their time, and those whose time is not a whole millisecond.
+    pub totals: Totals,
 }
 
 impl<W: ProgramWriter> PlanningSink<W> {
@@ -50,8 +49,7 @@ impl<W: ProgramWriter> PlanningSink<W> {
             contours: 0,
             point: vec![0.0; dim],
             failure: None,
-            segments: 0,
-            fractional_ms: 0,
+            totals: Totals::default(),
         }
     }
 
@@ -92,13 +90,10 @@ impl<W: ProgramWriter> PlanningSink<W> {
         let (Some(contour), None) = (self.contour.as_mut(), self.failure.as_ref()) else {
             return;
         };
-        let (writer, counts) = (
-            &mut self.writer,
-            (&mut self.segments, &mut self.fractional_ms),
-        );
+        let (writer, totals) = (&mut self.writer, &mut self.totals);
         let mut emit_error = None;
         let result = contour.push(point, feed, line, &mut |seg| {
-            count(counts.0, counts.1, seg.duration);
+            totals.add_segment(seg.duration);
             if emit_error.is_none() {
                 emit_error = writer.segment(&seg).err();
             }
@@ -118,13 +113,10 @@ impl<W: ProgramWriter> PlanningSink<W> {
         if self.failure.is_some() {
             return;
         }
-        let (writer, counts) = (
-            &mut self.writer,
-            (&mut self.segments, &mut self.fractional_ms),
-        );
+        let (writer, totals) = (&mut self.writer, &mut self.totals);
         let mut emit_error = None;
         contour.finish(&mut |seg| {
-            count(counts.0, counts.1, seg.duration);
+            totals.add_segment(seg.duration);
             if emit_error.is_none() {
                 emit_error = writer.segment(&seg).err();
             }
@@ -155,14 +147,6 @@ impl<W: ProgramWriter> PlanningSink<W> {
             return Err(f);
         }
         self.writer.finish().map_err(StreamFailure::Emit)
-    }
-}
-
-/// Counts a segment, and whether its time is a whole millisecond.
-fn count(segments: &mut usize, fractional: &mut usize, duration: f64) {
-    *segments += 1;
-    if (duration * 1000.0).fract() != 0.0 {
-        *fractional += 1;
     }
 }
 
@@ -307,7 +291,7 @@ pub fn compile_streaming(
             errors.diagnostics,
         )));
     }
-    let (segments, fractional) = (sink.segments, sink.fractional_ms);
+    let totals = sink.totals;
     match sink.finish() {
         Ok(_) => {}
         Err(StreamFailure::Plan(e)) => {
@@ -319,7 +303,10 @@ pub fn compile_streaming(
         Err(StreamFailure::Emit(e)) => return Err(crate::pipeline::emit_failure(e, options, None)),
     }
     if options.format == pvt_emit::Format::Pmac {
-        warnings.extend(crate::pipeline::fractional_ms_report(fractional, segments));
+        warnings.extend(crate::pipeline::fractional_ms_report(
+            totals.fractional_ms,
+            totals.segments,
+        ));
     }
     Ok(warnings)
 }
