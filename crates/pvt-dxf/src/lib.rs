@@ -296,6 +296,17 @@ fn check_options(o: &DxfOptions) -> Result<(), DxfError> {
     Ok(())
 }
 
+/// Source paths of the third-party crates whose panics [`read_drawing`] catches and turns
+/// into `pvtc::dxf::read` (the `dxf` parser and the date library it calls).
+const CONTAINED_PANIC_SOURCES: [&str; 4] = ["/dxf-", "/dxf/", "/chrono-", "/chrono/"];
+
+/// True when a panic raised at source file `file` comes from a crate whose panics this
+/// front end catches and reports as `pvtc::dxf::read`; a panic hook may stay quiet about
+/// those, and must treat any other as a bug.
+pub fn is_contained_panic(file: &str) -> bool {
+    CONTAINED_PANIC_SOURCES.iter().any(|s| file.contains(s))
+}
+
 /// Parses the bytes with the `dxf` crate, turning its errors (and panics) into `read`.
 fn load(bytes: &[u8]) -> Result<dxf::Drawing, DxfError> {
     let result = std::panic::catch_unwind(|| dxf::Drawing::load(&mut Cursor::new(bytes)));

@@ -121,17 +121,14 @@ pub fn to_json(report: &Report) -> serde_json::Value {
     value
 }
 
-/// Crates whose panics the DXF front end catches and reports as `pvtc::dxf::read`: their
-/// panic messages would only repeat that diagnostic, so they are not printed.
-const CAUGHT_PANIC_SOURCES: [&str; 2] = ["/dxf-", "/chrono-"];
-
 /// Installs a panic hook that keeps the default report for every panic except those from
-/// third-party parsing crates that pvtc catches and turns into diagnostics.
+/// third-party parsing crates that pvtc catches and turns into diagnostics (their messages
+/// would only repeat that diagnostic).
 pub fn install_panic_hook() {
     let default = std::panic::take_hook();
     std::panic::set_hook(Box::new(move |info| {
         let file = info.location().map(|l| l.file()).unwrap_or("");
-        if !CAUGHT_PANIC_SOURCES.iter().any(|s| file.contains(s)) {
+        if !pvt_dxf::is_contained_panic(file) {
             default(info);
         }
     }));
