@@ -436,6 +436,51 @@ pub enum GcodeDiagnostic {
         span: SourceSpan,
     },
 
+    /// A line longer than [`crate::MAX_LINE_BYTES`]: no G-code line is that long, so the
+    /// file is not a part program (or is damaged); the line is skipped unread.
+    #[error("line {line} is {length} bytes long; pvtc reads lines of at most {limit} bytes")]
+    #[diagnostic(
+        code(pvtc::gcode::line_too_long),
+        help("a G-code block fits on one short line; check that this is a part program")
+    )]
+    LineTooLong {
+        /// 1-based line number.
+        line: u32,
+        /// Its length in bytes, line end not counted.
+        length: usize,
+        /// The limit, [`crate::MAX_LINE_BYTES`].
+        limit: usize,
+        /// The start of the line (unlabelled: the line is too long to show).
+        span: SourceSpan,
+    },
+
+    /// More errors than [`crate::MAX_KEPT_DIAGNOSTICS`]: the rest are counted, not kept.
+    #[error("{count} more errors after these are not listed")]
+    #[diagnostic(
+        code(pvtc::gcode::more_errors),
+        help("correct the errors listed and compile again")
+    )]
+    MoreErrors {
+        /// Errors not kept.
+        count: usize,
+        /// The first error not kept (unlabelled).
+        span: SourceSpan,
+    },
+
+    /// Warning: more warnings than [`crate::MAX_KEPT_DIAGNOSTICS`]; the rest are counted.
+    #[error("{count} more warnings after these are not listed")]
+    #[diagnostic(
+        code(pvtc::gcode::more_warnings),
+        severity(Warning),
+        help("correct the warnings listed and compile again")
+    )]
+    MoreWarnings {
+        /// Warnings not kept.
+        count: usize,
+        /// The first warning not kept (unlabelled).
+        span: SourceSpan,
+    },
+
     /// A program without any motion (empty, or only comments and modes).
     #[error("the program has no motion")]
     #[diagnostic(
@@ -476,6 +521,9 @@ impl GcodeDiagnostic {
             D::ZeroLengthMove { .. } => "pvtc::gcode::zero_length_move",
             D::AfterProgramEnd { .. } => "pvtc::gcode::after_program_end",
             D::NoMotion { .. } => "pvtc::gcode::no_motion",
+            D::LineTooLong { .. } => "pvtc::gcode::line_too_long",
+            D::MoreErrors { .. } => "pvtc::gcode::more_errors",
+            D::MoreWarnings { .. } => "pvtc::gcode::more_warnings",
             D::MathError { .. } => "pvtc::gcode::math_error",
             D::UndefinedParameter { .. } => "pvtc::gcode::undefined_parameter",
             D::ChecksumMismatch { .. } => "pvtc::gcode::checksum_mismatch",
@@ -496,7 +544,10 @@ impl GcodeDiagnostic {
     pub fn is_warning(&self) -> bool {
         matches!(
             self,
-            Self::ZeroLengthMove { .. } | Self::AfterProgramEnd { .. } | Self::IgnoredWord { .. }
+            Self::ZeroLengthMove { .. }
+                | Self::AfterProgramEnd { .. }
+                | Self::IgnoredWord { .. }
+                | Self::MoreWarnings { .. }
         )
     }
 
@@ -525,6 +576,9 @@ impl GcodeDiagnostic {
             | D::ZeroLengthMove { span }
             | D::AfterProgramEnd { span, .. }
             | D::NoMotion { span }
+            | D::LineTooLong { span, .. }
+            | D::MoreErrors { span, .. }
+            | D::MoreWarnings { span, .. }
             | D::MathError { span, .. }
             | D::UndefinedParameter { span, .. }
             | D::ChecksumMismatch { span, .. }
@@ -553,30 +607,6 @@ fn places_note(places: usize) -> String {
     } else {
         String::new()
     }
-}
-
-/// Merges the `unsupported` diagnostics of one feature into the first, counting places.
-pub(crate) fn merge_unsupported(errors: &mut Vec<GcodeDiagnostic>) {
-    let mut firsts: Vec<(&'static str, usize)> = Vec::new();
-    let mut kept = Vec::with_capacity(errors.len());
-    for d in errors.drain(..) {
-        let GcodeDiagnostic::Unsupported { feature, .. } = d else {
-            kept.push(d);
-            continue;
-        };
-        match firsts.iter().find(|(f, _)| *f == feature) {
-            Some(&(_, index)) => {
-                if let Some(GcodeDiagnostic::Unsupported { places, .. }) = kept.get_mut(index) {
-                    *places += 1;
-                }
-            }
-            None => {
-                firsts.push((feature, kept.len()));
-                kept.push(d);
-            }
-        }
-    }
-    *errors = kept;
 }
 
 fn count_errors(n: usize) -> String {

@@ -20,7 +20,8 @@ use pvt_core::{EventKind, Position, Units, AXIS_COUNT};
 
 use crate::block::{Block, Word};
 use crate::codes::{Distance, FeedMode, MotionMode, NonModal, PathMode};
-use crate::diagnostic::{merge_unsupported, span, GcodeDiagnostic};
+use crate::diagnostic::{span, GcodeDiagnostic};
+use crate::kept::Kept;
 use crate::request::{Request, Stop};
 use crate::{GcodeErrors, GcodeOptions, StreamSummary, ToolpathSink};
 
@@ -84,8 +85,10 @@ pub(crate) struct Interpreter<'a> {
     /// Any element was sent.
     moved: bool,
     path_tolerance: Option<f64>,
-    errors: Vec<GcodeDiagnostic>,
-    warnings: Vec<GcodeDiagnostic>,
+    errors: Kept,
+    warnings: Kept,
+    /// Set while a block whose line has a syntax error runs: its diagnostics are dropped.
+    quiet: bool,
     /// Diagnostics of the block being read, before they are sorted into the two above.
     pending: Vec<GcodeDiagnostic>,
 }
@@ -106,8 +109,9 @@ impl<'a> Interpreter<'a> {
             open: false,
             moved: false,
             path_tolerance: None,
-            errors: Vec::new(),
-            warnings: Vec::new(),
+            errors: Kept::default(),
+            warnings: Kept::default(),
+            quiet: false,
             pending: Vec::new(),
         }
     }
@@ -119,7 +123,9 @@ impl<'a> Interpreter<'a> {
 
     /// Records a warning.
     pub fn warn(&mut self, diagnostic: GcodeDiagnostic) {
-        self.warnings.push(diagnostic);
+        if !self.quiet {
+            self.warnings.push(diagnostic);
+        }
     }
 
     /// Executes one block in RS274NGC order (see the module documentation).
@@ -154,10 +160,9 @@ impl<'a> Interpreter<'a> {
 
     /// Executes a block whose line had a syntax error, reporting nothing more about it.
     pub fn execute_quietly(&mut self, block: &Block) -> Flow {
-        let (errors, warnings) = (self.errors.len(), self.warnings.len());
+        self.quiet = true;
         let flow = self.execute(block);
-        self.errors.truncate(errors);
-        self.warnings.truncate(warnings);
+        self.quiet = false;
         flow
     }
 
@@ -169,21 +174,24 @@ impl<'a> Interpreter<'a> {
                 .push(GcodeDiagnostic::NoMotion { span: span(0..0) });
         }
         if !self.errors.is_empty() {
-            self.errors.sort_by_key(|d| d.span().start);
-            merge_unsupported(&mut self.errors);
-            return Err(GcodeErrors {
-                diagnostics: self.errors,
-            });
+            let diagnostics = self
+                .errors
+                .into_sorted(|count, span| GcodeDiagnostic::MoreErrors { count, span });
+            return Err(GcodeErrors { diagnostics });
         }
-        self.warnings.sort_by_key(|d| d.span().start);
         Ok(StreamSummary {
             units: self.output(),
-            warnings: self.warnings,
+            warnings: self
+                .warnings
+                .into_sorted(|count, span| GcodeDiagnostic::MoreWarnings { count, span }),
             path_tolerance: self.path_tolerance,
         })
     }
 
     fn push(&mut self, diagnostic: GcodeDiagnostic) {
+        if self.quiet {
+            return;
+        }
         if diagnostic.is_warning() {
             self.warnings.push(diagnostic);
         } else {

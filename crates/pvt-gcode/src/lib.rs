@@ -35,14 +35,22 @@ mod codes;
 mod contours;
 mod diagnostic;
 mod interpreter;
+mod kept;
+mod lines;
 mod params;
 mod parser;
+mod prescan;
 mod request;
 mod sink;
+mod syntax;
 mod value;
 
 pub use diagnostic::{line_col, GcodeDiagnostic, GcodeErrors};
+pub use kept::MAX_KEPT_DIAGNOSTICS;
+pub use lines::MAX_LINE_BYTES;
+pub use prescan::{prescan, Prescan};
 pub use sink::{StreamSummary, ToolpathSink};
+pub use syntax::{check_syntax, SyntaxSummary};
 
 use interpreter::{Flow, Interpreter};
 use parser::{LineKind, SourceLine, SourceLines};
@@ -140,37 +148,19 @@ pub fn compile_into(
 /// Reads `input` line by line (constant memory, whatever its length) into `sink`.
 ///
 /// Spans are byte offsets into `input`. Invalid UTF-8 in a line becomes U+FFFD, which
-/// shifts the columns after it on that line only. A read error is returned as such.
+/// shifts the columns after it on that line only. A line longer than [`MAX_LINE_BYTES`]
+/// is `pvtc::gcode::line_too_long` and is skipped without being held. A read error is
+/// returned as such.
 pub fn compile_read(
     input: &mut dyn std::io::BufRead,
     options: &GcodeOptions,
     sink: &mut dyn ToolpathSink,
 ) -> std::io::Result<Result<StreamSummary, GcodeErrors>> {
     let mut reader = Reader::new(options, sink);
-    let mut buffer = Vec::with_capacity(256);
-    let mut offset = 0usize;
-    loop {
-        buffer.clear();
-        let read = input.read_until(b'\n', &mut buffer)?;
-        if read == 0 {
-            break;
-        }
-        let mut bytes = &buffer[..];
-        let mut start = offset;
-        if offset == 0 {
-            if let Some(rest) = bytes.strip_prefix("\u{feff}".as_bytes()) {
-                bytes = rest;
-                start += 3;
-            }
-        }
-        offset += read;
-        let bytes = bytes.strip_suffix(b"\n").unwrap_or(bytes);
-        let bytes = bytes.strip_suffix(b"\r").unwrap_or(bytes);
-        let text = String::from_utf8_lossy(bytes);
-        if !reader.line(&text, start) {
-            break;
-        }
-    }
+    lines::read_lines(input, &mut |line| match line {
+        lines::Line::Text { text, start } => reader.line(text, start),
+        lines::Line::TooLong { start, length } => reader.too_long_line(start, length),
+    })?;
     Ok(reader.finish())
 }
 
@@ -210,7 +200,31 @@ impl<'a> Reader<'a> {
         })
     }
 
+    /// Skips the next line, `length` bytes from byte `start`, as longer than
+    /// [`MAX_LINE_BYTES`] (reported, unless the program has ended); returns as [`Reader::line`].
+    pub fn too_long_line(&mut self, start: usize, length: usize) -> bool {
+        self.number = self.number.saturating_add(1);
+        if let Some(end) = &self.ended {
+            self.interpreter.warn(GcodeDiagnostic::AfterProgramEnd {
+                end: end.clone(),
+                span: diagnostic::span(start..start),
+            });
+            return false;
+        }
+        self.interpreter.report(GcodeDiagnostic::LineTooLong {
+            line: self.number,
+            length,
+            limit: MAX_LINE_BYTES,
+            span: diagnostic::span(start..start),
+        });
+        true
+    }
+
     fn source_line(&mut self, line: SourceLine<'_>) -> bool {
+        if line.text.len() > MAX_LINE_BYTES {
+            self.number = line.number.saturating_sub(1);
+            return self.too_long_line(line.start, line.text.len());
+        }
         self.number = line.number;
         if let Some(end) = &self.ended {
             let Some(warning) = after_end(line, &mut self.block, &self.params, end) else {

@@ -7,7 +7,7 @@
 
 use nom::bytes::complete::{take_till, take_while};
 use nom::character::complete::{char, digit1, one_of, satisfy};
-use nom::combinator::{opt, recognize, rest};
+use nom::combinator::rest;
 use nom::sequence::{delimited, preceded};
 use nom::{IResult, Parser};
 
@@ -65,8 +65,10 @@ impl<'a> Iterator for SourceLines<'a> {
         if self.rest.is_empty() {
             return None;
         }
-        let (after, text) = line_text(self.rest).ok()?;
-        let (after, _) = opt(newline).parse(after).ok()?;
+        let (text, after) = match memchr::memchr(b'\n', self.rest.as_bytes()) {
+            Some(end) => (&self.rest[..end], &self.rest[end + 1..]),
+            None => (self.rest, ""),
+        };
         let line = SourceLine {
             text: text.strip_suffix('\r').unwrap_or(text),
             start: self.offset,
@@ -81,13 +83,11 @@ impl<'a> Iterator for SourceLines<'a> {
 
 // ---- productions (names as in grammars/gcode.ebnf) ----
 
-/// `line_text`: everything up to the line end.
-pub(crate) fn line_text(i: &str) -> IResult<&str, &str> {
-    take_till(|c| c == '\n').parse(i)
-}
-
-/// `newline = [ "\r" ] , "\n"`.
+/// `newline = [ "\r" ] , "\n"`. [`SourceLines`] and the streaming reader split lines with
+/// `memchr` instead; this production is what the grammar test holds them to.
+#[cfg(test)]
 pub(crate) fn newline(i: &str) -> IResult<&str, &str> {
+    use nom::combinator::{opt, recognize};
     recognize((opt(char('\r')), char('\n'))).parse(i)
 }
 
@@ -123,8 +123,11 @@ pub(crate) fn number(i: &str) -> IResult<&str, &str> {
     Ok((&i[end..], &i[..end]))
 }
 
-/// The value of text [`number`] accepted; infinite when too large.
+/// The value of text [`number`] accepted, correctly rounded; infinite when too large.
 pub(crate) fn number_value(text: &str) -> f64 {
+    if let Some(value) = short_decimal(text.as_bytes()) {
+        return value;
+    }
     if !text.contains([' ', '\t']) {
         return text.parse().unwrap_or(f64::NAN);
     }
@@ -142,6 +145,80 @@ pub(crate) fn number_value(text: &str) -> f64 {
         .ok()
         .and_then(|t| t.parse().ok())
         .unwrap_or(f64::NAN)
+}
+
+/// Powers of ten that are exact in an `f64`.
+const EXACT_POWERS_OF_TEN: [f64; 16] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+];
+
+/// The value of a blank-free decimal of at most 15 digits (what CAM writes), or `None`.
+///
+/// Clinger's fast path: the digits as an integer below 2^53 and the power of ten are both
+/// exact, so one IEEE division gives the correctly rounded value, bit for bit what
+/// `str::parse` gives, without its general-case machinery.
+fn short_decimal(text: &[u8]) -> Option<f64> {
+    let (negative, digits) = match text.split_first() {
+        Some((b'-', rest)) => (true, rest),
+        Some((b'+', rest)) => (false, rest),
+        _ => (false, text),
+    };
+    let (mut mantissa, mut count, mut point) = (0u64, 0usize, None);
+    for (at, &c) in digits.iter().enumerate() {
+        match c {
+            b'0'..=b'9' => {
+                mantissa = mantissa * 10 + u64::from(c - b'0');
+                count += 1;
+                if count > 15 {
+                    return None;
+                }
+            }
+            b'.' if point.is_none() => point = Some(at),
+            _ => return None,
+        }
+    }
+    if count == 0 {
+        return None;
+    }
+    let scale = point.map_or(0, |at| digits.len() - at - 1);
+    let magnitude = mantissa as f64 / EXACT_POWERS_OF_TEN[scale];
+    Some(if negative { -magnitude } else { magnitude })
+}
+
+/// A number as CAM writes it and its value: `[sign] digits [. digits]`, at most 15
+/// digits, followed by nothing that could continue it (blanks then a digit or point, an
+/// exponent, a second point). Returns its length; `None` sends the text to the general
+/// reader ([`Reader::real_value`]), which gives the same value or the diagnostic. One
+/// scan, no allocation: the hot path of a surfacing program.
+pub(crate) fn plain_number(i: &str) -> Option<(usize, f64)> {
+    let b = i.as_bytes();
+    let negative = b.first() == Some(&b'-');
+    let mut at = usize::from(matches!(b.first(), Some(b'+' | b'-')));
+    let (mut mantissa, mut count, mut scale, mut point) = (0u64, 0usize, 0usize, false);
+    while let Some(&c) = b.get(at) {
+        match c {
+            b'0'..=b'9' if count < 15 => {
+                mantissa = mantissa * 10 + u64::from(c - b'0');
+                count += 1;
+                scale += usize::from(point);
+            }
+            b'0'..=b'9' => return None,
+            b'.' if !point => point = true,
+            _ => break,
+        }
+        at += 1;
+    }
+    let next_item = b[at..].iter().find(|c| !matches!(c, b' ' | b'\t'));
+    let continues = match b.get(at) {
+        Some(b'e' | b'E' | b'.') => true,
+        Some(b' ' | b'\t') => matches!(next_item, Some(b'0'..=b'9' | b'.')),
+        _ => false,
+    };
+    if count == 0 || continues {
+        return None;
+    }
+    let magnitude = mantissa as f64 / EXACT_POWERS_OF_TEN[scale];
+    Some((at, if negative { -magnitude } else { magnitude }))
 }
 
 /// `letter`: an ASCII letter, either case.
@@ -353,13 +430,21 @@ fn read_word(reader: &mut Reader<'_>, block: &mut Block) -> Result<(), GcodeDiag
     let letter = rest.as_bytes()[0].to_ascii_uppercase();
     reader.pos += 1;
     reader.skip_blanks();
-    if !starts_value(reader.rest()) {
-        return Err(bad_number(rest, reader.absolute(at)));
-    }
-    reader.word_start = Some(at);
-    let value = reader.real_value();
-    reader.word_start = None;
-    let value = value?;
+    let value = match plain_number(reader.rest()) {
+        Some((len, value)) => {
+            reader.pos += len;
+            value
+        }
+        None => {
+            if !starts_value(reader.rest()) {
+                return Err(bad_number(rest, reader.absolute(at)));
+            }
+            reader.word_start = Some(at);
+            let value = reader.real_value();
+            reader.word_start = None;
+            value?
+        }
+    };
     let word = Word {
         letter,
         value,

@@ -315,3 +315,78 @@ fn deep_nesting_is_an_error_not_a_stack_overflow() {
     let hashes = format!("X{}1", "#".repeat(10_000));
     assert_eq!(error(&hashes).0, "pvtc::gcode::syntax");
 }
+
+#[test]
+fn short_decimals_take_the_fast_path_and_long_ones_do_not() {
+    assert_eq!(short_decimal(b"-12.5"), Some(-12.5));
+    assert_eq!(short_decimal(b"+.25"), Some(0.25));
+    assert_eq!(short_decimal(b"7."), Some(7.0));
+    assert_eq!(
+        short_decimal(b"-0").map(f64::to_bits),
+        Some((-0.0f64).to_bits())
+    );
+    assert_eq!(short_decimal(b"123456789012345"), Some(123456789012345.0));
+    assert_eq!(short_decimal(b"1234567890123456"), None);
+    assert_eq!(short_decimal(b"1 0"), None);
+    assert_eq!(short_decimal(b"."), None);
+    assert_eq!(number_value("0.1000000000000000055511151231257827"), 0.1);
+}
+
+proptest::proptest! {
+    /// The fast path is bit-identical to the standard library's correctly rounded parse.
+    #[test]
+    fn number_value_is_bit_identical_to_str_parse(
+        negative in proptest::bool::ANY,
+        whole in 0u64..1_000_000_000,
+        fraction in 0u64..10_000_000,
+        places in 0usize..8,
+    ) {
+        let sign = if negative { "-" } else { "" };
+        let text = if places == 0 {
+            format!("{sign}{whole}")
+        } else {
+            let f = fraction % 10u64.pow(places as u32);
+            format!("{sign}{whole}.{f:0places$}")
+        };
+        let expected: f64 = text.parse().unwrap();
+        proptest::prop_assert_eq!(number_value(&text).to_bits(), expected.to_bits(), "{}", text);
+    }
+}
+
+/// What the general value reader makes of `text` (value and length), or `None`.
+fn general_value(text: &str) -> Option<(usize, u64)> {
+    let p = Parameters::default();
+    let mut reader = Reader::new(text, 0, 0, &p);
+    let value = reader.real_value().ok()?;
+    Some((reader.pos, value.to_bits()))
+}
+
+#[test]
+fn plain_numbers_leave_the_unusual_to_the_general_reader() {
+    assert_eq!(plain_number("-12.5 Y1"), Some((5, -12.5)));
+    assert_eq!(plain_number("3Y1"), Some((1, 3.0)));
+    for unusual in [
+        "1 0",
+        "1. 5",
+        "1e3",
+        "1.2.3",
+        "- 2",
+        "[1]",
+        "#1",
+        "1234567890123456",
+    ] {
+        assert_eq!(plain_number(unusual), None, "{unusual}");
+    }
+}
+
+proptest::proptest! {
+    /// Where the fast path answers, it answers as the general reader does, bit for bit.
+    #[test]
+    fn plain_number_agrees_with_the_general_reader(text in "[-+]?[0-9]{0,9}(\\.[0-9]{0,8})?[ XE.0-9]{0,3}") {
+        if let Some((len, value)) = plain_number(&text) {
+            proptest::prop_assert_eq!(general_value(&text[..len]), Some((len, value.to_bits())));
+            let stop = general_value(&text).map(|(n, _)| n);
+            proptest::prop_assert!(stop.is_none() || stop == Some(len), "{} {:?}", text, stop);
+        }
+    }
+}

@@ -1,0 +1,262 @@
+//! A byte stream cut into lines: byte offsets, line ends, the BOM, invalid UTF-8 and the
+//! bound on line length.
+//!
+//! Owns [`MAX_LINE_BYTES`] and the guarantee that reading a stream holds at most one line
+//! of that length in memory, whatever the input (a 100 MB line, a 1 GB unterminated
+//! comment). A line that fits in the reader's buffer is handed over in place, without a
+//! copy. It must not parse a line.
+
+use std::io::BufRead;
+
+/// Longest line pvtc reads, in bytes, line end not counted (RS274NGC allows 256); a longer
+/// line is `pvtc::gcode::line_too_long` and is skipped without being held in memory.
+pub const MAX_LINE_BYTES: usize = 64 * 1024;
+
+const BOM: &[u8] = "\u{feff}".as_bytes();
+
+/// One line of the stream.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Line<'a> {
+    /// A line within the limit, line end (and a leading BOM) removed; starts at byte `start`.
+    Text {
+        /// The text, invalid UTF-8 replaced by U+FFFD.
+        text: &'a str,
+        /// Byte offset of the text in the stream.
+        start: usize,
+    },
+    /// A line over [`MAX_LINE_BYTES`]: where it starts and how long it is.
+    TooLong {
+        /// Byte offset of the line in the stream.
+        start: usize,
+        /// Its length, line end not counted.
+        length: usize,
+    },
+}
+
+/// Hands every line of `input` to `each` until `each` returns false or the input ends.
+pub(crate) fn read_lines(
+    input: &mut dyn BufRead,
+    each: &mut dyn FnMut(Line<'_>) -> bool,
+) -> std::io::Result<()> {
+    let mut splitter = Splitter::default();
+    loop {
+        let chunk = match input.fill_buf() {
+            Ok(chunk) => chunk,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+            Err(e) => return Err(e),
+        };
+        if chunk.is_empty() {
+            break;
+        }
+        let len = chunk.len();
+        let go_on = splitter.feed(chunk, each);
+        input.consume(len);
+        if !go_on {
+            return Ok(());
+        }
+    }
+    splitter.finish(each);
+    Ok(())
+}
+
+/// The state between chunks: the start of the line being read and what is held of it.
+#[derive(Default)]
+struct Splitter {
+    /// Offset of the next byte fed.
+    offset: usize,
+    /// Offset of the line being read.
+    line_start: usize,
+    /// Bytes of a line begun in an earlier chunk, while it is within the limit.
+    pending: Vec<u8>,
+    /// Once the line is over the limit: its length so far, and nothing is held.
+    overlong: Option<usize>,
+    /// Bytes of a BOM at the start of an over-long first line (not part of its length).
+    bom: usize,
+    /// Whether the last byte of an over-long line so far is `\r` (not part of its length).
+    ends_cr: bool,
+}
+
+impl Splitter {
+    fn feed(&mut self, chunk: &[u8], each: &mut dyn FnMut(Line<'_>) -> bool) -> bool {
+        let mut rest = chunk;
+        while let Some(end) = memchr::memchr(b'\n', rest) {
+            let go_on = if self.pending.is_empty() && self.overlong.is_none() {
+                deliver(&rest[..end], self.line_start, each)
+            } else {
+                self.append(&rest[..end]);
+                self.take_line(each)
+            };
+            self.offset += end + 1;
+            self.line_start = self.offset;
+            rest = &rest[end + 1..];
+            if !go_on {
+                return false;
+            }
+        }
+        self.append(rest);
+        self.offset += rest.len();
+        true
+    }
+
+    /// Adds bytes to the line being read, letting go of them once it is over the limit.
+    fn append(&mut self, piece: &[u8]) {
+        if let Some(&last) = piece.last() {
+            self.ends_cr = last == b'\r';
+        }
+        if let Some(length) = &mut self.overlong {
+            *length += piece.len();
+            return;
+        }
+        // Room for a BOM and a `\r`, which do not count; `deliver` measures exactly.
+        if self.pending.len() + piece.len() <= MAX_LINE_BYTES + BOM.len() + 1 {
+            self.pending.extend_from_slice(piece);
+            return;
+        }
+        // The line goes over the limit here: note whether it began with a BOM, then keep
+        // only its length.
+        let head: Vec<u8> = self
+            .pending
+            .iter()
+            .chain(piece)
+            .take(BOM.len())
+            .copied()
+            .collect();
+        self.bom = if self.line_start == 0 && head == BOM {
+            BOM.len()
+        } else {
+            0
+        };
+        self.overlong = Some(self.pending.len() + piece.len());
+        self.pending = Vec::new();
+    }
+
+    /// Hands over the line read so far and starts the next.
+    fn take_line(&mut self, each: &mut dyn FnMut(Line<'_>) -> bool) -> bool {
+        let go_on = match self.overlong.take() {
+            Some(length) => each(Line::TooLong {
+                start: self.line_start + self.bom,
+                length: length - self.bom - usize::from(self.ends_cr),
+            }),
+            None => deliver(&self.pending, self.line_start, each),
+        };
+        self.pending.clear();
+        self.bom = 0;
+        self.ends_cr = false;
+        go_on
+    }
+
+    /// Hands over a last line that has no line end.
+    fn finish(mut self, each: &mut dyn FnMut(Line<'_>) -> bool) {
+        if !self.pending.is_empty() || self.overlong.is_some() {
+            self.take_line(each);
+        }
+    }
+}
+
+/// Hands over one whole line (without its `\n`) that starts at byte `start`.
+fn deliver(line: &[u8], start: usize, each: &mut dyn FnMut(Line<'_>) -> bool) -> bool {
+    let (line, start) = match line.strip_prefix(BOM) {
+        Some(rest) if start == 0 => (rest, BOM.len()),
+        _ => (line, start),
+    };
+    let line = line.strip_suffix(b"\r").unwrap_or(line);
+    if line.len() > MAX_LINE_BYTES {
+        return each(Line::TooLong {
+            start,
+            length: line.len(),
+        });
+    }
+    match std::str::from_utf8(line) {
+        Ok(text) => each(Line::Text { text, start }),
+        Err(_) => each(Line::Text {
+            text: &String::from_utf8_lossy(line),
+            start,
+        }),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    #[derive(Debug, PartialEq)]
+    enum Got {
+        Text(String, usize),
+        TooLong(usize, usize),
+    }
+
+    fn streamed(bytes: &[u8], capacity: usize) -> Vec<Got> {
+        let mut input = std::io::BufReader::with_capacity(capacity, bytes);
+        let mut got = Vec::new();
+        read_lines(&mut input, &mut |line| {
+            got.push(match line {
+                Line::Text { text, start } => Got::Text(text.to_owned(), start),
+                Line::TooLong { start, length } => Got::TooLong(start, length),
+            });
+            true
+        })
+        .unwrap();
+        got
+    }
+
+    /// What the in-memory path sees: `SourceLines` and the same length check.
+    fn in_memory(text: &str) -> Vec<Got> {
+        crate::parser::SourceLines::new(text)
+            .map(|l| match l.text.len() > MAX_LINE_BYTES {
+                true => Got::TooLong(l.start, l.text.len()),
+                false => Got::Text(l.text.to_owned(), l.start),
+            })
+            .collect()
+    }
+
+    #[test]
+    fn offsets_line_ends_and_bom() {
+        let text = "\u{feff}G0 X1\r\n\nG1 Y2";
+        assert_eq!(
+            streamed(text.as_bytes(), 4),
+            [
+                Got::Text("G0 X1".into(), 3),
+                Got::Text(String::new(), 10),
+                Got::Text("G1 Y2".into(), 11)
+            ]
+        );
+    }
+
+    #[test]
+    fn an_over_long_line_is_measured_not_held() {
+        let mut text = vec![b'('; 3 * MAX_LINE_BYTES];
+        text.extend_from_slice(b"\r\nG0 X1");
+        assert_eq!(
+            streamed(&text, 1000),
+            [
+                Got::TooLong(0, 3 * MAX_LINE_BYTES),
+                Got::Text("G0 X1".into(), 3 * MAX_LINE_BYTES + 2)
+            ]
+        );
+    }
+
+    fn piece() -> impl Strategy<Value = String> {
+        prop_oneof![
+            4 => "[GX0-9 .]{1,12}",
+            3 => Just("\n".to_owned()),
+            1 => Just("\r\n".to_owned()),
+            1 => Just("\r".to_owned()),
+            1 => Just("\u{feff}".to_owned()),
+            1 => (MAX_LINE_BYTES - 3..MAX_LINE_BYTES + 4).prop_map(|n| "x".repeat(n)),
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+        /// Streaming in chunks of any size gives the lines the in-memory path gives.
+        #[test]
+        fn chunked_reading_matches_the_in_memory_lines(
+            pieces in proptest::collection::vec(piece(), 0..24),
+            capacity in 1usize..200,
+        ) {
+            let text = pieces.concat();
+            prop_assert_eq!(streamed(text.as_bytes(), capacity), in_memory(&text));
+        }
+    }
+}

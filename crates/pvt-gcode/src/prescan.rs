@@ -1,0 +1,116 @@
+//! A quick look at a program before compiling it: the axes its words name and its first
+//! units word, read lexically (no parameters, expressions or modes).
+//!
+//! Owns nothing a compile relies on. Its answer is a guess that lets a streaming caller
+//! write a header (which lists the moved axes and the units) before the compile has seen
+//! the whole program; that caller must check the guess against what the compile itself
+//! found ([`crate::StreamSummary::units`] and the elements it received) and start over
+//! when they differ. It must not report diagnostics.
+
+use std::io::BufRead;
+
+use pvt_core::{Units, AXIS_COUNT};
+
+use crate::lines::{read_lines, Line};
+
+/// What the words of a program suggest, before it is compiled.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Prescan {
+    /// Per axis, in X Y Z A B C order: a word of that letter with a value appears outside
+    /// comments and brackets.
+    pub axis_words: [bool; AXIS_COUNT],
+    /// The units of the first G20 or G21 word, if there is one.
+    pub units: Option<Units>,
+}
+
+/// Reads `input` to its end and returns what its words suggest (see [`Prescan`]).
+pub fn prescan(input: &mut dyn BufRead) -> std::io::Result<Prescan> {
+    let mut found = Prescan::default();
+    read_lines(input, &mut |line| {
+        if let Line::Text { text, .. } = line {
+            scan_line(text.as_bytes(), &mut found);
+        }
+        true
+    })?;
+    Ok(found)
+}
+
+fn scan_line(b: &[u8], found: &mut Prescan) {
+    let (mut at, mut depth) = (0, 0u32);
+    while let Some(&c) = b.get(at) {
+        match c {
+            b'(' if depth == 0 => {
+                at += b[at..]
+                    .iter()
+                    .position(|&c| c == b')')
+                    .unwrap_or(b.len() - at);
+            }
+            b';' if depth == 0 => return,
+            b'[' => depth += 1,
+            b']' => depth = depth.saturating_sub(1),
+            c if c.is_ascii_alphabetic() => {
+                let run = b[at..]
+                    .iter()
+                    .take_while(|c| c.is_ascii_alphabetic())
+                    .count();
+                if run == 1 && depth == 0 {
+                    word(c.to_ascii_uppercase(), &b[at + 1..], found);
+                }
+                at += run;
+                continue;
+            }
+            _ => {}
+        }
+        at += 1;
+    }
+}
+
+/// Notes the word of `letter` whose value text follows in `after`.
+fn word(letter: u8, after: &[u8], found: &mut Prescan) {
+    let after = after.trim_ascii_start();
+    if !matches!(
+        after.first(),
+        Some(b'0'..=b'9' | b'.' | b'+' | b'-' | b'[' | b'#')
+    ) {
+        return;
+    }
+    if let Some(axis) = b"XYZABC".iter().position(|&a| a == letter) {
+        found.axis_words[axis] = true;
+    } else if letter == b'G' && found.units.is_none() {
+        let len = after
+            .iter()
+            .take_while(|c| c.is_ascii_digit() || **c == b'.')
+            .count();
+        let number: Option<f64> = std::str::from_utf8(&after[..len])
+            .ok()
+            .and_then(|t| t.parse().ok());
+        found.units = match number {
+            Some(20.0) => Some(Units::Inch),
+            Some(21.0) => Some(Units::Millimetre),
+            _ => None,
+        };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scan(text: &str) -> Prescan {
+        prescan(&mut text.as_bytes()).unwrap()
+    }
+
+    #[test]
+    fn axis_words_outside_comments_brackets_and_names() {
+        let p = scan("G21 G0X1 y2 (Z3) ; A4\n#<b> = [ACOS[0]] o100 repeat [2]\nC [#<b>]");
+        assert_eq!(p.axis_words, [true, true, false, false, false, true]);
+        assert_eq!(p.units, Some(Units::Millimetre));
+    }
+
+    #[test]
+    fn the_first_units_word_counts() {
+        assert_eq!(scan("G0 X1\nG20\nG21").units, Some(Units::Inch));
+        assert_eq!(scan("G0 X1").units, None);
+        assert_eq!(scan("G2 X1").units, None);
+    }
+}
