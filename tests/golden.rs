@@ -7,6 +7,9 @@
 //! segment's cubic ends exactly at its point with its velocity, and (seed 000's defining
 //! property) its speed at mid-time is the mean of its end speeds.
 
+use std::io::{Read, Seek};
+use std::path::Path;
+
 use pvt_core::PvtProgram;
 use pvt_emit::Format;
 use pvtc::CompileOptions;
@@ -375,8 +378,33 @@ fn every_planner_matches_its_golden_files() {
     }
 }
 
-/// The streaming path (two passes over the file, constant memory) writes exactly the
-/// bytes the in-memory path does, for every G-code sample and format.
+/// Streams the G-code file at `path` into a file (one pass after a prescan, a second
+/// when the guess was wrong) and into a stream (two passes); both outputs must agree.
+fn stream_both_ways(
+    path: &Path,
+    name: &str,
+    options: &pvtc::CompileOptions,
+) -> (Vec<u8>, Vec<miette::Report>) {
+    use pvtc::output::Target;
+    let mut streamed = Vec::new();
+    let warnings =
+        pvtc::stream::compile_streaming(path, name, options, &mut Target::Stream(&mut streamed))
+            .unwrap_or_else(|f| panic!("{name}: {:?}", f.codes()));
+    let mut file = tempfile::tempfile().unwrap();
+    pvtc::stream::compile_streaming(path, name, options, &mut Target::File(&mut file))
+        .unwrap_or_else(|f| panic!("{name}: {:?}", f.codes()));
+    let mut in_file = Vec::new();
+    file.rewind().unwrap();
+    file.read_to_end(&mut in_file).unwrap();
+    assert!(
+        in_file == streamed,
+        "{name}: file and stream outputs differ"
+    );
+    (streamed, warnings)
+}
+
+/// The streaming path (constant memory) writes exactly the bytes the in-memory path does,
+/// for every G-code sample and format, into a file and into a stream.
 #[test]
 fn streaming_matches_in_memory_for_every_gcode_sample() {
     for sample in samples("gcode", ".ngc") {
@@ -384,9 +412,7 @@ fn streaming_matches_in_memory_for_every_gcode_sample() {
             let options = options_for(&sample, format);
             let path = root().join(&sample);
             assert!(pvtc::stream::can_stream(&path, &options));
-            let mut streamed = Vec::new();
-            let warnings = pvtc::stream::compile_streaming(&path, &sample, &options, &mut streamed)
-                .unwrap_or_else(|f| panic!("{sample}: {:?}", f.codes()));
+            let (streamed, warnings) = stream_both_ways(&path, &sample, &options);
             let bytes = std::fs::read(&path).unwrap();
             let in_memory = pvtc::compile(
                 &pvtc::Source {
@@ -411,6 +437,43 @@ fn streaming_matches_in_memory_for_every_gcode_sample() {
                 codes(&in_memory.warnings),
                 "{sample}: warnings differ"
             );
+            // Rendered from excerpts of the file, they read as from the whole text.
+            let render = |w: &[miette::Report]| -> Vec<String> {
+                w.iter().map(|r| format!("{r:?}")).collect()
+            };
+            assert_eq!(render(&warnings), render(&in_memory.warnings), "{sample}");
         }
+    }
+}
+
+/// Programs whose words mislead the prescan (an axis word that moves nothing, units set
+/// after the first move) and one it reads right still stream to
+/// the in-memory bytes: the file is rewritten under the layout the compile found.
+#[test]
+fn streaming_rewrites_when_the_prescan_guess_is_wrong() {
+    let dir = tempfile::tempdir().unwrap();
+    let programs = [
+        ("still_y.ngc", "G0 X0 Y0\nG1 X5 F300\nG1 X5 Y0\nG1 X9\nM2\n"),
+        ("inch_late.ngc", "G0 X1\nG20\nG1 X2 F10\nG21\nG1 X30\nM2\n"),
+        ("x_then_z.ngc", "G1 X1 F100\nG1 X1 Z-1\nG0 Z5\nM2\n"),
+    ];
+    for (name, text) in programs {
+        let path = dir.path().join(name);
+        std::fs::write(&path, text).unwrap();
+        let options = options_for(name, Format::Pmac);
+        let in_memory = pvtc::compile(
+            &pvtc::Source {
+                name: name.to_owned(),
+                bytes: text.as_bytes().to_vec(),
+            },
+            &options,
+        )
+        .unwrap_or_else(|f| panic!("{name}: {:?}", f.codes()));
+        let (streamed, _) = stream_both_ways(&path, name, &options);
+        assert_eq!(
+            String::from_utf8(streamed).unwrap(),
+            String::from_utf8(in_memory.bytes).unwrap(),
+            "{name}"
+        );
     }
 }

@@ -1,5 +1,6 @@
-//! Throughput of the pipeline: parse only, plan only, end to end, and the `gcode` crate
-//! parsing the same text as a peer baseline.
+//! Throughput of the pipeline: parse only ([`pvt_gcode::check_syntax`]: words, values,
+//! spans and diagnostics, no meaning), parse and interpret, plan only, end to end, and the
+//! `gcode` crate parsing the same text as a peer baseline.
 //!
 //! ```sh
 //! cargo bench -p pvtc --bench pipeline              # all sizes: 10^4, 10^5, 10^6 lines
@@ -39,8 +40,17 @@ fn bench(c: &mut Criterion) {
             let src = text(kind, lines);
             group.throughput(Throughput::Elements(lines as u64));
             group.bench_with_input(BenchmarkId::new("parse/pvtc", lines), &src, |b, src| {
-                b.iter(|| pvt_gcode::compile(black_box(src), &Default::default()).expect("valid"))
+                b.iter(|| pvt_gcode::check_syntax(black_box(src)).words)
             });
+            group.bench_with_input(
+                BenchmarkId::new("parse+interpret/pvtc", lines),
+                &src,
+                |b, src| {
+                    b.iter(|| {
+                        pvt_gcode::compile(black_box(src), &Default::default()).expect("valid")
+                    })
+                },
+            );
             group.bench_with_input(
                 BenchmarkId::new("parse/gcode-crate", lines),
                 &src,

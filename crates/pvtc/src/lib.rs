@@ -9,6 +9,7 @@
 pub mod args;
 pub mod batch;
 pub mod check;
+pub mod excerpt;
 pub mod front;
 pub mod offsets;
 pub mod output;
@@ -31,6 +32,7 @@ pub const EXIT_USAGE: u8 = 2;
 /// Runs a parsed command line and returns the process exit status.
 pub fn run(cli: Cli) -> ExitCode {
     report::install_panic_hook();
+    output::remove_partial_outputs_on_interrupt();
     match cli.command {
         Command::Compile(args) => compile_command(&args),
         Command::Check(args) => check::run(&args),

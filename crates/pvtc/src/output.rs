@@ -2,11 +2,104 @@
 //!
 //! Owns the guarantee that an output file is either the complete new output or untouched:
 //! bytes go to a temporary file in the target's directory, which is then renamed over the
-//! target. It must not decide what to write.
+//! target. A failed compile drops the temporary file; an interrupt (Ctrl-C, SIGTERM)
+//! removes every temporary file being written before the process exits, so no partial
+//! file is left. It must not decide what to write.
+//!
+//! The rename is atomic but not flushed to the disk first (as compilers do not): a power
+//! loss just after a compile may leave the old file or an empty one, never a partial one
+//! that a reader could take for complete on a journalled file system.
 
 use crate::pipeline::Failure;
-use std::io::Write;
-use std::path::Path;
+use std::io::{Seek, Write};
+use std::path::{Path, PathBuf};
+use std::sync::{Mutex, MutexGuard};
+
+/// Temporary outputs being written now, by every thread.
+static IN_PROGRESS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// Exit status after an interrupt (128 + SIGINT, as shells report it).
+pub const INTERRUPTED: i32 = 130;
+
+fn in_progress() -> MutexGuard<'static, Vec<PathBuf>> {
+    IN_PROGRESS.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Makes Ctrl-C and SIGTERM remove every temporary output being written, then exit with
+/// [`INTERRUPTED`]. Call once, before any output is written; a second call does nothing.
+pub fn remove_partial_outputs_on_interrupt() {
+    // An error means a handler is already installed (a second call): nothing to do.
+    let _ = ctrlc::set_handler(|| {
+        // Held until exit, so no temporary file is created or renamed after this.
+        let files = in_progress();
+        for file in files.iter() {
+            let _ = std::fs::remove_file(file);
+        }
+        std::process::exit(INTERRUPTED);
+    });
+}
+
+/// A temporary output listed in [`IN_PROGRESS`] for as long as it lives.
+struct Listed(PathBuf);
+
+impl Drop for Listed {
+    fn drop(&mut self) {
+        let mut files = in_progress();
+        if let Some(i) = files.iter().position(|f| *f == self.0) {
+            files.swap_remove(i);
+        }
+    }
+}
+
+/// Where a writer's bytes go: a temporary file, which can start over, or standard output,
+/// which cannot.
+pub enum Target<'a> {
+    /// The temporary file behind an atomically replaced output.
+    File(&'a mut std::fs::File),
+    /// A stream: what is written stays written.
+    Stream(&'a mut dyn Write),
+}
+
+impl Target<'_> {
+    /// Whether [`Target::restart`] can discard what was written.
+    pub fn can_restart(&self) -> bool {
+        matches!(self, Target::File(_))
+    }
+
+    /// Discards everything written so far (a file only; a stream is left as it is).
+    pub fn restart(&mut self) -> std::io::Result<()> {
+        match self {
+            Target::File(file) => {
+                file.rewind()?;
+                file.set_len(0)
+            }
+            Target::Stream(_) => Ok(()),
+        }
+    }
+}
+
+impl Write for Target<'_> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        match self {
+            Target::File(file) => file.write(buf),
+            Target::Stream(out) => out.write(buf),
+        }
+    }
+
+    fn write_all(&mut self, buf: &[u8]) -> std::io::Result<()> {
+        match self {
+            Target::File(file) => file.write_all(buf),
+            Target::Stream(out) => out.write_all(buf),
+        }
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        match self {
+            Target::File(file) => file.flush(),
+            Target::Stream(out) => out.flush(),
+        }
+    }
+}
 
 /// Writes `bytes` to `path` atomically, or to standard output for `None` or `-`.
 pub fn write(path: Option<&Path>, bytes: &[u8]) -> Result<(), Failure> {
@@ -43,7 +136,7 @@ pub fn write_file(path: &Path, bytes: &[u8]) -> Result<(), Failure> {
 /// `write` fails, the temporary file is removed and `path` is left as it was.
 pub fn write_file_with<T>(
     path: &Path,
-    write: impl FnOnce(&mut dyn Write) -> Result<T, Failure>,
+    write: impl FnOnce(&mut Target<'_>) -> Result<T, Failure>,
 ) -> Result<T, Failure> {
     let fail = |error| Failure::Io {
         path: path.to_path_buf(),
@@ -54,32 +147,38 @@ pub fn write_file_with<T>(
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
-    let mut temp = tempfile::Builder::new()
-        .prefix(".pvtc-")
-        .suffix(".partial")
-        .tempfile_in(dir)
-        .map_err(fail)?;
+    let (mut temp, _listed) = {
+        let mut files = in_progress();
+        let temp = tempfile::Builder::new()
+            .prefix(".pvtc-")
+            .suffix(".partial")
+            .tempfile_in(dir)
+            .map_err(fail)?;
+        files.push(temp.path().to_path_buf());
+        let listed = Listed(temp.path().to_path_buf());
+        (temp, listed)
+    };
     temp.as_file()
         .set_permissions(permissions_for(path))
         .map_err(fail)?;
-    let value = write(&mut temp)?;
-    temp.flush()
-        .and_then(|()| temp.as_file().sync_all())
-        .map_err(fail)?;
+    let value = write(&mut Target::File(temp.as_file_mut()))?;
+    temp.flush().map_err(fail)?;
+    let files = in_progress();
     temp.persist(path).map_err(|e| fail(e.error))?;
+    drop(files);
     Ok(value)
 }
 
 /// Lets `write` fill `path` atomically, or standard output for `None` or `-`.
 pub fn write_with<T>(
     path: Option<&Path>,
-    write: impl FnOnce(&mut dyn Write) -> Result<T, Failure>,
+    write: impl FnOnce(&mut Target<'_>) -> Result<T, Failure>,
 ) -> Result<T, Failure> {
     match path {
         Some(p) if p != Path::new("-") => write_file_with(p, write),
         _ => {
             let mut out = std::io::stdout().lock();
-            let value = write(&mut out)?;
+            let value = write(&mut Target::Stream(&mut out))?;
             out.flush().map_err(|error| Failure::Io {
                 path: "<stdout>".into(),
                 action: "write",

@@ -12,6 +12,7 @@ use pvt_core::{
 use pvt_emit::{emit_to_vec, EmitOptions, Format, StreamError};
 use std::io::Read;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// Default rapid rate, mm/min.
 pub const DEFAULT_RAPID_MM_PER_MIN: f64 = 5000.0;
@@ -58,11 +59,12 @@ impl Source {
         }
     }
 
-    /// The source as text (invalid UTF-8 becomes U+FFFD) with its name, for diagnostics.
-    pub fn named_text(&self) -> NamedSource<String> {
+    /// The source as text (invalid UTF-8 becomes U+FFFD) with its name, for diagnostics;
+    /// shared, so each diagnostic that clones it holds no copy of the text.
+    pub fn named_text(&self) -> NamedSource<Arc<str>> {
         NamedSource::new(
             self.name.clone(),
-            String::from_utf8_lossy(&self.bytes).into_owned(),
+            Arc::from(String::from_utf8_lossy(&self.bytes)),
         )
     }
 }

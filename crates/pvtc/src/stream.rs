@@ -14,6 +14,8 @@ use pvt_core::{
 use pvt_emit::stream::Totals;
 use pvt_emit::{Checked, ProgramWriter, StreamError};
 
+use crate::output::Target;
+
 /// Why streaming stopped.
 #[derive(Debug)]
 pub enum StreamFailure {
@@ -33,6 +35,8 @@ pub struct PlanningSink<W: ProgramWriter> {
     contours: usize,
     point: Vec<f64>,
     failure: Option<StreamFailure>,
+    /// The axes the elements moved, to check the header's axes against.
+    moved: MovedAxes,
     /// Segments written, their time, and those whose time is not a whole millisecond.
     pub totals: Totals,
 }
@@ -49,12 +53,14 @@ impl<W: ProgramWriter> PlanningSink<W> {
             contours: 0,
             point: vec![0.0; dim],
             failure: None,
+            moved: MovedAxes::default(),
             totals: Totals::default(),
         }
     }
 
     /// Adds one element of a contour of kind `motion`.
     pub fn element(&mut self, motion: Motion, element: &Element) {
+        element.mark_moved_axes(&mut self.moved.moved);
         if self.failure.is_some() {
             return;
         }
@@ -69,21 +75,23 @@ impl<W: ProgramWriter> PlanningSink<W> {
         }
         let line = element.span.line;
         match &element.kind {
-            ElementKind::Line => {
-                let end = project(&element.end, &self.axes);
-                self.push(&end, element.feed, line);
-            }
+            ElementKind::Line => self.push_position(&element.end, element.feed, line),
             ElementKind::Arc(arc) => {
                 for p in arc_positions(arc, &element.start, &element.end, self.tolerance) {
-                    for (slot, axis) in self.point.iter_mut().zip(&self.axes) {
-                        *slot = p[axis.index()];
-                    }
-                    let point = std::mem::take(&mut self.point);
-                    self.push(&point, element.feed, line);
-                    self.point = point;
+                    self.push_position(&p, element.feed, line);
                 }
             }
         }
+    }
+
+    /// Pushes position `p` on the sink's axes, through a reused buffer.
+    fn push_position(&mut self, p: &pvt_core::Position, feed: f64, line: u32) {
+        for (slot, axis) in self.point.iter_mut().zip(&self.axes) {
+            *slot = p[axis.index()];
+        }
+        let point = std::mem::take(&mut self.point);
+        self.push(&point, feed, line);
+        self.point = point;
     }
 
     fn push(&mut self, point: &[f64], feed: f64, line: u32) {
@@ -186,9 +194,6 @@ impl pvt_gcode::ToolpathSink for MovedAxes {
     fn event(&mut self, _: &EventKind, _: u32) {}
 }
 
-/// Largest file whose text is held to show source lines under its diagnostics.
-const MAX_SOURCE_FOR_REPORTS: u64 = 64 << 20;
-
 /// Whether `path` and `options` can take the streaming path: a G-code file (not standard
 /// input) planned by the contour planner without quantization.
 pub fn can_stream(path: &std::path::Path, options: &crate::CompileOptions) -> bool {
@@ -208,39 +213,70 @@ fn open(path: &std::path::Path) -> Result<std::io::BufReader<std::fs::File>, cra
         })
 }
 
-/// Diagnostics as reports, with the source attached when the file is small enough.
+/// Diagnostics as reports, each with the lines of the file around it (read again, a
+/// few lines kept per diagnostic, so memory stays flat however long the file).
 fn reports(
     path: &std::path::Path,
     name: &str,
     diagnostics: Vec<pvt_gcode::GcodeDiagnostic>,
 ) -> Vec<miette::Report> {
-    let small = std::fs::metadata(path)
-        .map(|m| m.len() <= MAX_SOURCE_FOR_REPORTS)
-        .unwrap_or(false);
-    let source = small
-        .then(|| std::fs::read(path).ok())
-        .flatten()
-        .map(|bytes| crate::Source {
-            name: name.to_owned(),
-            bytes,
-        });
+    let spans: Vec<_> = diagnostics.iter().map(|d| d.span()).collect();
+    let excerpts = match open(path) {
+        Ok(mut input) => crate::excerpt::cut(&mut input, &spans).unwrap_or_default(),
+        Err(_) => Vec::new(),
+    };
+    let mut excerpts = excerpts.into_iter();
     diagnostics
         .into_iter()
-        .map(|d| match &source {
-            Some(s) => miette::Report::new(d).with_source_code(s.named_text()),
+        .map(|d| match excerpts.next().flatten() {
+            Some(excerpt) => {
+                miette::Report::new(d).with_source_code(miette::NamedSource::new(name, excerpt))
+            }
             None => miette::Report::new(d),
         })
         .collect()
 }
 
-/// Compiles the G-code file at `path` into `out` in two passes over the file and
-/// constant memory: the first finds every error and the moved axes, the second plans and
-/// writes. Returns the warnings. The bytes are those [`crate::compile`] gives.
+/// What the header fixes before the first piece is written.
+#[derive(Debug, Clone, PartialEq)]
+struct Layout {
+    axes: Vec<Axis>,
+    units: pvt_core::Units,
+}
+
+impl Layout {
+    /// The layout a [`pvt_gcode::Prescan`] suggests under `gcode`'s units option.
+    fn guess(prescan: &pvt_gcode::Prescan, gcode: &pvt_gcode::GcodeOptions) -> Layout {
+        Layout {
+            axes: Axis::ALL
+                .into_iter()
+                .filter(|a| prescan.axis_words[a.index()])
+                .collect(),
+            units: gcode.units.or(prescan.units).unwrap_or_default(),
+        }
+    }
+}
+
+/// One pass over the file that plans and writes under a layout.
+struct Pass {
+    /// The layout the program really has.
+    layout: Layout,
+    warnings: Vec<pvt_gcode::GcodeDiagnostic>,
+    outcome: Result<Totals, StreamFailure>,
+}
+
+/// Compiles the G-code file at `path` into `out` in constant memory and returns the
+/// warnings; the bytes are those [`crate::compile`] gives.
+///
+/// The header needs the moved axes and the units before the first piece. Into a file,
+/// a lexical [`pvt_gcode::prescan`] guesses them and one pass plans and writes; when the
+/// compile finds otherwise, the file is emptied and a second pass writes again. Into a
+/// stream, which cannot start over, a first pass finds them and a second writes.
 pub fn compile_streaming(
     path: &std::path::Path,
     name: &str,
     options: &crate::CompileOptions,
-    out: &mut dyn std::io::Write,
+    out: &mut Target<'_>,
 ) -> Result<Vec<miette::Report>, crate::Failure> {
     let gcode = crate::front::gcode_options(options);
     let io = |error| crate::Failure::Io {
@@ -248,52 +284,33 @@ pub fn compile_streaming(
         action: "read",
         error,
     };
-    let mut axes = MovedAxes::default();
-    let summary = match pvt_gcode::compile_read(&mut open(path)?, &gcode, &mut axes).map_err(io)? {
-        Ok(summary) => summary,
-        Err(errors) => {
-            return Err(crate::Failure::Input(reports(
-                path,
-                name,
-                errors.diagnostics,
-            )))
+    let input_errors = |errors: pvt_gcode::GcodeErrors| {
+        crate::Failure::Input(reports(path, name, errors.diagnostics))
+    };
+    let layout = if out.can_restart() {
+        Layout::guess(&pvt_gcode::prescan(&mut open(path)?).map_err(io)?, &gcode)
+    } else {
+        let mut moved = MovedAxes::default();
+        let summary = pvt_gcode::compile_read(&mut open(path)?, &gcode, &mut moved)
+            .map_err(io)?
+            .map_err(input_errors)?;
+        Layout {
+            axes: moved.axes(),
+            units: summary.units,
         }
     };
-    let mut warnings = reports(path, name, summary.warnings);
-    let units = summary.units;
-    let tolerance = options
-        .tolerance
-        .unwrap_or(units.from_mm(ChordTolerance::DEFAULT_MM));
-    let tolerance =
-        ChordTolerance::new(tolerance).expect("the CLI accepts only positive tolerances");
-    let emit_options = pvt_emit::EmitOptions {
-        source: name.to_owned(),
-        settings: crate::pipeline::settings(options, units),
-        program_number: 1,
-    };
-    let axes = axes.axes();
-    let buffered = std::io::BufWriter::with_capacity(1 << 16, out);
-    let mut writer = Checked::new(options.format.writer(buffered));
-    let header = pvt_emit::Header {
-        axes: &axes,
-        units,
-        interpolation: pvt_core::Interpolation::Pvt,
-        options: &emit_options,
-    };
-    writer
-        .begin(&header)
-        .map_err(|e| crate::pipeline::emit_failure(e, options, None))?;
-    let mut sink = PlanningSink::new(writer, axes, tolerance);
-    if let Err(errors) = pvt_gcode::compile_read(&mut open(path)?, &gcode, &mut sink).map_err(io)? {
-        return Err(crate::Failure::Input(reports(
-            path,
-            name,
-            errors.diagnostics,
-        )));
+    let mut pass = write_pass(path, name, options, &gcode, &layout, out)?;
+    if pass.layout != layout {
+        let restart = |error| crate::Failure::Io {
+            path: "<output>".into(),
+            action: "rewrite",
+            error,
+        };
+        out.restart().map_err(restart)?;
+        pass = write_pass(path, name, options, &gcode, &pass.layout.clone(), out)?;
     }
-    let totals = sink.totals;
-    match sink.finish() {
-        Ok(_) => {}
+    let totals = match pass.outcome {
+        Ok(totals) => totals,
         Err(StreamFailure::Plan(e)) => {
             return Err(crate::Failure::Input(vec![miette::miette!(
                 code = e.code().to_string(),
@@ -301,7 +318,8 @@ pub fn compile_streaming(
             )]))
         }
         Err(StreamFailure::Emit(e)) => return Err(crate::pipeline::emit_failure(e, options, None)),
-    }
+    };
+    let mut warnings = reports(path, name, pass.warnings);
     if options.format == pvt_emit::Format::Pmac {
         warnings.extend(crate::pipeline::fractional_ms_report(
             totals.fractional_ms,
@@ -309,4 +327,56 @@ pub fn compile_streaming(
         ));
     }
     Ok(warnings)
+}
+
+/// Plans and writes the program under `layout`; G-code errors fail the pass, a planning
+/// or writing failure is returned in [`Pass::outcome`] with the layout found.
+fn write_pass(
+    path: &std::path::Path,
+    name: &str,
+    options: &crate::CompileOptions,
+    gcode: &pvt_gcode::GcodeOptions,
+    layout: &Layout,
+    out: &mut Target<'_>,
+) -> Result<Pass, crate::Failure> {
+    let tolerance = options
+        .tolerance
+        .unwrap_or(layout.units.from_mm(ChordTolerance::DEFAULT_MM));
+    let tolerance =
+        ChordTolerance::new(tolerance).expect("the CLI accepts only positive tolerances");
+    let emit_options = pvt_emit::EmitOptions {
+        source: name.to_owned(),
+        settings: crate::pipeline::settings(options, layout.units),
+        program_number: 1,
+    };
+    let buffered = std::io::BufWriter::with_capacity(1 << 16, out);
+    let mut writer = Checked::new(options.format.writer(buffered));
+    let header = pvt_emit::Header {
+        axes: &layout.axes,
+        units: layout.units,
+        interpolation: pvt_core::Interpolation::Pvt,
+        options: &emit_options,
+    };
+    let begun = writer.begin(&header);
+    let mut sink = PlanningSink::new(writer, layout.axes.clone(), tolerance);
+    if let Err(e) = begun {
+        sink.failure = Some(StreamFailure::Emit(e));
+    }
+    let summary = pvt_gcode::compile_read(&mut open(path)?, gcode, &mut sink)
+        .map_err(|error| crate::Failure::Io {
+            path: path.to_path_buf(),
+            action: "read",
+            error,
+        })?
+        .map_err(|errors| crate::Failure::Input(reports(path, name, errors.diagnostics)))?;
+    let found = Layout {
+        axes: sink.moved.axes(),
+        units: summary.units,
+    };
+    let totals = sink.totals;
+    Ok(Pass {
+        layout: found,
+        warnings: summary.warnings,
+        outcome: sink.finish().map(|_| totals),
+    })
 }

@@ -79,6 +79,20 @@ struct Pending {
     line: u32,
 }
 
+impl Pending {
+    fn new(dim: usize) -> Pending {
+        Pending {
+            end: vec![0.0; dim],
+            unit: vec![0.0; dim],
+            chord: vec![0.0; dim],
+            feed: 0.0,
+            speed_cap: 0.0,
+            rest: false,
+            line: 0,
+        }
+    }
+}
+
 /// Seed 000 as a stream: points go in one at a time, each segment comes out as soon as
 /// the direction after its end point is known. Needs a three-point window, whatever the
 /// length of the contour, and gives exactly what [`plan_contour`] gives.
@@ -88,6 +102,8 @@ pub struct ContourStream {
     v_start: Vec<f64>,
     speed_start: f64,
     pending: Option<Pending>,
+    /// The buffers of the last emitted segment, reused for the next (no allocation per point).
+    spare: Option<Pending>,
     v_end: Vec<f64>,
 }
 
@@ -101,6 +117,7 @@ impl ContourStream {
             v_start: vec![0.0; dim],
             speed_start: 0.0,
             pending: None,
+            spare: None,
             v_end: vec![0.0; dim],
         }
     }
@@ -133,9 +150,9 @@ impl ContourStream {
             }
             return Ok(());
         }
-        let mut chord = vec![0.0; self.dim];
-        sub_into(point, from, &mut chord);
-        let len = norm(&chord);
+        let mut next = self.spare.take().unwrap_or_else(|| Pending::new(self.dim));
+        sub_into(point, self.last_point(), &mut next.chord);
+        let len = norm(&next.chord);
         // A segment's time is at most about 3·len/feed; one that overflows is refused here
         // rather than written as NaN or infinity.
         if !(len.is_finite() && (4.0 * len / feed).is_finite()) {
@@ -144,22 +161,19 @@ impl ContourStream {
                 duration: f64::INFINITY,
             });
         }
-        let unit: Vec<f64> = chord.iter().map(|x| x / len).collect();
+        for (u, c) in next.unit.iter_mut().zip(&next.chord) {
+            *u = c / len;
+        }
+        next.end.copy_from_slice(point);
+        (next.feed, next.speed_cap, next.rest, next.line) = (feed, feed, false, line);
         if let Some(mut p) = self.pending.take() {
             p.speed_cap = p.speed_cap.min(feed);
             let speed = if p.rest { 0.0 } else { p.speed_cap };
-            self.emit_pending(&p, Some(&unit), speed, emit);
-            self.start = p.end;
+            self.emit_pending(&p, Some(&next.unit), speed, emit);
+            std::mem::swap(&mut self.start, &mut p.end);
+            self.spare = Some(p);
         }
-        self.pending = Some(Pending {
-            end: point.to_vec(),
-            unit,
-            chord,
-            feed,
-            speed_cap: feed,
-            rest: false,
-            line,
-        });
+        self.pending = Some(next);
         Ok(())
     }
 
@@ -172,9 +186,10 @@ impl ContourStream {
 
     /// Ends the contour at rest, emitting its last segment.
     pub fn finish(&mut self, emit: &mut dyn FnMut(SegmentRef<'_>)) {
-        if let Some(p) = self.pending.take() {
+        if let Some(mut p) = self.pending.take() {
             self.emit_pending(&p, None, 0.0, emit);
-            self.start = p.end;
+            std::mem::swap(&mut self.start, &mut p.end);
+            self.spare = Some(p);
         }
         self.v_start.fill(0.0);
         self.speed_start = 0.0;
