@@ -61,6 +61,19 @@ pub enum DxfError {
         /// Where, when the parser said.
         span: Span,
     },
+    /// More points than [`crate::DxfOptions::max_points`]: the drawing is refused before
+    /// it is parsed, so its memory stays bounded.
+    #[error("the drawing holds {points} points, over the limit of {limit}")]
+    #[diagnostic(
+        code(pvtc::dxf::too_many_points),
+        help("raise the limit with --max-points N (about 400 bytes of memory per point), or split the drawing")
+    )]
+    TooManyPoints {
+        /// Group-10 coordinates found in the BLOCKS and ENTITIES sections.
+        points: usize,
+        /// The limit.
+        limit: usize,
+    },
     /// The model space holds no entity at all.
     #[error("the drawing is empty: model space holds no entities")]
     #[diagnostic(code(pvtc::dxf::empty_drawing))]

@@ -56,6 +56,10 @@ use crate::source::SourceMap;
 
 /// Default rapid rate, millimetres per minute.
 pub const DEFAULT_RAPID_MM_PER_MIN: f64 = 5000.0;
+/// Default [`DxfOptions::max_points`]. A drawing is read in memory, at roughly 400 bytes
+/// per point from file to output (10 million points took 4.2 GB), so this bounds the
+/// memory of a compile near 1 GB.
+pub const DEFAULT_MAX_POINTS: usize = 2_000_000;
 /// Default join tolerance, millimetres (raised to the chord tolerance if that is larger).
 pub const DEFAULT_JOIN_MM: f64 = 0.01;
 
@@ -79,6 +83,9 @@ pub struct DxfOptions {
     pub start_point: [f64; 2],
     /// If set, rapids travel at this Z with a feed plunge and a rapid retract per contour.
     pub safe_z: Option<f64>,
+    /// Most points (group-10 coordinates) a drawing may hold; more is
+    /// `pvtc::dxf::too_many_points`, found by a scan before the drawing is parsed.
+    pub max_points: usize,
 }
 
 impl DxfOptions {
@@ -93,6 +100,7 @@ impl DxfOptions {
             units: None,
             start_point: [0.0, 0.0],
             safe_z: None,
+            max_points: DEFAULT_MAX_POINTS,
         }
     }
 }
@@ -158,6 +166,12 @@ const KNOWN_TO_DXF: &[&str] = &[
 pub fn read_drawing(bytes: &[u8], options: &DxfOptions) -> Result<Drawing, DxfErrors> {
     check_options(options).map_err(DxfErrors::one)?;
     let source = SourceMap::scan(bytes);
+    if source.points > options.max_points {
+        return Err(DxfErrors::one(DxfError::TooManyPoints {
+            points: source.points,
+            limit: options.max_points,
+        }));
+    }
     let drawing = load(bytes).map_err(DxfErrors::one)?;
 
     let mut warnings = Vec::new();

@@ -32,6 +32,10 @@ pub struct Record {
 pub struct SourceMap {
     /// Every entity record, in file order.
     pub records: Vec<Record>,
+    /// Group-code-10 values (first coordinates: vertices, control and fit points, entity
+    /// start points) in the BLOCKS and ENTITIES sections: an upper bound on the points
+    /// the drawing's entities hold before blocks are inserted.
+    pub points: usize,
     by_handle: HashMap<u64, usize>,
 }
 
@@ -47,36 +51,29 @@ impl SourceMap {
         if !is_ascii_dxf(bytes) {
             return map;
         }
-        // Lines with their byte offsets; a trailing '\r' is dropped.
-        let mut lines: Vec<(usize, &[u8])> = Vec::new();
-        let mut start = 0;
-        for (i, &b) in bytes.iter().enumerate() {
-            if b == b'\n' {
-                lines.push((start, trim_cr(&bytes[start..i])));
-                start = i + 1;
-            }
-        }
-        if start < bytes.len() {
-            lines.push((start, trim_cr(&bytes[start..])));
-        }
+        let mut lines = Lines { bytes, start: 0 };
         let mut section = String::new();
         let mut expect_section_name = false;
         let mut open: Option<Record> = None;
-        let mut k = 0;
-        while k + 1 < lines.len() {
-            let (offset, code_line) = lines[k];
-            let value = String::from_utf8_lossy(lines[k + 1].1).trim().to_string();
+        let mut index = 0usize;
+        while let (Some((offset, code_line)), Some((_, value_line))) = (lines.next(), lines.next())
+        {
+            index += 2;
+            let value = String::from_utf8_lossy(value_line);
+            let value = value.trim();
             let code: Option<i32> = std::str::from_utf8(code_line)
                 .ok()
                 .and_then(|s| s.trim().parse().ok());
-            k += 2;
             let Some(code) = code else { continue };
+            if code == 10 && (section == "ENTITIES" || section == "BLOCKS") {
+                map.points += 1;
+            }
             if code == 0 {
                 if let Some(mut r) = open.take() {
                     r.span.end = offset;
                     map.push(r);
                 }
-                match value.as_str() {
+                match value {
                     "SECTION" => expect_section_name = true,
                     "ENDSEC" => section.clear(),
                     "BLOCK" | "ENDBLK" | "EOF" => {}
@@ -89,7 +86,7 @@ impl SourceMap {
                             span: Span {
                                 start: offset,
                                 end: offset,
-                                line: u32::try_from(k - 1).unwrap_or(u32::MAX),
+                                line: u32::try_from(index - 1).unwrap_or(u32::MAX),
                             },
                             in_entities: section == "ENTITIES",
                         });
@@ -99,14 +96,14 @@ impl SourceMap {
                 continue;
             }
             if code == 2 && expect_section_name {
-                section = value;
+                section = value.to_string();
                 expect_section_name = false;
                 continue;
             }
             if let Some(r) = open.as_mut() {
                 match code {
-                    5 => r.handle = u64::from_str_radix(&value, 16).unwrap_or(0),
-                    8 => r.layer = value,
+                    5 => r.handle = u64::from_str_radix(value, 16).unwrap_or(0),
+                    8 => r.layer = value.to_string(),
                     67 => r.paper_space = value == "1",
                     _ => {}
                 }
@@ -145,6 +142,24 @@ impl SourceMap {
             .take_while(|r| r.kind == kind)
             .map(|r| r.span)
             .collect()
+    }
+}
+
+/// The lines of the bytes with their offsets, a trailing `\r` dropped; no copy.
+struct Lines<'a> {
+    bytes: &'a [u8],
+    start: usize,
+}
+
+impl<'a> Iterator for Lines<'a> {
+    type Item = (usize, &'a [u8]);
+
+    fn next(&mut self) -> Option<(usize, &'a [u8])> {
+        let rest = self.bytes.get(self.start..).filter(|r| !r.is_empty())?;
+        let len = rest.iter().position(|&b| b == b'\n').unwrap_or(rest.len());
+        let line = (self.start, trim_cr(&rest[..len]));
+        self.start += len + 1;
+        Some(line)
     }
 }
 

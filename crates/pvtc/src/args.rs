@@ -122,6 +122,10 @@ pub struct PipelineArgs {
     /// DXF: travel between contours at this Z, plunging at the feed.
     #[arg(long = "safe-z", value_name = "Z", value_parser = finite_number)]
     pub safe_z: Option<f64>,
+    /// DXF: most points a drawing may hold (it is read in memory, ~400 bytes per point)
+    /// [default: 2000000].
+    #[arg(long = "max-points", value_name = "N")]
+    pub max_points: Option<usize>,
     /// Units: G-code output is converted into them (default: the program's own); DXF
     /// and CSV input is read in them (DXF: overriding $INSUNITS; CSV default: mm).
     #[arg(long, value_enum)]
@@ -179,6 +183,7 @@ impl PipelineArgs {
                 join_tolerance: self.join_tolerance,
                 start_point: self.start_point.unwrap_or([0.0, 0.0]),
                 safe_z: self.safe_z,
+                max_points: self.max_points,
                 units: self.units.map(|u| match u {
                     UnitsArg::Mm => Units::Millimetre,
                     UnitsArg::In => Units::Inch,
@@ -229,6 +234,10 @@ pub struct CheckArgs {
     /// Servo period the controller samples at, e.g. 0.5ms or 250us.
     #[arg(long = "servo-period", value_name = "T", default_value = "0.5ms", value_parser = duration)]
     pub servo_period: f64,
+    /// Most servo samples to take (the motion's time over the servo period); a longer
+    /// program is refused rather than sampled for hours.
+    #[arg(long = "max-samples", value_name = "N", default_value_t = 20_000_000)]
+    pub max_samples: u64,
     /// Velocity limit of an axis, `X=500` (units/s); repeatable.
     #[arg(long = "max-vel", value_name = "AXIS=V", value_parser = axis_limit)]
     pub max_vel: Vec<(pvt_core::Axis, f64)>,

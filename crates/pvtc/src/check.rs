@@ -20,6 +20,9 @@ pub fn run(args: &CheckArgs) -> ExitCode {
         Ok(loaded) => loaded,
         Err(code) => return code,
     };
+    if let Err(failure) = within_samples(&program, args) {
+        return reporter.fail(&failure);
+    }
     let options = CheckOptions {
         servo_period: args.servo_period,
         limits: args.limits(),
@@ -39,6 +42,27 @@ pub fn run(args: &CheckArgs) -> ExitCode {
     } else {
         ExitCode::SUCCESS
     }
+}
+
+/// Refuses a program whose motion lasts more than `--max-samples` servo periods: sampling
+/// it would run for hours (a JSON program may carry any time).
+fn within_samples(program: &PvtProgram, args: &CheckArgs) -> Result<(), Failure> {
+    let total: f64 = program
+        .contours
+        .iter()
+        .flat_map(|c| c.durations.iter())
+        .sum();
+    let samples = total / args.servo_period;
+    if samples <= args.max_samples as f64 {
+        return Ok(());
+    }
+    Err(Failure::Input(vec![miette::miette!(
+        code = "pvtc::check::too_many_samples",
+        help = "pass a longer --servo-period, or raise --max-samples",
+        "the motion lasts {total:.4e} s: {samples:.4e} servo samples at {} s, over the limit of {}",
+        args.servo_period,
+        args.max_samples
+    )]))
 }
 
 /// Loads the program named by `input`: a pvtc JSON program, or a source compiled with

@@ -91,6 +91,7 @@ fn dxf(bytes: &[u8], options: &CompileOptions) -> FrontResult {
         units: d.units,
         start_point: d.start_point,
         safe_z: d.safe_z,
+        max_points: d.max_points.unwrap_or(pvt_dxf::DEFAULT_MAX_POINTS),
     };
     match pvt_dxf::read_drawing(bytes, &dxf_options) {
         Ok(drawing) => Ok((

@@ -105,6 +105,8 @@ pub struct DrawingOptions {
     pub start_point: [f64; 2],
     /// Safe Z for travel between contours.
     pub safe_z: Option<f64>,
+    /// Most points a DXF drawing may hold; `None` is [`pvt_dxf::DEFAULT_MAX_POINTS`].
+    pub max_points: Option<usize>,
     /// Units: G-code output converted into them; DXF and CSV read in them.
     pub units: Option<Units>,
 }

@@ -568,3 +568,69 @@ fn a_dxf_the_dxf_crate_panics_on_is_a_clean_read_error() {
         "no panic trace for a caught panic: {err}"
     );
 }
+
+#[test]
+fn a_drawing_over_the_point_limit_is_refused_before_it_is_parsed() {
+    let text = std::fs::read_to_string(root().join("samples/dxf/polylines.dxf")).unwrap();
+    let points = pvt_dxf::source::SourceMap::scan(text.as_bytes()).points;
+    assert!(points > 3, "{points}");
+    let limit = (points - 1).to_string();
+    let args = [
+        "compile",
+        "samples/dxf/polylines.dxf",
+        "--feed",
+        "1000",
+        "--max-points",
+        &limit,
+        "--diagnostics",
+        "json",
+    ];
+    let o = pvtc(&args, None);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("pvtc::dxf::too_many_points"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(stderr(&o).contains(&format!("holds {points} points")));
+    let enough = points.to_string();
+    let o = pvtc(&[&args[..5], &[enough.as_str()]].concat(), None);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+#[test]
+fn check_refuses_a_program_too_long_to_sample_instead_of_running_for_hours() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("long.json");
+    let text = std::fs::read_to_string(root().join("tests/golden/gcode/an208_octagon.json"))
+        .unwrap()
+        .replacen("\"t\": 0.3976721602425169", "\"t\": 1e300", 1);
+    std::fs::write(&json, text).unwrap();
+    let o = pvtc(
+        &["check", json.to_str().unwrap(), "--diagnostics", "json"],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("pvtc::check::too_many_samples"),
+        "{}",
+        stderr(&o)
+    );
+    let o = pvtc(
+        &[
+            "check",
+            "samples/gcode/an208_octagon.ngc",
+            "--max-samples",
+            "10",
+            "--diagnostics",
+            "json",
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("over the limit of 10"),
+        "{}",
+        stderr(&o)
+    );
+}
