@@ -30,6 +30,9 @@ pub const POSITION_DECIMALS: usize = 6;
 /// Decimals of piece times in milliseconds.
 pub const TIME_DECIMALS: usize = 4;
 
+/// Bytes of text gathered before they are written.
+const LINE_BATCH: usize = 64 * 1024;
+
 /// Streams a PMAC PVT motion program to `W`.
 pub struct PmacWriter<W> {
     out: W,
@@ -39,7 +42,7 @@ pub struct PmacWriter<W> {
 }
 
 impl<W: Write> PmacWriter<W> {
-    /// A writer into `out` (buffer it: every segment is one `write_all`).
+    /// A writer into `out`, which gets the text in batches of 64 KiB.
     pub fn new(out: W) -> PmacWriter<W> {
         PmacWriter {
             out,
@@ -54,7 +57,16 @@ impl<W: Write> PmacWriter<W> {
         self.out
     }
 
+    /// Hands the text gathered so far to `out` once there is a batch of it: a batch at
+    /// least as large as a `BufWriter`'s default buffer goes straight through it.
     fn flush_line(&mut self) -> io::Result<()> {
+        if self.line.len() >= LINE_BATCH {
+            self.write_gathered()?;
+        }
+        Ok(())
+    }
+
+    fn write_gathered(&mut self) -> io::Result<()> {
         self.out.write_all(self.line.as_bytes())?;
         self.line.clear();
         Ok(())
@@ -166,7 +178,7 @@ impl<W: Write> ProgramWriter for PmacWriter<W> {
             ));
         }
         self.line.push_str("CLOSE\n");
-        self.flush_line()?;
+        self.write_gathered()?;
         self.out.flush()
     }
 }

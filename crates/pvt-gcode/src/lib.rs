@@ -160,6 +160,7 @@ pub fn compile_read(
     lines::read_lines(input, &mut |line| match line {
         lines::Line::Text { text, start } => reader.line(text, start),
         lines::Line::TooLong { start, length } => reader.too_long_line(start, length),
+        lines::Line::Bytes { bytes, start } => reader.line(&String::from_utf8_lossy(bytes), start),
     })?;
     Ok(reader.finish())
 }

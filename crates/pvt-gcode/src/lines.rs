@@ -24,6 +24,13 @@ pub(crate) enum Line<'a> {
         /// Byte offset of the text in the stream.
         start: usize,
     },
+    /// A line within the limit as bytes, from [`read_byte_lines`] (no UTF-8 check).
+    Bytes {
+        /// The bytes, line end (and a leading BOM) removed.
+        bytes: &'a [u8],
+        /// Byte offset of the bytes in the stream.
+        start: usize,
+    },
     /// A line over [`MAX_LINE_BYTES`]: where it starts and how long it is.
     TooLong {
         /// Byte offset of the line in the stream.
@@ -33,12 +40,32 @@ pub(crate) enum Line<'a> {
     },
 }
 
-/// Hands every line of `input` to `each` until `each` returns false or the input ends.
+/// Hands every line of `input` to `each` as text ([`Line::Text`] or [`Line::TooLong`])
+/// until `each` returns false or the input ends.
 pub(crate) fn read_lines(
     input: &mut dyn BufRead,
     each: &mut dyn FnMut(Line<'_>) -> bool,
 ) -> std::io::Result<()> {
-    let mut splitter = Splitter::default();
+    split(input, Splitter::default(), each)
+}
+
+/// As [`read_lines`], with lines as bytes ([`Line::Bytes`]), for lexical scans.
+pub(crate) fn read_byte_lines(
+    input: &mut dyn BufRead,
+    each: &mut dyn FnMut(Line<'_>) -> bool,
+) -> std::io::Result<()> {
+    let splitter = Splitter {
+        bytes: true,
+        ..Splitter::default()
+    };
+    split(input, splitter, each)
+}
+
+fn split(
+    input: &mut dyn BufRead,
+    mut splitter: Splitter,
+    each: &mut dyn FnMut(Line<'_>) -> bool,
+) -> std::io::Result<()> {
     loop {
         let chunk = match input.fill_buf() {
             Ok(chunk) => chunk,
@@ -74,6 +101,8 @@ struct Splitter {
     bom: usize,
     /// Whether the last byte of an over-long line so far is `\r` (not part of its length).
     ends_cr: bool,
+    /// Hand lines over as bytes rather than text.
+    bytes: bool,
 }
 
 impl Splitter {
@@ -81,7 +110,7 @@ impl Splitter {
         let mut rest = chunk;
         while let Some(end) = memchr::memchr(b'\n', rest) {
             let go_on = if self.pending.is_empty() && self.overlong.is_none() {
-                deliver(&rest[..end], self.line_start, each)
+                deliver(&rest[..end], self.line_start, self.bytes, each)
             } else {
                 self.append(&rest[..end]);
                 self.take_line(each)
@@ -137,7 +166,7 @@ impl Splitter {
                 start: self.line_start + self.bom,
                 length: length - self.bom - usize::from(self.ends_cr),
             }),
-            None => deliver(&self.pending, self.line_start, each),
+            None => deliver(&self.pending, self.line_start, self.bytes, each),
         };
         self.pending.clear();
         self.bom = 0;
@@ -147,14 +176,17 @@ impl Splitter {
 
     /// Hands over a last line that has no line end.
     fn finish(mut self, each: &mut dyn FnMut(Line<'_>) -> bool) {
-        if !self.pending.is_empty() || self.overlong.is_some() {
+        // A file that is only a BOM has no line, as in `SourceLines`.
+        let only_bom = self.line_start == 0 && self.pending == BOM;
+        if (!self.pending.is_empty() && !only_bom) || self.overlong.is_some() {
             self.take_line(each);
         }
     }
 }
 
-/// Hands over one whole line (without its `\n`) that starts at byte `start`.
-fn deliver(line: &[u8], start: usize, each: &mut dyn FnMut(Line<'_>) -> bool) -> bool {
+/// Hands over one whole line (without its `\n`) that starts at byte `start`, as bytes or
+/// as text.
+fn deliver(line: &[u8], start: usize, bytes: bool, each: &mut dyn FnMut(Line<'_>) -> bool) -> bool {
     let (line, start) = match line.strip_prefix(BOM) {
         Some(rest) if start == 0 => (rest, BOM.len()),
         _ => (line, start),
@@ -165,6 +197,9 @@ fn deliver(line: &[u8], start: usize, each: &mut dyn FnMut(Line<'_>) -> bool) ->
             start,
             length: line.len(),
         });
+    }
+    if bytes {
+        return each(Line::Bytes { bytes: line, start });
     }
     match std::str::from_utf8(line) {
         Ok(text) => each(Line::Text { text, start }),
@@ -192,6 +227,9 @@ mod tests {
         read_lines(&mut input, &mut |line| {
             got.push(match line {
                 Line::Text { text, start } => Got::Text(text.to_owned(), start),
+                Line::Bytes { bytes, start } => {
+                    Got::Text(String::from_utf8_lossy(bytes).into_owned(), start)
+                }
                 Line::TooLong { start, length } => Got::TooLong(start, length),
             });
             true
@@ -221,6 +259,12 @@ mod tests {
                 Got::Text("G1 Y2".into(), 11)
             ]
         );
+    }
+
+    #[test]
+    fn a_file_of_only_a_bom_has_no_line() {
+        assert_eq!(streamed("\u{feff}".as_bytes(), 2), []);
+        assert_eq!(in_memory("\u{feff}"), []);
     }
 
     #[test]

@@ -11,7 +11,7 @@ use std::io::BufRead;
 
 use pvt_core::{Units, AXIS_COUNT};
 
-use crate::lines::{read_lines, Line};
+use crate::lines::{read_byte_lines, Line};
 
 /// What the words of a program suggest, before it is compiled.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -26,18 +26,34 @@ pub struct Prescan {
 /// Reads `input` to its end and returns what its words suggest (see [`Prescan`]).
 pub fn prescan(input: &mut dyn BufRead) -> std::io::Result<Prescan> {
     let mut found = Prescan::default();
-    read_lines(input, &mut |line| {
-        if let Line::Text { text, .. } = line {
-            scan_line(text.as_bytes(), &mut found);
+    read_byte_lines(input, &mut |line| {
+        if let Line::Bytes { bytes, .. } = line {
+            scan_line(bytes, &mut found);
         }
         true
     })?;
     Ok(found)
 }
 
+/// The bytes that can change what the scan sees: letters, comment and bracket marks.
+static MARKS: [bool; 256] = {
+    let mut marks = [false; 256];
+    let mut c = 0;
+    while c < 256 {
+        let b = c as u8;
+        marks[c] = b.is_ascii_alphabetic() || matches!(b, b'(' | b';' | b'[' | b']');
+        c += 1;
+    }
+    marks
+};
+
 fn scan_line(b: &[u8], found: &mut Prescan) {
     let (mut at, mut depth) = (0, 0u32);
     while let Some(&c) = b.get(at) {
+        if !MARKS[usize::from(c)] {
+            at += 1;
+            continue;
+        }
         match c {
             b'(' if depth == 0 => {
                 at += b[at..]
