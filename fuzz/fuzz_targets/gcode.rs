@@ -1,15 +1,45 @@
 //! G-code parser + interpreter + planner + every back end: no input may panic, and
-//! whatever compiles must plan into finite, positive-time pieces.
+//! whatever compiles must plan into finite, positive-time pieces. The streaming reader
+//! (`compile_read`, fed in small chunks) must find exactly what the in-memory compile
+//! finds, and the prescan must read anything.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use pvt_core::{plan_toolpath, PlanOptions};
+use pvt_core::{plan_toolpath, Element, EventKind, Motion, PlanOptions};
 use pvt_emit::{emit_to_vec, EmitOptions, Format};
+
+#[derive(Default)]
+struct Count(usize);
+
+impl pvt_gcode::ToolpathSink for Count {
+    fn element(&mut self, _: Motion, _: &Element) {
+        self.0 += 1;
+    }
+    fn end_contour(&mut self) {}
+    fn event(&mut self, _: &EventKind, _: u32) {}
+}
 
 fuzz_target!(|data: &[u8]| {
     let text = String::from_utf8_lossy(data);
-    let Ok(compiled) = pvt_gcode::compile(&text, &Default::default()) else {
-        return;
+    let options = pvt_gcode::GcodeOptions::default();
+    let compiled = pvt_gcode::compile(&text, &options);
+    let chunk = 1 + data.len() % 61;
+    let mut input = std::io::BufReader::with_capacity(chunk, text.as_bytes());
+    let mut count = Count::default();
+    let streamed = pvt_gcode::compile_read(&mut input, &options, &mut count).expect("in memory");
+    let _ = pvt_gcode::prescan(&mut text.as_bytes());
+    let compiled = match (compiled, streamed) {
+        (Ok(compiled), Ok(summary)) => {
+            assert_eq!(compiled.warnings, summary.warnings);
+            let elements = compiled.toolpath.contours.iter().map(|c| c.elements.len());
+            assert_eq!(elements.sum::<usize>(), count.0);
+            compiled
+        }
+        (Err(a), Err(b)) => {
+            assert_eq!(a, b);
+            return;
+        }
+        (a, b) => panic!("in memory {:?}, streamed {:?}", a.is_ok(), b.is_ok()),
     };
     let Ok(program) = plan_toolpath(&compiled.toolpath, &PlanOptions::default()) else {
         return;
