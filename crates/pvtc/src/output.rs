@@ -6,9 +6,9 @@
 //! removes every temporary file being written before the process exits, so no partial
 //! file is left. It must not decide what to write.
 //!
-//! The rename is atomic but not flushed to the disk first (as compilers do not): a power
-//! loss just after a compile may leave the old file or an empty one, never a partial one
-//! that a reader could take for complete on a journalled file system.
+//! The rename is atomic but the data is not flushed to the disk first (compilers do not
+//! either): what survives a power loss just after a compile is the file system's choice.
+//! A failure or an interrupt never leaves a partial file.
 
 use crate::pipeline::Failure;
 use std::io::{Seek, Write};
