@@ -15,8 +15,14 @@ const POW10: [f64; 10] = [1.0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9];
 /// machine, and many times faster than exact decimal formatting. Values whose scaled
 /// magnitude reaches 2^53 (where integers stop being exact) use Rust's exact formatting.
 pub fn push_fixed(out: &mut String, x: f64, decimals: usize) {
-    let scaled = (x * POW10[decimals.min(9)]).round();
-    if decimals > 9 || scaled.abs() >= 9_007_199_254_740_992.0 {
+    const EXACT_INTEGERS: f64 = 9_007_199_254_740_992.0; // 2^53
+    let scaled = x * POW10[decimals.min(9)];
+    let rounded = if scaled.abs() < EXACT_INTEGERS {
+        round_half_away(scaled)
+    } else {
+        scaled
+    };
+    if decimals > 9 || rounded.abs() >= EXACT_INTEGERS {
         let start = out.len();
         write!(out, "{x:.decimals$}").expect("writing to a String cannot fail");
         if out.as_bytes()[start] == b'-' && out[start + 1..].bytes().all(|b| b == b'0' || b == b'.')
@@ -25,7 +31,7 @@ pub fn push_fixed(out: &mut String, x: f64, decimals: usize) {
         }
         return;
     }
-    let n = scaled as i64;
+    let n = rounded as i64;
     if n < 0 {
         out.push('-');
     }
@@ -43,6 +49,22 @@ pub fn push_fixed(out: &mut String, x: f64, decimals: usize) {
             out.push_str(frac);
         }
     }
+}
+
+/// `x` (|x| < 2^53) rounded half away from zero, as `f64::round` does, without the call
+/// into libm that `round` is on baseline x86-64: the integer part by truncation, and the
+/// fraction `x − t`, which is exact here.
+fn round_half_away(x: f64) -> f64 {
+    let t = x as i64;
+    let fraction = x - t as f64;
+    let n = if fraction >= 0.5 {
+        t + 1
+    } else if fraction <= -0.5 {
+        t - 1
+    } else {
+        t
+    };
+    n as f64
 }
 
 /// Appends the shortest text that reads back as exactly `x` (ryu), never as `-0.0`.
@@ -75,6 +97,42 @@ mod tests {
         assert_eq!(fixed(-0.0, 3), "0.000");
         assert_eq!(fixed(-2.5, 1), "-2.5");
         assert_eq!(fixed(5000.0, 4), "5000.0000");
+    }
+
+    #[test]
+    fn round_half_away_is_f64_round() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut values = vec![
+            0.5,
+            -0.5,
+            1.5,
+            -2.5,
+            0.49999999999999994,
+            -0.49999999999999994,
+        ];
+        values.extend([
+            4503599627370495.5,
+            -4503599627370495.5,
+            9007199254740991.0,
+            1e-300,
+        ]);
+        for _ in 0..200_000 {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let magnitude = [1.0, 1e3, 1e6, 1e9, 1e12, 1e15][(state % 6) as usize];
+            let x = (state as f64 / u64::MAX as f64 - 0.5) * magnitude;
+            values.extend([
+                x,
+                x.trunc() + 0.5,
+                x.trunc() - 0.5,
+                f64::from_bits(x.to_bits() + 1),
+            ]);
+        }
+        for x in values {
+            // Equal as numbers (a -0.0 from `round` prints as 0 either way).
+            assert_eq!(round_half_away(x), x.round(), "{x}");
+        }
     }
 
     #[test]

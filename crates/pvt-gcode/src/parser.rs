@@ -281,10 +281,17 @@ pub(crate) fn parse_line(
 ) -> Result<LineKind, GcodeDiagnostic> {
     let text = line.text;
     block.reset(line.start, line.start + text.len(), line.number);
-    if percent_line(text).is_ok() {
+    // A line that starts with a letter other than N (most lines) has no `%`, block
+    // delete or line number: the head productions need not run.
+    let plain = matches!(text.as_bytes().first(), Some(c) if c.is_ascii_alphabetic() && !matches!(c, b'N' | b'n'));
+    if !plain && percent_line(text).is_ok() {
         return Ok(LineKind::Percent);
     }
-    let (i, mut first_error) = line_head(text, line.start, block);
+    let (i, mut first_error) = if plain {
+        (text, None)
+    } else {
+        line_head(text, line.start, block)
+    };
     let mut reader = Reader::new(text, line.start, text.len() - i.len(), params);
     loop {
         reader.skip_blanks();
