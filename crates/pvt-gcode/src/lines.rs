@@ -1,5 +1,5 @@
-//! A byte stream cut into lines: byte offsets, line ends, the BOM, invalid UTF-8 and the
-//! bound on line length.
+//! A byte stream cut into lines: byte offsets, line ends, the BOM and the bound on line
+//! length (reading the bytes as text is the caller's).
 //!
 //! Owns [`MAX_LINE_BYTES`] and the guarantee that reading a stream holds at most one line
 //! of that length in memory, whatever the input (a 100 MB line, a 1 GB unterminated
@@ -17,14 +17,7 @@ const BOM: &[u8] = "\u{feff}".as_bytes();
 /// One line of the stream.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Line<'a> {
-    /// A line within the limit, line end (and a leading BOM) removed; starts at byte `start`.
-    Text {
-        /// The text, invalid UTF-8 replaced by U+FFFD.
-        text: &'a str,
-        /// Byte offset of the text in the stream.
-        start: usize,
-    },
-    /// A line within the limit as bytes, from [`read_byte_lines`] (no UTF-8 check).
+    /// A line within the limit, as bytes (the reader decides how to read them as text).
     Bytes {
         /// The bytes, line end (and a leading BOM) removed.
         bytes: &'a [u8],
@@ -40,32 +33,13 @@ pub(crate) enum Line<'a> {
     },
 }
 
-/// Hands every line of `input` to `each` as text ([`Line::Text`] or [`Line::TooLong`])
-/// until `each` returns false or the input ends.
+/// Hands every line of `input` to `each` ([`Line::Bytes`] or [`Line::TooLong`]) until
+/// `each` returns false or the input ends.
 pub(crate) fn read_lines(
     input: &mut dyn BufRead,
     each: &mut dyn FnMut(Line<'_>) -> bool,
 ) -> std::io::Result<()> {
-    split(input, Splitter::default(), each)
-}
-
-/// As [`read_lines`], with lines as bytes ([`Line::Bytes`]), for lexical scans.
-pub(crate) fn read_byte_lines(
-    input: &mut dyn BufRead,
-    each: &mut dyn FnMut(Line<'_>) -> bool,
-) -> std::io::Result<()> {
-    let splitter = Splitter {
-        bytes: true,
-        ..Splitter::default()
-    };
-    split(input, splitter, each)
-}
-
-fn split(
-    input: &mut dyn BufRead,
-    mut splitter: Splitter,
-    each: &mut dyn FnMut(Line<'_>) -> bool,
-) -> std::io::Result<()> {
+    let mut splitter = Splitter::default();
     loop {
         let chunk = match input.fill_buf() {
             Ok(chunk) => chunk,
@@ -101,8 +75,6 @@ struct Splitter {
     bom: usize,
     /// Whether the last byte of an over-long line so far is `\r` (not part of its length).
     ends_cr: bool,
-    /// Hand lines over as bytes rather than text.
-    bytes: bool,
 }
 
 impl Splitter {
@@ -110,7 +82,7 @@ impl Splitter {
         let mut rest = chunk;
         while let Some(end) = memchr::memchr(b'\n', rest) {
             let go_on = if self.pending.is_empty() && self.overlong.is_none() {
-                deliver(&rest[..end], self.line_start, self.bytes, each)
+                deliver(&rest[..end], self.line_start, each)
             } else {
                 self.append(&rest[..end]);
                 self.take_line(each)
@@ -166,7 +138,7 @@ impl Splitter {
                 start: self.line_start + self.bom,
                 length: length - self.bom - usize::from(self.ends_cr),
             }),
-            None => deliver(&self.pending, self.line_start, self.bytes, each),
+            None => deliver(&self.pending, self.line_start, each),
         };
         self.pending.clear();
         self.bom = 0;
@@ -184,9 +156,8 @@ impl Splitter {
     }
 }
 
-/// Hands over one whole line (without its `\n`) that starts at byte `start`, as bytes or
-/// as text.
-fn deliver(line: &[u8], start: usize, bytes: bool, each: &mut dyn FnMut(Line<'_>) -> bool) -> bool {
+/// Hands over one whole line (without its `\n`) that starts at byte `start`.
+fn deliver(line: &[u8], start: usize, each: &mut dyn FnMut(Line<'_>) -> bool) -> bool {
     let (line, start) = match line.strip_prefix(BOM) {
         Some(rest) if start == 0 => (rest, BOM.len()),
         _ => (line, start),
@@ -198,16 +169,7 @@ fn deliver(line: &[u8], start: usize, bytes: bool, each: &mut dyn FnMut(Line<'_>
             length: line.len(),
         });
     }
-    if bytes {
-        return each(Line::Bytes { bytes: line, start });
-    }
-    match std::str::from_utf8(line) {
-        Ok(text) => each(Line::Text { text, start }),
-        Err(_) => each(Line::Text {
-            text: &String::from_utf8_lossy(line),
-            start,
-        }),
-    }
+    each(Line::Bytes { bytes: line, start })
 }
 
 #[cfg(test)]
@@ -226,7 +188,6 @@ mod tests {
         let mut got = Vec::new();
         read_lines(&mut input, &mut |line| {
             got.push(match line {
-                Line::Text { text, start } => Got::Text(text.to_owned(), start),
                 Line::Bytes { bytes, start } => {
                     Got::Text(String::from_utf8_lossy(bytes).into_owned(), start)
                 }

@@ -11,7 +11,7 @@ use std::io::BufRead;
 
 use pvt_core::{Units, AXIS_COUNT};
 
-use crate::lines::{read_byte_lines, Line};
+use crate::lines::{read_lines, Line};
 
 /// What the words of a program suggest, before it is compiled.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -26,7 +26,7 @@ pub struct Prescan {
 /// Reads `input` to its end and returns what its words suggest (see [`Prescan`]).
 pub fn prescan(input: &mut dyn BufRead) -> std::io::Result<Prescan> {
     let mut found = Prescan::default();
-    read_byte_lines(input, &mut |line| {
+    read_lines(input, &mut |line| {
         if let Line::Bytes { bytes, .. } = line {
             scan_line(bytes, &mut found);
         }

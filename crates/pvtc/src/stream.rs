@@ -206,11 +206,27 @@ pub fn can_stream(path: &std::path::Path, options: &crate::CompileOptions) -> bo
 fn open(path: &std::path::Path) -> Result<std::io::BufReader<std::fs::File>, crate::Failure> {
     std::fs::File::open(path)
         .map(|f| std::io::BufReader::with_capacity(1 << 18, f))
-        .map_err(|error| crate::Failure::Io {
-            path: path.to_path_buf(),
-            action: "read",
-            error,
-        })
+        .map_err(|error| read_failure(path, error))
+}
+
+fn read_failure(path: &std::path::Path, error: std::io::Error) -> crate::Failure {
+    crate::Failure::Io {
+        path: path.to_path_buf(),
+        action: "read",
+        error,
+    }
+}
+
+/// One pass of the G-code front end over the file into `sink`; its errors as reports.
+fn compile_read(
+    path: &std::path::Path,
+    name: &str,
+    gcode: &pvt_gcode::GcodeOptions,
+    sink: &mut dyn pvt_gcode::ToolpathSink,
+) -> Result<pvt_gcode::StreamSummary, crate::Failure> {
+    pvt_gcode::compile_read(&mut open(path)?, gcode, sink)
+        .map_err(|error| read_failure(path, error))?
+        .map_err(|errors| crate::Failure::Input(reports(path, name, errors.diagnostics)))
 }
 
 /// Diagnostics as reports, each with the lines of the file around it (read again, a
@@ -279,21 +295,12 @@ pub fn compile_streaming(
     out: &mut Target<'_>,
 ) -> Result<Vec<miette::Report>, crate::Failure> {
     let gcode = crate::front::gcode_options(options);
-    let io = |error| crate::Failure::Io {
-        path: path.to_path_buf(),
-        action: "read",
-        error,
-    };
-    let input_errors = |errors: pvt_gcode::GcodeErrors| {
-        crate::Failure::Input(reports(path, name, errors.diagnostics))
-    };
     let layout = if out.can_restart() {
-        Layout::guess(&pvt_gcode::prescan(&mut open(path)?).map_err(io)?, &gcode)
+        let prescan = pvt_gcode::prescan(&mut open(path)?).map_err(|e| read_failure(path, e))?;
+        Layout::guess(&prescan, &gcode)
     } else {
         let mut moved = MovedAxes::default();
-        let summary = pvt_gcode::compile_read(&mut open(path)?, &gcode, &mut moved)
-            .map_err(io)?
-            .map_err(input_errors)?;
+        let summary = compile_read(path, name, &gcode, &mut moved)?;
         Layout {
             axes: moved.axes(),
             units: summary.units,
@@ -362,13 +369,7 @@ fn write_pass(
     if let Err(e) = begun {
         sink.failure = Some(StreamFailure::Emit(e));
     }
-    let summary = pvt_gcode::compile_read(&mut open(path)?, gcode, &mut sink)
-        .map_err(|error| crate::Failure::Io {
-            path: path.to_path_buf(),
-            action: "read",
-            error,
-        })?
-        .map_err(|errors| crate::Failure::Input(reports(path, name, errors.diagnostics)))?;
+    let summary = compile_read(path, name, gcode, &mut sink)?;
     let found = Layout {
         axes: sink.moved.axes(),
         units: summary.units,
