@@ -162,3 +162,18 @@ fn an_error_on_each_of_200k_lines_keeps_a_thousand_and_counts_the_rest() {
     assert!(more.to_string().starts_with("199000 more errors"), "{more}");
     assert!(peak < MIB, "peak {peak} bytes");
 }
+
+#[test]
+fn warnings_past_a_thousand_are_counted_as_more_warnings() {
+    let text = format!("G1 X1 F100\n{}", "G1 X1\n".repeat(1100));
+    let compiled = pvt_gcode::compile(&text, &GcodeOptions::default()).expect("compiles");
+    let warnings = compiled.warnings;
+    assert_eq!(warnings.len(), pvt_gcode::MAX_KEPT_DIAGNOSTICS + 1);
+    assert!(warnings[..1000]
+        .iter()
+        .all(|w| w.code() == "pvtc::gcode::zero_length_move"));
+    let more = warnings.last().unwrap();
+    assert_eq!(more.code(), "pvtc::gcode::more_warnings");
+    assert!(more.is_warning());
+    assert!(more.to_string().starts_with("100 more warnings"), "{more}");
+}
