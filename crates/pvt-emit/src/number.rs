@@ -3,68 +3,142 @@
 //! Owns how a float becomes text. Both forms are deterministic on every machine, and
 //! neither ever prints `-0`.
 
-use std::fmt::Write as _;
-
 /// Powers of ten a fixed-decimal number may be scaled by.
 const POW10: [f64; 10] = [1.0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9];
 
-/// Appends `x` with exactly `decimals` digits after the point, never as negative zero.
+/// Powers of ten a fixed-decimal number's integer may be split by.
+const POW10_INT: [u64; 10] = [
+    1,
+    10,
+    100,
+    1_000,
+    10_000,
+    100_000,
+    1_000_000,
+    10_000_000,
+    100_000_000,
+    1_000_000_000,
+];
+
+/// The two digits of every number below 100, in order.
+static DIGIT_PAIRS: [u8; 200] = {
+    let mut pairs = [0u8; 200];
+    let mut n = 0;
+    while n < 100 {
+        pairs[2 * n] = b'0' + (n / 10) as u8;
+        pairs[2 * n + 1] = b'0' + (n % 10) as u8;
+        n += 1;
+    }
+    pairs
+};
+
+/// Appends `x` with exactly `DECIMALS` (at most 9) digits after the point, never as
+/// negative zero.
 ///
-/// `x` is scaled by `10^decimals` in binary floating point and rounded half away from
+/// `x` is scaled by `10^DECIMALS` in binary floating point and rounded half away from
 /// zero to an integer, which is printed with the point inserted: the same bytes on every
 /// machine, and many times faster than exact decimal formatting. Values whose scaled
 /// magnitude reaches 2^53 (where integers stop being exact) use Rust's exact formatting.
-pub fn push_fixed(out: &mut String, x: f64, decimals: usize) {
+#[inline]
+pub fn push_fixed<const DECIMALS: usize>(out: &mut Vec<u8>, x: f64) {
     const EXACT_INTEGERS: f64 = 9_007_199_254_740_992.0; // 2^53
-    let scaled = x * POW10[decimals.min(9)];
-    let rounded = if scaled.abs() < EXACT_INTEGERS {
-        round_half_away(scaled)
-    } else {
-        scaled
-    };
-    if decimals > 9 || rounded.abs() >= EXACT_INTEGERS {
-        let start = out.len();
-        write!(out, "{x:.decimals$}").expect("writing to a String cannot fail");
-        if out.as_bytes()[start] == b'-' && out[start + 1..].bytes().all(|b| b == b'0' || b == b'.')
-        {
-            out.remove(start);
-        }
-        return;
+    const { assert!(DECIMALS <= 9, "at most 9 decimals") };
+    let scaled = x * POW10[DECIMALS];
+    if scaled.is_nan() || scaled.abs() >= EXACT_INTEGERS {
+        return push_fixed_exactly(out, x, DECIMALS);
     }
-    let n = rounded as i64;
-    if n < 0 {
-        out.push('-');
+    let n = round_half_away(scaled);
+    let magnitude = n.unsigned_abs();
+    let unit = POW10_INT[DECIMALS];
+    let (int, fraction) = (magnitude / unit, magnitude % unit);
+    // At most a sign, 20 digits and a point: the text is written in place in room made
+    // for the longest, which is then cut back (no copy, no branch on the length).
+    let start = out.len();
+    out.resize(start + 32, 0);
+    let text = &mut out[start..];
+    let mut len = usize::from(n < 0);
+    text[0] = b'-';
+    len += write_integer(&mut text[len..], int);
+    if DECIMALS > 0 {
+        text[len] = b'.';
+        write_digits(&mut text[len + 1..len + 1 + DECIMALS], fraction);
+        len += 1 + DECIMALS;
     }
-    let mut digits = itoa::Buffer::new();
-    let text = digits.format(n.unsigned_abs());
-    if text.len() <= decimals {
-        out.push_str("0.");
-        out.extend(std::iter::repeat_n('0', decimals - text.len()));
-        out.push_str(text);
-    } else {
-        let (int, frac) = text.split_at(text.len() - decimals);
-        out.push_str(int);
-        if decimals > 0 {
-            out.push('.');
-            out.push_str(frac);
-        }
+    out.truncate(start + len);
+}
+
+/// Writes `value` without leading zeros at the start of `slot` (which has room for 20
+/// digits) and returns how many digits it took. Below 10^4 (most coordinates, speeds and
+/// times) it takes no branch on the count of digits: four digits are made, and the
+/// leading zeros shifted out.
+#[inline]
+fn write_integer(slot: &mut [u8], value: u64) -> usize {
+    if value >= 10_000 {
+        let count = value.ilog10() as usize + 1;
+        write_digits(&mut slot[..count], value);
+        return count;
     }
+    let (high, low) = (2 * (value / 100) as usize, 2 * (value % 100) as usize);
+    let four = u32::from_le_bytes([
+        DIGIT_PAIRS[high],
+        DIGIT_PAIRS[high + 1],
+        DIGIT_PAIRS[low],
+        DIGIT_PAIRS[low + 1],
+    ]);
+    let count =
+        1 + usize::from(value >= 10) + usize::from(value >= 100) + usize::from(value >= 1000);
+    let digits = four >> (8 * (4 - count));
+    slot[..4].copy_from_slice(&digits.to_le_bytes());
+    count
+}
+
+/// Fills `slot` with the last `slot.len()` decimal digits of `value`, zero-padded.
+#[inline]
+fn write_digits(slot: &mut [u8], mut value: u64) {
+    let mut end = slot.len();
+    while end >= 2 {
+        let pair = 2 * (value % 100) as usize;
+        slot[end - 2..end].copy_from_slice(&DIGIT_PAIRS[pair..pair + 2]);
+        value /= 100;
+        end -= 2;
+    }
+    if end == 1 {
+        slot[0] = b'0' + (value % 10) as u8;
+    }
+}
+
+/// [`push_fixed`] for values too large (or too many decimals) for the integer path.
+fn push_fixed_exactly(out: &mut Vec<u8>, x: f64, decimals: usize) {
+    let text = format!("{x:.decimals$}");
+    let negative_zero = text.starts_with('-') && text[1..].bytes().all(|b| b == b'0' || b == b'.');
+    let text = if negative_zero { &text[1..] } else { &text };
+    out.extend_from_slice(text.as_bytes());
+}
+
+/// True when `x` is a whole number (as `x.fract() == 0.0`, without the call into libm
+/// that `trunc` is on baseline x86-64).
+pub(crate) fn is_whole(x: f64) -> bool {
+    const ALL_WHOLE: f64 = 4_503_599_627_370_496.0; // 2^52: every f64 beyond is whole
+    if x.abs() >= ALL_WHOLE {
+        return x.is_finite();
+    }
+    // |x| < 2^52 (NaN compares false above and fails here): truncation is exact.
+    x == (x as i64) as f64
 }
 
 /// `x` (|x| < 2^53) rounded half away from zero, as `f64::round` does, without the call
 /// into libm that `round` is on baseline x86-64: the integer part by truncation, and the
 /// fraction `x − t`, which is exact here.
-fn round_half_away(x: f64) -> f64 {
+fn round_half_away(x: f64) -> i64 {
     let t = x as i64;
     let fraction = x - t as f64;
-    let n = if fraction >= 0.5 {
+    if fraction >= 0.5 {
         t + 1
     } else if fraction <= -0.5 {
         t - 1
     } else {
         t
-    };
-    n as f64
+    }
 }
 
 /// Appends the shortest text that reads back as exactly `x` (ryu), never as `-0.0`.
@@ -79,9 +153,18 @@ mod tests {
     use super::*;
 
     fn fixed(x: f64, d: usize) -> String {
-        let mut s = String::new();
-        push_fixed(&mut s, x, d);
-        s
+        let mut s = b"ab".to_vec();
+        match d {
+            0 => push_fixed::<0>(&mut s, x),
+            1 => push_fixed::<1>(&mut s, x),
+            2 => push_fixed::<2>(&mut s, x),
+            3 => push_fixed::<3>(&mut s, x),
+            4 => push_fixed::<4>(&mut s, x),
+            6 => push_fixed::<6>(&mut s, x),
+            _ => unreachable!("no test uses {d} decimals"),
+        }
+        assert_eq!(&s[..2], b"ab", "what was there is kept");
+        String::from_utf8(s[2..].to_vec()).unwrap()
     }
 
     fn exact(x: f64) -> String {
@@ -97,6 +180,26 @@ mod tests {
         assert_eq!(fixed(-0.0, 3), "0.000");
         assert_eq!(fixed(-2.5, 1), "-2.5");
         assert_eq!(fixed(5000.0, 4), "5000.0000");
+    }
+
+    #[test]
+    fn integer_parts_of_every_length() {
+        for (x, text) in [
+            (0.0, "0.0000"),
+            (9.99995, "10.0000"),
+            (-99.5, "-99.5000"),
+            (100.0, "100.0000"),
+            (999.99996, "1000.0000"),
+            (9999.0001, "9999.0001"),
+            (-10000.0, "-10000.0000"),
+            (123456789.25, "123456789.2500"),
+            (900719925474.0991, "900719925474.0991"),
+        ] {
+            assert_eq!(fixed(x, 4), text);
+        }
+        assert_eq!(fixed(4503599627.370495, 6), "4503599627.370495");
+        assert_eq!(fixed(7.0, 0), "7");
+        assert_eq!(fixed(12345.0, 0), "12345");
     }
 
     #[test]
@@ -131,7 +234,7 @@ mod tests {
         }
         for x in values {
             // Equal as numbers (a -0.0 from `round` prints as 0 either way).
-            assert_eq!(round_half_away(x), x.round(), "{x}");
+            assert_eq!(round_half_away(x) as f64, x.round(), "{x}");
         }
     }
 

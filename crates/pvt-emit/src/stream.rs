@@ -50,7 +50,7 @@ impl Totals {
         self.segments += 1;
         self.segments_in_contour += 1;
         self.time += duration;
-        if (duration * 1000.0).fract() != 0.0 {
+        if !crate::number::is_whole(duration * 1000.0) {
             self.fractional_ms += 1;
         }
     }
