@@ -35,7 +35,56 @@ pub fn prescan(input: &mut dyn BufRead) -> std::io::Result<Prescan> {
     Ok(found)
 }
 
-/// The bytes that can change what the scan sees: letters, comment and bracket marks.
+/// Per byte: the bit of its letter (either case, bit 0 for A), or [`SPECIAL`] for the
+/// bytes after which a letter may not be a word (comment and bracket marks, `<` of a
+/// named parameter, `%` of a program delimiter line, the `O` of a control word), or
+/// nothing.
+static CLASS: [u32; 256] = {
+    let mut class = [0u32; 256];
+    let mut c = 0;
+    while c < 256 {
+        let b = (c as u8).to_ascii_uppercase();
+        class[c] = match b {
+            b'(' | b';' | b'[' | b']' | b'<' | b'%' | b'O' => SPECIAL,
+            b'A'..=b'Z' => 1 << (b - b'A'),
+            _ => 0,
+        };
+        c += 1;
+    }
+    class
+};
+
+/// The class bit of bytes that send a line to the full scan.
+const SPECIAL: u32 = 1 << 31;
+
+/// The class bits of the axis letters, in X Y Z A B C order.
+const AXIS_BITS: [u32; AXIS_COUNT] = {
+    let letters = *b"XYZABC";
+    let mut bits = [0u32; AXIS_COUNT];
+    let mut i = 0;
+    while i < AXIS_COUNT {
+        bits[i] = 1 << (letters[i] - b'A');
+        i += 1;
+    }
+    bits
+};
+
+/// Notes the axis words of line `b`. Most lines hold only words: the letters they
+/// contain are their words' letters, found in one pass over the bytes. Lines with
+/// comments, brackets, named parameters or O-words, and G words while the units are
+/// unknown, take the full scan.
+fn scan_line(b: &[u8], found: &mut Prescan) {
+    let letters = b.iter().fold(0u32, |seen, &c| seen | CLASS[usize::from(c)]);
+    let units_wanted = found.units.is_none() && letters & 1 << (b'G' - b'A') != 0;
+    if letters & SPECIAL != 0 || units_wanted {
+        return scan_words(b, found);
+    }
+    for (seen, bit) in found.axis_words.iter_mut().zip(AXIS_BITS) {
+        *seen |= letters & bit != 0;
+    }
+}
+
+/// The bytes that can change what the full scan sees: letters, comment and bracket marks.
 static MARKS: [bool; 256] = {
     let mut marks = [false; 256];
     let mut c = 0;
@@ -47,7 +96,9 @@ static MARKS: [bool; 256] = {
     marks
 };
 
-fn scan_line(b: &[u8], found: &mut Prescan) {
+/// The full scan of line `b`: each single letter with a value, outside comments and
+/// brackets, is a word.
+fn scan_words(b: &[u8], found: &mut Prescan) {
     let (mut at, mut depth) = (0, 0u32);
     while let Some(&c) = b.get(at) {
         if !MARKS[usize::from(c)] {
@@ -121,6 +172,40 @@ mod tests {
         let p = scan("G21 G0X1 y2 (Z3) ; A4\n#<b> = [ACOS[0]] o100 repeat [2]\nC [#<b>]");
         assert_eq!(p.axis_words, [true, true, false, false, false, true]);
         assert_eq!(p.units, Some(Units::Millimetre));
+    }
+
+    #[test]
+    fn the_quick_pass_agrees_with_the_full_scan() {
+        let lines = [
+            "X1 Y2 Z3",
+            "x-.5 a+2 F1500",
+            "G1 X1",
+            "N10 G0 Z5 M3 S1000",
+            "G2 X1 Y1 I0.5 J0 (arc) ; end",
+            "#<xa> = 2",
+            "#1 = [ACOS[0]] B2",
+            "o100 sub",
+            "% begin XYZ",
+            "/ Y 1 . 5",
+            "C7 *12",
+        ];
+        for units in [None, Some(Units::Inch)] {
+            for line in lines {
+                let (mut quick, mut full) = (
+                    Prescan {
+                        units,
+                        ..Prescan::default()
+                    },
+                    Prescan {
+                        units,
+                        ..Prescan::default()
+                    },
+                );
+                scan_line(line.as_bytes(), &mut quick);
+                scan_words(line.as_bytes(), &mut full);
+                assert_eq!(quick, full, "{line:?} with units {units:?}");
+            }
+        }
     }
 
     #[test]
