@@ -24,7 +24,7 @@ use super::PlanError;
 use crate::polyline::Polyline;
 use crate::program::{PvtContour, SegmentRef};
 use crate::toolpath::Motion;
-use crate::vector::{distance, max_abs, norm, sub_into};
+use crate::vector::{max_abs, norm, sub_into};
 
 /// Length of the sum of two unit chord directions below which a corner is a reversal.
 ///
@@ -38,10 +38,14 @@ const REPEAT_TOLERANCE: f64 = 1e-12;
 ///
 /// Returns the positive root of seed 000's quadratic, computed in the cancellation-free form.
 pub fn segment_time(d: &[f64], v0: &[f64], v1: &[f64], vmid: f64) -> f64 {
+    segment_time_over(d, norm(d), v0, v1, vmid)
+}
+
+/// [`segment_time`] for a chord whose length (`norm(d)`) is known.
+fn segment_time_over(d: &[f64], length: f64, v0: &[f64], v1: &[f64], vmid: f64) -> f64 {
     // In units of the chord length L and vmid the quadratic is
     // (1 − |s|²/16vmid²)·τ² + (3/4)(u·s/vmid)·τ − 9/4 = 0 with T = τ·L/vmid, which neither
     // overflows nor underflows for any finite chord (seed 000's form squares |d|).
-    let length = norm(d);
     let (mut ss, mut us) = (0.0, 0.0);
     for k in 0..d.len() {
         let s = (v0[k] + v1[k]) / vmid;
@@ -69,6 +73,8 @@ struct Pending {
     unit: Vec<f64>,
     /// Chord vector.
     chord: Vec<f64>,
+    /// Chord length.
+    length: f64,
     /// Programmed feed of the segment, units/s.
     feed: f64,
     /// Upper bound on the target speed at `end` (the feeds met there so far).
@@ -85,6 +91,7 @@ impl Pending {
             end: vec![0.0; dim],
             unit: vec![0.0; dim],
             chord: vec![0.0; dim],
+            length: 0.0,
             feed: 0.0,
             speed_cap: 0.0,
             rest: false,
@@ -141,18 +148,19 @@ impl ContourStream {
         if !(feed.is_finite() && feed > 0.0) {
             return Err(PlanError::BadFeed { line, feed });
         }
+        let mut next = self.spare.take().unwrap_or_else(|| Pending::new(self.dim));
         let from = self.last_point();
+        sub_into(point, from, &mut next.chord);
+        let len = norm(&next.chord);
         let scale = max_abs(from).max(max_abs(point));
-        if self.dim == 0 || distance(from, point) <= REPEAT_TOLERANCE * scale {
+        if self.dim == 0 || len <= REPEAT_TOLERANCE * scale {
             // A repeated point: the feeds it joins still bound the speed where it is.
             if let Some(p) = self.pending.as_mut() {
                 p.speed_cap = p.speed_cap.min(feed);
             }
+            self.spare = Some(next);
             return Ok(());
         }
-        let mut next = self.spare.take().unwrap_or_else(|| Pending::new(self.dim));
-        sub_into(point, self.last_point(), &mut next.chord);
-        let len = norm(&next.chord);
         // A segment's time is at most about 3·len/feed; one that overflows is refused here
         // rather than written as NaN or infinity.
         if !(len.is_finite() && (4.0 * len / feed).is_finite()) {
@@ -165,7 +173,8 @@ impl ContourStream {
             *u = c / len;
         }
         next.end.copy_from_slice(point);
-        (next.feed, next.speed_cap, next.rest, next.line) = (feed, feed, false, line);
+        (next.length, next.feed, next.speed_cap) = (len, feed, feed);
+        (next.rest, next.line) = (false, line);
         if let Some(mut p) = self.pending.take() {
             p.speed_cap = p.speed_cap.min(feed);
             let speed = if p.rest { 0.0 } else { p.speed_cap };
@@ -215,7 +224,7 @@ impl ContourStream {
         } else {
             0.5 * (self.speed_start + speed_end)
         };
-        let t = segment_time(&p.chord, &self.v_start, &self.v_end, vmid);
+        let t = segment_time_over(&p.chord, p.length, &self.v_start, &self.v_end, vmid);
         emit(SegmentRef {
             end: &p.end,
             velocity: &self.v_end,
