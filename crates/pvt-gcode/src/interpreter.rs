@@ -91,6 +91,8 @@ pub(crate) struct Interpreter<'a> {
     quiet: bool,
     /// Diagnostics of the block being read, before they are sorted into the two above.
     pending: Vec<GcodeDiagnostic>,
+    /// The request of the block being executed, its storage reused from block to block.
+    request: Option<Box<Request>>,
 }
 
 impl<'a> Interpreter<'a> {
@@ -113,6 +115,7 @@ impl<'a> Interpreter<'a> {
             warnings: Kept::default(),
             quiet: false,
             pending: Vec::new(),
+            request: None,
         }
     }
 
@@ -130,9 +133,20 @@ impl<'a> Interpreter<'a> {
 
     /// Executes one block in RS274NGC order (see the module documentation).
     pub fn execute(&mut self, block: &Block) -> Flow {
-        let request = Request::read(block, &mut self.pending);
-        for d in std::mem::take(&mut self.pending) {
-            self.push(d);
+        let mut request = self.request.take().unwrap_or_default();
+        request.read(block, &mut self.pending);
+        let flow = self.execute_request(&request, block);
+        self.request = Some(request);
+        flow
+    }
+
+    fn execute_request(&mut self, request: &Request, block: &Block) -> Flow {
+        if !self.pending.is_empty() {
+            let mut pending = std::mem::take(&mut self.pending);
+            for d in pending.drain(..) {
+                self.push(d);
+            }
+            self.pending = pending;
         }
         if let Some(text) = &block.message {
             self.event(EventKind::Message { text: text.clone() }, block.line);
@@ -140,14 +154,14 @@ impl<'a> Interpreter<'a> {
         if let Some((mode, _)) = request.feed_mode {
             self.modal.feed_mode = mode;
         }
-        self.machine_events(&request, block.line);
-        self.dwell(&request, block.line);
-        self.set_modes(&request);
+        self.machine_events(request, block.line);
+        self.dwell(request, block.line);
+        self.set_modes(request);
         // F after the units of its block, so `G21 F254` is 254 mm/min.
-        self.set_feed(&request);
-        self.set_offsets(&request);
-        self.check_p_word(&request);
-        self.run_motion(&request, block);
+        self.set_feed(request);
+        self.set_offsets(request);
+        self.check_p_word(request);
+        self.run_motion(request, block);
         match request.stop {
             Some((Stop::Pause(optional), _)) => {
                 self.event(EventKind::Pause { optional }, block.line);

@@ -125,7 +125,7 @@ pub(crate) fn number(i: &str) -> IResult<&str, &str> {
 
 /// The value of text [`number`] accepted, correctly rounded; infinite when too large.
 pub(crate) fn number_value(text: &str) -> f64 {
-    if let Some(value) = short_decimal(text.as_bytes()) {
+    if let Some(value) = short_decimal(text) {
         return value;
     }
     if !text.contains([' ', '\t']) {
@@ -153,36 +153,10 @@ const EXACT_POWERS_OF_TEN: [f64; 16] = [
 ];
 
 /// The value of a blank-free decimal of at most 15 digits (what CAM writes), or `None`.
-///
-/// Clinger's fast path: the digits as an integer below 2^53 and the power of ten are both
-/// exact, so one IEEE division gives the correctly rounded value, bit for bit what
-/// `str::parse` gives, without its general-case machinery.
-fn short_decimal(text: &[u8]) -> Option<f64> {
-    let (negative, digits) = match text.split_first() {
-        Some((b'-', rest)) => (true, rest),
-        Some((b'+', rest)) => (false, rest),
-        _ => (false, text),
-    };
-    let (mut mantissa, mut count, mut point) = (0u64, 0usize, None);
-    for (at, &c) in digits.iter().enumerate() {
-        match c {
-            b'0'..=b'9' => {
-                mantissa = mantissa * 10 + u64::from(c - b'0');
-                count += 1;
-                if count > 15 {
-                    return None;
-                }
-            }
-            b'.' if point.is_none() => point = Some(at),
-            _ => return None,
-        }
-    }
-    if count == 0 {
-        return None;
-    }
-    let scale = point.map_or(0, |at| digits.len() - at - 1);
-    let magnitude = mantissa as f64 / EXACT_POWERS_OF_TEN[scale];
-    Some(if negative { -magnitude } else { magnitude })
+fn short_decimal(text: &str) -> Option<f64> {
+    plain_number(text.as_bytes())
+        .filter(|(len, _)| *len == text.len())
+        .map(|(_, value)| value)
 }
 
 /// A number as CAM writes it and its value: `[sign] digits [. digits]`, at most 15
@@ -190,35 +164,50 @@ fn short_decimal(text: &[u8]) -> Option<f64> {
 /// exponent, a second point). Returns its length; `None` sends the text to the general
 /// reader ([`Reader::real_value`]), which gives the same value or the diagnostic. One
 /// scan, no allocation: the hot path of a surfacing program.
-pub(crate) fn plain_number(i: &str) -> Option<(usize, f64)> {
-    let b = i.as_bytes();
+///
+/// Clinger's fast path: the digits as an integer below 2^53 and the power of ten are both
+/// exact, so one IEEE division gives the correctly rounded value, bit for bit what
+/// `str::parse` gives, without its general-case machinery.
+pub(crate) fn plain_number(b: &[u8]) -> Option<(usize, f64)> {
     let negative = b.first() == Some(&b'-');
-    let mut at = usize::from(matches!(b.first(), Some(b'+' | b'-')));
-    let (mut mantissa, mut count, mut scale, mut point) = (0u64, 0usize, 0usize, false);
-    while let Some(&c) = b.get(at) {
-        match c {
-            b'0'..=b'9' if count < 15 => {
-                mantissa = mantissa * 10 + u64::from(c - b'0');
-                count += 1;
-                scale += usize::from(point);
-            }
-            b'0'..=b'9' => return None,
-            b'.' if !point => point = true,
-            _ => break,
-        }
-        at += 1;
+    let sign = usize::from(matches!(b.first(), Some(b'+' | b'-')));
+    let (mut mantissa, int_end) = digits(b, sign, 0);
+    let (mut at, mut scale) = (int_end, 0);
+    if b.get(at) == Some(&b'.') {
+        let fraction_end;
+        (mantissa, fraction_end) = digits(b, at + 1, mantissa);
+        scale = fraction_end - (at + 1);
+        at = fraction_end;
     }
-    let next_item = b[at..].iter().find(|c| !matches!(c, b' ' | b'\t'));
+    let count = int_end - sign + scale;
     let continues = match b.get(at) {
         Some(b'e' | b'E' | b'.') => true,
-        Some(b' ' | b'\t') => matches!(next_item, Some(b'0'..=b'9' | b'.')),
+        Some(b' ' | b'\t') => matches!(
+            b[at..].iter().find(|c| !matches!(c, b' ' | b'\t')),
+            Some(b'0'..=b'9' | b'.')
+        ),
         _ => false,
     };
-    if count == 0 || continues {
+    if count == 0 || count > 15 || continues {
         return None;
     }
     let magnitude = mantissa as f64 / EXACT_POWERS_OF_TEN[scale];
     Some((at, if negative { -magnitude } else { magnitude }))
+}
+
+/// Reads the run of decimal digits of `b` from `at` onto `mantissa` (wrapping: a caller
+/// refuses more than 15 digits); returns the mantissa and where the run ends.
+#[inline]
+fn digits(b: &[u8], mut at: usize, mut mantissa: u64) -> (u64, usize) {
+    while at < b.len() {
+        let digit = b[at].wrapping_sub(b'0');
+        if digit >= 10 {
+            break;
+        }
+        mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(digit));
+        at += 1;
+    }
+    (mantissa, at)
 }
 
 /// `letter`: an ASCII letter, either case.
@@ -437,7 +426,7 @@ fn read_word(reader: &mut Reader<'_>, block: &mut Block) -> Result<(), GcodeDiag
     let letter = rest.as_bytes()[0].to_ascii_uppercase();
     reader.pos += 1;
     reader.skip_blanks();
-    let value = match plain_number(reader.rest()) {
+    let value = match plain_number(reader.rest().as_bytes()) {
         Some((len, value)) => {
             reader.pos += len;
             value

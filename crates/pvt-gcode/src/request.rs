@@ -51,9 +51,11 @@ pub(crate) struct Request {
 }
 
 impl Request {
-    /// Sorts the words of `block`, reporting unknown, unsupported and conflicting ones.
-    pub fn read(block: &Block, errors: &mut Vec<GcodeDiagnostic>) -> Request {
-        let mut request = Request::default();
+    /// Becomes the request of `block`: sorts its words, reporting unknown, unsupported and
+    /// conflicting ones. Filled in place, as a request is large and read once per block.
+    pub fn read(&mut self, block: &Block, errors: &mut Vec<GcodeDiagnostic>) {
+        *self = Request::default();
+        let request = self;
         for &word in &block.words {
             match word.letter {
                 b'G' => request.read_g(word, errors),
@@ -82,7 +84,6 @@ impl Request {
                 },
             }
         }
-        request
     }
 
     /// True when the block has any axis word.
