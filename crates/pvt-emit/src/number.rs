@@ -61,7 +61,7 @@ pub fn push_fixed<const DECIMALS: usize>(out: &mut Vec<u8>, x: f64) {
     len += write_integer(&mut text[len..], int);
     if DECIMALS > 0 {
         text[len] = b'.';
-        write_digits(&mut text[len + 1..len + 1 + DECIMALS], fraction);
+        write_fraction(&mut text[len + 1..len + 1 + DECIMALS], fraction as u32);
         len += 1 + DECIMALS;
     }
     out.truncate(start + len);
@@ -71,7 +71,7 @@ pub fn push_fixed<const DECIMALS: usize>(out: &mut Vec<u8>, x: f64) {
 /// digits) and returns how many digits it took. Below 10^4 (most coordinates, speeds and
 /// times) it takes no branch on the count of digits: four digits are made, and the
 /// leading zeros shifted out.
-#[inline]
+#[inline(always)]
 fn write_integer(slot: &mut [u8], value: u64) -> usize {
     if value >= 10_000 {
         let count = value.ilog10() as usize + 1;
@@ -92,8 +92,35 @@ fn write_integer(slot: &mut [u8], value: u64) -> usize {
     count
 }
 
+/// Fills `slot` (at most 9 long) with the last `slot.len()` decimal digits of `value`,
+/// zero-padded. Each pair of digits is divided out of `value` itself, so with the length
+/// known at compile time the pairs are made side by side rather than one after another.
+#[inline(always)]
+fn write_fraction(slot: &mut [u8], value: u32) {
+    const POW10: [u32; 10] = [
+        1,
+        10,
+        100,
+        1_000,
+        10_000,
+        100_000,
+        1_000_000,
+        10_000_000,
+        100_000_000,
+        1_000_000_000,
+    ];
+    let len = slot.len();
+    for k in 0..len / 2 {
+        let pair = 2 * (value / POW10[2 * k] % 100) as usize;
+        let end = len - 2 * k;
+        slot[end - 2..end].copy_from_slice(&DIGIT_PAIRS[pair..pair + 2]);
+    }
+    if len % 2 == 1 {
+        slot[0] = b'0' + (value / POW10[len - 1] % 10) as u8;
+    }
+}
+
 /// Fills `slot` with the last `slot.len()` decimal digits of `value`, zero-padded.
-#[inline]
 fn write_digits(slot: &mut [u8], mut value: u64) {
     let mut end = slot.len();
     while end >= 2 {
@@ -132,13 +159,8 @@ pub(crate) fn is_whole(x: f64) -> bool {
 fn round_half_away(x: f64) -> i64 {
     let t = x as i64;
     let fraction = x - t as f64;
-    if fraction >= 0.5 {
-        t + 1
-    } else if fraction <= -0.5 {
-        t - 1
-    } else {
-        t
-    }
+    // Without branches: which way a coordinate rounds is a coin toss for the predictor.
+    t + i64::from(fraction >= 0.5) - i64::from(fraction <= -0.5)
 }
 
 /// Appends the shortest text that reads back as exactly `x` (ryu), never as `-0.0`.

@@ -11,7 +11,7 @@ use std::io::BufRead;
 
 use pvt_core::{Units, AXIS_COUNT};
 
-use crate::lines::{read_lines, Line};
+use crate::lines::MAX_LINE_BYTES;
 
 /// What the words of a program suggest, before it is compiled.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -24,15 +24,86 @@ pub struct Prescan {
 }
 
 /// Reads `input` to its end and returns what its words suggest (see [`Prescan`]).
+///
+/// Reads whole buffers at a time: the complete lines of a buffer are first looked at
+/// together (see [`scan_lines`]). A line begun in one buffer is completed from the next;
+/// beyond [`MAX_LINE_BYTES`] (a line the compile refuses) its bytes are not kept.
 pub fn prescan(input: &mut dyn BufRead) -> std::io::Result<Prescan> {
     let mut found = Prescan::default();
-    read_lines(input, &mut |line| {
-        if let Line::Bytes { bytes, .. } = line {
-            scan_line(bytes, &mut found);
+    let mut begun = Vec::new();
+    loop {
+        let chunk = match input.fill_buf() {
+            Ok(chunk) => chunk,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+            Err(e) => return Err(e),
+        };
+        if chunk.is_empty() {
+            break;
         }
-        true
-    })?;
+        let len = chunk.len();
+        match memchr::memchr(b'\n', chunk) {
+            None => keep_line_start(&mut begun, chunk),
+            Some(first_end) => {
+                keep_line_start(&mut begun, &chunk[..first_end]);
+                scan_line(&begun, &mut found);
+                begun.clear();
+                let rest = &chunk[first_end + 1..];
+                let whole = memchr::memrchr(b'\n', rest).map_or(0, |end| end + 1);
+                scan_lines(&rest[..whole], &mut found);
+                keep_line_start(&mut begun, &rest[whole..]);
+            }
+        }
+        input.consume(len);
+    }
+    scan_line(&begun, &mut found);
     Ok(found)
+}
+
+/// Adds `piece` to the line being read, up to [`MAX_LINE_BYTES`].
+fn keep_line_start(begun: &mut Vec<u8>, piece: &[u8]) {
+    let room = (MAX_LINE_BYTES + 2).saturating_sub(begun.len());
+    begun.extend_from_slice(&piece[..piece.len().min(room)]);
+}
+
+/// Notes the axis words of `lines` (complete lines, each ending in `\n`). When none of
+/// them needs the full scan, their letters are their words' letters, gathered in one
+/// pass over all their bytes; otherwise each line is scanned alone.
+fn scan_lines(lines: &[u8], found: &mut Prescan) {
+    let letters = letters_of(lines);
+    let units_wanted = found.units.is_none() && letters & G_BIT != 0;
+    if letters & SPECIAL == 0 && !units_wanted {
+        mark_axes(letters, found);
+        return;
+    }
+    let mut start = 0;
+    for end in memchr::memchr_iter(b'\n', lines) {
+        scan_line(&lines[start..end], found);
+        start = end + 1;
+    }
+}
+
+/// The [`CLASS`] bits of every byte of `bytes`, or-ed together (eight accumulators, so
+/// that the loads do not wait on each other).
+fn letters_of(bytes: &[u8]) -> u32 {
+    let mut lanes = [0u32; 8];
+    let mut chunks = bytes.chunks_exact(8);
+    for chunk in &mut chunks {
+        for (lane, &c) in lanes.iter_mut().zip(chunk) {
+            *lane |= CLASS[usize::from(c)];
+        }
+    }
+    let tail = chunks
+        .remainder()
+        .iter()
+        .fold(0, |seen, &c| seen | CLASS[usize::from(c)]);
+    lanes.iter().fold(tail, |seen, lane| seen | lane)
+}
+
+/// Marks the axes whose letters are among `letters` ([`CLASS`] bits).
+fn mark_axes(letters: u32, found: &mut Prescan) {
+    for (seen, bit) in found.axis_words.iter_mut().zip(AXIS_BITS) {
+        *seen |= letters & bit != 0;
+    }
 }
 
 /// Per byte: the bit of its letter (either case, bit 0 for A), or [`SPECIAL`] for the
@@ -57,6 +128,9 @@ static CLASS: [u32; 256] = {
 /// The class bit of bytes that send a line to the full scan.
 const SPECIAL: u32 = 1 << 31;
 
+/// The class bit of G, whose words hold the units.
+const G_BIT: u32 = 1 << (b'G' - b'A');
+
 /// The class bits of the axis letters, in X Y Z A B C order.
 const AXIS_BITS: [u32; AXIS_COUNT] = {
     let letters = *b"XYZABC";
@@ -74,14 +148,12 @@ const AXIS_BITS: [u32; AXIS_COUNT] = {
 /// comments, brackets, named parameters or O-words, and G words while the units are
 /// unknown, take the full scan.
 fn scan_line(b: &[u8], found: &mut Prescan) {
-    let letters = b.iter().fold(0u32, |seen, &c| seen | CLASS[usize::from(c)]);
-    let units_wanted = found.units.is_none() && letters & 1 << (b'G' - b'A') != 0;
+    let letters = letters_of(b);
+    let units_wanted = found.units.is_none() && letters & G_BIT != 0;
     if letters & SPECIAL != 0 || units_wanted {
         return scan_words(b, found);
     }
-    for (seen, bit) in found.axis_words.iter_mut().zip(AXIS_BITS) {
-        *seen |= letters & bit != 0;
-    }
+    mark_axes(letters, found);
 }
 
 /// The bytes that can change what the full scan sees: letters, comment and bracket marks.
@@ -205,6 +277,21 @@ mod tests {
                 scan_words(line.as_bytes(), &mut full);
                 assert_eq!(quick, full, "{line:?} with units {units:?}");
             }
+        }
+    }
+
+    #[test]
+    fn any_buffer_size_gives_the_line_by_line_answer() {
+        let text = "%\r\nG0 X1 (Y2)\r\n; Z3\nG20 B1\n#<ax> = 2\nG1 C1 F[2*3]\nA1";
+        let mut by_line = Prescan::default();
+        for line in text.split('\n') {
+            scan_words(line.as_bytes(), &mut by_line);
+        }
+        assert_eq!(by_line.axis_words, [true, false, false, true, true, true]);
+        assert_eq!(by_line.units, Some(Units::Inch));
+        for capacity in 1..=text.len() {
+            let mut input = std::io::BufReader::with_capacity(capacity, text.as_bytes());
+            assert_eq!(prescan(&mut input).unwrap(), by_line, "buffers of {capacity}");
         }
     }
 
