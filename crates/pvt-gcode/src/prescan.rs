@@ -291,7 +291,11 @@ mod tests {
         assert_eq!(by_line.units, Some(Units::Inch));
         for capacity in 1..=text.len() {
             let mut input = std::io::BufReader::with_capacity(capacity, text.as_bytes());
-            assert_eq!(prescan(&mut input).unwrap(), by_line, "buffers of {capacity}");
+            assert_eq!(
+                prescan(&mut input).unwrap(),
+                by_line,
+                "buffers of {capacity}"
+            );
         }
     }
 
