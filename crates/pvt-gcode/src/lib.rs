@@ -158,6 +158,7 @@ pub fn compile_read(
 ) -> std::io::Result<Result<StreamSummary, GcodeErrors>> {
     let mut reader = Reader::new(options, sink);
     lines::read_lines(input, &mut |line| match line {
+        lines::Line::Text { text, start } => reader.line(text, start),
         lines::Line::Bytes { bytes, start } => match std::str::from_utf8(bytes) {
             Ok(text) => reader.line(text, start),
             Err(_) => reader.line(&String::from_utf8_lossy(bytes), start),

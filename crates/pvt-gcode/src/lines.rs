@@ -17,7 +17,15 @@ const BOM: &[u8] = "\u{feff}".as_bytes();
 /// One line of the stream.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Line<'a> {
-    /// A line within the limit, as bytes (the reader decides how to read them as text).
+    /// A line within the limit, in valid UTF-8 (checked once for a whole buffer).
+    Text {
+        /// The text, line end (and a leading BOM) removed.
+        text: &'a str,
+        /// Byte offset of the text in the stream.
+        start: usize,
+    },
+    /// A line within the limit that is not known to be UTF-8 (it has invalid bytes, or
+    /// was completed across buffers): the reader decides how to read it as text.
     Bytes {
         /// The bytes, line end (and a leading BOM) removed.
         bytes: &'a [u8],
@@ -79,23 +87,29 @@ struct Splitter {
 
 impl Splitter {
     fn feed(&mut self, chunk: &[u8], each: &mut dyn FnMut(Line<'_>) -> bool) -> bool {
-        let mut rest = chunk;
-        while let Some(end) = memchr::memchr(b'\n', rest) {
+        // The buffer is checked as UTF-8 once; its lines are then slices of that text.
+        let text = match std::str::from_utf8(chunk) {
+            Ok(text) => text,
+            Err(e) => std::str::from_utf8(&chunk[..e.valid_up_to()]).unwrap_or_default(),
+        };
+        let mut at = 0;
+        while let Some(len) = memchr::memchr(b'\n', &chunk[at..]) {
+            let end = at + len;
             let go_on = if self.pending.is_empty() && self.overlong.is_none() {
-                deliver(&rest[..end], self.line_start, each)
+                deliver(&chunk[at..end], text.get(at..end), self.line_start, each)
             } else {
-                self.append(&rest[..end]);
+                self.append(&chunk[at..end]);
                 self.take_line(each)
             };
-            self.offset += end + 1;
+            self.offset += len + 1;
             self.line_start = self.offset;
-            rest = &rest[end + 1..];
+            at = end + 1;
             if !go_on {
                 return false;
             }
         }
-        self.append(rest);
-        self.offset += rest.len();
+        self.append(&chunk[at..]);
+        self.offset += chunk.len() - at;
         true
     }
 
@@ -138,7 +152,7 @@ impl Splitter {
                 start: self.line_start + self.bom,
                 length: length - self.bom - usize::from(self.ends_cr),
             }),
-            None => deliver(&self.pending, self.line_start, each),
+            None => deliver(&self.pending, None, self.line_start, each),
         };
         self.pending.clear();
         self.bom = 0;
@@ -156,20 +170,31 @@ impl Splitter {
     }
 }
 
-/// Hands over one whole line (without its `\n`) that starts at byte `start`.
-fn deliver(line: &[u8], start: usize, each: &mut dyn FnMut(Line<'_>) -> bool) -> bool {
-    let (line, start) = match line.strip_prefix(BOM) {
-        Some(rest) if start == 0 => (rest, BOM.len()),
-        _ => (line, start),
+/// Hands over one whole line (without its `\n`) that starts at byte `start`; `text` is
+/// the same line when it is known to be UTF-8.
+fn deliver(
+    line: &[u8],
+    text: Option<&str>,
+    start: usize,
+    each: &mut dyn FnMut(Line<'_>) -> bool,
+) -> bool {
+    let bom = if start == 0 && line.starts_with(BOM) {
+        BOM.len()
+    } else {
+        0
     };
-    let line = line.strip_suffix(b"\r").unwrap_or(line);
+    let end = line.len() - usize::from(line.ends_with(b"\r") && line.len() > bom);
+    let (line, start) = (&line[bom..end], start + bom);
     if line.len() > MAX_LINE_BYTES {
         return each(Line::TooLong {
             start,
             length: line.len(),
         });
     }
-    each(Line::Bytes { bytes: line, start })
+    match text.and_then(|text| text.get(bom..end)) {
+        Some(text) => each(Line::Text { text, start }),
+        None => each(Line::Bytes { bytes: line, start }),
+    }
 }
 
 #[cfg(test)]
@@ -191,6 +216,7 @@ mod tests {
                 Line::Bytes { bytes, start } => {
                     Got::Text(String::from_utf8_lossy(bytes).into_owned(), start)
                 }
+                Line::Text { text, start } => Got::Text(text.to_owned(), start),
                 Line::TooLong { start, length } => Got::TooLong(start, length),
             });
             true
