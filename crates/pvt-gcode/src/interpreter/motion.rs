@@ -74,6 +74,9 @@ impl Interpreter<'_> {
     }
 
     fn reject_arc_words(&mut self, request: &Request, mode: &'static str) {
+        if request.radius.is_none() && request.offsets.iter().all(Option::is_none) {
+            return;
+        }
         for &word in request.offsets.iter().chain([&request.radius]).flatten() {
             self.push(GcodeDiagnostic::ArcWordWithoutArc {
                 word: word.name(),
@@ -113,11 +116,16 @@ impl Interpreter<'_> {
         Ok(end)
     }
 
-    /// The feed of a feed move of `length`, units per second; `None` (reported) when
-    /// there is none.
-    fn feed_rate(&mut self, request: &Request, block: &Block, length: f64) -> Option<f64> {
+    /// The feed of a feed move, units per second; `None` (reported) when there is none.
+    /// The move's `length` is measured only under G93, the one mode that needs it.
+    fn feed_rate(
+        &mut self,
+        request: &Request,
+        block: &Block,
+        length: impl FnOnce() -> f64,
+    ) -> Option<f64> {
         if self.modal.feed_mode == FeedMode::InverseTime {
-            return self.inverse_time_rate(request, block, length);
+            return self.inverse_time_rate(request, block, length());
         }
         let per_minute = match (self.feed, self.options.default_feed) {
             (Some(feed), _) => feed.per_minute,
@@ -188,7 +196,7 @@ impl Interpreter<'_> {
         let (motion, feed) = match mode {
             MotionMode::Rapid => (Motion::Rapid, Some(self.rapid_rate())),
             _ => {
-                let length = line_length(&start, &end);
+                let length = || line_length(&start, &end);
                 (Motion::Feed, self.feed_rate(request, block, length))
             }
         };
@@ -227,7 +235,7 @@ impl Interpreter<'_> {
             direction,
             extra_turns,
         };
-        let length = arc_length(&arc, &start, &end);
+        let length = || arc_length(&arc, &start, &end);
         let Some(feed) = self.feed_rate(request, block, length) else {
             return;
         };
