@@ -391,8 +391,16 @@ fn stream_both_ways(
         pvtc::stream::compile_streaming(path, name, options, &mut Target::Stream(&mut streamed))
             .unwrap_or_else(|f| panic!("{name}: {:?}", f.codes()));
     let mut file = tempfile::tempfile().unwrap();
-    pvtc::stream::compile_streaming(path, name, options, &mut Target::File(&mut file))
-        .unwrap_or_else(|f| panic!("{name}: {:?}", f.codes()));
+    pvtc::stream::compile_streaming(
+        path,
+        name,
+        options,
+        &mut Target::File {
+            file: &mut file,
+            start: 0,
+        },
+    )
+    .unwrap_or_else(|f| panic!("{name}: {:?}", f.codes()));
     let mut in_file = Vec::new();
     file.rewind().unwrap();
     file.read_to_end(&mut in_file).unwrap();

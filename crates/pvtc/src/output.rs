@@ -51,11 +51,17 @@ impl Drop for Listed {
     }
 }
 
-/// Where a writer's bytes go: a temporary file, which can start over, or standard output,
-/// which cannot.
+/// Where a writer's bytes go: a file, which can start over, or a stream (standard output
+/// to a pipe or terminal), which cannot.
 pub enum Target<'a> {
-    /// The temporary file behind an atomically replaced output.
-    File(&'a mut std::fs::File),
+    /// A file written from byte `start` on: the temporary file behind an atomically
+    /// replaced output, or standard output redirected to a regular file.
+    File {
+        /// The file.
+        file: &'a mut std::fs::File,
+        /// Where this output begins in it.
+        start: u64,
+    },
     /// A stream: what is written stays written.
     Stream(&'a mut dyn Write),
 }
@@ -63,15 +69,15 @@ pub enum Target<'a> {
 impl Target<'_> {
     /// Whether [`Target::restart`] can discard what was written.
     pub fn can_restart(&self) -> bool {
-        matches!(self, Target::File(_))
+        matches!(self, Target::File { .. })
     }
 
     /// Discards everything written so far (a file only; a stream is left as it is).
     pub fn restart(&mut self) -> std::io::Result<()> {
         match self {
-            Target::File(file) => {
-                file.rewind()?;
-                file.set_len(0)
+            Target::File { file, start } => {
+                file.seek(std::io::SeekFrom::Start(*start))?;
+                file.set_len(*start)
             }
             Target::Stream(_) => Ok(()),
         }
@@ -81,21 +87,21 @@ impl Target<'_> {
 impl Write for Target<'_> {
     fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
         match self {
-            Target::File(file) => file.write(buf),
+            Target::File { file, .. } => file.write(buf),
             Target::Stream(out) => out.write(buf),
         }
     }
 
     fn write_all(&mut self, buf: &[u8]) -> std::io::Result<()> {
         match self {
-            Target::File(file) => file.write_all(buf),
+            Target::File { file, .. } => file.write_all(buf),
             Target::Stream(out) => out.write_all(buf),
         }
     }
 
     fn flush(&mut self) -> std::io::Result<()> {
         match self {
-            Target::File(file) => file.flush(),
+            Target::File { file, .. } => file.flush(),
             Target::Stream(out) => out.flush(),
         }
     }
@@ -161,7 +167,10 @@ pub fn write_file_with<T>(
     temp.as_file()
         .set_permissions(permissions_for(path))
         .map_err(fail)?;
-    let value = write(&mut Target::File(temp.as_file_mut()))?;
+    let value = write(&mut Target::File {
+        file: temp.as_file_mut(),
+        start: 0,
+    })?;
     temp.flush().map_err(fail)?;
     let files = in_progress();
     temp.persist(path).map_err(|e| fail(e.error))?;
@@ -177,14 +186,60 @@ pub fn write_with<T>(
     match path {
         Some(p) if p != Path::new("-") => write_file_with(p, write),
         _ => {
-            let mut out = std::io::stdout().lock();
-            let value = write(&mut Target::Stream(&mut out))?;
-            out.flush().map_err(|error| Failure::Io {
+            let stdout_failure = |error| Failure::Io {
                 path: "<stdout>".into(),
                 action: "write",
                 error,
-            })?;
+            };
+            let mut out = std::io::stdout().lock();
+            out.flush().map_err(stdout_failure)?;
+            if let Some(file) = regular_file(&out) {
+                return write_stdout_file(file, write);
+            }
+            let value = write(&mut Target::Stream(&mut out))?;
+            out.flush().map_err(stdout_failure)?;
             Ok(value)
+        }
+    }
+}
+
+/// Standard output as a file, when it is redirected to a regular file.
+#[cfg(unix)]
+fn regular_file(out: &std::io::StdoutLock<'_>) -> Option<std::fs::File> {
+    use std::os::fd::AsFd;
+    let file = std::fs::File::from(out.as_fd().try_clone_to_owned().ok()?);
+    file.metadata().ok()?.is_file().then_some(file)
+}
+
+#[cfg(not(unix))]
+fn regular_file(_: &std::io::StdoutLock<'_>) -> Option<std::fs::File> {
+    None
+}
+
+/// Lets `write` write standard output redirected to a regular file: from the file's end
+/// (where `>` leaves it empty and `>>` appends), and cut back to there if `write` fails,
+/// so a failed compile adds nothing to the file. Writing into a file rather than a pipe
+/// lets the streaming path write in one pass and start over if it must.
+fn write_stdout_file<T>(
+    mut file: std::fs::File,
+    write: impl FnOnce(&mut Target<'_>) -> Result<T, Failure>,
+) -> Result<T, Failure> {
+    let fail = |error| Failure::Io {
+        path: "<stdout>".into(),
+        action: "write",
+        error,
+    };
+    let start = file.seek(std::io::SeekFrom::End(0)).map_err(fail)?;
+    let mut target = Target::File {
+        file: &mut file,
+        start,
+    };
+    match write(&mut target) {
+        Ok(value) => Ok(value),
+        Err(failure) => {
+            // Best effort: the failure being reported matters more than this one.
+            let _ = target.restart();
+            Err(failure)
         }
     }
 }

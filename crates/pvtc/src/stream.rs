@@ -284,10 +284,12 @@ struct Pass {
 /// Compiles the G-code file at `path` into `out` in constant memory and returns the
 /// warnings; the bytes are those [`crate::compile`] gives.
 ///
-/// The header needs the moved axes and the units before the first piece. Into a file,
-/// a lexical [`pvt_gcode::prescan`] guesses them and one pass plans and writes; when the
-/// compile finds otherwise, the file is emptied and a second pass writes again. Into a
-/// stream, which cannot start over, a first pass finds them and a second writes.
+/// The header needs the moved axes and the units before the first piece. Into a file
+/// (an output file, or standard output redirected to one), a lexical
+/// [`pvt_gcode::prescan`] guesses them and one pass plans and writes; when the compile
+/// finds otherwise, the file is cut back and a second pass writes again. Into a stream
+/// (a pipe, a terminal), which cannot start over, a first pass finds them and a second
+/// writes.
 pub fn compile_streaming(
     path: &std::path::Path,
     name: &str,

@@ -113,6 +113,60 @@ fn output_file_is_written_whole_and_matches_stdout() {
         .contains("OPEN PROG 1 CLEAR"));
 }
 
+/// Runs pvtc with standard output redirected to `file` (as `>` or `>>` does).
+fn pvtc_into(args: &[&str], file: std::fs::File) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_pvtc"))
+        .args(args)
+        .current_dir(root())
+        .env("NO_COLOR", "1")
+        .stdin(Stdio::null())
+        .stdout(Stdio::from(file))
+        .stderr(Stdio::piped())
+        .output()
+        .expect("pvtc runs")
+}
+
+/// Standard output redirected to a file is written in one pass, starting over when the
+/// prescan's guess is wrong; appending keeps what was there; a failure adds nothing.
+#[test]
+fn stdout_redirected_to_a_file_streams_and_starts_over_like_an_output_file() {
+    let dir = tempfile::tempdir().unwrap();
+    // Y is named but never moves: the prescan guesses X Y, the compile finds X.
+    let program = dir.path().join("still_y.ngc");
+    std::fs::write(&program, "G0 X0 Y0\nG1 X5 F300\nG1 X5 Y0\nG1 X9\nM2\n").unwrap();
+    let program = program.to_str().unwrap();
+    let piped = pvtc(&["compile", program], None);
+    assert!(piped.status.success(), "{}", stderr(&piped));
+    assert!(String::from_utf8_lossy(&piped.stdout).contains("; axes: X;"));
+
+    let out = dir.path().join("out.pmac");
+    let o = pvtc_into(&["compile", program], std::fs::File::create(&out).unwrap());
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(std::fs::read(&out).unwrap(), piped.stdout);
+
+    std::fs::write(&out, "; kept\n").unwrap();
+    let append = std::fs::OpenOptions::new().append(true).open(&out).unwrap();
+    let o = pvtc_into(&["compile", program], append);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        std::fs::read(&out).unwrap(),
+        [b"; kept\n".as_slice(), &piped.stdout].concat()
+    );
+
+    // An error after enough moves that output has been written by then.
+    let bad = dir.path().join("bad.ngc");
+    let moves: String = (1..=5000).map(|i| format!("G1 X{i} F600\n")).collect();
+    std::fs::write(&bad, moves + "G1 X2 Q7 Y2\n").unwrap();
+    let append = std::fs::OpenOptions::new().append(true).open(&out).unwrap();
+    let o = pvtc_into(&["compile", bad.to_str().unwrap()], append);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("bad.ngc:5001:"), "{}", stderr(&o));
+    assert_eq!(
+        std::fs::read(&out).unwrap(),
+        [b"; kept\n".as_slice(), &piped.stdout].concat()
+    );
+}
+
 #[test]
 fn stdin_to_stdout() {
     let o = pvtc(
