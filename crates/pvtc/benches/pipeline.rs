@@ -1,5 +1,7 @@
 //! Throughput of the pipeline: parse only ([`pvt_gcode::check_syntax`]: words, values,
-//! spans and diagnostics, no meaning), parse and interpret, plan only, end to end, and the
+//! spans and diagnostics, no meaning), parse and interpret, plan only, end to end in
+//! memory (`compile-to-pmac`) and as the CLI does it (`stream-to-pmac`: a file on disk
+//! through [`pvtc::stream::compile_streaming`] into a file, prescan included), and the
 //! `gcode` crate parsing the same text as a peer baseline.
 //!
 //! ```sh
@@ -81,6 +83,28 @@ fn bench(c: &mut Criterion) {
                     })
                 },
             );
+            let dir = tempfile::tempdir().expect("a temporary directory");
+            let path = dir.path().join("bench.ngc");
+            std::fs::write(&path, &src).expect("writes the program");
+            let mut out = tempfile::tempfile_in(dir.path()).expect("a temporary file");
+            group.bench_with_input(BenchmarkId::new("stream-to-pmac", lines), &path, |b, p| {
+                b.iter(|| {
+                    let mut target = pvtc::output::Target::File {
+                        file: &mut out,
+                        start: 0,
+                    };
+                    target.restart().expect("empties the file");
+                    let options = CompileOptions::new(Format::Pmac);
+                    pvtc::stream::compile_streaming(
+                        black_box(p),
+                        "bench.ngc",
+                        &options,
+                        &mut target,
+                    )
+                    .expect("compiles")
+                    .len()
+                })
+            });
         }
         group.finish();
     }
