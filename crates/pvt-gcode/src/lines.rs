@@ -1,5 +1,7 @@
 //! A byte stream cut into lines: byte offsets, line ends, the BOM and the bound on line
-//! length (reading the bytes as text is the caller's).
+//! length. Each buffer is checked as UTF-8 once and its lines handed over as text; a line
+//! that is not (or not known to be) valid UTF-8 is handed over as bytes, for the caller to
+//! read as it sees fit.
 //!
 //! Owns [`MAX_LINE_BYTES`] and the guarantee that reading a stream holds at most one line
 //! of that length in memory, whatever the input (a 100 MB line, a 1 GB unterminated
