@@ -38,19 +38,27 @@ const REPEAT_TOLERANCE: f64 = 1e-12;
 ///
 /// Returns the positive root of seed 000's quadratic, computed in the cancellation-free form.
 pub fn segment_time(d: &[f64], v0: &[f64], v1: &[f64], vmid: f64) -> f64 {
-    segment_time_over(d, norm(d), v0, v1, vmid)
+    let length = norm(d);
+    segment_time_along(|k| d[k] / length, length, v0, v1, vmid)
 }
 
-/// [`segment_time`] for a chord whose length (`norm(d)`) is known.
-fn segment_time_over(d: &[f64], length: f64, v0: &[f64], v1: &[f64], vmid: f64) -> f64 {
+/// [`segment_time`] for a chord of known `length` whose unit direction's component `k`
+/// is `unit(k)` (`d[k] / length`, computed once by the caller).
+fn segment_time_along(
+    unit: impl Fn(usize) -> f64,
+    length: f64,
+    v0: &[f64],
+    v1: &[f64],
+    vmid: f64,
+) -> f64 {
     // In units of the chord length L and vmid the quadratic is
     // (1 − |s|²/16vmid²)·τ² + (3/4)(u·s/vmid)·τ − 9/4 = 0 with T = τ·L/vmid, which neither
     // overflows nor underflows for any finite chord (seed 000's form squares |d|).
     let (mut ss, mut us) = (0.0, 0.0);
-    for k in 0..d.len() {
+    for k in 0..v0.len() {
         let s = (v0[k] + v1[k]) / vmid;
         ss += s * s;
-        us += d[k] / length * s;
+        us += unit(k) * s;
     }
     let a = 1.0 - ss / 16.0;
     let b = 0.75 * us;
@@ -224,7 +232,7 @@ impl ContourStream {
         } else {
             0.5 * (self.speed_start + speed_end)
         };
-        let t = segment_time_over(&p.chord, p.length, &self.v_start, &self.v_end, vmid);
+        let t = segment_time_along(|k| p.unit[k], p.length, &self.v_start, &self.v_end, vmid);
         emit(SegmentRef {
             end: &p.end,
             velocity: &self.v_end,
