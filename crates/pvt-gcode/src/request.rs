@@ -58,6 +58,14 @@ impl Request {
         let request = self;
         for &word in &block.words {
             match word.letter {
+                b'X' | b'Y' | b'Z' => {
+                    let slot = &mut request.axes[usize::from(word.letter - b'X')];
+                    put_word(slot, word, errors);
+                }
+                b'A' | b'B' | b'C' => {
+                    let slot = &mut request.axes[3 + usize::from(word.letter - b'A')];
+                    put_word(slot, word, errors);
+                }
                 b'G' => request.read_g(word, errors),
                 b'M' => request.read_m(word, errors),
                 b'I' | b'J' | b'K' => {
@@ -74,14 +82,11 @@ impl Request {
                     "spindle selection ($) is not part of a toolpath",
                 )),
                 b'O' => errors.push(ignored(word, "a program number names the program only")),
-                letter => match Axis::from_letter(char::from(letter)) {
-                    Some(axis) => put_word(&mut request.axes[axis.index()], word, errors),
-                    None => errors.push(GcodeDiagnostic::UnknownWord {
-                        word: word.name(),
-                        meaning: codes::letter_meaning(letter),
-                        span: span(word.span()),
-                    }),
-                },
+                letter => errors.push(GcodeDiagnostic::UnknownWord {
+                    word: word.name(),
+                    meaning: codes::letter_meaning(letter),
+                    span: span(word.span()),
+                }),
             }
         }
     }
@@ -201,11 +206,18 @@ fn put_mode<T>(
 }
 
 /// Stores a value word, or reports it as repeated.
+#[inline]
 fn put_word(slot: &mut Option<Word>, word: Word, errors: &mut Vec<GcodeDiagnostic>) {
     let Some(first) = slot else {
         *slot = Some(word);
         return;
     };
+    repeated_word(*first, word, errors);
+}
+
+/// Reports `second`, a word whose letter `first` already gave in the block.
+#[cold]
+fn repeated_word(first: Word, word: Word, errors: &mut Vec<GcodeDiagnostic>) {
     let (first, second, span) = (first.name(), word.name(), span(word.span()));
     let letter = word.letter_char();
     errors.push(match Axis::from_letter(letter) {
