@@ -97,26 +97,16 @@ fn write_integer(slot: &mut [u8], value: u64) -> usize {
 /// known at compile time the pairs are made side by side rather than one after another.
 #[inline(always)]
 fn write_fraction(slot: &mut [u8], value: u32) {
-    const POW10: [u32; 10] = [
-        1,
-        10,
-        100,
-        1_000,
-        10_000,
-        100_000,
-        1_000_000,
-        10_000_000,
-        100_000_000,
-        1_000_000_000,
-    ];
+    // Below 10^9: every power of ten it is divided by fits in a u32.
+    let pow10 = |n: usize| POW10_INT[n] as u32;
     let len = slot.len();
     for k in 0..len / 2 {
-        let pair = 2 * (value / POW10[2 * k] % 100) as usize;
+        let pair = 2 * (value / pow10(2 * k) % 100) as usize;
         let end = len - 2 * k;
         slot[end - 2..end].copy_from_slice(&DIGIT_PAIRS[pair..pair + 2]);
     }
     if len % 2 == 1 {
-        slot[0] = b'0' + (value / POW10[len - 1] % 10) as u8;
+        slot[0] = b'0' + (value / pow10(len - 1) % 10) as u8;
     }
 }
 

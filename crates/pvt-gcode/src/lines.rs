@@ -50,6 +50,18 @@ pub(crate) fn read_lines(
     each: &mut dyn FnMut(Line<'_>) -> bool,
 ) -> std::io::Result<()> {
     let mut splitter = Splitter::default();
+    if each_buffer(input, &mut |chunk| splitter.feed(chunk, each))? {
+        splitter.finish(each);
+    }
+    Ok(())
+}
+
+/// Hands every buffer `input` fills to `each` until `each` returns false (then returns
+/// false) or the input ends (true); an interrupted read is retried.
+pub(crate) fn each_buffer(
+    input: &mut dyn BufRead,
+    each: &mut dyn FnMut(&[u8]) -> bool,
+) -> std::io::Result<bool> {
     loop {
         let chunk = match input.fill_buf() {
             Ok(chunk) => chunk,
@@ -57,17 +69,15 @@ pub(crate) fn read_lines(
             Err(e) => return Err(e),
         };
         if chunk.is_empty() {
-            break;
+            return Ok(true);
         }
         let len = chunk.len();
-        let go_on = splitter.feed(chunk, each);
+        let go_on = each(chunk);
         input.consume(len);
         if !go_on {
-            return Ok(());
+            return Ok(false);
         }
     }
-    splitter.finish(each);
-    Ok(())
 }
 
 /// The state between chunks: the start of the line being read and what is held of it.

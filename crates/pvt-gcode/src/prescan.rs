@@ -11,7 +11,7 @@ use std::io::BufRead;
 
 use pvt_core::{Units, AXIS_COUNT};
 
-use crate::lines::MAX_LINE_BYTES;
+use crate::lines::{each_buffer, MAX_LINE_BYTES};
 
 /// What the words of a program suggest, before it is compiled.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -31,16 +31,7 @@ pub struct Prescan {
 pub fn prescan(input: &mut dyn BufRead) -> std::io::Result<Prescan> {
     let mut found = Prescan::default();
     let mut begun = Vec::new();
-    loop {
-        let chunk = match input.fill_buf() {
-            Ok(chunk) => chunk,
-            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
-            Err(e) => return Err(e),
-        };
-        if chunk.is_empty() {
-            break;
-        }
-        let len = chunk.len();
+    each_buffer(input, &mut |chunk| {
         match memchr::memchr(b'\n', chunk) {
             None => keep_line_start(&mut begun, chunk),
             Some(first_end) => {
@@ -53,8 +44,8 @@ pub fn prescan(input: &mut dyn BufRead) -> std::io::Result<Prescan> {
                 keep_line_start(&mut begun, &rest[whole..]);
             }
         }
-        input.consume(len);
-    }
+        true
+    })?;
     scan_line(&begun, &mut found);
     Ok(found)
 }
