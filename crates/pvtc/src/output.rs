@@ -72,6 +72,18 @@ impl Target<'_> {
         matches!(self, Target::File { .. })
     }
 
+    /// Whether this is a file and the file at `path` is that same file (`pvtc compile
+    /// p.ngc >> p.ngc`): streaming would read what it writes.
+    pub fn is_file_at(&self, path: &Path) -> bool {
+        let Target::File { file, .. } = self else {
+            return false;
+        };
+        match (file.metadata(), std::fs::metadata(path)) {
+            (Ok(written), Ok(read)) => same_file(&written, &read),
+            _ => false,
+        }
+    }
+
     /// Discards everything written so far (a file only; a stream is left as it is).
     pub fn restart(&mut self) -> std::io::Result<()> {
         match self {
@@ -201,6 +213,17 @@ pub fn write_with<T>(
             Ok(value)
         }
     }
+}
+
+#[cfg(unix)]
+fn same_file(a: &std::fs::Metadata, b: &std::fs::Metadata) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    (a.dev(), a.ino()) == (b.dev(), b.ino())
+}
+
+#[cfg(not(unix))]
+fn same_file(_: &std::fs::Metadata, _: &std::fs::Metadata) -> bool {
+    false
 }
 
 /// Standard output as a file, when it is redirected to a regular file.

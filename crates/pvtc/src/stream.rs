@@ -296,6 +296,12 @@ pub fn compile_streaming(
     options: &crate::CompileOptions,
     out: &mut Target<'_>,
 ) -> Result<Vec<miette::Report>, crate::Failure> {
+    if out.is_file_at(path) {
+        return Err(crate::Failure::Usage(format!(
+            "standard output is the input file {}: pvtc would read what it writes",
+            path.display()
+        )));
+    }
     let gcode = crate::front::gcode_options(options);
     let layout = if out.can_restart() {
         let prescan = pvt_gcode::prescan(&mut open(path)?).map_err(|e| read_failure(path, e))?;

@@ -167,6 +167,27 @@ fn stdout_redirected_to_a_file_streams_and_starts_over_like_an_output_file() {
     );
 }
 
+/// `pvtc compile p.ngc >> p.ngc` would read its own output for ever: it is refused.
+#[test]
+fn standard_output_into_the_input_file_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let program = dir.path().join("p.ngc");
+    let text = "G1 X1 F100\nG1 X2\n";
+    std::fs::write(&program, text).unwrap();
+    let append = std::fs::OpenOptions::new()
+        .append(true)
+        .open(&program)
+        .unwrap();
+    let o = pvtc_into(&["compile", program.to_str().unwrap()], append);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("standard output is the input file"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(std::fs::read_to_string(&program).unwrap(), text);
+}
+
 #[test]
 fn stdin_to_stdout() {
     let o = pvtc(
