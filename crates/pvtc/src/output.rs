@@ -4,7 +4,9 @@
 //! bytes go to a temporary file in the target's directory, which is then renamed over the
 //! target. A failed compile drops the temporary file; an interrupt (Ctrl-C, SIGTERM)
 //! removes every temporary file being written before the process exits, so no partial
-//! file is left. It must not decide what to write.
+//! file is left. Standard output redirected to a regular file is written in place from
+//! its end, and cut back there by a failure or an interrupt. It must not decide what to
+//! write.
 //!
 //! The rename is atomic but the data is not flushed to the disk first (compilers do not
 //! either): what survives a power loss just after a compile is the file system's choice.
@@ -25,6 +27,15 @@ fn in_progress() -> MutexGuard<'static, Vec<PathBuf>> {
     IN_PROGRESS.lock().unwrap_or_else(|e| e.into_inner())
 }
 
+/// Standard output redirected to a file while a compile writes it: a handle to the file
+/// and where this output began in it. The lock is held around every write to it, so the
+/// interrupt handler, which takes it to cut the file back, is never followed by a write.
+static REDIRECTED_STDOUT: Mutex<Option<(std::fs::File, u64)>> = Mutex::new(None);
+
+fn redirected_stdout() -> MutexGuard<'static, Option<(std::fs::File, u64)>> {
+    REDIRECTED_STDOUT.lock().unwrap_or_else(|e| e.into_inner())
+}
+
 /// Makes Ctrl-C and SIGTERM remove every temporary output being written, then exit with
 /// [`INTERRUPTED`]. Call once, before any output is written; a second call does nothing.
 pub fn remove_partial_outputs_on_interrupt() {
@@ -34,6 +45,11 @@ pub fn remove_partial_outputs_on_interrupt() {
         let files = in_progress();
         for file in files.iter() {
             let _ = std::fs::remove_file(file);
+        }
+        // Held until exit too: no write to standard output follows the cut.
+        let stdout = redirected_stdout();
+        if let Some((file, start)) = stdout.as_ref() {
+            let _ = file.set_len(*start);
         }
         std::process::exit(INTERRUPTED);
     });
@@ -62,6 +78,14 @@ pub enum Target<'a> {
         /// Where this output begins in it.
         start: u64,
     },
+    /// Standard output redirected to a regular file, written from byte `start` on: as
+    /// [`Target::File`], and cut back to `start` by an interrupt.
+    RedirectedStdout {
+        /// The file.
+        file: &'a mut std::fs::File,
+        /// Where this output begins in it.
+        start: u64,
+    },
     /// A stream: what is written stays written.
     Stream(&'a mut dyn Write),
 }
@@ -69,13 +93,13 @@ pub enum Target<'a> {
 impl Target<'_> {
     /// Whether [`Target::restart`] can discard what was written.
     pub fn can_restart(&self) -> bool {
-        matches!(self, Target::File { .. })
+        !matches!(self, Target::Stream(_))
     }
 
     /// Whether this is a file and the file at `path` is that same file (`pvtc compile
     /// p.ngc >> p.ngc`): streaming would read what it writes.
     pub fn is_file_at(&self, path: &Path) -> bool {
-        let Target::File { file, .. } = self else {
+        let (Target::File { file, .. } | Target::RedirectedStdout { file, .. }) = self else {
             return false;
         };
         match (file.metadata(), std::fs::metadata(path)) {
@@ -87,7 +111,7 @@ impl Target<'_> {
     /// Discards everything written so far (a file only; a stream is left as it is).
     pub fn restart(&mut self) -> std::io::Result<()> {
         match self {
-            Target::File { file, start } => {
+            Target::File { file, start } | Target::RedirectedStdout { file, start } => {
                 file.seek(std::io::SeekFrom::Start(*start))?;
                 file.set_len(*start)
             }
@@ -100,6 +124,10 @@ impl Write for Target<'_> {
     fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
         match self {
             Target::File { file, .. } => file.write(buf),
+            Target::RedirectedStdout { file, .. } => {
+                let _held = redirected_stdout();
+                file.write(buf)
+            }
             Target::Stream(out) => out.write(buf),
         }
     }
@@ -107,13 +135,17 @@ impl Write for Target<'_> {
     fn write_all(&mut self, buf: &[u8]) -> std::io::Result<()> {
         match self {
             Target::File { file, .. } => file.write_all(buf),
+            Target::RedirectedStdout { file, .. } => {
+                let _held = redirected_stdout();
+                file.write_all(buf)
+            }
             Target::Stream(out) => out.write_all(buf),
         }
     }
 
     fn flush(&mut self) -> std::io::Result<()> {
         match self {
-            Target::File { file, .. } => file.flush(),
+            Target::File { file, .. } | Target::RedirectedStdout { file, .. } => file.flush(),
             Target::Stream(out) => out.flush(),
         }
     }
@@ -253,7 +285,8 @@ fn write_stdout_file<T>(
         error,
     };
     let start = file.seek(std::io::SeekFrom::End(0)).map_err(fail)?;
-    let mut target = Target::File {
+    let _registered = RegisteredStdout::new(&file, start).map_err(fail)?;
+    let mut target = Target::RedirectedStdout {
         file: &mut file,
         start,
     };
@@ -264,6 +297,22 @@ fn write_stdout_file<T>(
             let _ = target.restart();
             Err(failure)
         }
+    }
+}
+
+/// Redirected standard output registered in [`REDIRECTED_STDOUT`] for as long as it lives.
+struct RegisteredStdout;
+
+impl RegisteredStdout {
+    fn new(file: &std::fs::File, start: u64) -> std::io::Result<RegisteredStdout> {
+        *redirected_stdout() = Some((file.try_clone()?, start));
+        Ok(RegisteredStdout)
+    }
+}
+
+impl Drop for RegisteredStdout {
+    fn drop(&mut self) {
+        *redirected_stdout() = None;
     }
 }
 

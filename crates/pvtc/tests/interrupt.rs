@@ -1,5 +1,6 @@
 //! Ctrl-C (SIGINT) in the middle of a compile leaves no partial file and the previous
-//! output untouched, for one file and for a batch.
+//! output untouched, for one file, for standard output redirected to a file, and for a
+//! batch.
 #![cfg(unix)]
 
 use std::path::{Path, PathBuf};
@@ -66,6 +67,40 @@ fn ctrl_c_leaves_no_partial_file_and_the_old_output_untouched() {
     assert_eq!(status.code(), Some(130));
     assert_eq!(partial_files(dir.path()), Vec::<PathBuf>::new());
     assert_eq!(std::fs::read_to_string(&out).unwrap(), "old output\n");
+}
+
+/// Standard output redirected to a file is written in place: an interrupt cuts it back to
+/// what it held before.
+#[test]
+fn ctrl_c_cuts_redirected_standard_output_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("big.ngc");
+    std::fs::write(&input, big_program(300_000)).unwrap();
+    let out = dir.path().join("log.pmac");
+    std::fs::write(&out, "kept\n").unwrap();
+    let append = std::fs::OpenOptions::new().append(true).open(&out).unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_pvtc"))
+        .args(["compile", input.to_str().unwrap()])
+        .stdout(append)
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while std::fs::metadata(&out).unwrap().len() <= 5 {
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "pvtc finished before it could be interrupted"
+        );
+        assert!(Instant::now() < deadline, "no output appeared");
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    let sent = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(sent.success());
+    assert_eq!(child.wait().unwrap().code(), Some(130));
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), "kept\n");
 }
 
 #[test]
