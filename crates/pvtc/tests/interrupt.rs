@@ -29,13 +29,18 @@ fn partial_files(dir: &Path) -> Vec<PathBuf> {
 
 /// Waits until `dir` holds a partial output of `child`, then sends it SIGINT.
 fn interrupt_while_writing(child: &mut Child, dir: &Path) {
+    interrupt_once(child, || !partial_files(dir).is_empty());
+}
+
+/// Waits until `writing` says `child` is writing its output, then sends it SIGINT.
+fn interrupt_once(child: &mut Child, writing: impl Fn() -> bool) {
     let deadline = Instant::now() + Duration::from_secs(120);
-    while partial_files(dir).is_empty() {
+    while !writing() {
         assert!(
             child.try_wait().unwrap().is_none(),
             "pvtc finished before it could be interrupted"
         );
-        assert!(Instant::now() < deadline, "no partial output appeared");
+        assert!(Instant::now() < deadline, "no output appeared");
         std::thread::sleep(Duration::from_millis(2));
     }
     let sent = Command::new("kill")
@@ -85,20 +90,7 @@ fn ctrl_c_cuts_redirected_standard_output_back() {
         .stderr(std::process::Stdio::null())
         .spawn()
         .unwrap();
-    let deadline = Instant::now() + Duration::from_secs(120);
-    while std::fs::metadata(&out).unwrap().len() <= 5 {
-        assert!(
-            child.try_wait().unwrap().is_none(),
-            "pvtc finished before it could be interrupted"
-        );
-        assert!(Instant::now() < deadline, "no output appeared");
-        std::thread::sleep(Duration::from_millis(2));
-    }
-    let sent = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(sent.success());
+    interrupt_once(&mut child, || std::fs::metadata(&out).unwrap().len() > 5);
     assert_eq!(child.wait().unwrap().code(), Some(130));
     assert_eq!(std::fs::read_to_string(&out).unwrap(), "kept\n");
 }
