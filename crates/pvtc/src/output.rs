@@ -70,8 +70,8 @@ impl Drop for Listed {
 /// Where a writer's bytes go: a file, which can start over, or a stream (standard output
 /// to a pipe or terminal), which cannot.
 pub enum Target<'a> {
-    /// A file written from byte `start` on: the temporary file behind an atomically
-    /// replaced output, or standard output redirected to a regular file.
+    /// A file written from byte `start` on, such as the temporary file behind an
+    /// atomically replaced output.
     File {
         /// The file.
         file: &'a mut std::fs::File,
