@@ -195,6 +195,36 @@ mod tests {
     }
 
     #[test]
+    fn is_whole_is_fract_zero() {
+        let mut values = vec![
+            0.0,
+            -0.0,
+            0.5,
+            -1.0,
+            8.0117,
+            4503599627370495.5,
+            4503599627370496.0,
+            1e300,
+            -1e300,
+            f64::MIN_POSITIVE,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+        ];
+        let mut state = 0x6a09_e667_f3bc_c908u64;
+        for _ in 0..100_000 {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let x = (state as f64 / u64::MAX as f64 - 0.5) * 1e7;
+            values.extend([x, x.trunc(), f64::from_bits(x.trunc().to_bits() + 1)]);
+        }
+        for x in values {
+            assert_eq!(is_whole(x), x.fract() == 0.0, "{x}");
+        }
+    }
+
+    #[test]
     fn integer_parts_of_every_length() {
         for (x, text) in [
             (0.0, "0.0000"),
