@@ -164,6 +164,21 @@ pub fn push_exact(out: &mut String, x: f64) {
 mod tests {
     use super::*;
 
+    /// The states of a xorshift generator from `seed` (deterministic test values).
+    fn xorshift(seed: u64) -> impl Iterator<Item = u64> {
+        std::iter::successors(Some(seed), |&state| {
+            let state = state ^ state << 13;
+            let state = state ^ state >> 7;
+            Some(state ^ state << 17)
+        })
+        .skip(1)
+    }
+
+    /// A generator state as a number in [-0.5, 0.5].
+    fn centred(state: u64) -> f64 {
+        state as f64 / u64::MAX as f64 - 0.5
+    }
+
     fn fixed(x: f64, d: usize) -> String {
         let mut s = b"ab".to_vec();
         match d {
@@ -211,12 +226,8 @@ mod tests {
             f64::NEG_INFINITY,
             f64::NAN,
         ];
-        let mut state = 0x6a09_e667_f3bc_c908u64;
-        for _ in 0..100_000 {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            let x = (state as f64 / u64::MAX as f64 - 0.5) * 1e7;
+        for state in xorshift(0x6a09_e667_f3bc_c908).take(100_000) {
+            let x = centred(state) * 1e7;
             values.extend([x, x.trunc(), f64::from_bits(x.trunc().to_bits() + 1)]);
         }
         for x in values {
@@ -246,7 +257,6 @@ mod tests {
 
     #[test]
     fn round_half_away_is_f64_round() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
         let mut values = vec![
             0.5,
             -0.5,
@@ -261,12 +271,9 @@ mod tests {
             9007199254740991.0,
             1e-300,
         ]);
-        for _ in 0..200_000 {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
+        for state in xorshift(0x9e37_79b9_7f4a_7c15).take(200_000) {
             let magnitude = [1.0, 1e3, 1e6, 1e9, 1e12, 1e15][(state % 6) as usize];
-            let x = (state as f64 / u64::MAX as f64 - 0.5) * magnitude;
+            let x = centred(state) * magnitude;
             values.extend([
                 x,
                 x.trunc() + 0.5,
@@ -282,12 +289,8 @@ mod tests {
 
     #[test]
     fn fixed_matches_exact_formatting_away_from_ties() {
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        for _ in 0..100_000 {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            let x = (state as f64 / u64::MAX as f64 - 0.5) * 2e6;
+        for state in xorshift(0x2545_f491_4f6c_dd1d).take(100_000) {
+            let x = centred(state) * 2e6;
             for d in [0, 3, 4, 6] {
                 let exact = format!("{x:.d$}");
                 let exact = if exact.starts_with('-')
