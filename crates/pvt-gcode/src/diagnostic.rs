@@ -642,6 +642,16 @@ pub(crate) fn show(x: f64) -> String {
     }
 }
 
+/// `line_too_long` for line `line`, `length` bytes from byte `start`.
+pub(crate) fn line_too_long(line: u32, length: usize, start: usize) -> GcodeDiagnostic {
+    GcodeDiagnostic::LineTooLong {
+        line,
+        length,
+        limit: crate::MAX_LINE_BYTES,
+        span: span(start..start),
+    }
+}
+
 /// A span for miette from a byte range.
 pub(crate) fn span(range: Range<usize>) -> SourceSpan {
     SourceSpan::from(range.start..range.end.max(range.start))

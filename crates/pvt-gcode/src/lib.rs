@@ -215,12 +215,8 @@ impl<'a> Reader<'a> {
             });
             return false;
         }
-        self.interpreter.report(GcodeDiagnostic::LineTooLong {
-            line: self.number,
-            length,
-            limit: MAX_LINE_BYTES,
-            span: diagnostic::span(start..start),
-        });
+        self.interpreter
+            .report(diagnostic::line_too_long(self.number, length, start));
         true
     }
 

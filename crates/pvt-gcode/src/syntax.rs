@@ -4,7 +4,7 @@
 //! not give words a meaning (no modes, no motion): that is [`crate::compile`]'s.
 
 use crate::block::Block;
-use crate::diagnostic::{span, GcodeDiagnostic};
+use crate::diagnostic::{line_too_long, GcodeDiagnostic};
 use crate::kept::Kept;
 use crate::lines::MAX_LINE_BYTES;
 use crate::params::Parameters;
@@ -31,12 +31,7 @@ pub fn check_syntax(source: &str) -> SyntaxSummary {
     for line in SourceLines::new(source) {
         lines += 1;
         if line.text.len() > MAX_LINE_BYTES {
-            errors.push(GcodeDiagnostic::LineTooLong {
-                line: line.number,
-                length: line.text.len(),
-                limit: MAX_LINE_BYTES,
-                span: span(line.start..line.start),
-            });
+            errors.push(line_too_long(line.number, line.text.len(), line.start));
             continue;
         }
         if let Err(diagnostic) = parser::parse_line(line, &mut block, &params) {
