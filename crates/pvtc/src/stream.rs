@@ -60,7 +60,7 @@ impl<W: ProgramWriter> PlanningSink<W> {
 
     /// Adds one element of a contour of kind `motion`.
     pub fn element(&mut self, motion: Motion, element: &Element) {
-        element.mark_moved_axes(&mut self.moved.moved);
+        self.moved.note(element);
         if self.failure.is_some() {
             return;
         }
@@ -177,6 +177,11 @@ pub struct MovedAxes {
 }
 
 impl MovedAxes {
+    /// Notes the axes `element` moves.
+    pub fn note(&mut self, element: &Element) {
+        element.mark_moved_axes(&mut self.moved);
+    }
+
     /// The moved axes in X Y Z A B C order, as [`pvt_core::Toolpath::moved_axes`] gives them.
     pub fn axes(&self) -> Vec<Axis> {
         Axis::ALL
@@ -188,7 +193,7 @@ impl MovedAxes {
 
 impl pvt_gcode::ToolpathSink for MovedAxes {
     fn element(&mut self, _: Motion, element: &Element) {
-        element.mark_moved_axes(&mut self.moved);
+        self.note(element);
     }
     fn end_contour(&mut self) {}
     fn event(&mut self, _: &EventKind, _: u32) {}
