@@ -180,6 +180,7 @@ fn standard_output_into_the_input_file_is_refused() {
         .unwrap();
     let o = pvtc_into(&["compile", program.to_str().unwrap()], append);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("pvtc::usage"), "{}", stderr(&o));
     assert!(
         stderr(&o).contains("standard output is the input file"),
         "{}",
