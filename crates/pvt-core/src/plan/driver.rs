@@ -11,11 +11,12 @@ use super::quantize::{mid_speed_change, quantize_time, retime};
 use super::spline::spline_velocities;
 use super::timed::{contour_from_velocities, runs_from_polyline, TimedPoints};
 use super::{chord::chord_velocities, plan_contour, PlanError, PlanOptions, Planner, Timing};
+use super::{plan_path, PathOptions};
 use crate::axis::{Axis, Units};
 use crate::discretize::flatten_contour;
 use crate::polyline::Polyline;
 use crate::program::{Interpolation, PvtContour, PvtProgram};
-use crate::toolpath::{Motion, ProgramEvent, Toolpath};
+use crate::toolpath::{Contour, Element, ElementKind, Motion, ProgramEvent, Span, Toolpath};
 use crate::vector::{distance, max_abs};
 
 /// What planning changed that the user should hear about.
@@ -27,6 +28,9 @@ pub struct PlanReport {
     pub lengthened_segments: usize,
     /// True when the input gave velocities that the chosen planner does not use.
     pub velocities_ignored: bool,
+    /// The path planner's largest per-piece error bound, program units (`None` for the
+    /// other planners, which promise no distance to the geometry between points).
+    pub path_error: Option<f64>,
 }
 
 /// A planned program together with its report.
@@ -56,11 +60,15 @@ pub fn plan_toolpath_report(
         if contour.elements.is_empty() {
             continue;
         }
-        let polyline = flatten_contour(contour, &axes, options.tolerance);
-        let planned = if options.planner == Planner::Contour {
+        let planned = if options.planner == Planner::Path {
+            let planned = follow_path(contour, &axes, options, &mut report)?;
+            quantize_whole(planned, options, &mut report)
+        } else if options.planner == Planner::Contour {
+            let polyline = flatten_contour(contour, &axes, options.tolerance);
             let planned = plan_contour(&polyline, contour.motion)?;
             quantize_whole(planned, options, &mut report)
         } else {
+            let polyline = flatten_contour(contour, &axes, options.tolerance);
             let mut whole = PvtContour::new(contour.motion, polyline.point(0).to_vec());
             for run in runs_from_polyline(&polyline, options.timing)? {
                 append(
@@ -111,7 +119,7 @@ pub fn plan_timed(
     }
     let options = PlanOptions {
         timing: Timing::FromFeed,
-        ..*options
+        ..options.clone()
     };
     check_options(&options)?;
     let mut report = PlanReport::default();
@@ -154,9 +162,9 @@ pub fn check_options(options: &PlanOptions) -> Result<(), PlanError> {
         if !(s.is_finite() && s > 0.0) {
             return Err(PlanError::BadTimeSlice { seconds: s });
         }
-        if options.planner == Planner::Contour {
+        if matches!(options.planner, Planner::Contour | Planner::Path) {
             return Err(PlanError::UnsupportedOption {
-                planner: "contour",
+                planner: options.planner.name(),
                 option: "a time slice",
             });
         }
@@ -174,6 +182,10 @@ fn plan_run(
     let planner = options.planner;
     report.velocities_ignored |= run.velocities.is_some() && !planner.is_velocity_method();
     match planner {
+        Planner::Path => {
+            let planned = follow_path(&lines_of(run), &axes_of(run.dim), options, report)?;
+            Ok(quantize_whole(planned, options, report))
+        }
         Planner::Contour => {
             let planned = plan_contour(&polyline_of(run), motion)?;
             Ok(quantize_whole(planned, options, report))
@@ -206,6 +218,57 @@ fn plan_run(
             note_change(report, &planned, &quantized, interpolation(options));
             Ok(quantized)
         }
+    }
+}
+
+/// Plans one contour with the path planner at the options' path tolerance and limits.
+fn follow_path(
+    contour: &Contour,
+    axes: &[Axis],
+    options: &PlanOptions,
+    report: &mut PlanReport,
+) -> Result<PvtContour, PlanError> {
+    let path = PathOptions {
+        tolerance: options.path_tolerance.unwrap_or(options.tolerance.get()),
+        limits: options.limits.clone(),
+    };
+    let (planned, achieved) = plan_path(contour, axes, &path)?;
+    let worst = report.path_error.unwrap_or(0.0).max(achieved.error_bound);
+    report.path_error = Some(worst);
+    Ok(planned)
+}
+
+/// The first `dim` axes, X Y Z A B C order: a series' columns as the path planner sees them.
+fn axes_of(dim: usize) -> Vec<Axis> {
+    Axis::ALL.into_iter().take(dim).collect()
+}
+
+/// A run as a contour of lines, each at its mean speed (chord / time); dwells dropped.
+fn lines_of(run: &TimedPoints) -> Contour {
+    let poly = polyline_of(run);
+    let axes = axes_of(run.dim);
+    let position = |i: usize| {
+        let mut p = [0.0; crate::axis::AXIS_COUNT];
+        for (k, a) in axes.iter().enumerate() {
+            p[a.index()] = poly.point(i)[k];
+        }
+        p
+    };
+    let elements = (0..poly.feeds.len())
+        .map(|i| Element {
+            kind: ElementKind::Line,
+            start: position(i),
+            end: position(i + 1),
+            feed: poly.feeds[i],
+            span: Span {
+                line: poly.lines[i],
+                ..Span::default()
+            },
+        })
+        .collect();
+    Contour {
+        motion: Motion::Feed,
+        elements,
     }
 }
 

@@ -13,6 +13,7 @@ mod contour;
 mod driver;
 mod lspb;
 mod options;
+mod path;
 mod pt;
 pub mod quantize;
 mod spline;
@@ -24,6 +25,7 @@ pub use contour::{plan_contour, segment_time, ContourStream, REVERSAL_TOLERANCE}
 pub use driver::{check_options, plan_timed, plan_toolpath_report, PlanReport, Planned};
 pub use lspb::{blend_corner_deviation, plan_lspb};
 pub use options::{Planner, Timing, UnknownPlanner};
+pub use path::{plan_path, PathOptions, PathReport, TANGENT_ANGLE};
 pub use pt::plan_pt;
 pub use spline::spline_velocities;
 pub use timed::TimedPoints;
@@ -91,6 +93,14 @@ pub enum PlanError {
     /// A point-time series whose lengths disagree (a caller's bug, not the user's).
     #[error("point-time series lengths disagree with its number of axes and points")]
     BadShape,
+    /// The path planner could not meet its tolerance and limits on a contour.
+    #[error(
+        "the contour from line {line} could not be planned within the path tolerance and limits"
+    )]
+    PathNotMet {
+        /// Source line of the contour's first element.
+        line: u32,
+    },
     /// An option the chosen planner cannot honour.
     #[error("the {planner} planner cannot take {option}")]
     UnsupportedOption {
@@ -114,6 +124,7 @@ impl PlanError {
             PlanError::BadDuration { .. } => "pvtc::plan::bad_duration",
             PlanError::NotAtRest { .. } => "pvtc::plan::not_at_rest",
             PlanError::BadShape => "pvtc::plan::bad_shape",
+            PlanError::PathNotMet { .. } => "pvtc::plan::path_not_met",
             PlanError::UnsupportedOption { .. } => "pvtc::plan::unsupported_option",
         }
     }
@@ -124,17 +135,22 @@ impl PlanError {
             PlanError::BadFeed { line, .. }
             | PlanError::NonFinitePoint { line }
             | PlanError::BadDuration { line, .. }
-            | PlanError::NotAtRest { line } => *line,
+            | PlanError::NotAtRest { line }
+            | PlanError::PathNotMet { line } => *line,
             _ => 0,
         }
     }
 }
 
 /// How to turn a toolpath into a program.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct PlanOptions {
     /// Chord tolerance for arcs, program units.
     pub tolerance: ChordTolerance,
+    /// Path tolerance of the path planner, program units; `None` is the chord tolerance.
+    pub path_tolerance: Option<f64>,
+    /// Per-axis machine limits the path planner honours (and `check` verifies).
+    pub limits: std::collections::BTreeMap<crate::axis::Axis, crate::check::AxisLimits>,
     /// Which planner chooses velocities and times.
     pub planner: Planner,
     /// Where segment times come from, for every planner but contour.
@@ -149,6 +165,8 @@ impl Default for PlanOptions {
     fn default() -> PlanOptions {
         PlanOptions {
             tolerance: ChordTolerance::new(ChordTolerance::DEFAULT_MM).expect("positive"),
+            path_tolerance: None,
+            limits: std::collections::BTreeMap::new(),
             planner: Planner::default(),
             timing: Timing::default(),
             accel: None,

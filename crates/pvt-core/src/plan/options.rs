@@ -12,6 +12,8 @@ pub enum Planner {
     /// Seed 000: velocity along the corner bisector at the feed, time from a quadratic.
     #[default]
     Contour,
+    /// Motion within the path tolerance of the true elements, within machine limits.
+    Path,
     /// Seed 001 PT: constant velocity between points.
     Pt,
     /// Seed 002 forward difference: the velocity at a point is its outgoing chord's.
@@ -26,8 +28,9 @@ pub enum Planner {
 
 impl Planner {
     /// Every planner, in the order the documentation lists them.
-    pub const ALL: [Planner; 6] = [
+    pub const ALL: [Planner; 7] = [
         Planner::Contour,
+        Planner::Path,
         Planner::Pt,
         Planner::Chord,
         Planner::ConstAccel,
@@ -39,6 +42,7 @@ impl Planner {
     pub fn name(self) -> &'static str {
         match self {
             Planner::Contour => "contour",
+            Planner::Path => "path",
             Planner::Pt => "pt",
             Planner::Chord => "chord",
             Planner::ConstAccel => "const-accel",
@@ -61,7 +65,9 @@ impl fmt::Display for Planner {
 
 /// A planner name that names no planner.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("unknown planner `{0}`; expected one of contour, pt, chord, const-accel, spline, lspb")]
+#[error(
+    "unknown planner `{0}`; expected one of contour, path, pt, chord, const-accel, spline, lspb"
+)]
 pub struct UnknownPlanner(pub String);
 
 impl FromStr for Planner {

@@ -1,0 +1,488 @@
+//! Knots of a contour and the speed at each: where pieces start and end.
+//!
+//! Owns the initial knots (element ends, arc subdivisions by the error bound, the short
+//! zones beside a junction passed at speed), the speed caps and the backward and forward
+//! passes, and the two repairs: splitting a piece over the tolerance, slowing a piece over
+//! a limit. It must not compute a piece's cubic: that is [`super::pieces`].
+
+use super::curve::Curve;
+use super::pieces::Piece;
+use super::{AxisBounds, NORMAL_SHARE, TANGENT_ANGLE};
+use crate::program::PvtContour;
+use crate::vector::norm;
+
+/// A point on an element: element index and parameter.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Place {
+    pub element: usize,
+    pub param: f64,
+}
+
+/// A knot: the end of one piece and the start of the next.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Knot {
+    /// Where the piece before ends.
+    pub before: Place,
+    /// Where the piece after starts (another element's start at a junction).
+    pub after: Place,
+    /// Index into [`Knots::junctions`] when the knot joins two elements.
+    pub junction: Option<usize>,
+    /// Index into [`Knots::junctions`] when the piece after this knot is a corner blend.
+    pub blend: Option<usize>,
+    /// The knot's own speed cap (junction, limit repairs), before the caps of its pieces.
+    cap: f64,
+    /// Planned path speed, units/s.
+    pub speed: f64,
+}
+
+/// Two elements meeting at a knot.
+#[derive(Debug, Clone)]
+pub(super) struct Junction {
+    /// Unit velocity direction at the junction: the bisector of the two tangents.
+    pub direction: Vec<f64>,
+    /// |direction − incoming tangent| (= |direction − outgoing tangent|).
+    pub deviation: f64,
+    /// Between two lines under limits: the corner is cut by one blend piece that leaves
+    /// the first line this far (path length) before the corner and joins the second as
+    /// far after it.
+    pub blend: Option<f64>,
+    /// sin(α/2) of the turning angle α.
+    pub half_turn_sin: f64,
+    /// The speed cap at the junction (or of the blend piece).
+    pub cap: f64,
+    /// Unit tangents arriving and leaving.
+    pub tangents: [Vec<f64>; 2],
+}
+
+/// The knots of one contour, in order, with their junctions.
+#[derive(Debug, Clone)]
+pub(super) struct Knots {
+    pub knots: Vec<Knot>,
+    pub junctions: Vec<Junction>,
+    /// True when limits bound the tangential acceleration (trapezoids), false when the
+    /// speed may change over any piece.
+    accelerates: bool,
+}
+
+impl Knot {
+    fn at(place: Place, cap: f64) -> Knot {
+        Knot {
+            before: place,
+            after: place,
+            junction: None,
+            blend: None,
+            cap,
+            speed: 0.0,
+        }
+    }
+}
+
+impl Knots {
+    /// Knots at every element end, along arcs by the error bound, and beside junctions.
+    pub fn new(curves: &[Curve], bounds: &AxisBounds, tolerance: f64) -> Knots {
+        let mut this = Knots {
+            knots: vec![Knot::at(
+                Place {
+                    element: 0,
+                    param: 0.0,
+                },
+                0.0,
+            )],
+            junctions: Vec::new(),
+            accelerates: bounds.accelerates(),
+        };
+        let junctions: Vec<Option<(Junction, [f64; 2])>> = (0..curves.len() - 1)
+            .map(|e| junction(&curves[e], &curves[e + 1], bounds, tolerance))
+            .collect();
+        for (e, curve) in curves.iter().enumerate() {
+            let before = e.checked_sub(1).and_then(|j| junctions[j].as_ref());
+            let after = junctions.get(e).and_then(Option::as_ref);
+            let zone_start = before.map_or(0.0, |j| j.1[1]);
+            let zone_end = after.map_or(0.0, |j| j.1[0]);
+            if let Some(l) = before.and_then(|j| j.0.blend) {
+                let place = Place {
+                    element: e,
+                    param: l,
+                };
+                this.knots
+                    .push(Knot::at(place, before.map_or(0.0, |j| j.0.cap)));
+            }
+            for param in inner_params(curve, tolerance, zone_start, zone_end) {
+                this.knots
+                    .push(Knot::at(Place { element: e, param }, f64::INFINITY));
+            }
+            this.push_end(curves, e, after);
+        }
+        this
+    }
+
+    /// The knot that ends element `e`: the contour's end, a corner blend's start, a
+    /// junction passed at speed, or an exact stop.
+    fn push_end(&mut self, curves: &[Curve], e: usize, junction: Option<&(Junction, [f64; 2])>) {
+        let curve = &curves[e];
+        let end = Place {
+            element: e,
+            param: curve.span,
+        };
+        if e + 1 == curves.len() {
+            self.knots.push(Knot::at(end, 0.0));
+            return;
+        }
+        let index = self.junctions.len();
+        let Some((j, _)) = junction else {
+            let mut knot = Knot::at(end, 0.0);
+            knot.after = Place {
+                element: e + 1,
+                param: 0.0,
+            };
+            self.knots.push(knot);
+            return;
+        };
+        self.junctions.push(j.clone());
+        if let Some(l) = j.blend {
+            let mut knot = Knot::at(
+                Place {
+                    element: e,
+                    param: curve.span - l,
+                },
+                j.cap,
+            );
+            knot.blend = Some(index);
+            self.knots.push(knot);
+        } else {
+            let mut knot = Knot::at(end, j.cap);
+            knot.after = Place {
+                element: e + 1,
+                param: 0.0,
+            };
+            knot.junction = Some(index);
+            self.knots.push(knot);
+        }
+    }
+
+    /// Speed at every knot: caps, then the backward and forward passes, then trapezoid
+    /// knots on lines where the speed can rise between two knots.
+    pub fn plan_speeds(&mut self, curves: &[Curve], bounds: &AxisBounds) {
+        let n = self.knots.len();
+        let mut accel = vec![f64::INFINITY; n - 1];
+        let mut length = vec![0.0; n - 1];
+        let mut piece_cap = vec![f64::INFINITY; n - 1];
+        for k in 0..n - 1 {
+            if let Some(j) = self.knots[k].blend {
+                let j = &self.junctions[j];
+                piece_cap[k] = j.cap;
+                length[k] = 2.0 * j.blend.unwrap_or(0.0);
+                let e = self.knots[k].after.element;
+                let a = |c: &Curve| tangential_accel(c, 0.0, c.span, bounds, j.cap);
+                accel[k] = a(&curves[e]).min(a(&curves[e + 1]));
+                continue;
+            }
+            let (curve, from, to) = self.piece_span(curves, k);
+            piece_cap[k] = speed_cap(curve, from, to, bounds);
+            accel[k] = tangential_accel(curve, from, to, bounds, piece_cap[k]);
+            length[k] = curve.length(from, to);
+        }
+        for (k, knot) in self.knots.iter_mut().enumerate() {
+            let mut cap = knot.cap;
+            if k > 0 {
+                cap = cap.min(piece_cap[k - 1]);
+            }
+            if k < n - 1 {
+                cap = cap.min(piece_cap[k]);
+            }
+            knot.speed = cap;
+        }
+        for k in (0..n - 1).rev() {
+            let reach = reachable(self.knots[k + 1].speed, accel[k], length[k]);
+            self.knots[k].speed = self.knots[k].speed.min(reach);
+        }
+        for k in 0..n - 1 {
+            let reach = reachable(self.knots[k].speed, accel[k], length[k]);
+            self.knots[k + 1].speed = self.knots[k + 1].speed.min(reach);
+        }
+    }
+
+    /// On a line piece whose speed may rise above both ends, knots where the cruise
+    /// begins and ends (with limits; without, the speed changes over whole pieces).
+    pub fn add_trapezoids(&mut self, curves: &[Curve], bounds: &AxisBounds) {
+        if !self.accelerates {
+            return;
+        }
+        let mut out = Vec::with_capacity(self.knots.len());
+        for k in 0..self.knots.len() {
+            out.push(self.knots[k]);
+            if k + 1 == self.knots.len() {
+                break;
+            }
+            if self.knots[k].blend.is_some() {
+                continue;
+            }
+            let (curve, from, to) = self.piece_span(curves, k);
+            let cap = speed_cap(curve, from, to, bounds);
+            let a = tangential_accel(curve, from, to, bounds, cap);
+            let d = curve.length(from, to);
+            let (va, vb) = (self.knots[k].speed, self.knots[k + 1].speed);
+            if !curve.is_line() || !a.is_finite() {
+                continue;
+            }
+            let peak = cap.min((a * d + 0.5 * (va * va + vb * vb)).sqrt());
+            if peak <= va.max(vb) * (1.0 + 1e-9) {
+                continue;
+            }
+            let rise = (peak * peak - va * va) / (2.0 * a);
+            let fall = (peak * peak - vb * vb) / (2.0 * a);
+            let element = self.knots[k].after.element;
+            let mut add = |at: f64| {
+                if at > 1e-9 * d && at < d * (1.0 - 1e-9) {
+                    let mut knot = Knot::at(
+                        Place {
+                            element,
+                            param: from + at,
+                        },
+                        peak,
+                    );
+                    knot.speed = peak;
+                    out.push(knot);
+                }
+            };
+            add(rise);
+            if d - fall > rise * (1.0 + 1e-9) {
+                add(d - fall);
+            }
+        }
+        self.knots = out;
+    }
+
+    /// The element and parameter range of piece `k` (from knot `k` to knot `k + 1`).
+    pub fn piece_span<'c>(&self, curves: &'c [Curve], k: usize) -> (&'c Curve, f64, f64) {
+        let a = self.knots[k].after;
+        let b = self.knots[k + 1].before;
+        debug_assert_eq!(a.element, b.element);
+        (&curves[a.element], a.param, b.param)
+    }
+
+    /// Splits every piece whose error bound exceeds `tolerance` at its middle parameter.
+    /// Returns whether any was split.
+    pub fn split_over(&mut self, curves: &[Curve], pieces: &[Piece], tolerance: f64) -> bool {
+        let mut out = Vec::with_capacity(self.knots.len());
+        let mut split = false;
+        for (k, piece) in pieces.iter().enumerate() {
+            out.push(self.knots[k]);
+            if piece.error > tolerance && self.knots[k].blend.is_none() {
+                let (_, from, to) = self.piece_span(curves, k);
+                let place = Place {
+                    element: self.knots[k].after.element,
+                    param: 0.5 * (from + to),
+                };
+                out.push(Knot::at(place, f64::INFINITY));
+                split = true;
+            }
+        }
+        out.push(self.knots[self.knots.len() - 1]);
+        self.knots = out;
+        split
+    }
+
+    /// Lowers the speed caps at both ends of every piece whose closed-form velocity or
+    /// acceleration peak exceeds a limit. Returns whether any did.
+    pub fn slow_over(&mut self, pieces: &[Piece], bounds: &AxisBounds) -> bool {
+        let mut slowed = false;
+        for (k, piece) in pieces.iter().enumerate() {
+            if piece.at_rest() {
+                // A line at rest at both ends: trapezoid knots will replace it.
+                continue;
+            }
+            let factor = piece.limit_factor(bounds);
+            if factor < 1.0 {
+                for knot in &mut self.knots[k..k + 2] {
+                    knot.cap = knot.cap.min(knot.speed * factor * 0.98);
+                }
+                slowed = true;
+            }
+        }
+        slowed
+    }
+
+    /// Appends every piece to `out`.
+    pub fn emit(&self, curves: &[Curve], pieces: &[Piece], out: &mut PvtContour) {
+        for (k, piece) in pieces.iter().enumerate() {
+            out.push(
+                &piece.end,
+                &piece.end_velocity,
+                piece.duration,
+                curves[self.knots[k].after.element].line,
+            );
+        }
+    }
+
+    /// The velocity of knot `k` leaving along (or arriving on) `curve` at `param`.
+    pub fn velocity(&self, k: usize, curve: &Curve, param: f64, out: &mut [f64]) {
+        let knot = &self.knots[k];
+        match knot.junction {
+            Some(j) if knot.speed > 0.0 => {
+                for (o, d) in out.iter_mut().zip(&self.junctions[j].direction) {
+                    *o = knot.speed * d;
+                }
+            }
+            _ => {
+                curve.derivative(param, out);
+                let scale = knot.speed / norm(out);
+                out.iter_mut().for_each(|x| *x *= scale);
+            }
+        }
+    }
+}
+
+/// The fastest speed at the end of a piece of length `d` entered at `v` under `a`.
+fn reachable(v: f64, a: f64, d: f64) -> f64 {
+    if a.is_finite() {
+        (v * v + 2.0 * a * d).sqrt()
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// The highest path speed on `[from, to]` of `curve`: the feed, each axis' velocity
+/// limit and each axis' share of its acceleration limit for the centripetal part.
+pub(super) fn speed_cap(curve: &Curve, from: f64, to: f64, bounds: &AxisBounds) -> f64 {
+    let mut cap = curve.feed;
+    for i in 0..bounds.velocity.len() {
+        let (tangent, normal) = curve.axis_factors(from, to, i);
+        if tangent > 0.0 {
+            cap = cap.min(bounds.velocity[i] / tangent);
+        }
+        if normal > 0.0 {
+            cap = cap.min((NORMAL_SHARE * bounds.acceleration[i] / normal).sqrt());
+        }
+    }
+    cap
+}
+
+/// The tangential acceleration left on `[from, to]` at speed `speed` on the worst axis.
+fn tangential_accel(curve: &Curve, from: f64, to: f64, bounds: &AxisBounds, speed: f64) -> f64 {
+    let mut accel = f64::INFINITY;
+    for i in 0..bounds.acceleration.len() {
+        let (tangent, normal) = curve.axis_factors(from, to, i);
+        let left = bounds.acceleration[i] - speed * speed * normal;
+        if tangent > 0.0 {
+            accel = accel.min(left.max(0.0) / tangent);
+        }
+    }
+    accel
+}
+
+/// Parameters inside `curve` where knots go: an arc's equal pieces by the error bound
+/// (at least two), and the ends of the junction zones (`zone_start` from the start,
+/// `zone_end` before the end, in path length).
+fn inner_params(curve: &Curve, tolerance: f64, zone_start: f64, zone_end: f64) -> Vec<f64> {
+    let mut params = Vec::new();
+    if let Some(angle) = curve.arc_piece_angle(tolerance) {
+        let n = ((curve.span / angle - 1e-9).ceil() as usize).max(2);
+        params.extend((1..n).map(|i| curve.span * i as f64 / n as f64));
+    }
+    let rate = curve.rate(0.0);
+    if zone_start > 0.0 {
+        params.push(zone_start / rate);
+    }
+    if zone_end > 0.0 {
+        params.push(curve.span - zone_end / rate);
+    }
+    params.retain(|p| *p > 1e-9 * curve.span && *p < curve.span * (1.0 - 1e-9));
+    params.sort_by(f64::total_cmp);
+    params.dedup_by(|a, b| (*a - *b).abs() <= 1e-9 * curve.span);
+    params
+}
+
+/// The junction from `a` into `b` with the zone lengths on each side; `None` when it
+/// must be an exact stop.
+fn junction(
+    a: &Curve,
+    b: &Curve,
+    bounds: &AxisBounds,
+    tolerance: f64,
+) -> Option<(Junction, [f64; 2])> {
+    let t_in = unit_tangent(a, a.span);
+    let t_out = unit_tangent(b, 0.0);
+    let sum: Vec<f64> = t_in.iter().zip(&t_out).map(|(x, y)| x + y).collect();
+    let diff: Vec<f64> = t_in.iter().zip(&t_out).map(|(x, y)| x - y).collect();
+    let (sum_norm, diff_norm) = (norm(&sum), norm(&diff));
+    let angle = 2.0 * libm::atan2(diff_norm, sum_norm);
+    if sum_norm < 1e-6 || (!bounds.accelerates() && angle > TANGENT_ANGLE) {
+        return None;
+    }
+    let direction: Vec<f64> = sum.iter().map(|x| x / sum_norm).collect();
+    let deviation = norm(
+        &direction
+            .iter()
+            .zip(&t_in)
+            .map(|(d, t)| d - t)
+            .collect::<Vec<_>>(),
+    );
+    let mut junction = Junction {
+        direction,
+        deviation,
+        blend: None,
+        half_turn_sin: 0.5 * diff_norm,
+        cap: a.feed.min(b.feed),
+        tangents: [t_in, t_out],
+    };
+    if a.is_line() && b.is_line() && bounds.accelerates() && deviation > 1e-12 {
+        let l = (tolerance / junction.half_turn_sin)
+            .min(0.45 * a.span)
+            .min(0.45 * b.span);
+        junction.blend = Some(l);
+        junction.cap = junction.cap.min(blend_cap(&junction, l, bounds));
+        return (junction.cap > 0.0).then_some((junction, [0.0; 2]));
+    }
+    let zones = [zone(a, &junction, tolerance), zone(b, &junction, tolerance)];
+    junction.cap = junction.cap.min(through_cap(&junction, zones, bounds));
+    (junction.cap > 0.0).then_some((junction, zones))
+}
+
+fn unit_tangent(curve: &Curve, param: f64) -> Vec<f64> {
+    let mut t = vec![0.0; curve.start.len()];
+    curve.derivative(param, &mut t);
+    let n = norm(&t);
+    t.iter_mut().for_each(|x| *x /= n);
+    t
+}
+
+/// Length of the zone beside a junction passed at speed whose piece's error
+/// 4/27·L·deviation takes half the tolerance (at most 45 % of the element).
+fn zone(c: &Curve, j: &Junction, tolerance: f64) -> f64 {
+    if j.deviation <= 1e-12 {
+        return 0.0;
+    }
+    (27.0 * 0.5 * tolerance / (4.0 * j.deviation)).min(0.45 * c.length(0.0, c.span))
+}
+
+/// Speed cap of a junction passed at speed: each axis' velocity along the bisector, and
+/// the lateral acceleration 4·v²·|t_i − d_i|/L of the zone pieces of length L.
+fn through_cap(j: &Junction, zones: [f64; 2], bounds: &AxisBounds) -> f64 {
+    let mut cap = f64::INFINITY;
+    for i in 0..j.direction.len() {
+        if j.direction[i] != 0.0 {
+            cap = cap.min(bounds.velocity[i] / j.direction[i].abs());
+        }
+        for (t, l) in j.tangents.iter().zip(zones) {
+            let lateral = (t[i] - j.direction[i]).abs();
+            if lateral > 0.0 && l > 0.0 {
+                cap = cap.min((bounds.acceleration[i] * l / (4.0 * lateral)).sqrt());
+            }
+        }
+    }
+    cap
+}
+
+/// Speed cap of a corner blend of half-length L at equal end speeds v: its
+/// acceleration at either end is v²·(u₂ − u₁)/(2L) on each axis.
+fn blend_cap(j: &Junction, l: f64, bounds: &AxisBounds) -> f64 {
+    let mut cap = f64::INFINITY;
+    for i in 0..j.direction.len() {
+        let turn = (j.tangents[1][i] - j.tangents[0][i]).abs();
+        if turn > 0.0 {
+            cap = cap.min((2.0 * l * bounds.acceleration[i] / turn).sqrt());
+        }
+    }
+    cap
+}
