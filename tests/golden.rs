@@ -3,17 +3,20 @@
 //! `PVTC_BLESS=1` to rewrite the golden files after an intended change, then review the
 //! diff before committing it.
 //!
-//! Every sample's JSON output is also checked against the definition of the motion: each
-//! segment's cubic ends exactly at its point with its velocity, and (seed 000's defining
-//! property) its speed at mid-time is the mean of its end speeds.
+//! Every sample is compiled with the default planner (`path`) and its motion measured,
+//! independently of pvt-core (see `reference.rs`), against the programmed geometry: within
+//! the path tolerance everywhere, covering every element, and with a machine file within
+//! every axis limit. Under `--planner contour` every sample's JSON output is checked
+//! against seed 000's definition: each segment's cubic ends exactly at its point with its
+//! velocity, and its speed at mid-time is the mean of its end speeds.
 
 use std::io::{Read, Seek};
 use std::path::Path;
 
-use pvt_core::PvtProgram;
+use pvt_core::{Planner, PvtProgram};
 use pvt_emit::Format;
-use pvtc::CompileOptions;
-use pvtc_tests::{close, compile_file, root, samples};
+use pvtc::{CompileOptions, Source};
+use pvtc_tests::{close, compile_file, reference, root, samples};
 
 /// `samples/KIND/STEM.EXT` → `tests/golden/KIND/STEM.FORMAT_EXT`.
 fn golden_name(sample: &str, format: Format) -> String {
@@ -72,16 +75,116 @@ fn check_golden(sample: &str) {
     }
 }
 
+/// A sample planned by seed 000's contour planner.
 fn program_of(sample: &str) -> PvtProgram {
-    let json = compile_file(sample, &options_for(sample, Format::Json));
+    let mut options = options_for(sample, Format::Json);
+    options.planner = Planner::Contour;
+    let json = compile_file(sample, &options);
     pvt_emit::json::read(std::str::from_utf8(&json).unwrap()).unwrap()
+}
+
+/// Plans a sample with `options` and returns the program with its toolpath, or the
+/// failure's codes.
+fn planned(
+    sample: &str,
+    options: &CompileOptions,
+) -> Result<(PvtProgram, pvt_core::Toolpath), Vec<String>> {
+    let bytes = std::fs::read(root().join(sample)).unwrap();
+    let source = Source {
+        name: sample.into(),
+        bytes,
+    };
+    let (planned, toolpath, _) = pvtc::pipeline::plan(&source, options).map_err(|f| f.codes())?;
+    Ok((planned.program, toolpath))
+}
+
+/// The default path tolerance of a program in `units`.
+fn default_tolerance(units: pvt_core::Units) -> f64 {
+    units.from_mm(pvt_core::ChordTolerance::DEFAULT_MM)
+}
+
+/// Asserts the default planner's motion of `sample` is within the path tolerance of its
+/// toolpath and covers it; with `machine`, also within every axis limit.
+fn check_follows(sample: &str, machine: Option<&str>) {
+    let mut options = options_for(sample, Format::Json);
+    if let Some(m) = machine {
+        options.machine = Some(pvtc::machine::Machine::read(&root().join(m)).unwrap());
+    }
+    let (program, toolpath) = match planned(sample, &options) {
+        Ok(planned) => planned,
+        // The router has no rotary axes: refusing such a program is its job.
+        Err(codes) if codes == ["pvtc::machine::missing_axis"] && machine.is_some() => {
+            assert!(
+                !machine.unwrap().ends_with("mill.toml"),
+                "{sample}: {codes:?}"
+            );
+            return;
+        }
+        Err(codes) => panic!("{sample}: {codes:?}"),
+    };
+    let tol = toolpath
+        .path_tolerance
+        .unwrap_or(default_tolerance(program.units));
+    let d = reference::deviation(&program, &toolpath);
+    let slack = 1e-9 * tol;
+    assert!(
+        d.error <= tol + slack,
+        "{sample}: motion {} from the path > {tol}",
+        d.error
+    );
+    assert!(
+        d.gap <= tol + slack,
+        "{sample}: path point {} from the motion > {tol}",
+        d.gap
+    );
+    let Some(m) = &options.machine else { return };
+    let limits = m.limits_in(program.units, &program.axes).unwrap();
+    for contour in &program.contours {
+        for (k, (v, a)) in reference::peaks(contour).into_iter().enumerate() {
+            let l = &limits[&program.axes[k]];
+            let (vmax, amax) = (l.velocity.unwrap(), l.acceleration.unwrap());
+            assert!(
+                v <= vmax * (1.0 + 1e-6),
+                "{sample}: axis {k} velocity {v} > {vmax}"
+            );
+            assert!(
+                a <= amax * (1.0 + 1e-6),
+                "{sample}: axis {k} acceleration {a} > {amax}"
+            );
+        }
+    }
+}
+
+#[test]
+fn samples_follow_their_geometry_within_the_tolerance() {
+    for sample in samples("gcode", ".ngc")
+        .iter()
+        .chain(&samples("dxf", ".dxf"))
+    {
+        check_follows(sample, None);
+    }
+}
+
+#[test]
+fn samples_with_a_machine_file_stay_within_its_limits() {
+    for sample in samples("gcode", ".ngc")
+        .iter()
+        .chain(&samples("dxf", ".dxf"))
+    {
+        for machine in [
+            "samples/machines/mill.toml",
+            "samples/machines/router_inch.toml",
+        ] {
+            check_follows(sample, Some(machine));
+        }
+    }
 }
 
 fn norm(v: &[f64]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
-/// Checks exactness at the points and the mid-segment speed of every segment.
+/// Checks exactness at the points and the mid-segment speed of every segment (contour).
 fn check_motion(sample: &str) {
     let program = program_of(sample);
     assert!(program.segment_count() > 0, "{sample}: no motion");
@@ -133,7 +236,7 @@ fn gcode_samples_match_their_golden_files() {
 }
 
 #[test]
-fn gcode_samples_are_exact_at_the_points_and_at_mid_segment() {
+fn gcode_samples_under_contour_are_exact_at_the_points_and_at_mid_segment() {
     for sample in samples("gcode", ".ngc") {
         check_motion(&sample);
     }
@@ -152,7 +255,7 @@ fn dxf_samples_match_their_golden_files() {
 }
 
 #[test]
-fn dxf_samples_are_exact_at_the_points_and_at_mid_segment() {
+fn dxf_samples_under_contour_are_exact_at_the_points_and_at_mid_segment() {
     for sample in samples("dxf", ".dxf") {
         check_motion(&sample);
     }

@@ -1,6 +1,8 @@
 //! Shared helpers of the end-to-end tests: paths, compiling samples, and an independent
 //! implementation of seed 000 written from the document's own steps.
 
+pub mod reference;
+
 use pvt_core::PvtProgram;
 use pvt_emit::Format;
 use pvtc::{compile, CompileOptions, Source};

@@ -161,6 +161,26 @@ pub struct Element {
 }
 
 impl Element {
+    /// Path length: the straight distance of a line; for an arc, its swept length in
+    /// the plane (mean radius) combined with the other axes' travel (a helix).
+    pub fn length(&self) -> f64 {
+        let squared = |skip: &[usize]| -> f64 {
+            (0..AXIS_COUNT)
+                .filter(|i| !skip.contains(i))
+                .map(|i| (self.end[i] - self.start[i]) * (self.end[i] - self.start[i]))
+                .sum()
+        };
+        match self.kind {
+            ElementKind::Line => squared(&[]).sqrt(),
+            ElementKind::Arc(arc) => {
+                let sweep = arc.sweep(&self.start, &self.end);
+                let (a, b, _) = arc.plane.axes();
+                let planar = 0.5 * (sweep.start_radius + sweep.end_radius) * sweep.sweep.abs();
+                (planar * planar + squared(&[a.index(), b.index()])).sqrt()
+            }
+        }
+    }
+
     /// Sets `moved[axis]` for every axis this element moves (an arc always moves the two
     /// axes of its plane).
     pub fn mark_moved_axes(&self, moved: &mut [bool; AXIS_COUNT]) {
@@ -304,9 +324,21 @@ pub struct Toolpath {
     pub contours: Vec<Contour>,
     /// Events between contours, in order; each happens with the machine at rest.
     pub events: Vec<ProgramEvent>,
+    /// The path tolerance the source asks for (G-code's last G64 P), program units.
+    pub path_tolerance: Option<f64>,
 }
 
 impl Toolpath {
+    /// The time the programmed path takes at its feeds with no acceleration at all:
+    /// the sum of every element's length over its feed, seconds.
+    pub fn feed_time(&self) -> f64 {
+        self.contours
+            .iter()
+            .flat_map(|c| &c.elements)
+            .map(|e| e.length() / e.feed)
+            .sum()
+    }
+
     /// The axes whose position changes anywhere in the toolpath, in X Y Z A B C order.
     pub fn moved_axes(&self) -> Vec<Axis> {
         let mut moved = [false; AXIS_COUNT];

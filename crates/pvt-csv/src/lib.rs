@@ -74,6 +74,7 @@ impl PointSeries {
                 elements,
             }],
             events: Vec::new(),
+            path_tolerance: None,
         }
     }
 }

@@ -122,6 +122,7 @@ pub fn compile(source: &str, options: &GcodeOptions) -> Result<Compiled, GcodeEr
             units: summary.units,
             contours,
             events,
+            path_tolerance: summary.path_tolerance,
         },
         warnings: summary.warnings,
         path_tolerance: summary.path_tolerance,

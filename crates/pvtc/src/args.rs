@@ -87,9 +87,15 @@ pub struct PipelineArgs {
     /// Kind of input; by default from the file name (.dxf, .csv, otherwise G-code).
     #[arg(long = "input-format", value_enum)]
     pub input_format: Option<InputArg>,
-    /// Planner: contour (seed 000, default), pt, chord, const-accel, spline or lspb.
-    #[arg(long, value_name = "NAME", default_value = "contour", value_parser = planner)]
-    pub planner: Planner,
+    /// Planner: path (motion within --tolerance of the drawn geometry; default for G-code
+    /// and DXF), contour (bisector velocities through every point; default for CSV), pt,
+    /// chord, const-accel, spline or lspb.
+    #[arg(long, value_name = "NAME", value_parser = planner)]
+    pub planner: Option<Planner>,
+    /// Machine file (TOML) with per-axis velocity, acceleration and jerk limits that the
+    /// path planner keeps and `check` verifies.
+    #[arg(long, value_name = "FILE")]
+    pub machine: Option<PathBuf>,
     /// Fixed time per piece (seed 002) for pt/chord/const-accel/spline/lspb, e.g. 5ms;
     /// default: time = distance / feed.
     #[arg(long = "time-slice", value_name = "T", value_parser = duration)]
@@ -107,7 +113,9 @@ pub struct PipelineArgs {
     /// Rapid (G0) rate, program units per minute [default: 5000 mm/min in program units].
     #[arg(long, value_name = "F", value_parser = positive_number)]
     pub rapid: Option<f64>,
-    /// Chord tolerance for arcs and curves, program units [default: 0.001 mm].
+    /// Path tolerance: the farthest the motion may be from the programmed geometry (path
+    /// planner; a program's G64 P overrides it), or the chord tolerance of arcs and curves
+    /// (other planners), program units [default: 0.001 mm].
     #[arg(long, value_name = "T", value_parser = positive_number)]
     pub tolerance: Option<f64>,
     /// DXF: cut only this layer (repeatable; default every layer).
@@ -158,18 +166,24 @@ impl PipelineArgs {
             None => [[0.0; 6]; 9],
         };
         let defaults = pvt_gcode::GcodeOptions::default();
+        let input = match self.input_format {
+            Some(InputArg::Gcode) => InputKind::Gcode,
+            Some(InputArg::Dxf) => InputKind::Dxf,
+            Some(InputArg::Csv) => InputKind::Csv,
+            None => InputKind::from_name(name),
+        };
+        let machine = match &self.machine {
+            Some(path) => Some(crate::machine::Machine::read(path)?),
+            None => None,
+        };
         Ok(CompileOptions {
             format,
-            input: match self.input_format {
-                Some(InputArg::Gcode) => InputKind::Gcode,
-                Some(InputArg::Dxf) => InputKind::Dxf,
-                Some(InputArg::Csv) => InputKind::Csv,
-                None => InputKind::from_name(name),
-            },
+            input,
+            machine,
             feed: self.feed,
             rapid: self.rapid,
             tolerance: self.tolerance,
-            planner: self.planner,
+            planner: self.planner.unwrap_or(input.default_planner()),
             timing: self.time_slice.map_or(Timing::FromFeed, Timing::TimeSlice),
             accel: self.accel,
             quantize: self.quantize,
@@ -231,9 +245,14 @@ pub struct CheckArgs {
     /// A source (compiled first with the options below) or a pvtc JSON program (.json).
     #[arg(value_name = "INPUT")]
     pub input: PathBuf,
-    /// Servo period the controller samples at, e.g. 0.5ms or 250us.
-    #[arg(long = "servo-period", value_name = "T", default_value = "0.5ms", value_parser = duration)]
-    pub servo_period: f64,
+    /// Servo period the controller samples at, e.g. 0.5ms or 250us [default: the machine
+    /// file's servo_period, else 0.5ms].
+    #[arg(long = "servo-period", value_name = "T", value_parser = duration)]
+    pub servo_period: Option<f64>,
+    /// Fail (exit 1) when the motion is farther than this from the programmed geometry,
+    /// program units.
+    #[arg(long = "max-path-error", value_name = "T", value_parser = positive_number)]
+    pub max_path_error: Option<f64>,
     /// Most servo samples to take (the motion's time over the servo period); a longer
     /// program is refused rather than sampled for hours.
     #[arg(long = "max-samples", value_name = "N", default_value_t = 20_000_000)]
@@ -287,8 +306,7 @@ pub struct PlotArgs {
 }
 
 fn planner(text: &str) -> Result<Planner, String> {
-    text.parse::<Planner>()
-        .map_err(|e| format!("{e}; one of contour, pt, chord, const-accel, spline, lspb"))
+    text.parse::<Planner>().map_err(|e| e.to_string())
 }
 
 /// A duration: a number with `s`, `ms` or `us` (no unit: seconds).

@@ -5,7 +5,7 @@
 //! compute any of the numbers.
 
 use crate::args::CheckArgs;
-use crate::pipeline::{plan, Failure, Source};
+use crate::pipeline::{plan, CompileOptions, Failure, Source};
 use crate::report::Reporter;
 use crate::EXIT_INPUT_ERROR;
 use pvt_core::{check_program, CheckOptions, CheckReport, Peak, PvtProgram, Toolpath};
@@ -16,17 +16,21 @@ use std::process::ExitCode;
 /// Runs `pvtc check`.
 pub fn run(args: &CheckArgs) -> ExitCode {
     let reporter = Reporter::new(&args.pipeline);
-    let (program, toolpath) = match load(&args.input, &args.pipeline, &reporter) {
+    let Loaded {
+        program,
+        toolpath,
+        options,
+    } = match load(&args.input, &args.pipeline, &reporter) {
         Ok(loaded) => loaded,
         Err(code) => return code,
     };
-    if let Err(failure) = within_samples(&program, args) {
+    let options = match check_options(args, &options, &program) {
+        Ok(options) => options,
+        Err(failure) => return reporter.fail(&failure),
+    };
+    if let Err(failure) = within_samples(&program, options.servo_period, args.max_samples) {
         return reporter.fail(&failure);
     }
-    let options = CheckOptions {
-        servo_period: args.servo_period,
-        limits: args.limits(),
-    };
     let report = check_program(&program, toolpath.as_ref(), &options);
     let units = program.units.name();
     if args.json {
@@ -37,32 +41,81 @@ pub fn run(args: &CheckArgs) -> ExitCode {
     } else {
         print!("{}", table(&report, units));
     }
-    if report.exceeded() {
+    let too_far = args
+        .max_path_error
+        .zip(report.max_path_error())
+        .filter(|(allowed, error)| error > allowed);
+    if let Some((allowed, error)) = too_far {
+        eprintln!("error[pvtc::check::path_error]: the motion is {error:.6} {units} from the programmed geometry, more than --max-path-error {allowed}");
+    }
+    if report.exceeded() || too_far.is_some() {
         ExitCode::from(EXIT_INPUT_ERROR)
     } else {
         ExitCode::SUCCESS
     }
 }
 
+/// The limits to check: the machine file's, in the program's units, then each
+/// `--max-vel`/`--max-accel`/`--max-jerk` over them; the servo period given, else the
+/// machine file's, else 0.5 ms.
+fn check_options(
+    args: &CheckArgs,
+    options: &CompileOptions,
+    program: &PvtProgram,
+) -> Result<CheckOptions, Failure> {
+    let mut limits = match &options.machine {
+        Some(m) => m
+            .limits_in(program.units, &program.axes)
+            .map_err(|e| Failure::Input(vec![miette::Report::new(e)]))?,
+        None => Default::default(),
+    };
+    for (axis, given) in args.limits() {
+        let l = limits.entry(axis).or_default();
+        l.velocity = given.velocity.or(l.velocity);
+        l.acceleration = given.acceleration.or(l.acceleration);
+        l.jerk = given.jerk.or(l.jerk);
+    }
+    let servo_period = args
+        .servo_period
+        .or(options.machine.as_ref().and_then(|m| m.servo_period))
+        .unwrap_or(DEFAULT_SERVO_PERIOD);
+    Ok(CheckOptions {
+        servo_period,
+        limits,
+    })
+}
+
+/// Servo period `check` samples at when neither the command line nor the machine file
+/// gives one (seed 001's XMP: 500 µs).
+pub const DEFAULT_SERVO_PERIOD: f64 = 0.0005;
+
 /// Refuses a program whose motion lasts more than `--max-samples` servo periods: sampling
 /// it would run for hours (a JSON program may carry any time).
-fn within_samples(program: &PvtProgram, args: &CheckArgs) -> Result<(), Failure> {
+fn within_samples(program: &PvtProgram, period: f64, max_samples: u64) -> Result<(), Failure> {
     let total: f64 = program
         .contours
         .iter()
         .flat_map(|c| c.durations.iter())
         .sum();
-    let samples = total / args.servo_period;
-    if samples <= args.max_samples as f64 {
+    let samples = total / period;
+    if samples <= max_samples as f64 {
         return Ok(());
     }
     Err(Failure::Input(vec![miette::miette!(
         code = "pvtc::check::too_many_samples",
         help = "pass a longer --servo-period, or raise --max-samples",
-        "the motion lasts {total:.4e} s: {samples:.4e} servo samples at {} s, over the limit of {}",
-        args.servo_period,
-        args.max_samples
+        "the motion lasts {total:.4e} s: {samples:.4e} servo samples at {period} s, over the limit of {max_samples}",
     )]))
+}
+
+/// A program to check or plot, with what it was planned from.
+pub struct Loaded {
+    /// The program.
+    pub program: PvtProgram,
+    /// The geometry it was planned from (none for a JSON program).
+    pub toolpath: Option<Toolpath>,
+    /// The resolved options (planner, machine).
+    pub options: CompileOptions,
 }
 
 /// Loads the program named by `input`: a pvtc JSON program, or a source compiled with
@@ -71,12 +124,19 @@ pub fn load(
     input: &std::path::Path,
     pipeline: &crate::args::PipelineArgs,
     reporter: &Reporter,
-) -> Result<(PvtProgram, Option<Toolpath>), ExitCode> {
+) -> Result<Loaded, ExitCode> {
     let source = Source::read(input).map_err(|f| reporter.fail(&f))?;
+    let options = pipeline
+        .compile_options(&source.name, Format::Json)
+        .map_err(|f| reporter.fail(&f))?;
     if pipeline.input_format.is_none() && source.name.to_ascii_lowercase().ends_with(".json") {
         let text = String::from_utf8_lossy(&source.bytes);
         return match pvt_emit::json::read(&text) {
-            Ok(program) => Ok((program, None)),
+            Ok(program) => Ok(Loaded {
+                program,
+                toolpath: None,
+                options,
+            }),
             Err(e) => Err(reporter.fail(&Failure::Input(vec![miette::miette!(
                 code = "pvtc::json::read",
                 "{}: {e}",
@@ -84,12 +144,13 @@ pub fn load(
             )]))),
         };
     }
-    let options = pipeline
-        .compile_options(&source.name, Format::Json)
-        .map_err(|f| reporter.fail(&f))?;
     let (planned, toolpath, warnings) = plan(&source, &options).map_err(|f| reporter.fail(&f))?;
     reporter.warnings(&warnings)?;
-    Ok((planned.program, Some(toolpath)))
+    Ok(Loaded {
+        program: planned.program,
+        toolpath: Some(toolpath),
+        options,
+    })
 }
 
 fn peak_json(p: &Peak) -> serde_json::Value {

@@ -11,6 +11,7 @@ pub mod batch;
 pub mod check;
 pub mod excerpt;
 pub mod front;
+pub mod machine;
 pub mod offsets;
 pub mod output;
 pub mod pipeline;

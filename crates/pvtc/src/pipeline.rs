@@ -81,6 +81,15 @@ pub enum InputKind {
 }
 
 impl InputKind {
+    /// The planner used when none is asked for: `path` for geometry (G-code, DXF),
+    /// `contour` for a point-time series, whose points are the path.
+    pub fn default_planner(self) -> Planner {
+        match self {
+            InputKind::Gcode | InputKind::Dxf => Planner::Path,
+            InputKind::Csv => Planner::Contour,
+        }
+    }
+
     /// The front end a file name suggests: `.dxf` drawing, `.csv` series, else G-code.
     pub fn from_name(name: &str) -> InputKind {
         let lower = name.to_ascii_lowercase();
@@ -118,6 +127,8 @@ pub struct CompileOptions {
     pub format: Format,
     /// Front end.
     pub input: InputKind,
+    /// Machine limits from `--machine`.
+    pub machine: Option<crate::machine::Machine>,
     /// Feed for moves before the first F word (required for drawings), units per minute.
     pub feed: Option<f64>,
     /// Rapid rate, program units per minute; `None` is 5000 mm/min.
@@ -148,10 +159,11 @@ impl CompileOptions {
         CompileOptions {
             format,
             input: InputKind::Gcode,
+            machine: None,
             feed: None,
             rapid: None,
             tolerance: None,
-            planner: Planner::Contour,
+            planner: Planner::Path,
             timing: Timing::FromFeed,
             accel: None,
             quantize: None,
@@ -222,8 +234,24 @@ pub fn plan(
         .unwrap_or(units.from_mm(ChordTolerance::DEFAULT_MM));
     let tolerance =
         ChordTolerance::new(tolerance).expect("the CLI accepts only positive tolerances");
+    let moved = match &input {
+        Input::Toolpath(t) => t.moved_axes(),
+        Input::Series(s) => s.axes.clone(),
+    };
+    let limits = match &options.machine {
+        Some(m) => m
+            .limits_in(units, &moved)
+            .map_err(|e| Failure::Input(vec![Report::new(e)]))?,
+        None => Default::default(),
+    };
+    let path_tolerance = match &input {
+        Input::Toolpath(t) => t.path_tolerance,
+        Input::Series(_) => None,
+    };
     let plan_options = PlanOptions {
         tolerance,
+        path_tolerance,
+        limits,
         planner: options.planner,
         timing: options.timing,
         accel: options.accel,
@@ -251,26 +279,59 @@ pub fn plan(
         Failure::Input(vec![report])
     })?;
     warnings.extend(plan_notes(&planned.report, options));
+    if let Some(summary) = path_summary(&planned, &toolpath) {
+        warnings.push(miette::miette!(
+            severity = Severity::Advice,
+            code = "pvtc::plan::summary",
+            "{}",
+            summary
+                .iter()
+                .map(|(k, v)| format!("{k}: {v}"))
+                .collect::<Vec<_>>()
+                .join("; ")
+        ));
+    }
     Ok((planned, toolpath, warnings))
+}
+
+/// What the path planner achieved, as (name, value) pairs for the summary on standard
+/// error and the output's header: pieces, path error bound, total time against the
+/// time at the feeds.
+fn path_summary(planned: &Planned, toolpath: &Toolpath) -> Option<Vec<(String, String)>> {
+    let error = planned.report.path_error?;
+    let program = &planned.program;
+    let u = program.units.name();
+    let time = program.total_time();
+    let ratio = time / toolpath.feed_time();
+    Some(vec![
+        ("pieces".into(), program.segment_count().to_string()),
+        ("path error".into(), format!("at most {error:.6} {u}")),
+        (
+            "total time".into(),
+            format!("{time:.4} s ({ratio:.3} x length / feed)"),
+        ),
+    ])
 }
 
 /// Compiles `source` into the bytes of `options.format`.
 pub fn compile(source: &Source, options: &CompileOptions) -> Result<Compiled, Failure> {
     let (planned, toolpath, mut warnings) = plan(source, options)?;
-    let program = planned.program;
+    let program = &planned.program;
+    let mut header = settings(options, program.units);
+    header.extend(path_summary(&planned, &toolpath).unwrap_or_default());
     let emit_options = EmitOptions {
         source: source.name.clone(),
-        settings: settings(options, program.units),
+        settings: header,
         program_number: 1,
     };
-    let bytes = emit_to_vec(&program, options.format, &emit_options)
+    let bytes = emit_to_vec(program, options.format, &emit_options)
         .map_err(|e| emit_failure(e, options, Some(source)))?;
     if options.format == Format::Pmac && options.quantize.is_none() {
-        warnings.extend(fractional_ms_warning(&program));
+        warnings.extend(fractional_ms_warning(program));
     }
     Ok(Compiled {
         bytes,
-        program,
+        program: planned.program,
         toolpath,
         report: planned.report,
         warnings,
@@ -407,12 +468,16 @@ pub(crate) fn settings(options: &CompileOptions, units: Units) -> Vec<(String, S
         Some(f) => format!("{f} {u}/min"),
         None => "none (every feed move needs an F word)".into(),
     };
+    let tolerance_name = match options.planner {
+        Planner::Path => "path tolerance",
+        _ => "chord tolerance",
+    };
     let mut out = vec![
         (
             "planner".into(),
             planner_description(options.planner).into(),
         ),
-        ("chord tolerance".into(), format!("{tolerance} {u}")),
+        (tolerance_name.into(), format!("{tolerance} {u}")),
         ("rapid".into(), rapid),
         ("default feed".into(), feed),
     ];
@@ -424,6 +489,9 @@ pub(crate) fn settings(options: &CompileOptions, units: Units) -> Vec<(String, S
     }
     if let Some(q) = options.quantize {
         out.push(("piece times quantized to".into(), format!("{q} s")));
+    }
+    if let Some(m) = &options.machine {
+        out.push(("machine".into(), m.name.clone()));
     }
     out
 }
@@ -438,5 +506,6 @@ fn planner_description(planner: Planner) -> &'static str {
         Planner::ConstAccel => "const-accel (seed 001: constant-acceleration velocity fit)",
         Planner::Spline => "spline (C2 cubic spline through the points, rest at both ends)",
         Planner::Lspb => "lspb (seed 004: linear segments with parabolic blends)",
+        Planner::Path => "path (motion within the path tolerance of the programmed geometry)",
     }
 }

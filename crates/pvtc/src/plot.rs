@@ -12,15 +12,16 @@ use std::process::ExitCode;
 /// Runs `pvtc plot`.
 pub fn run(args: &PlotArgs) -> ExitCode {
     let reporter = Reporter::new(&args.pipeline);
-    let (program, _) = match crate::check::load(&args.input, &args.pipeline, &reporter) {
+    let loaded = match crate::check::load(&args.input, &args.pipeline, &reporter) {
         Ok(loaded) => loaded,
         Err(code) => return code,
     };
+    let program = loaded.program;
     let options = pvt_emit::plot::PlotOptions {
         title: format!(
             "{} ({})",
             args.input.display(),
-            args.pipeline.planner.name()
+            loaded.options.planner.name()
         ),
         ..Default::default()
     };

@@ -212,6 +212,10 @@ pub fn check_program(
     }
 }
 
+/// Relative amount by which a peak may exceed its limit and still pass: the rounding
+/// of the arithmetic that computes it, nothing more.
+pub const LIMIT_ROUNDING: f64 = 1e-9;
+
 /// Closed-form peaks per axis ([velocity, acceleration, jerk]) and the limits exceeded.
 fn closed_form(
     tl: &Timeline<'_>,
@@ -241,7 +245,7 @@ fn closed_form(
                     Quantity::Acceleration => limits.acceleration,
                     Quantity::Jerk => limits.jerk,
                 };
-                let Some(limit) = limit.filter(|&l| peak.value > l) else {
+                let Some(limit) = limit.filter(|&l| peak.value > l * (1.0 + LIMIT_ROUNDING)) else {
                     continue;
                 };
                 let v = Violation {

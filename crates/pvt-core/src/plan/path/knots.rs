@@ -97,8 +97,6 @@ impl Knots {
         for (e, curve) in curves.iter().enumerate() {
             let before = e.checked_sub(1).and_then(|j| junctions[j].as_ref());
             let after = junctions.get(e).and_then(Option::as_ref);
-            let zone_start = before.map_or(0.0, |j| j.1[1]);
-            let zone_end = after.map_or(0.0, |j| j.1[0]);
             if let Some(l) = before.and_then(|j| j.0.blend) {
                 let place = Place {
                     element: e,
@@ -107,7 +105,7 @@ impl Knots {
                 this.knots
                     .push(Knot::at(place, before.map_or(0.0, |j| j.0.cap)));
             }
-            for param in inner_params(curve, tolerance, zone_start, zone_end) {
+            for param in inner_params(curve, tolerance) {
                 this.knots
                     .push(Knot::at(Place { element: e, param }, f64::INFINITY));
             }
@@ -371,30 +369,19 @@ fn tangential_accel(curve: &Curve, from: f64, to: f64, bounds: &AxisBounds, spee
     accel
 }
 
-/// Parameters inside `curve` where knots go: an arc's equal pieces by the error bound
-/// (at least two), and the ends of the junction zones (`zone_start` from the start,
-/// `zone_end` before the end, in path length).
-fn inner_params(curve: &Curve, tolerance: f64, zone_start: f64, zone_end: f64) -> Vec<f64> {
-    let mut params = Vec::new();
-    if let Some(angle) = curve.arc_piece_angle(tolerance) {
-        let n = ((curve.span / angle - 1e-9).ceil() as usize).max(2);
-        params.extend((1..n).map(|i| curve.span * i as f64 / n as f64));
-    }
-    let rate = curve.rate(0.0);
-    if zone_start > 0.0 {
-        params.push(zone_start / rate);
-    }
-    if zone_end > 0.0 {
-        params.push(curve.span - zone_end / rate);
-    }
-    params.retain(|p| *p > 1e-9 * curve.span && *p < curve.span * (1.0 - 1e-9));
-    params.sort_by(f64::total_cmp);
-    params.dedup_by(|a, b| (*a - *b).abs() <= 1e-9 * curve.span);
-    params
+/// Parameters inside `curve` where knots go at first: an arc's equal pieces by the error
+/// bound at constant speed (at least two). Pieces beside a junction passed at speed are
+/// split later, where their bound needs it.
+fn inner_params(curve: &Curve, tolerance: f64) -> Vec<f64> {
+    let Some(angle) = curve.arc_piece_angle(tolerance) else {
+        return Vec::new();
+    };
+    let n = ((curve.span / angle - 1e-9).ceil() as usize).max(2);
+    (1..n).map(|i| curve.span * i as f64 / n as f64).collect()
 }
 
-/// The junction from `a` into `b` with the zone lengths on each side; `None` when it
-/// must be an exact stop.
+/// The junction from `a` into `b` with the lengths on each side over which its pieces
+/// may turn (for the acceleration cap); `None` when it must be an exact stop.
 fn junction(
     a: &Curve,
     b: &Curve,

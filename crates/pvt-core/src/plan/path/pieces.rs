@@ -76,9 +76,9 @@ impl Knots {
 
 impl Knots {
     /// The corner blend after knot `k`: from the first line at L before the corner to
-    /// the second at L after it, velocities along each line, time 2L / (faster end
-    /// speed), so both inner control points lie on the lines within L of the corner and
-    /// the cubic stays inside the triangle they span with the corner. Its farthest
+    /// the second at L after it, velocities along each line, time from
+    /// [`blend_time`], so both inner control points lie on the lines within L of the
+    /// corner and the cubic stays inside the triangle they span with the corner. Its farthest
     /// point from the two lines is no farther than its midpoint is from the corner,
     /// at most L·sin(α/2), which is also how far the corner is from the motion.
     fn blend_piece(&self, curves: &[Curve], k: usize, j: usize) -> Piece {
@@ -98,9 +98,22 @@ impl Knots {
             end,
             start_velocity: scaled(&junction.tangents[0], va),
             end_velocity: scaled(&junction.tangents[1], vb),
-            duration: 2.0 * l / va.max(vb),
+            duration: blend_time(l, va, vb),
             error: l * junction.half_turn_sin,
         }
+    }
+}
+
+/// Time of a blend of half-length `l` from speed `va` to `vb`: 4L/(va + vb), the
+/// constant-acceleration time over its 2L, while that keeps each inner control point
+/// within L of the corner (the faster end at most three times the slower); else 3L over
+/// the faster speed, which puts that control point at the corner.
+fn blend_time(l: f64, va: f64, vb: f64) -> f64 {
+    let (slow, fast) = (va.min(vb), va.max(vb));
+    if fast <= 3.0 * slow {
+        4.0 * l / (va + vb)
+    } else {
+        3.0 * l / fast
     }
 }
 

@@ -1,0 +1,321 @@
+//! The path planner's promises, checked independently of its own bounds: every cubic is
+//! evaluated densely (as Bézier curves from its end states) and measured against the true
+//! lines, arcs and helices; every programmed element is covered; per-axis peaks are
+//! computed from the Bézier control points; piece counts and times are as documented.
+//!
+//! Long run: `PROPTEST_CASES=2000 cargo test -p pvtc-tests --test path --release`.
+//!
+//! The reference geometry uses std's trigonometry on purpose: it is independent of the
+//! planner's libm, and these numbers are never written to an output.
+#![allow(clippy::disallowed_methods)]
+
+use proptest::prelude::*;
+use pvt_core::{
+    plan_path, Arc, ArcDirection, Axis, AxisLimits, Contour, Element, ElementKind, Interpolation,
+    Motion, PathOptions, Plane, Position, PvtContour, PvtProgram, Span, Toolpath, Units,
+};
+use pvtc_tests::reference::{self, Deviation};
+use std::collections::BTreeMap;
+use std::f64::consts::FRAC_PI_2;
+
+fn pos(x: f64, y: f64, z: f64) -> Position {
+    [x, y, z, 0.0, 0.0, 0.0]
+}
+
+fn line(start: Position, end: Position, feed: f64) -> Element {
+    Element {
+        kind: ElementKind::Line,
+        start,
+        end,
+        feed,
+        span: Span::default(),
+    }
+}
+
+fn arc(start: Position, end: Position, center: [f64; 2], ccw: bool, feed: f64) -> Element {
+    Element {
+        kind: ElementKind::Arc(Arc {
+            plane: Plane::XY,
+            center,
+            direction: if ccw {
+                ArcDirection::CounterClockwise
+            } else {
+                ArcDirection::Clockwise
+            },
+            extra_turns: 0,
+        }),
+        start,
+        end,
+        feed,
+        span: Span::default(),
+    }
+}
+
+/// Elements numbered as if each were on its own source line.
+fn contour(mut elements: Vec<Element>) -> Contour {
+    for (i, e) in elements.iter_mut().enumerate() {
+        e.span.line = i as u32 + 1;
+    }
+    Contour {
+        motion: Motion::Feed,
+        elements,
+    }
+}
+
+const XYZ: [Axis; 3] = [Axis::X, Axis::Y, Axis::Z];
+
+fn plan(c: &Contour, tolerance: f64, limits: &BTreeMap<Axis, AxisLimits>) -> PvtContour {
+    let options = PathOptions {
+        tolerance,
+        limits: limits.clone(),
+    };
+    plan_path(c, &XYZ, &options).expect("plans").0
+}
+
+/// The independent deviation of a planned contour from its elements.
+fn deviation(c: &Contour, planned: &PvtContour) -> Deviation {
+    let program = PvtProgram {
+        axes: XYZ.to_vec(),
+        units: Units::Millimetre,
+        interpolation: Interpolation::Pvt,
+        contours: vec![planned.clone()],
+        events: Vec::new(),
+    };
+    let toolpath = Toolpath {
+        contours: vec![c.clone()],
+        ..Toolpath::default()
+    };
+    reference::deviation(&program, &toolpath)
+}
+
+fn samples_of(c: &PvtContour) -> Vec<Vec<f64>> {
+    (0..c.len())
+        .flat_map(|i| reference::piece_samples(c, i))
+        .collect()
+}
+
+fn limits(v: f64, a: f64) -> BTreeMap<Axis, AxisLimits> {
+    XYZ.iter()
+        .map(|&axis| {
+            (
+                axis,
+                AxisLimits {
+                    velocity: Some(v),
+                    acceleration: Some(a),
+                    jerk: None,
+                },
+            )
+        })
+        .collect()
+}
+
+fn square(side: f64, feed: f64) -> Vec<Element> {
+    let p = [
+        pos(0.0, 0.0, 0.0),
+        pos(side, 0.0, 0.0),
+        pos(side, side, 0.0),
+        pos(0.0, side, 0.0),
+        pos(0.0, 0.0, 0.0),
+    ];
+    p.windows(2).map(|w| line(w[0], w[1], feed)).collect()
+}
+
+/// Quarter circle R=1000 between two tangent 100 mm lines (issue: 21 µm with contour).
+fn quarter_with_tangent_lines(feed: f64) -> Vec<Element> {
+    vec![
+        line(pos(1000.0, -100.0, 0.0), pos(1000.0, 0.0, 0.0), feed),
+        arc(
+            pos(1000.0, 0.0, 0.0),
+            pos(0.0, 1000.0, 0.0),
+            [0.0, 0.0],
+            true,
+            feed,
+        ),
+        line(pos(0.0, 1000.0, 0.0), pos(-100.0, 1000.0, 0.0), feed),
+    ]
+}
+
+/// Asserts the motion is within `tol` of `c` and covers it, independently measured.
+fn assert_follows(c: &Contour, planned: &PvtContour, tol: f64) {
+    let d = deviation(c, planned);
+    assert!(
+        d.error <= tol,
+        "motion {} from the path (tolerance {tol})",
+        d.error
+    );
+    assert!(
+        d.gap <= tol,
+        "path point {} from the motion (tolerance {tol})",
+        d.gap
+    );
+}
+
+fn assert_within(planned: &PvtContour, v: f64, a: f64) {
+    for (pv, pa) in reference::peaks(planned) {
+        assert!(pv <= v * (1.0 + 1e-6), "velocity {pv} > {v}");
+        assert!(pa <= a * (1.0 + 1e-6), "acceleration {pa} > {a}");
+    }
+}
+
+#[test]
+fn square_stays_on_its_sides() {
+    let c = contour(square(100.0, 100.0));
+    let planned = plan(&c, 0.001, &BTreeMap::new());
+    assert_follows(&c, &planned, 0.001);
+}
+
+#[test]
+fn quarter_circle_between_tangent_lines_is_few_pieces_near_the_feed() {
+    let c = contour(quarter_with_tangent_lines(100.0));
+    let planned = plan(&c, 0.001, &BTreeMap::new());
+    assert_follows(&c, &planned, 0.001);
+    let on_arc = planned.lines.iter().filter(|&&l| l == 2).count();
+    assert!(on_arc <= 16, "{on_arc} pieces on the arc");
+    let length = 200.0 + 1000.0 * FRAC_PI_2;
+    let ratio = planned.total_time() / (length / 100.0);
+    assert!(ratio <= 1.25, "time ratio {ratio}");
+}
+
+#[test]
+fn plunge_into_a_cut_does_not_gouge() {
+    let c = contour(vec![
+        line(pos(0.0, 0.0, 0.0), pos(0.0, 0.0, -1.0), 10.0),
+        line(pos(0.0, 0.0, -1.0), pos(50.0, 0.0, -1.0), 50.0),
+        line(pos(50.0, 0.0, -1.0), pos(50.0, 20.0, -1.0), 50.0),
+    ]);
+    for lim in [BTreeMap::new(), limits(100.0, 1000.0)] {
+        let planned = plan(&c, 0.001, &lim);
+        let lowest = samples_of(&planned)
+            .iter()
+            .map(|p| p[2])
+            .fold(f64::INFINITY, f64::min);
+        assert!(lowest >= -1.0 - 0.001, "dives to {lowest}");
+        assert_follows(&c, &planned, 0.001);
+    }
+}
+
+#[test]
+fn limits_hold_on_a_square_and_exact_stop_time_is_near_four_trapezoids() {
+    let c = contour(square(100.0, 100.0));
+    let planned = plan(&c, 0.001, &limits(100.0, 1000.0));
+    assert_within(&planned, 100.0, 1000.0);
+    assert_follows(&c, &planned, 0.001);
+    // One side: accelerate to 100 in 0.1 s over 5 mm, cruise 90 mm, decelerate.
+    let trapezoid = 0.1 + 0.9 + 0.1;
+    let ratio = planned.total_time() / (4.0 * trapezoid);
+    assert!(ratio <= 1.05, "ratio {ratio}");
+}
+
+#[test]
+fn a_wider_tolerance_rounds_corners_faster_than_exact_stop() {
+    let c = contour(square(100.0, 100.0));
+    let lim = limits(100.0, 1000.0);
+    let tight = plan(&c, 0.001, &lim);
+    let loose = plan(&c, 0.5, &lim);
+    assert!(
+        loose.total_time() < tight.total_time() * 0.98,
+        "{} vs {}",
+        loose.total_time(),
+        tight.total_time()
+    );
+    assert!(loose.total_time() < 4.0 * 1.1);
+    assert_follows(&c, &loose, 0.5);
+    assert_within(&loose, 100.0, 1000.0);
+}
+
+#[test]
+fn full_circle_within_limits() {
+    let c = contour(vec![arc(
+        pos(50.0, 0.0, 0.0),
+        pos(50.0, 0.0, 0.0),
+        [0.0, 0.0],
+        true,
+        1000.0,
+    )]);
+    let planned = plan(&c, 0.001, &limits(100.0, 1000.0));
+    assert_within(&planned, 100.0, 1000.0);
+    assert_follows(&c, &planned, 0.001);
+}
+
+/// A random program step.
+#[derive(Debug, Clone, Copy)]
+enum Step {
+    Line(f64, f64, f64),
+    TangentArc(f64, f64, bool),
+    Helix(f64, f64, f64, bool),
+    Plunge(f64),
+}
+
+fn step() -> impl Strategy<Value = Step> {
+    prop_oneof![
+        3 => (-20.0..20.0f64, -20.0..20.0f64, -2.0..2.0f64).prop_map(|(x, y, z)| Step::Line(x, y, z)),
+        2 => (0.5..30.0f64, 0.1..3.0f64, any::<bool>()).prop_map(|(r, s, c)| Step::TangentArc(r, s, c)),
+        1 => (0.5..20.0f64, 0.1..6.0f64, -3.0..3.0f64, any::<bool>()).prop_map(|(r, s, z, c)| Step::Helix(r, s, z, c)),
+        1 => (-3.0..-0.1f64).prop_map(Step::Plunge),
+    ]
+}
+
+/// Elements from steps; arcs leave tangent to the last XY direction.
+fn program(steps: &[Step], feed: f64) -> Vec<Element> {
+    let mut at = pos(0.0, 0.0, 0.0);
+    let mut heading = 0.0f64;
+    let mut out = Vec::new();
+    for s in steps {
+        let e = match *s {
+            Step::Line(x, y, z) => {
+                let end = pos(at[0] + x, at[1] + y, at[2] + z);
+                if x != 0.0 || y != 0.0 {
+                    heading = y.atan2(x);
+                }
+                line(at, end, feed)
+            }
+            Step::Plunge(z) => line(at, pos(at[0], at[1], at[2] + z), feed),
+            Step::TangentArc(r, sweep, ccw) | Step::Helix(r, sweep, _, ccw) => {
+                let side = if ccw { FRAC_PI_2 } else { -FRAC_PI_2 };
+                let c = [
+                    at[0] + r * (heading + side).cos(),
+                    at[1] + r * (heading + side).sin(),
+                ];
+                let a0 = (at[1] - c[1]).atan2(at[0] - c[0]);
+                let a1 = if ccw { a0 + sweep } else { a0 - sweep };
+                let dz = if let Step::Helix(_, _, z, _) = *s {
+                    z
+                } else {
+                    0.0
+                };
+                let end = pos(c[0] + r * a1.cos(), c[1] + r * a1.sin(), at[2] + dz);
+                heading += if ccw { sweep } else { -sweep };
+                arc(at, end, c, ccw, feed)
+            }
+        };
+        at = e.end;
+        out.push(e);
+    }
+    out
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    #[test]
+    fn random_programs_stay_within_tolerance_and_cover_the_path(
+        steps in prop::collection::vec(step(), 1..6),
+        tol_exp in -3.0..-1.0f64,
+        feed in 5.0..200.0f64,
+        limited in any::<bool>(),
+    ) {
+        let c = contour(program(&steps, feed));
+        let tol = 10f64.powf(tol_exp);
+        let lim = if limited { limits(80.0, 800.0) } else { BTreeMap::new() };
+        let planned = plan(&c, tol, &lim);
+        let d = deviation(&c, &planned);
+        prop_assert!(d.error <= tol, "off by {} > {}", d.error, tol);
+        prop_assert!(d.gap <= tol, "gap {} > {}", d.gap, tol);
+        if limited {
+            for (v, a) in reference::peaks(&planned) {
+                prop_assert!(v <= 80.0 * (1.0 + 1e-6), "v {}", v);
+                prop_assert!(a <= 800.0 * (1.0 + 1e-6), "a {}", a);
+            }
+        }
+    }
+}
