@@ -228,6 +228,7 @@ pub fn plan(
         timing: options.timing,
         accel: options.accel,
         quantize: options.quantize,
+        ..PlanOptions::default()
     };
     let (planned, toolpath) = match input {
         Input::Toolpath(toolpath) => (plan_toolpath_report(&toolpath, &plan_options), toolpath),
@@ -432,6 +433,9 @@ fn planner_description(planner: Planner) -> &'static str {
     match planner {
         Planner::Contour => {
             "contour (seed 000: bisector velocities, mid-segment speed = mean of end speeds)"
+        }
+        Planner::Path => {
+            "path (within the path tolerance of the true elements and the axis limits)"
         }
         Planner::Pt => "pt (seed 001: constant velocity between points)",
         Planner::Chord => "chord (seed 001/002: forward-difference velocities, last at rest)",
