@@ -173,6 +173,16 @@ fn v3(v: &dxf::Vector) -> P3 {
     [v.x, v.y, v.z]
 }
 
+/// Which record of the file an entity was read from.
+#[derive(Debug, Clone, Copy)]
+struct Origin {
+    /// Index into [`SourceMap::records`], when the scan found the record.
+    record: Option<usize>,
+    /// The entity is in model space (not inside a block): its handle in memory is the
+    /// file's (the `dxf` crate gives block entities new handles).
+    top: bool,
+}
+
 /// Where an entity is being read: transform to output coordinates, inherited layer, units.
 #[derive(Clone)]
 struct Place {
@@ -266,32 +276,41 @@ impl<'a> Reader<'a> {
             blocks: Vec::new(),
         };
         for e in entities {
-            self.entity(e, &place, true);
+            let kind = type_name(&e.specific);
+            let record = (!e.common.handle.is_empty())
+                .then(|| self.source.find(e.common.handle.0, kind))
+                .flatten();
+            self.entity(e, &place, Origin { record, top: true });
         }
     }
 
-    fn entity_ref(&self, e: &Entity, place: &Place) -> EntityRef {
+    fn entity_ref(&self, e: &Entity, place: &Place, origin: Origin) -> EntityRef {
+        let written = origin
+            .record
+            .map(|i| self.source.records[i].handle)
+            .filter(|&h| h != 0);
+        let handle = match written {
+            Some(h) => format!("{h:X}"),
+            None if origin.top && !e.common.handle.is_empty() => e.common.handle.as_string(),
+            None => String::new(),
+        };
         EntityRef {
             kind: type_name(&e.specific).to_string(),
-            handle: if e.common.handle.is_empty() {
-                String::new()
-            } else {
-                e.common.handle.as_string()
-            },
+            handle,
             layer: effective_layer(e, place),
         }
     }
 
-    fn span(&self, handle: dxf::Handle, kind: &str) -> Span {
-        if handle.is_empty() {
-            return Span::default();
-        }
-        self.source.span(handle.0, kind).unwrap_or_default()
+    fn span(&self, origin: Origin) -> Span {
+        origin
+            .record
+            .map(|i| self.source.records[i].span)
+            .unwrap_or_default()
     }
 
-    fn bad(&mut self, e: &Entity, place: &Place, reason: impl Into<String>) {
-        let entity = self.entity_ref(e, place);
-        let span = self.span(e.common.handle, &entity.kind);
+    fn bad(&mut self, e: &Entity, place: &Place, origin: Origin, reason: impl Into<String>) {
+        let entity = self.entity_ref(e, place, origin);
+        let span = self.span(origin);
         self.errors.push(DxfError::BadGeometry {
             entity,
             reason: reason.into(),
@@ -299,12 +318,12 @@ impl<'a> Reader<'a> {
         });
     }
 
-    fn entity(&mut self, e: &Entity, place: &Place, top: bool) {
+    fn entity(&mut self, e: &Entity, place: &Place, origin: Origin) {
         self.visits += 1;
         if self.visits > MAX_VISITS {
             if self.visits == MAX_VISITS + 1 {
-                let entity = self.entity_ref(e, place);
-                let span = self.span(e.common.handle, &entity.kind);
+                let entity = self.entity_ref(e, place, origin);
+                let span = self.span(origin);
                 self.errors.push(DxfError::BadBlock {
                     entity,
                     reason: format!(
@@ -318,16 +337,16 @@ impl<'a> Reader<'a> {
         let layer = effective_layer(e, place);
         let kind = type_name(&e.specific);
         if let EntityType::Insert(ins) = &e.specific {
-            self.insert(e, ins, place);
+            self.insert(e, ins, place, origin);
             return;
         }
         if !self.layer_selected(&layer) {
             return;
         }
-        if top {
+        if origin.top {
             self.selected += 1;
         }
-        let span = self.span(e.common.handle, kind);
+        let span = self.span(origin);
         let result = match &e.specific {
             EntityType::Line(l) => self.line(p3(&l.p1), p3(&l.p2), place, span),
             EntityType::Arc(a) => self.arc(
@@ -363,11 +382,10 @@ impl<'a> Reader<'a> {
                 }
                 let is_3d = pl.flags & 8 != 0;
                 // The dxf crate drops VERTEX handles: the scan gives their spans in order.
-                let vertex_spans = if e.common.handle.is_empty() {
-                    Vec::new()
-                } else {
-                    self.source.following(e.common.handle.0, "VERTEX")
-                };
+                let vertex_spans = origin
+                    .record
+                    .map(|i| self.source.following(i, "VERTEX"))
+                    .unwrap_or_default();
                 let verts: Vec<(P3, f64, Span)> = pl
                     .__vertices_and_handles
                     .iter()
@@ -397,11 +415,11 @@ impl<'a> Reader<'a> {
         };
         match result {
             Ok(piece) => self.pieces.push(piece),
-            Err(NoPiece::Bad(reason)) => self.bad(e, place, reason),
+            Err(NoPiece::Bad(reason)) => self.bad(e, place, origin, reason),
             Err(NoPiece::ZeroLength) => {
                 self.zero_length_count += 1;
                 if self.zero_length.len() < MAX_ZERO_LENGTH_WARNINGS {
-                    let entity = self.entity_ref(e, place);
+                    let entity = self.entity_ref(e, place, origin);
                     self.zero_length
                         .push(DxfDiagnostic::ZeroLength { entity, span });
                 }
@@ -598,10 +616,10 @@ impl<'a> Reader<'a> {
         points_to_piece(&points, span)
     }
 
-    fn insert(&mut self, e: &Entity, ins: &dxf::entities::Insert, place: &Place) {
+    fn insert(&mut self, e: &Entity, ins: &dxf::entities::Insert, place: &Place, origin: Origin) {
         let name = ins.name.to_lowercase();
-        let entity = self.entity_ref(e, place);
-        let span = self.span(e.common.handle, "INSERT");
+        let entity = self.entity_ref(e, place, origin);
+        let span = self.span(origin);
         let fail = |reason: String| DxfError::BadBlock {
             entity: entity.clone(),
             reason,
@@ -684,6 +702,19 @@ impl<'a> Reader<'a> {
             ..Affine::IDENTITY
         };
         let layer = effective_layer(e, place);
+        // Each entity's record: the k-th entity of a type is the block's k-th record of it.
+        let mut ranks: HashMap<&'static str, usize> = HashMap::new();
+        let origins: Vec<Origin> = block
+            .entities
+            .iter()
+            .map(|child| {
+                let kind = type_name(&child.specific);
+                let rank = ranks.entry(kind).or_default();
+                let record = self.source.in_block(&name, kind, *rank);
+                *rank += 1;
+                Origin { record, top: false }
+            })
+            .collect();
         let mut blocks = place.blocks.clone();
         blocks.push(name);
         for r in 0..rows {
@@ -712,8 +743,8 @@ impl<'a> Reader<'a> {
                     mm_per_unit: block_mm.or(place.mm_per_unit),
                     blocks: blocks.clone(),
                 };
-                for child in &block.entities {
-                    self.entity(child, &inner, false);
+                for (child, &origin) in block.entities.iter().zip(&origins) {
+                    self.entity(child, &inner, origin);
                 }
             }
         }

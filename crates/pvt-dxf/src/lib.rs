@@ -33,8 +33,11 @@
 //!
 //! # Spans
 //! Element spans point at the entity record (for POLYLINE segments, the VERTEX record) in
-//! an ASCII file, looked up by handle. Binary files and entities without a handle get
-//! `Span::default()` (line 0: unknown).
+//! an ASCII file: looked up by handle in model space, and by block, type and rank inside a
+//! block (the `dxf` crate renumbers the handles of block entities as it reads them; a
+//! diagnostic names the handle the file gives). Rapids, plunges and retracts carry the
+//! span of an entity (see [`chain`]). Binary files and model-space entities without a
+//! handle get `Span::default()` (line 0: unknown).
 
 pub mod chain;
 pub mod curve;

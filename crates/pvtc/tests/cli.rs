@@ -416,6 +416,28 @@ fn check_reports_seed_001_step_acceleration_as_json() {
 }
 
 #[test]
+fn check_names_a_dxf_line_for_every_peak_or_says_it_is_unknown() {
+    // Rapids and entities inside blocks carry the line of an entity record.
+    let o = pvtc(
+        &["check", "samples/dxf/cad_part.dxf", "--feed", "1200"],
+        None,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(!text.contains("line 0"), "{text}");
+    assert!(!text.contains("unknown line"), "{text}");
+    // A binary drawing has no lines to give.
+    let o = pvtc(
+        &["check", "samples/dxf/cad_part_binary.dxf", "--feed", "1200"],
+        None,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(!text.contains("line 0"), "{text}");
+    assert!(text.contains("unknown line"), "{text}");
+}
+
+#[test]
 fn check_exits_1_when_a_limit_is_exceeded() {
     let o = pvtc(
         &[
