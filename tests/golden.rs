@@ -326,8 +326,9 @@ fn every_planner_matches_its_golden_files() {
             }
             options.planner = planner;
             options.accel = (planner == Planner::Lspb).then_some(accel);
-            if sample.ends_with(".ngc") && planner != Planner::Contour && planner != Planner::Lspb {
-                // Seed 002's fixed time slice for the quad circle's velocity methods.
+            if sample.ends_with(".ngc") && (planner.is_velocity_method() || planner == Planner::Pt)
+            {
+                // Seed 002's fixed time slice for the quad circle's velocity methods and PT.
                 options.timing = Timing::TimeSlice(0.005);
             }
             let actual = compile_file(sample, &options);
