@@ -246,6 +246,20 @@ fn movepvt_output_compiles_as_c() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
+    let compiles = |c_file: &Path, object: &str| {
+        let o = Command::new(&cc)
+            .args(["-std=c99", "-Wall", "-Wextra", "-Werror", "-c", "-o"])
+            .arg(dir.path().join(object))
+            .arg(c_file)
+            .output()
+            .unwrap();
+        assert!(
+            o.status.success(),
+            "{} does not compile cleanly: {}",
+            c_file.display(),
+            String::from_utf8_lossy(&o.stderr)
+        );
+    };
     for sample in ["an208_octagon", "quad_circle_arc", "an208_step"] {
         let c_file = dir.path().join(format!("{sample}.c"));
         let input = format!("samples/gcode/{sample}.ngc");
@@ -261,20 +275,32 @@ fn movepvt_output_compiles_as_c() {
             None,
         );
         assert!(o.status.success(), "{}", stderr(&o));
-        let status = Command::new(&cc)
-            .args([
-                "-std=c99",
-                "-Wall",
-                "-Werror",
-                "-Wno-unused-variable",
-                "-c",
-                "-o",
-            ])
-            .arg(dir.path().join(format!("{sample}.o")))
-            .arg(&c_file)
-            .status()
-            .unwrap();
-        assert!(status.success(), "{sample}.c does not compile");
+        // Alone, and included by a program using only the arrays the header comment
+        // names, or only the table.
+        compiles(&c_file, &format!("{sample}.o"));
+        let arrays = dir.path().join(format!("{sample}_arrays.c"));
+        std::fs::write(
+            &arrays,
+            format!(
+                "#include \"{sample}.c\"\n\
+                 double first_time(void);\n\
+                 double first_time(void) {{ return pvtc_c1_start[0] + pvtc_c1_position[0] \
+                 + pvtc_c1_velocity[0] + pvtc_c1_time[0] + (double)PVTC_C1_POINTS; }}\n"
+            ),
+        )
+        .unwrap();
+        compiles(&arrays, &format!("{sample}_arrays.o"));
+        let table = dir.path().join(format!("{sample}_table.c"));
+        std::fs::write(
+            &table,
+            format!(
+                "#include \"{sample}.c\"\n\
+                 long points(void);\n\
+                 long points(void) {{ return pvtc_contours[0].count; }}\n"
+            ),
+        )
+        .unwrap();
+        compiles(&table, &format!("{sample}_table.o"));
     }
 }
 
