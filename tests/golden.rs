@@ -242,8 +242,11 @@ fn pmac_line_matches_grammar(line: &str) -> bool {
     {
         return !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit());
     }
+    // A piece time: milliseconds, > 0 and at most 4095.
+    let piece_time =
+        |t: &str| is_fixed(t, 4, false) && t.parse().is_ok_and(|ms: f64| ms > 0.0 && ms <= 4095.0);
     if let Some(t) = line.strip_prefix("PVT") {
-        return is_fixed(t, 4, false);
+        return piece_time(t);
     }
     if let Some(rest) = line.strip_prefix("DWELL") {
         return rest.split_once(" ; G4 from line ").is_some_and(|(t, n)| {
@@ -254,9 +257,7 @@ fn pmac_line_matches_grammar(line: &str) -> bool {
         return false;
     };
     let mut words = rest.split(' ');
-    let time_ok = words
-        .next()
-        .is_some_and(|t| is_fixed(t, 4, false) && t.parse::<f64>().unwrap() > 0.0);
+    let time_ok = words.next().is_some_and(piece_time);
     let mut count = 0;
     for word in words {
         count += 1;
@@ -301,6 +302,8 @@ fn golden_pmac_files_follow_the_pmac_grammar() {
         "TA1.0000 X-0.000000:1.000000",
         "TA1.000 X1.000000:0.000000",
         "TA1.0000",
+        "TA4095.0001 X1.000000:0.000000",
+        "PVT4096.0000",
         "X1.000000:0.000000 TA1.0000",
     ] {
         assert!(!pmac_line_matches_grammar(bad), "{bad}");

@@ -5,7 +5,7 @@
 //! called, so a program of any length goes out in constant memory; it checks each value
 //! before writing it ([`crate::validate`]). It must not plan or look ahead.
 
-use crate::validate::{check_segment, check_start, InvalidProgram};
+use crate::validate::{check_piece_time, check_segment, check_start, InvalidProgram};
 use crate::EmitOptions;
 use pvt_core::{Axis, Interpolation, Motion, ProgramEvent, SegmentRef, Units};
 use std::io;
@@ -72,6 +72,10 @@ pub trait ProgramWriter {
     fn supports(&self, interpolation: Interpolation) -> bool {
         interpolation == Interpolation::Pvt
     }
+    /// The longest piece time the format can express, seconds (`None`: no limit).
+    fn max_piece_seconds(&self) -> Option<f64> {
+        None
+    }
 }
 
 /// A writer that validates every value before its back end sees it, and that passes a
@@ -132,6 +136,9 @@ impl<W: ProgramWriter> Checked<W> {
         }
         self.segment += 1;
         check_segment(segment, self.contour, self.segment)?;
+        if let Some(max) = self.inner.max_piece_seconds() {
+            check_piece_time(segment, max, self.contour, self.segment)?;
+        }
         Ok(self.inner.segment(segment)?)
     }
 
@@ -165,5 +172,8 @@ impl<T: ProgramWriter + ?Sized> ProgramWriter for Box<T> {
     }
     fn supports(&self, interpolation: Interpolation) -> bool {
         (**self).supports(interpolation)
+    }
+    fn max_piece_seconds(&self) -> Option<f64> {
+        (**self).max_piece_seconds()
     }
 }

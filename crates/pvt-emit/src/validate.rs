@@ -1,6 +1,8 @@
-//! The last check before output: every number finite, every piece time positive.
+//! The last check before output: every number finite, every piece time positive and
+//! within the format's longest.
 //!
-//! Owns the guarantee that no back end prints NaN, infinity or a non-positive time. It
+//! Owns the guarantee that no back end prints NaN, infinity, a non-positive time or a time
+//! over the format's longest (PMAC: 4095 ms). It
 //! must not repair anything: a program that fails is an internal error of a planner.
 
 use pvt_core::{PvtProgram, SegmentRef};
@@ -56,6 +58,28 @@ pub fn check_segment(
         return Err(fail("a position or velocity that is not finite".into()));
     }
     Ok(())
+}
+
+/// Checks that a segment's piece time is at most `max_seconds` (within a relative 1e-12,
+/// the rounding of a time cut into equal parts), for formats with a longest piece time.
+pub fn check_piece_time(
+    seg: &SegmentRef<'_>,
+    max_seconds: f64,
+    contour: usize,
+    segment: usize,
+) -> Result<(), InvalidProgram> {
+    if seg.duration <= max_seconds * (1.0 + 1e-12) {
+        return Ok(());
+    }
+    Err(InvalidProgram {
+        contour,
+        segment,
+        line: seg.line,
+        what: format!(
+            "piece time {} s, over the format's longest, {max_seconds} s",
+            seg.duration
+        ),
+    })
 }
 
 /// Checks every position, velocity and piece time of `program`.

@@ -6,8 +6,8 @@
 use crate::front::{self, Input};
 use miette::{LabeledSpan, NamedSource, Report, Severity};
 use pvt_core::{
-    plan_timed, plan_toolpath_report, ChordTolerance, PlanOptions, PlanReport, Planned, Planner,
-    PvtProgram, Timing, Toolpath, Units,
+    plan_timed, plan_toolpath_report, split_long_pieces, ChordTolerance, Interpolation,
+    PlanOptions, PlanReport, Planned, Planner, PvtProgram, Timing, Toolpath, Units,
 };
 use pvt_emit::{emit_to_vec, EmitOptions, Format, StreamError};
 use std::io::Read;
@@ -258,7 +258,7 @@ pub fn plan(
 /// Compiles `source` into the bytes of `options.format`.
 pub fn compile(source: &Source, options: &CompileOptions) -> Result<Compiled, Failure> {
     let (planned, toolpath, mut warnings) = plan(source, options)?;
-    let program = planned.program;
+    let program = fit_pieces(planned.program, options);
     let emit_options = EmitOptions {
         source: source.name.clone(),
         settings: settings(options, program.units),
@@ -276,6 +276,27 @@ pub fn compile(source: &Source, options: &CompileOptions) -> Result<Compiled, Fa
         report: planned.report,
         warnings,
     })
+}
+
+/// `program` with every piece longer than the format takes cut along its own cubic (the
+/// same motion; see [`split_grid`] for the times).
+pub fn fit_pieces(mut program: PvtProgram, options: &CompileOptions) -> PvtProgram {
+    if let (Some(max), Interpolation::Pvt) =
+        (options.format.max_piece_seconds(), program.interpolation)
+    {
+        for contour in &mut program.contours {
+            *contour = split_long_pieces(contour, max, split_grid(options));
+        }
+    }
+    program
+}
+
+/// The grid a long piece's time is cut on when the time is on it: `--quantize`, else the
+/// time the format's controller rounds to (PMAC: whole ms), so whole times stay whole.
+pub fn split_grid(options: &CompileOptions) -> Option<f64> {
+    options
+        .quantize
+        .or_else(|| options.format.piece_time_quantum())
 }
 
 /// A back end's refusal as a failure; `source` (when known) labels the line at fault.

@@ -357,6 +357,101 @@ fn pmac_warns_about_fractional_milliseconds_unless_quantized() {
     }
 }
 
+/// The pieces of a PMAC program of one axis: (time s, end position, end velocity).
+fn pmac_pieces(text: &str) -> Vec<(f64, f64, f64)> {
+    text.lines()
+        .filter_map(|l| l.strip_prefix("TA"))
+        .map(|l| {
+            let (ms, word) = l.split_once(" X").unwrap();
+            let (p, v) = word.split_once(':').unwrap();
+            (
+                ms.parse::<f64>().unwrap() / 1000.0,
+                p.parse().unwrap(),
+                v.parse().unwrap(),
+            )
+        })
+        .collect()
+}
+
+/// Position at time `t` of the cubics through `pieces` from rest at 0.
+fn position_at(pieces: &[(f64, f64, f64)], t: f64) -> f64 {
+    let (mut begin, mut p0, mut v0) = (0.0, 0.0, 0.0);
+    for (i, &(d, p1, v1)) in pieces.iter().enumerate() {
+        if t <= begin + d || i + 1 == pieces.len() {
+            let s = pvt_core::HermiteSegment::new(p0, v0, p1, v1, d);
+            return s.at(t - begin).position;
+        }
+        (begin, p0, v0) = (begin + d, p1, v1);
+    }
+    0.0
+}
+
+#[test]
+fn pmac_pieces_longer_than_4095_ms_are_split_without_changing_the_motion() {
+    let program = "G1 X100 F10\n";
+    let json = pvtc(&["compile", "-", "--format", "json"], Some(program));
+    assert!(json.status.success(), "{}", stderr(&json));
+    let v: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
+    let seg = &v["contours"][0]["segments"][0];
+    let whole = [(
+        seg["t"].as_f64().unwrap(),
+        seg["p"][0].as_f64().unwrap(),
+        seg["v"][0].as_f64().unwrap(),
+    )];
+    assert_eq!(whole[0].0, 900.0, "one piece of 900 s");
+    // In memory (standard input) and streamed (a file into -o): the same pieces.
+    let dir = tempfile::tempdir().unwrap();
+    let (ngc, pmac) = (dir.path().join("long.ngc"), dir.path().join("long.pmac"));
+    std::fs::write(&ngc, program).unwrap();
+    let o = pvtc(
+        &[
+            "compile",
+            ngc.to_str().unwrap(),
+            "-o",
+            pmac.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let streamed = std::fs::read_to_string(&pmac).unwrap();
+    let o = pvtc(&["compile", "-"], Some(program));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let in_memory = String::from_utf8(o.stdout).unwrap();
+    assert_eq!(
+        streamed.lines().skip(1).collect::<Vec<_>>(),
+        in_memory.lines().skip(1).collect::<Vec<_>>()
+    );
+    for text in [&streamed, &in_memory] {
+        let tas: Vec<&str> = text
+            .lines()
+            .filter_map(|l| l.strip_prefix("TA"))
+            .map(|l| l.split(' ').next().unwrap())
+            .collect();
+        // 900,000 ms in whole ms: 200 pieces of 4091 ms, 20 of 4090.
+        assert_eq!(tas.len(), 220, "{text}");
+        assert_eq!(tas.iter().filter(|&&ms| ms == "4091.0000").count(), 200);
+        assert_eq!(tas.iter().filter(|&&ms| ms == "4090.0000").count(), 20);
+        assert!(!text.contains("not whole ms"), "{text}");
+        let pieces = pmac_pieces(text);
+        for s in 0..=90_000 {
+            let t = 900.0 * f64::from(s) / 90_000.0;
+            let (a, b) = (position_at(&whole, t), position_at(&pieces, t));
+            // PMAC text carries 6 decimals of position and velocity, 4 of ms.
+            assert!((a - b).abs() < 1e-5, "t={t}: {a} vs {b}");
+        }
+    }
+    // Quantized, every piece stays on the 1 ms grid.
+    let o = pvtc(&["compile", "-", "--quantize", "1ms"], Some(program));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8(o.stdout).unwrap();
+    let pieces = pmac_pieces(&text);
+    assert_eq!(pieces.len(), 220);
+    for (t, _, _) in &pieces {
+        let ms = t * 1000.0;
+        assert!(ms <= 4095.0 && (ms - ms.round()).abs() < 1e-9, "{ms}");
+    }
+}
+
 #[test]
 fn pt_planner_is_refused_by_pmac_and_written_as_json() {
     let o = pvtc(
