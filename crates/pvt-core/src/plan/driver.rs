@@ -191,10 +191,13 @@ fn plan_run(
             Ok(quantize_whole(planned, options, report))
         }
         Planner::Lspb => {
+            // LSPB quantizes its own piece times: stretching pieces one by one (retime)
+            // would break the constant-acceleration blends.
             let accel = options.accel.ok_or(PlanError::MissingAccel)?;
-            let (planned, raised) = plan_lspb(run, accel, motion);
-            report.lengthened_segments += raised;
-            Ok(quantize_whole(planned, options, report))
+            let plan = plan_lspb(run, accel, options.quantize, motion);
+            report.lengthened_segments += plan.raised;
+            report.quantize_speed_change = report.quantize_speed_change.max(plan.speed_change);
+            Ok(plan.contour)
         }
         Planner::Chord | Planner::ConstAccel | Planner::Spline if run.velocities.is_some() => {
             let given = run.velocities.as_deref().unwrap_or_default();

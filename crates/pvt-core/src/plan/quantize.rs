@@ -10,7 +10,9 @@
 //!   time already on the grid within 1e-9 of a quantum stays; never less than one `q`);
 //! - PT and the velocity methods (chord, const-accel, spline) are planned again from the
 //!   new times with the same method, so the result is what that method gives for them;
-//! - contour, LSPB and given velocities are re-timed with [`retime`]: each piece is
+//! - LSPB quantizes its own blend and cruise times (see its module): stretching its
+//!   constant-acceleration pieces one by one would take them above the limit;
+//! - contour, path and given velocities are re-timed with [`retime`]: each piece is
 //!   stretched by `k = T'/T ≥ 1` and the velocity at each point is divided by the larger
 //!   stretch of the two pieces meeting there. A run of equal stretches is an exact time
 //!   scaling (the same path, speed divided by `k`); velocities stay continuous because each
