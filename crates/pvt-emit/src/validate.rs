@@ -3,13 +3,15 @@
 //!
 //! Owns the guarantee that no back end prints NaN, infinity, a non-positive time or a time
 //! over the format's longest (PMAC: 4095 ms). It
-//! must not repair anything: a program that fails is an internal error of a planner.
+//! must not repair anything: a program that fails is an internal error of a planner, except
+//! a piece too long for the format that could not be cut (longer than
+//! `pvt_core::split::MAX_SUB_PIECES` of the format's longest), which its input asked for.
 
 use pvt_core::{PvtProgram, SegmentRef};
 
 /// A program value no controller may receive, with where it is.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("internal error: contour {contour}, segment {segment} (source line {line}) has {what}; no output was written")]
+#[error("{}contour {contour}, segment {segment} (source line {line}) has {what}; no output was written", if *internal { "internal error: " } else { "" })]
 pub struct InvalidProgram {
     /// 1-based contour number.
     pub contour: usize,
@@ -19,6 +21,8 @@ pub struct InvalidProgram {
     pub line: u32,
     /// What is wrong, in words.
     pub what: String,
+    /// A planner's fault (NaN, infinity, a non-positive time), not the input's.
+    pub internal: bool,
 }
 
 impl InvalidProgram {
@@ -36,6 +40,7 @@ pub fn check_start(start: &[f64], contour: usize, line: u32) -> Result<(), Inval
         segment: 0,
         line,
         what: "a start position that is not finite".into(),
+        internal: true,
     })
 }
 
@@ -50,6 +55,7 @@ pub fn check_segment(
         segment,
         line: seg.line,
         what,
+        internal: true,
     };
     if !(seg.duration.is_finite() && seg.duration > 0.0) {
         return Err(fail(format!("piece time {} s", seg.duration)));
@@ -76,9 +82,10 @@ pub fn check_piece_time(
         segment,
         line: seg.line,
         what: format!(
-            "piece time {} s, over the format's longest, {max_seconds} s",
+            "piece time {} s, over the format's longest, {max_seconds} s, and too long to cut",
             seg.duration
         ),
+        internal: false,
     })
 }
 

@@ -136,6 +136,7 @@ fn pmac_refuses_a_piece_over_4095_ms_that_others_take() {
         Err(StreamError::Invalid(e)) => {
             assert_eq!((e.contour, e.segment, e.line), (1, 2, 4));
             assert!(e.what.contains("longest"), "{}", e.what);
+            assert!(!e.internal && !e.to_string().contains("internal"), "{e}");
         }
         other => panic!("{other:?}"),
     }
