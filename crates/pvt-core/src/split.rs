@@ -23,6 +23,7 @@
 //! For PVT contours only: a PT piece is not a cubic.
 
 use crate::hermite::HermiteSegment;
+use crate::plan::quantize::quanta_time;
 use crate::program::{PvtContour, SegmentRef};
 
 /// Most sub-pieces one piece is cut into (over 49 days at 4095 ms each).
@@ -57,7 +58,7 @@ impl Cuts {
                 let k = k as u64;
                 let before = k * base + k.min(longer);
                 let own = base + u64::from(k <= longer);
-                (before as f64 * q, own as f64 * q)
+                (quanta_time(before as f64, q), quanta_time(own as f64, q))
             }
         }
     }

@@ -1,11 +1,12 @@
 //! Properties of the LSPB planner over random runs: collinear points at one speed (empty
 //! blends), points close together (tiny segments), short times (raised segments), any
-//! acceleration, with and without a 1 ms quantum. Every piece lasts at least 0.1 µs (or a
+//! acceleration, with and without a 1 ms quantum (rounding up or to the nearest). Every piece lasts at least 0.1 µs (or a
 //! whole, positive number of quanta), no axis of any piece's cubic exceeds the limit, and
 //! the run ends at rest on its last point.
 
 use proptest::prelude::*;
-use pvt_core::plan::{plan_lspb, TimedPoints, MIN_PIECE_SECONDS};
+use pvt_core::plan::quantize::Quantum;
+use pvt_core::plan::{plan_lspb, Rounding, TimedPoints, MIN_PIECE_SECONDS};
 use pvt_core::{Motion, PvtContour};
 
 /// Largest |a| at either end of each axis of each piece, with the f64 rounding bound.
@@ -70,7 +71,11 @@ proptest! {
             1..12,
         ),
         accel in prop_oneof![Just(1.0), Just(1e3), Just(1e5), Just(1e7)],
-        quantum in prop_oneof![Just(None), Just(Some(0.001))],
+        quantum in prop_oneof![
+            Just(None),
+            Just(Some(Quantum { seconds: 0.001, rounding: Rounding::Up })),
+            Just(Some(Quantum { seconds: 0.001, rounding: Rounding::Nearest })),
+        ],
     ) {
         let points = run(scale, &steps);
         let plan = plan_lspb(&points, accel, quantum, Motion::Feed);
@@ -80,7 +85,7 @@ proptest! {
             match quantum {
                 None => prop_assert!(t >= MIN_PIECE_SECONDS, "{t}"),
                 Some(q) => {
-                    let n = t / q;
+                    let n = t / q.seconds;
                     prop_assert!(n >= 1.0 - 1e-9 && (n - n.round()).abs() <= 1e-9 * n, "{t}");
                 }
             }

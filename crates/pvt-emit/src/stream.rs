@@ -34,7 +34,7 @@ pub struct Totals {
     pub segments_in_contour: usize,
     /// Sum of piece times, seconds.
     pub time: f64,
-    /// Piece times that are not a whole number of milliseconds.
+    /// Piece times that PMAC text does not print as a whole number of milliseconds.
     pub fractional_ms: usize,
 }
 
@@ -50,7 +50,8 @@ impl Totals {
         self.segments += 1;
         self.segments_in_contour += 1;
         self.time += duration;
-        if !crate::number::is_whole(duration * 1000.0) {
+        // As PMAC text prints it: 820.0000 ms is whole, whatever bits carried it.
+        if !crate::number::prints_whole::<{ crate::pmac::TIME_DECIMALS }>(duration * 1000.0) {
             self.fractional_ms += 1;
         }
     }

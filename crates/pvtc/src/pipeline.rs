@@ -7,7 +7,7 @@ use crate::front::{self, Input};
 use miette::{LabeledSpan, NamedSource, Report, Severity};
 use pvt_core::{
     plan_timed, plan_toolpath_report, split_long_pieces, ChordTolerance, Interpolation,
-    PlanOptions, PlanReport, Planned, Planner, PvtProgram, Timing, Toolpath, Units,
+    PlanOptions, PlanReport, Planned, Planner, PvtProgram, Rounding, Timing, Toolpath, Units,
 };
 use pvt_emit::{emit_to_vec, EmitOptions, Format, StreamError};
 use std::io::Read;
@@ -132,6 +132,8 @@ pub struct CompileOptions {
     pub accel: Option<f64>,
     /// Piece-time quantum, seconds.
     pub quantize: Option<f64>,
+    /// Which way piece times go onto the quantum grid.
+    pub quantize_rounding: Rounding,
     /// G-code work offsets, G54…G59.3 rows of X Y Z (mm) A B C (degrees).
     pub work_offsets: [[f64; 6]; 9],
     /// G-code arc check: absolute radius tolerance, mm.
@@ -155,6 +157,7 @@ impl CompileOptions {
             timing: Timing::FromFeed,
             accel: None,
             quantize: None,
+            quantize_rounding: Rounding::Up,
             work_offsets: [[0.0; 6]; 9],
             arc_abs_tolerance_mm: 0.002,
             arc_rel_tolerance: 0.001,
@@ -228,6 +231,7 @@ pub fn plan(
         timing: options.timing,
         accel: options.accel,
         quantize: options.quantize,
+        quantize_rounding: options.quantize_rounding,
         ..PlanOptions::default()
     };
     let (planned, toolpath) = match input {
@@ -364,8 +368,9 @@ fn plan_notes(report: &PlanReport, options: &CompileOptions) -> Vec<Report> {
         notes.push(miette::miette!(
             severity = Severity::Advice,
             code = "pvtc::plan::quantized",
-            "piece times made whole multiples of {} ms; largest change of mid-segment speed: {:.4} %",
+            "piece times made whole multiples of {} ms (rounded {}); largest change of mid-segment speed: {:.4} %",
             q * 1000.0,
+            rounding_words(options.quantize_rounding),
             report.quantize_speed_change * 100.0
         ));
     }
@@ -445,9 +450,23 @@ pub(crate) fn settings(options: &CompileOptions, units: Units) -> Vec<(String, S
         out.push(("acceleration".into(), format!("{a} {u}/s^2")));
     }
     if let Some(q) = options.quantize {
-        out.push(("piece times quantized to".into(), format!("{q} s")));
+        out.push((
+            "piece times quantized to".into(),
+            format!(
+                "{q} s, rounded {}",
+                rounding_words(options.quantize_rounding)
+            ),
+        ));
     }
     out
+}
+
+/// How a rounding reads after "rounded": `up`, `to nearest`.
+fn rounding_words(rounding: Rounding) -> &'static str {
+    match rounding {
+        Rounding::Up => "up",
+        Rounding::Nearest => "to nearest",
+    }
 }
 
 fn planner_description(planner: Planner) -> &'static str {

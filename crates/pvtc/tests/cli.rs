@@ -355,6 +355,77 @@ fn pmac_warns_about_fractional_milliseconds_unless_quantized() {
         let ms = &line[2..line.find(' ').unwrap()];
         assert!(ms.ends_with(".0000"), "{line}");
     }
+    // Every printed time is whole, so the program says none is not (820 ms was stored as
+    // 0.8200000000000001 s and counted as fractional).
+    assert!(!text.contains("not whole"), "{text}");
+}
+
+/// The piece times of a compile, ms as printed, and its header line about quantization.
+fn quantized(extra: &[&str]) -> (Vec<String>, String) {
+    let mut args = vec![
+        "compile",
+        "samples/gcode/an208_zigzag.ngc",
+        "--quantize",
+        "1ms",
+    ];
+    args.extend_from_slice(extra);
+    let o = pvtc(&args, None);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8(o.stdout).unwrap();
+    let times = text
+        .lines()
+        .filter_map(|l| l.strip_prefix("TA"))
+        .map(|l| l.split(' ').next().unwrap().to_string())
+        .collect();
+    let header = text
+        .lines()
+        .find(|l| l.contains("quantized"))
+        .unwrap_or_default()
+        .to_string();
+    (times, header)
+}
+
+#[test]
+fn quantized_times_round_up_or_to_nearest_as_asked_and_say_which() {
+    // Planned: 642.1749, 819.3295 and 1761.0297 ms.
+    let (up, header) = quantized(&[]);
+    assert_eq!(up, ["643.0000", "820.0000", "1762.0000"]);
+    assert!(header.contains("rounded up"), "{header}");
+    let (same, _) = quantized(&["--quantize-rounding", "up"]);
+    assert_eq!(same, up);
+    let (nearest, header) = quantized(&["--quantize-rounding", "nearest"]);
+    assert_eq!(nearest, ["642.0000", "819.0000", "1761.0000"]);
+    assert!(header.contains("rounded to nearest"), "{header}");
+    let o = pvtc(
+        &[
+            "compile",
+            "samples/gcode/an208_zigzag.ngc",
+            "--quantize-rounding",
+            "down",
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    // JSON carries each time as the f64 nearest to its decimal value.
+    let o = pvtc(
+        &[
+            "compile",
+            "samples/gcode/an208_zigzag.ngc",
+            "--quantize",
+            "1ms",
+            "--format",
+            "json",
+        ],
+        None,
+    );
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let t: Vec<f64> = v["contours"][0]["segments"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["t"].as_f64().unwrap())
+        .collect();
+    assert_eq!(t, [0.643, 0.82, 1.762]);
 }
 
 /// The pieces of a PMAC program of one axis: (time s, end position, end velocity).

@@ -32,8 +32,9 @@
 //!   above). No piece is shorter than [`MIN_PIECE_SECONDS`]: a cruise shorter than that is
 //!   left out (the blends touch) or, between two empty blends, made that long; a blend is
 //!   at least that long (a velocity change of 0 needs no blend). With `--quantize q` every
-//!   piece time is a whole multiple of `q` instead: blends and cruises round up to the
-//!   grid (a cruise under 0.1 µs is left out). The velocities of the segments whose pieces
+//!   piece time is a whole multiple of `q` instead: blends and cruises go onto the grid as
+//!   the quantum rounds (up, or to the nearest; a blend at least one quantum, a cruise that
+//!   rounds to none left out when blends border it). The velocities of the segments whose pieces
 //!   changed are then taken again, and every blend that no longer covers its velocity
 //!   change at `a` is lengthened (to the grid) until all do; should that not settle, all
 //!   piece times are scaled by one factor (a whole number on a grid), which divides every
@@ -45,6 +46,7 @@
 //!
 //! Given velocities are not used. It must not move the end points or exceed `a` on any axis.
 
+use super::quantize::{quanta_time, Quantum};
 use super::timed::TimedPoints;
 use super::MIN_PIECE_SECONDS;
 use crate::program::PvtContour;
@@ -214,7 +216,12 @@ pub struct LspbPlan {
 
 /// Plans one run with parabolic blends (every piece time a whole multiple of `quantum` if
 /// given). `accel` must be finite and positive, `quantum` positive.
-pub fn plan_lspb(run: &TimedPoints, accel: f64, quantum: Option<f64>, motion: Motion) -> LspbPlan {
+pub fn plan_lspb(
+    run: &TimedPoints,
+    accel: f64,
+    quantum: Option<Quantum>,
+    motion: Motion,
+) -> LspbPlan {
     let segs = run.durations.len();
     let mut times = run.durations.clone();
     let mut raised = vec![false; segs];
@@ -261,12 +268,24 @@ struct Pieces {
 
 /// The time grid of the piece times: the quantum, or none above [`MIN_PIECE_SECONDS`].
 #[derive(Debug, Clone, Copy)]
-struct Grid(Option<f64>);
+struct Grid(Option<Quantum>);
 
 impl Grid {
     /// The shortest piece.
     fn least(self) -> f64 {
-        self.0.unwrap_or(MIN_PIECE_SECONDS)
+        self.0.map_or(MIN_PIECE_SECONDS, |q| q.seconds)
+    }
+
+    /// A planned piece time `t > 0` on the grid as the quantum rounds (at least the
+    /// shortest piece); `None` when it rounds to no time at all (only a cruise may).
+    fn snap(self, t: f64) -> Option<f64> {
+        match self.0 {
+            Some(q) => {
+                let k = q.count(t);
+                (k >= 1.0).then(|| quanta_time(k, q.seconds))
+            }
+            None => (t >= MIN_PIECE_SECONDS).then_some(t),
+        }
     }
 
     /// `t > 0` as a piece time: at least the shortest, up to the grid, never below `t` by
@@ -274,11 +293,11 @@ impl Grid {
     fn up(self, t: f64) -> f64 {
         match self.0 {
             Some(q) => {
-                let mut up = super::quantize::quantize_time(t, q);
-                while up * (1.0 + 1e-12) < t {
-                    up += q;
+                let mut k = (t / q.seconds - 1e-9).ceil().max(1.0);
+                while quanta_time(k, q.seconds) * (1.0 + 1e-12) < t {
+                    k += 1.0;
                 }
-                up
+                quanta_time(k, q.seconds)
             }
             None => t.max(MIN_PIECE_SECONDS),
         }
@@ -287,13 +306,18 @@ impl Grid {
 
 /// The piece times of `exact` made valid (see the module documentation), with the line
 /// velocities that go with them.
-fn finish(run: &TimedPoints, exact: &Pieces, accel: f64, quantum: Option<f64>) -> Pieces {
+fn finish(run: &TimedPoints, exact: &Pieces, accel: f64, quantum: Option<Quantum>) -> Pieces {
     let (dim, segs) = (run.dim, exact.cruise.len());
     let grid = Grid(quantum);
     let mut p = exact.clone();
     let mut stale = vec![false; segs];
     for (w, tb) in p.blend.iter_mut().enumerate() {
-        let snapped = if *tb > 0.0 { grid.up(*tb) } else { 0.0 };
+        // A blend rounded below its velocity change is lengthened again below.
+        let snapped = if *tb > 0.0 {
+            grid.snap(*tb).unwrap_or(grid.least())
+        } else {
+            0.0
+        };
         if snapped != *tb {
             *tb = snapped;
             stale[w.saturating_sub(1)] = true;
@@ -304,8 +328,8 @@ fn finish(run: &TimedPoints, exact: &Pieces, accel: f64, quantum: Option<f64>) -
     }
     for (i, changed) in stale.iter_mut().enumerate() {
         let c = p.cruise[i];
-        let snapped = if c >= MIN_PIECE_SECONDS {
-            grid.up(c)
+        let snapped = if let Some(c) = grid.snap(c) {
+            c
         } else if p.blend[i] + p.blend[i + 1] > 0.0 {
             0.0 // the blends touch
         } else {
@@ -377,10 +401,12 @@ fn finish(run: &TimedPoints, exact: &Pieces, accel: f64, quantum: Option<f64>) -
         Some(_) => worst.sqrt().ceil(),
         None => worst.sqrt() * (1.0 + 1e-12),
     };
-    p.blend
-        .iter_mut()
-        .chain(p.cruise.iter_mut())
-        .for_each(|t| *t *= s);
+    p.blend.iter_mut().chain(p.cruise.iter_mut()).for_each(|t| {
+        *t = match quantum {
+            Some(q) => quanta_time((*t / q.seconds).round() * s, q.seconds),
+            None => *t * s,
+        }
+    });
     p.velocity.iter_mut().for_each(|v| *v /= s);
     p
 }

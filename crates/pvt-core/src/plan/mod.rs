@@ -27,6 +27,7 @@ pub use lspb::{blend_corner_deviation, plan_lspb, LspbPlan};
 pub use options::{Planner, Timing, UnknownPlanner};
 pub use path::{plan_path, PathOptions, PathReport, TANGENT_ANGLE};
 pub use pt::plan_pt;
+pub use quantize::Rounding;
 pub use spline::spline_velocities;
 pub use timed::TimedPoints;
 
@@ -162,8 +163,10 @@ pub struct PlanOptions {
     pub timing: Timing,
     /// Acceleration limit, units/s², per axis (required by lspb).
     pub accel: Option<f64>,
-    /// Round every piece time up to a whole multiple of this many seconds (e.g. 0.001).
+    /// Make every piece time a whole multiple of this many seconds (e.g. 0.001).
     pub quantize: Option<f64>,
+    /// Which way piece times go onto the `quantize` grid.
+    pub quantize_rounding: Rounding,
 }
 
 impl Default for PlanOptions {
@@ -176,6 +179,7 @@ impl Default for PlanOptions {
             timing: Timing::default(),
             accel: None,
             quantize: None,
+            quantize_rounding: Rounding::Up,
         }
     }
 }
