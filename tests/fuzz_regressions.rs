@@ -1,19 +1,31 @@
 //! Inputs that once broke an invariant under fuzzing (fuzz/), kept as regressions: each
 //! is run the way its fuzz target runs it, and whatever plans must pass the back ends'
-//! validation (no NaN, infinity or non-positive time) in every format.
+//! validation (no NaN, infinity or non-positive time) in every format, its pieces cut
+//! for the format as the pipeline cuts them; only a piece too long to cut may be refused.
 
-use pvt_core::{plan_timed, plan_toolpath, PlanOptions, Planner, PvtProgram, Units};
-use pvt_emit::{emit_to_vec, EmitOptions, Format};
+use pvt_core::{
+    plan_timed, plan_toolpath, split_long_pieces, PlanOptions, Planner, PvtProgram, Units,
+};
+use pvt_emit::{emit_to_vec, EmitOptions, Format, StreamError};
 use pvtc_tests::root;
 
 fn assert_valid(name: &str, program: &PvtProgram) {
     for format in Format::ALL {
-        if let Err(e) = emit_to_vec(program, format, &EmitOptions::default()) {
-            assert!(
-                matches!(e, pvt_emit::StreamError::Unsupported(_)),
-                "{name} as {}: {e}",
-                format.name()
-            );
+        let mut program = program.clone();
+        let max = format.max_piece_seconds();
+        if let Some(max) = max {
+            for c in &mut program.contours {
+                *c = split_long_pieces(c, max, format.piece_time_quantum());
+            }
+        }
+        match emit_to_vec(&program, format, &EmitOptions::default()) {
+            Ok(_) | Err(StreamError::Unsupported(_)) => {}
+            Err(StreamError::Invalid(e)) if !e.internal => {
+                let uncut = pvt_core::split::MAX_SUB_PIECES as f64 * max.unwrap_or(f64::INFINITY);
+                let too_long = program.contours.iter().flat_map(|c| &c.durations);
+                assert!(too_long.into_iter().any(|&t| t > uncut), "{name}: {e}");
+            }
+            Err(e) => panic!("{name} as {}: {e}", format.name()),
         }
     }
 }

@@ -345,8 +345,11 @@ fn pmac_line_matches_grammar(line: &str) -> bool {
     {
         return !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit());
     }
+    // A piece time: milliseconds, > 0 and at most 4095.
+    let piece_time =
+        |t: &str| is_fixed(t, 4, false) && t.parse().is_ok_and(|ms: f64| ms > 0.0 && ms <= 4095.0);
     if let Some(t) = line.strip_prefix("PVT") {
-        return is_fixed(t, 4, false);
+        return piece_time(t);
     }
     if let Some(rest) = line.strip_prefix("DWELL") {
         return rest.split_once(" ; G4 from line ").is_some_and(|(t, n)| {
@@ -357,9 +360,7 @@ fn pmac_line_matches_grammar(line: &str) -> bool {
         return false;
     };
     let mut words = rest.split(' ');
-    let time_ok = words
-        .next()
-        .is_some_and(|t| is_fixed(t, 4, false) && t.parse::<f64>().unwrap() > 0.0);
+    let time_ok = words.next().is_some_and(piece_time);
     let mut count = 0;
     for word in words {
         count += 1;
@@ -404,6 +405,8 @@ fn golden_pmac_files_follow_the_pmac_grammar() {
         "TA1.0000 X-0.000000:1.000000",
         "TA1.000 X1.000000:0.000000",
         "TA1.0000",
+        "TA4095.0001 X1.000000:0.000000",
+        "PVT4096.0000",
         "X1.000000:0.000000 TA1.0000",
     ] {
         assert!(!pmac_line_matches_grammar(bad), "{bad}");
@@ -429,8 +432,9 @@ fn every_planner_matches_its_golden_files() {
             }
             options.planner = planner;
             options.accel = (planner == Planner::Lspb).then_some(accel);
-            if sample.ends_with(".ngc") && planner != Planner::Contour && planner != Planner::Lspb {
-                // Seed 002's fixed time slice for the quad circle's velocity methods.
+            if sample.ends_with(".ngc") && (planner.is_velocity_method() || planner == Planner::Pt)
+            {
+                // Seed 002's fixed time slice for the quad circle's velocity methods and PT.
                 options.timing = Timing::TimeSlice(0.005);
             }
             let actual = compile_file(sample, &options);

@@ -2,8 +2,9 @@
 //!
 //! Owns the intermediate representation ([`Toolpath`] → [`Polyline`] → [`PvtProgram`]),
 //! arc discretization by chord tolerance ([`discretize`]), the planners ([`plan`]) and the
-//! cubic Hermite evaluation a controller performs ([`hermite`]) and the check of a planned
-//! program against limits and its source ([`check`]).
+//! cubic Hermite evaluation a controller performs ([`hermite`]), long pieces cut along
+//! their own cubic for controllers with a largest piece time ([`split`]) and the check of
+//! a planned program against limits and its source ([`check`]).
 //!
 //! Architecture invariants:
 //! - this crate does no I/O and knows no file format: front ends produce a [`Toolpath`],
@@ -19,6 +20,7 @@ pub mod hermite;
 pub mod plan;
 pub mod polyline;
 pub mod program;
+pub mod split;
 pub mod toolpath;
 pub mod vector;
 
@@ -31,10 +33,11 @@ pub use discretize::{flatten_contour, ChordTolerance};
 pub use hermite::{HermiteSegment, State};
 pub use plan::{
     plan_contour, plan_path, plan_timed, plan_toolpath, plan_toolpath_report, PathOptions,
-    PathReport, PlanOptions, PlanReport, Planned, Planner, TimedPoints, Timing,
+    PathReport, PlanOptions, PlanReport, Planned, Planner, Rounding, TimedPoints, Timing,
 };
 pub use polyline::Polyline;
 pub use program::{Interpolation, PvtContour, PvtProgram, SegmentRef};
+pub use split::{split_long_pieces, PieceSplitter};
 pub use toolpath::{
     Arc, ArcDirection, Contour, CoolantState, Element, ElementKind, EventKind, Motion, Plane,
     ProgramEvent, Span, SpindleState, Toolpath,

@@ -26,7 +26,9 @@
 //! entry point (none when they coincide). With a safe Z `s`, the machine starts at
 //! (start point, `s`); before each contour a rapid at Z = `s` moves over its entry point, a
 //! feed contour of one line plunges from `s` to the entry point's Z, the contour is cut,
-//! and a rapid retracts straight up to `s`. Zero-length moves are left out.
+//! and a rapid retracts straight up to `s`. Zero-length moves are left out. Each generated
+//! move carries the source span of the entity it travels to (the first element of the
+//! next contour); a retract carries the span of the entity it leaves.
 
 use pvt_core::{Arc, ArcDirection, Contour, Element, ElementKind, Motion, Plane, Position, Span};
 use std::collections::HashMap;

@@ -226,11 +226,41 @@ pub enum DxfDiagnostic {
         help("pass the units explicitly if the drawing is in inches")
     )]
     UnitsAssumed,
+    /// An entity of zero length (a LINE from a point to itself, a radius of 0, equal arc
+    /// angles, coinciding vertices): dropped, as G-code drops a zero-length move.
+    #[error("{entity} {}: zero length; it is dropped", At(*span))]
+    #[diagnostic(
+        code(pvtc::dxf::zero_length),
+        severity(Warning),
+        help("remove the entity from the drawing if it is not needed")
+    )]
+    ZeroLength {
+        /// The entity.
+        entity: EntityRef,
+        /// Where it is.
+        span: Span,
+    },
+    /// Zero-length entities beyond the first [`crate::entities::MAX_ZERO_LENGTH_WARNINGS`],
+    /// dropped as well, counted here instead of named.
+    #[error("{count} more zero-length entit{} dropped", if *count == 1 { "y" } else { "ies" })]
+    #[diagnostic(code(pvtc::dxf::zero_length), severity(Warning))]
+    MoreZeroLength {
+        /// How many.
+        count: usize,
+    },
 }
 
 impl DxfDiagnostic {
     /// The stable code, e.g. `pvtc::dxf::unsupported_entity`.
     pub fn code_str(&self) -> String {
         self.code().map(|c| c.to_string()).unwrap_or_default()
+    }
+
+    /// The source span (line 0 where unknown or not about one entity).
+    pub fn span(&self) -> Span {
+        match self {
+            DxfDiagnostic::ZeroLength { span, .. } => *span,
+            _ => Span::default(),
+        }
     }
 }

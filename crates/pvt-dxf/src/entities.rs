@@ -6,6 +6,13 @@
 //! the INSERT's layer). It must not chain or order anything, and it must not fail fast:
 //! every bad entity is reported and the rest still read.
 //!
+//! An entity of zero length (a LINE from a point to itself, a CIRCLE or ARC of radius 0,
+//! an ARC whose angles are equal, a polyline or curve whose points all coincide) is not an
+//! error: like a zero-length G-code move it is dropped with a `pvtc::dxf::zero_length`
+//! warning. An ELLIPSE whose axis ratio is above 1 (CAD files write 1.0000001 for a
+//! circle) is read with its axes swapped: the minor axis becomes the major one, the ratio
+//! is inverted and the parameters move back by π/2, which describes the same points.
+//!
 //! Circular arcs lying in a plane parallel to XY after all transforms stay arcs (pvt-core
 //! discretizes them); every other curve (ellipses, arcs seen skewed through a non-uniform
 //! INSERT scale or a tilted extrusion, splines) is flattened by [`crate::curve`].
@@ -18,7 +25,7 @@ use pvt_core::Span;
 
 use crate::chain::{Piece, Seg, SegKind};
 use crate::curve::{flatten, EllipseArc, FitSpline, Nurbs, NurbsCurve, PieceCurve};
-use crate::diag::{DxfError, EntityRef};
+use crate::diag::{DxfDiagnostic, DxfError, EntityRef};
 use crate::geom::{cross, dist, dot, norm, scale, Affine, P3};
 use crate::source::SourceMap;
 
@@ -29,6 +36,32 @@ pub const MAX_NESTING: usize = 32;
 pub const MAX_GRID: i64 = 10_000;
 /// Most entities read in all, block copies included (nested grids multiply).
 pub const MAX_VISITS: usize = 1_000_000;
+/// Most zero-length entities named one warning each; the rest are counted in one more.
+pub const MAX_ZERO_LENGTH_WARNINGS: usize = 1000;
+
+/// Why an entity gives no piece to cut.
+#[derive(Debug, Clone, PartialEq)]
+pub enum NoPiece {
+    /// Its geometry cannot be cut (the reason): an error.
+    Bad(String),
+    /// It has zero length: dropped with a warning.
+    ZeroLength,
+}
+
+impl From<String> for NoPiece {
+    fn from(reason: String) -> NoPiece {
+        NoPiece::Bad(reason)
+    }
+}
+
+impl From<&str> for NoPiece {
+    fn from(reason: &str) -> NoPiece {
+        NoPiece::Bad(reason.to_string())
+    }
+}
+
+/// What reading an entity gives: its piece, or why there is none.
+pub type PieceResult = Result<Piece, NoPiece>;
 
 /// Millimetres per drawing unit; `None` for unitless.
 pub fn mm_per_unit(units: DxfUnits) -> Option<f64> {
@@ -140,6 +173,16 @@ fn v3(v: &dxf::Vector) -> P3 {
     [v.x, v.y, v.z]
 }
 
+/// Which record of the file an entity was read from.
+#[derive(Debug, Clone, Copy)]
+struct Origin {
+    /// Index into [`SourceMap::records`], when the scan found the record.
+    record: Option<usize>,
+    /// The entity is in model space (not inside a block): its handle in memory is the
+    /// file's (the `dxf` crate gives block entities new handles).
+    top: bool,
+}
+
 /// Where an entity is being read: transform to output coordinates, inherited layer, units.
 #[derive(Clone)]
 struct Place {
@@ -163,6 +206,11 @@ pub struct Reader<'a> {
     pub pieces: Vec<Piece>,
     /// Errors found.
     pub errors: Vec<DxfError>,
+    /// One `pvtc::dxf::zero_length` warning per dropped entity, the first
+    /// [`MAX_ZERO_LENGTH_WARNINGS`] of them.
+    pub zero_length: Vec<DxfDiagnostic>,
+    /// Zero-length entities dropped, all of them.
+    pub zero_length_count: usize,
     /// Unsupported entities by type.
     pub unsupported: BTreeMap<String, usize>,
     /// Model-space entities read on the selected layers (supported or not).
@@ -200,6 +248,8 @@ impl<'a> Reader<'a> {
             block_units,
             pieces: Vec::new(),
             errors: Vec::new(),
+            zero_length: Vec::new(),
+            zero_length_count: 0,
             unsupported: BTreeMap::new(),
             selected: 0,
             visits: 0,
@@ -226,32 +276,41 @@ impl<'a> Reader<'a> {
             blocks: Vec::new(),
         };
         for e in entities {
-            self.entity(e, &place, true);
+            let kind = type_name(&e.specific);
+            let record = (!e.common.handle.is_empty())
+                .then(|| self.source.find(e.common.handle.0, kind))
+                .flatten();
+            self.entity(e, &place, Origin { record, top: true });
         }
     }
 
-    fn entity_ref(&self, e: &Entity, place: &Place) -> EntityRef {
+    fn entity_ref(&self, e: &Entity, place: &Place, origin: Origin) -> EntityRef {
+        let written = origin
+            .record
+            .map(|i| self.source.records[i].handle)
+            .filter(|&h| h != 0);
+        let handle = match written {
+            Some(h) => format!("{h:X}"),
+            None if origin.top && !e.common.handle.is_empty() => e.common.handle.as_string(),
+            None => String::new(),
+        };
         EntityRef {
             kind: type_name(&e.specific).to_string(),
-            handle: if e.common.handle.is_empty() {
-                String::new()
-            } else {
-                e.common.handle.as_string()
-            },
+            handle,
             layer: effective_layer(e, place),
         }
     }
 
-    fn span(&self, handle: dxf::Handle, kind: &str) -> Span {
-        if handle.is_empty() {
-            return Span::default();
-        }
-        self.source.span(handle.0, kind).unwrap_or_default()
+    fn span(&self, origin: Origin) -> Span {
+        origin
+            .record
+            .map(|i| self.source.records[i].span)
+            .unwrap_or_default()
     }
 
-    fn bad(&mut self, e: &Entity, place: &Place, reason: impl Into<String>) {
-        let entity = self.entity_ref(e, place);
-        let span = self.span(e.common.handle, &entity.kind);
+    fn bad(&mut self, e: &Entity, place: &Place, origin: Origin, reason: impl Into<String>) {
+        let entity = self.entity_ref(e, place, origin);
+        let span = self.span(origin);
         self.errors.push(DxfError::BadGeometry {
             entity,
             reason: reason.into(),
@@ -259,12 +318,12 @@ impl<'a> Reader<'a> {
         });
     }
 
-    fn entity(&mut self, e: &Entity, place: &Place, top: bool) {
+    fn entity(&mut self, e: &Entity, place: &Place, origin: Origin) {
         self.visits += 1;
         if self.visits > MAX_VISITS {
             if self.visits == MAX_VISITS + 1 {
-                let entity = self.entity_ref(e, place);
-                let span = self.span(e.common.handle, &entity.kind);
+                let entity = self.entity_ref(e, place, origin);
+                let span = self.span(origin);
                 self.errors.push(DxfError::BadBlock {
                     entity,
                     reason: format!(
@@ -278,16 +337,16 @@ impl<'a> Reader<'a> {
         let layer = effective_layer(e, place);
         let kind = type_name(&e.specific);
         if let EntityType::Insert(ins) = &e.specific {
-            self.insert(e, ins, place);
+            self.insert(e, ins, place, origin);
             return;
         }
         if !self.layer_selected(&layer) {
             return;
         }
-        if top {
+        if origin.top {
             self.selected += 1;
         }
-        let span = self.span(e.common.handle, kind);
+        let span = self.span(origin);
         let result = match &e.specific {
             EntityType::Line(l) => self.line(p3(&l.p1), p3(&l.p2), place, span),
             EntityType::Arc(a) => self.arc(
@@ -323,11 +382,10 @@ impl<'a> Reader<'a> {
                 }
                 let is_3d = pl.flags & 8 != 0;
                 // The dxf crate drops VERTEX handles: the scan gives their spans in order.
-                let vertex_spans = if e.common.handle.is_empty() {
-                    Vec::new()
-                } else {
-                    self.source.following(e.common.handle.0, "VERTEX")
-                };
+                let vertex_spans = origin
+                    .record
+                    .map(|i| self.source.following(i, "VERTEX"))
+                    .unwrap_or_default();
                 let verts: Vec<(P3, f64, Span)> = pl
                     .__vertices_and_handles
                     .iter()
@@ -357,15 +415,23 @@ impl<'a> Reader<'a> {
         };
         match result {
             Ok(piece) => self.pieces.push(piece),
-            Err(reason) => self.bad(e, place, reason),
+            Err(NoPiece::Bad(reason)) => self.bad(e, place, origin, reason),
+            Err(NoPiece::ZeroLength) => {
+                self.zero_length_count += 1;
+                if self.zero_length.len() < MAX_ZERO_LENGTH_WARNINGS {
+                    let entity = self.entity_ref(e, place, origin);
+                    self.zero_length
+                        .push(DxfDiagnostic::ZeroLength { entity, span });
+                }
+            }
         }
     }
 
-    fn line(&self, a: P3, b: P3, place: &Place, span: Span) -> Result<Piece, String> {
+    fn line(&self, a: P3, b: P3, place: &Place, span: Span) -> PieceResult {
         let (a, b) = (place.xf.point(a), place.xf.point(b));
         check_points(&[a, b])?;
         if a == b {
-            return Err("the line has zero length".to_string());
+            return Err(NoPiece::ZeroLength);
         }
         Ok(vec![Seg {
             kind: SegKind::Line,
@@ -383,20 +449,23 @@ impl<'a> Reader<'a> {
         angles: Option<(f64, f64)>,
         place: &Place,
         span: Span,
-    ) -> Result<Piece, String> {
+    ) -> PieceResult {
         let ocs = Affine::ocs(v3(normal)).ok_or("the extrusion direction is zero or not finite")?;
+        if radius == 0.0 {
+            return Err(NoPiece::ZeroLength);
+        }
         if !(radius.is_finite() && radius > 0.0) {
-            return Err(format!("the radius {radius} is not a positive number"));
+            return Err(format!("the radius {radius} is not a positive number").into());
         }
         let (t0, sweep) = match angles {
             None => (0.0, TAU),
             Some((a0, a1)) => {
                 if !(a0.is_finite() && a1.is_finite()) {
-                    return Err("an angle is not finite".to_string());
+                    return Err("an angle is not finite".into());
                 }
                 let sweep = (a1 - a0).rem_euclid(360.0);
                 if sweep <= 1e-9 {
-                    return Err("the start and end angles are equal".to_string());
+                    return Err(NoPiece::ZeroLength); // equal start and end angles
                 }
                 (a0.to_radians(), sweep.to_radians())
             }
@@ -412,30 +481,29 @@ impl<'a> Reader<'a> {
         ellipse_segs(&e, self.tolerance, span, None)
     }
 
-    fn ellipse(
-        &self,
-        el: &dxf::entities::Ellipse,
-        place: &Place,
-        span: Span,
-    ) -> Result<Piece, String> {
+    fn ellipse(&self, el: &dxf::entities::Ellipse, place: &Place, span: Span) -> PieceResult {
         let major = v3(&el.major_axis);
         let normal = v3(&el.normal);
         let ratio = el.minor_axis_ratio;
         let (lm, ln) = (norm(major), norm(normal));
-        if !(lm.is_finite() && lm > 0.0 && ln.is_finite() && ln > 0.0) {
-            return Err("the major axis or the normal is zero or not finite".to_string());
+        if !(lm.is_finite() && ln.is_finite() && ln > 0.0) {
+            return Err("the major axis or the normal is not finite, or the normal is zero".into());
         }
-        if !(ratio.is_finite() && ratio > 0.0 && ratio <= 1.0 + 1e-9) {
-            return Err(format!("the axis ratio {ratio} is not in (0, 1]"));
+        if lm == 0.0 {
+            return Err(NoPiece::ZeroLength);
+        }
+        if !(ratio.is_finite() && ratio > 0.0) {
+            return Err(format!("the axis ratio {ratio} is not a positive number").into());
         }
         let (s, e) = (el.start_parameter, el.end_parameter);
         if !(s.is_finite() && e.is_finite()) {
-            return Err("a parameter is not finite".to_string());
+            return Err("a parameter is not finite".into());
         }
         let n = scale(normal, 1.0 / ln);
         if dot(n, major).abs() > 1e-9 * lm {
-            return Err("the major axis is not perpendicular to the normal".to_string());
+            return Err("the major axis is not perpendicular to the normal".into());
         }
+        let (major, ratio, s, e) = normalize_ellipse(n, major, ratio, s, e);
         let minor = scale(cross(n, major), ratio);
         let mut sweep = (e - s).rem_euclid(TAU);
         if sweep <= 1e-12 {
@@ -457,14 +525,14 @@ impl<'a> Reader<'a> {
         closed: bool,
         normal: &P3,
         place: &Place,
-    ) -> Result<Piece, String> {
+    ) -> PieceResult {
         let ocs = Affine::ocs(*normal).ok_or("the extrusion direction is zero or not finite")?;
         let m = place.xf.then_after(&ocs);
         if verts
             .iter()
             .any(|(p, b, _)| !(p.iter().all(|v| v.is_finite()) && b.is_finite()))
         {
-            return Err("a vertex or bulge is not finite".to_string());
+            return Err("a vertex or bulge is not finite".into());
         }
         let mut piece = Vec::new();
         let count = if closed {
@@ -510,21 +578,20 @@ impl<'a> Reader<'a> {
                 t0,
                 t1: t0 + theta,
             };
-            piece.extend(ellipse_segs(&e, self.tolerance, span, Some((a, b)))?);
+            match ellipse_segs(&e, self.tolerance, span, Some((a, b))) {
+                Ok(segs) => piece.extend(segs),
+                Err(NoPiece::ZeroLength) => {}
+                Err(bad) => return Err(bad),
+            }
         }
         if piece.is_empty() {
-            return Err("the polyline has no length".to_string());
+            return Err(NoPiece::ZeroLength); // no vertices apart
         }
         check_points(&piece.iter().flat_map(|s| [s.a, s.b]).collect::<Vec<_>>())?;
         Ok(piece)
     }
 
-    fn spline(
-        &self,
-        s: &dxf::entities::Spline,
-        place: &Place,
-        span: Span,
-    ) -> Result<Piece, String> {
+    fn spline(&self, s: &dxf::entities::Spline, place: &Place, span: Span) -> PieceResult {
         let xf = place.xf;
         let points: Vec<P3> = if !s.control_points.is_empty() {
             let degree = usize::try_from(s.degree_of_curve)
@@ -544,15 +611,15 @@ impl<'a> Reader<'a> {
             let spline = FitSpline::new(&fit, tangent(&s.start_tangent), tangent(&s.end_tangent))?;
             flatten(&Mapped(spline, xf), self.tolerance)?
         } else {
-            return Err("the spline has neither control points nor two fit points".to_string());
+            return Err("the spline has neither control points nor two fit points".into());
         };
         points_to_piece(&points, span)
     }
 
-    fn insert(&mut self, e: &Entity, ins: &dxf::entities::Insert, place: &Place) {
+    fn insert(&mut self, e: &Entity, ins: &dxf::entities::Insert, place: &Place, origin: Origin) {
         let name = ins.name.to_lowercase();
-        let entity = self.entity_ref(e, place);
-        let span = self.span(e.common.handle, "INSERT");
+        let entity = self.entity_ref(e, place, origin);
+        let span = self.span(origin);
         let fail = |reason: String| DxfError::BadBlock {
             entity: entity.clone(),
             reason,
@@ -635,6 +702,19 @@ impl<'a> Reader<'a> {
             ..Affine::IDENTITY
         };
         let layer = effective_layer(e, place);
+        // Each entity's record: the k-th entity of a type is the block's k-th record of it.
+        let mut ranks: HashMap<&'static str, usize> = HashMap::new();
+        let origins: Vec<Origin> = block
+            .entities
+            .iter()
+            .map(|child| {
+                let kind = type_name(&child.specific);
+                let rank = ranks.entry(kind).or_default();
+                let record = self.source.in_block(&name, kind, *rank);
+                *rank += 1;
+                Origin { record, top: false }
+            })
+            .collect();
         let mut blocks = place.blocks.clone();
         blocks.push(name);
         for r in 0..rows {
@@ -663,8 +743,8 @@ impl<'a> Reader<'a> {
                     mm_per_unit: block_mm.or(place.mm_per_unit),
                     blocks: blocks.clone(),
                 };
-                for child in &block.entities {
-                    self.entity(child, &inner, false);
+                for (child, &origin) in block.entities.iter().zip(&origins) {
+                    self.entity(child, &inner, origin);
                 }
             }
         }
@@ -699,7 +779,27 @@ impl<C: PieceCurve> PieceCurve for Mapped<C> {
     }
 }
 
-fn points_to_piece(points: &[P3], span: Span) -> Result<Piece, String> {
+/// An ellipse's major axis, axis ratio and parameters with the ratio at most 1.
+///
+/// DXF requires the ratio in (0, 1]; a ratio above 1 (CAD files write 1.0000001) means the
+/// minor axis `r·(n × M)` is the longer one. With `M' = r·(n × M)`, `r' = 1/r`, the new
+/// minor axis is `r'·(n × M') = n × (n × M) = −M` (`n` a unit normal perpendicular to
+/// `M`), so `M cos t + r (n × M) sin t = M' cos(t − π/2) + (−M) sin(t − π/2)`: the same
+/// point at parameter `t − π/2`.
+pub fn normalize_ellipse(n: P3, major: P3, ratio: f64, s: f64, e: f64) -> (P3, f64, f64, f64) {
+    if ratio <= 1.0 {
+        return (major, ratio, s, e);
+    }
+    let quarter = std::f64::consts::FRAC_PI_2;
+    (
+        scale(cross(n, major), ratio),
+        1.0 / ratio,
+        s - quarter,
+        e - quarter,
+    )
+}
+
+fn points_to_piece(points: &[P3], span: Span) -> PieceResult {
     check_points(points)?;
     let piece: Piece = points
         .windows(2)
@@ -712,7 +812,7 @@ fn points_to_piece(points: &[P3], span: Span) -> Result<Piece, String> {
         })
         .collect();
     if piece.is_empty() {
-        return Err("the curve has no length".to_string());
+        return Err(NoPiece::ZeroLength); // every point the same
     }
     Ok(piece)
 }
@@ -725,11 +825,11 @@ pub fn ellipse_segs(
     tolerance: f64,
     span: Span,
     ends: Option<(P3, P3)>,
-) -> Result<Piece, String> {
+) -> PieceResult {
     check_points(&[e.c, e.u, e.v])?;
     let (lu, lv) = (norm(e.u), norm(e.v));
     if !(lu > 0.0 && lv > 0.0 && e.t0.is_finite() && e.t1.is_finite()) {
-        return Err("the curve is degenerate".to_string());
+        return Err("the curve is degenerate".into());
     }
     let sweep = e.t1 - e.t0;
     let full = sweep.abs() >= TAU * (1.0 - 1e-12);

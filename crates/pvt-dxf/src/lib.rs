@@ -33,8 +33,11 @@
 //!
 //! # Spans
 //! Element spans point at the entity record (for POLYLINE segments, the VERTEX record) in
-//! an ASCII file, looked up by handle. Binary files and entities without a handle get
-//! `Span::default()` (line 0: unknown).
+//! an ASCII file: looked up by handle in model space, and by block, type and rank inside a
+//! block (the `dxf` crate renumbers the handles of block entities as it reads them; a
+//! diagnostic names the handle the file gives). Rapids, plunges and retracts carry the
+//! span of an entity (see [`chain`]). Binary files and model-space entities without a
+//! handle get `Span::default()` (line 0: unknown).
 
 pub mod chain;
 pub mod curve;
@@ -49,6 +52,7 @@ use std::io::Cursor;
 use pvt_core::{ChordTolerance, Span, Toolpath, Units};
 
 pub use diag::{DxfDiagnostic, DxfError, DxfErrors, EntityRef};
+pub use entities::MAX_ZERO_LENGTH_WARNINGS;
 
 use crate::entities::{is_imperial, mm_per_unit, Reader};
 use crate::geom::Affine;
@@ -242,9 +246,17 @@ pub fn read_drawing(bytes: &[u8], options: &DxfOptions) -> Result<Drawing, DxfEr
     if reader.pieces.is_empty() {
         return Err(DxfErrors::one(nothing_to_cut(
             &reader.unsupported,
+            reader.zero_length_count,
             reader.selected,
             &options.layers,
         )));
+    }
+    let more_zero_length = reader.zero_length_count - reader.zero_length.len();
+    warnings.append(&mut reader.zero_length);
+    if more_zero_length > 0 {
+        warnings.push(DxfDiagnostic::MoreZeroLength {
+            count: more_zero_length,
+        });
     }
     for (kind, count) in &reader.unsupported {
         warnings.push(DxfDiagnostic::Unsupported {
@@ -446,20 +458,26 @@ fn check_layers(
 
 fn nothing_to_cut(
     unsupported: &BTreeMap<String, usize>,
+    zero_length: usize,
     selected: usize,
     layers: &[String],
 ) -> DxfError {
-    let detail = if selected == 0 {
+    let detail = if selected == 0 && zero_length == 0 {
         format!("no entity on the selected layers ({})", layers.join(", "))
     } else {
-        let held: Vec<String> = unsupported
+        let mut held: Vec<String> = unsupported
             .iter()
             .map(|(k, n)| format!("{n} {k}"))
             .collect();
-        format!(
-            "the drawing holds only unsupported entities ({})",
-            held.join(", ")
-        )
+        if zero_length > 0 {
+            held.push(format!("{zero_length} of zero length, dropped"));
+        }
+        let what = match (unsupported.is_empty(), zero_length > 0) {
+            (false, false) => "unsupported entities",
+            (true, _) => "entities of zero length",
+            (false, true) => "unsupported entities and entities of zero length",
+        };
+        format!("the drawing holds only {what} ({})", held.join(", "))
     };
     DxfError::NothingToCut { detail }
 }

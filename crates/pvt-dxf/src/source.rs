@@ -2,9 +2,12 @@
 //!
 //! Owns a light scan of the raw bytes, independent of the `dxf` crate, that records for
 //! every entity record in the BLOCKS and ENTITIES sections its type, handle, layer,
-//! paper-space flag and byte/line span. The `dxf` crate keeps no positions, so spans are
-//! looked up here by handle. It must not interpret geometry, and it must never fail:
-//! anything it cannot make sense of simply has no span (binary DXF files have none).
+//! paper-space flag and byte/line span. The `dxf` crate keeps no positions, so records are
+//! looked up here: model-space entities by handle, entities inside a block by block name,
+//! type and rank among the block's entities of that type (the `dxf` crate gives block
+//! entities new handles as it reads them, so their handles in memory are not the file's).
+//! It must not interpret geometry, and it must never fail: anything it cannot make sense of
+//! simply has no record (binary DXF files have none).
 
 use std::collections::HashMap;
 
@@ -37,6 +40,8 @@ pub struct SourceMap {
     /// the drawing's entities hold before blocks are inserted.
     pub points: usize,
     by_handle: HashMap<u64, usize>,
+    /// Indices into `records` of each block's entity records, in order, by lower-case name.
+    blocks: HashMap<String, Vec<usize>>,
 }
 
 /// True when the bytes look like ASCII DXF (not binary DXF or DXB).
@@ -55,6 +60,9 @@ impl SourceMap {
         let mut section = String::new();
         let mut expect_section_name = false;
         let mut open: Option<Record> = None;
+        // The block whose entities are being scanned, and whether its name is still to come.
+        let mut block: Option<String> = None;
+        let mut block_header = false;
         let mut index = 0usize;
         while let (Some((offset, code_line)), Some((_, value_line))) = (lines.next(), lines.next())
         {
@@ -71,12 +79,21 @@ impl SourceMap {
             if code == 0 {
                 if let Some(mut r) = open.take() {
                     r.span.end = offset;
-                    map.push(r);
+                    map.push(r, block.as_deref());
                 }
+                block_header = false;
                 match value {
                     "SECTION" => expect_section_name = true,
-                    "ENDSEC" => section.clear(),
-                    "BLOCK" | "ENDBLK" | "EOF" => {}
+                    "ENDSEC" => {
+                        section.clear();
+                        block = None;
+                    }
+                    "BLOCK" if section == "BLOCKS" => {
+                        block = None;
+                        block_header = true;
+                    }
+                    "ENDBLK" => block = None,
+                    "BLOCK" | "EOF" => {}
                     kind if section == "ENTITIES" || section == "BLOCKS" => {
                         open = Some(Record {
                             kind: kind.to_string(),
@@ -100,6 +117,11 @@ impl SourceMap {
                 expect_section_name = false;
                 continue;
             }
+            if code == 2 && block_header {
+                block = Some(value.to_lowercase());
+                block_header = false;
+                continue;
+            }
             if let Some(r) = open.as_mut() {
                 match code {
                     5 => r.handle = u64::from_str_radix(value, 16).unwrap_or(0),
@@ -111,34 +133,57 @@ impl SourceMap {
         }
         if let Some(mut r) = open.take() {
             r.span.end = bytes.len();
-            map.push(r);
+            map.push(r, block.as_deref());
         }
         map
     }
 
-    fn push(&mut self, r: Record) {
-        if r.handle != 0 {
-            self.by_handle.entry(r.handle).or_insert(self.records.len());
+    fn push(&mut self, r: Record, block: Option<&str>) {
+        let index = self.records.len();
+        if let (Some(name), false) = (block, r.in_entities) {
+            self.blocks.entry(name.to_string()).or_default().push(index);
+        } else if r.handle != 0 {
+            self.by_handle.entry(r.handle).or_insert(index);
         }
         self.records.push(r);
     }
 
+    /// The index of the model-space record with this handle and type, if the scan found one.
+    pub fn find(&self, handle: u64, kind: &str) -> Option<usize> {
+        let i = *self.by_handle.get(&handle)?;
+        same_kind(&self.records[i].kind, kind).then_some(i)
+    }
+
+    /// The index of the `rank`-th (from 0) record of type `kind` in block `block`
+    /// (compared case-insensitively), if the scan found one.
+    pub fn in_block(&self, block: &str, kind: &str, rank: usize) -> Option<usize> {
+        self.blocks
+            .get(&block.to_lowercase())?
+            .iter()
+            .copied()
+            .filter(|&i| same_kind(&self.records[i].kind, kind))
+            .nth(rank)
+    }
+
     /// The span of the record with this handle and type, if the scan found one.
     pub fn span(&self, handle: u64, kind: &str) -> Option<Span> {
-        let r = &self.records[*self.by_handle.get(&handle)?];
-        (r.kind == kind || (kind == "LINE" && r.kind == "3DLINE")).then_some(r.span)
+        self.find(handle, kind).map(|i| self.records[i].span)
     }
 }
 
+/// True when a record written as `written` is an entity the `dxf` crate calls `kind`.
+fn same_kind(written: &str, kind: &str) -> bool {
+    written == kind || (kind == "LINE" && written == "3DLINE")
+}
+
 impl SourceMap {
-    /// Spans of the records of type `kind` that directly follow the record with `handle`
-    /// (the VERTEX records of a POLYLINE, whose handles the `dxf` crate does not keep).
-    pub fn following(&self, handle: u64, kind: &str) -> Vec<Span> {
-        let Some(&i) = self.by_handle.get(&handle) else {
+    /// Spans of the records of type `kind` that directly follow record `index` (the VERTEX
+    /// records of a POLYLINE, whose handles the `dxf` crate does not keep).
+    pub fn following(&self, index: usize, kind: &str) -> Vec<Span> {
+        let Some(rest) = self.records.get(index + 1..) else {
             return Vec::new();
         };
-        self.records[i + 1..]
-            .iter()
+        rest.iter()
             .take_while(|r| r.kind == kind)
             .map(|r| r.span)
             .collect()

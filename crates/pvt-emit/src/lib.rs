@@ -56,6 +56,24 @@ impl Format {
         }
     }
 
+    /// The longest piece time the format can express, seconds (`None`: no limit); longer
+    /// pieces must be cut first ([`pvt_core::split_long_pieces`]).
+    pub fn max_piece_seconds(self) -> Option<f64> {
+        match self {
+            Format::Pmac => Some(pmac::MAX_PIECE_SECONDS),
+            Format::MovePvt | Format::Json => None,
+        }
+    }
+
+    /// The time its controller rounds piece times to, seconds (PMAC: whole milliseconds);
+    /// a long piece whose time is whole is cut into pieces whose times are whole.
+    pub fn piece_time_quantum(self) -> Option<f64> {
+        match self {
+            Format::Pmac => Some(0.001),
+            Format::MovePvt | Format::Json => None,
+        }
+    }
+
     /// A streaming writer of this format into `out`.
     pub fn writer<'a, W: Write + 'a>(self, out: W) -> Box<dyn ProgramWriter + 'a> {
         match self {

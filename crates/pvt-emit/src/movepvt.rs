@@ -7,6 +7,11 @@
 //! Numbers are written in their shortest exact form, so the arrays carry the planner's
 //! values bit for bit. A table `pvtc_contours` lists every contour in execution order.
 //!
+//! Everything is `static`, for a program that includes the file. Such a program uses
+//! either the table or the arrays it lists; the table is marked `PVTC_MAYBE_UNUSED`
+//! (`__attribute__((unused))` under GCC and Clang), so the file compiles warning-free under
+//! `-Wall -Wextra` either way, and alone.
+//!
 //! Buffering: C wants each array whole, so while a contour's positions stream out, its
 //! velocity and time arrays are held as text until the contour ends — the least this
 //! layout allows. Counts come from `sizeof` after the arrays, so nothing needs a count
@@ -165,6 +170,10 @@ impl<W: Write> ProgramWriter for MovePvtWriter<W> {
             "\n#define PVTC_CONTOUR_COUNT {}\n",
             self.kinds.len()
         ));
+        t.push_str(
+            "\n/* A program may use the table below or the arrays above: the table is marked as\n * possibly unused. */\n",
+        );
+        t.push_str("#ifndef PVTC_MAYBE_UNUSED\n#if defined(__GNUC__)\n#define PVTC_MAYBE_UNUSED __attribute__((unused))\n#else\n#define PVTC_MAYBE_UNUSED\n#endif\n#endif\n");
         t.push_str("\n/* Every contour in execution order. */\n");
         t.push_str(
             "typedef struct {\n    const char *kind;\n    long count;\n    double *start;\n",
@@ -173,9 +182,11 @@ impl<W: Write> ProgramWriter for MovePvtWriter<W> {
             "    double *position;\n    double *velocity;\n    double *time;\n} pvtc_contour;\n\n",
         );
         if self.kinds.is_empty() {
-            t.push_str("static const pvtc_contour *const pvtc_contours = 0;\n");
+            t.push_str("static const pvtc_contour *const pvtc_contours PVTC_MAYBE_UNUSED = 0;\n");
         } else {
-            t.push_str("static const pvtc_contour pvtc_contours[PVTC_CONTOUR_COUNT] = {\n");
+            t.push_str(
+                "static const pvtc_contour pvtc_contours[PVTC_CONTOUR_COUNT] PVTC_MAYBE_UNUSED = {\n",
+            );
             for (c, kind) in self.kinds.iter().enumerate() {
                 let n = c + 1;
                 t.push_str(&format!(

@@ -143,6 +143,17 @@ pub(crate) fn is_whole(x: f64) -> bool {
     x == (x as i64) as f64
 }
 
+/// True when [`push_fixed`] prints `x` with a fraction of zeros (`820.0000` for
+/// 820.0000000000001): the question a reader of the text asks, not whether `x` is whole.
+pub(crate) fn prints_whole<const DECIMALS: usize>(x: f64) -> bool {
+    const EXACT_INTEGERS: f64 = 9_007_199_254_740_992.0; // 2^53
+    let scaled = x * POW10[DECIMALS];
+    if scaled.is_nan() || scaled.abs() >= EXACT_INTEGERS {
+        return is_whole(x);
+    }
+    round_half_away(scaled).unsigned_abs() % POW10_INT[DECIMALS] == 0
+}
+
 /// `x` (|x| < 2^53) rounded half away from zero, as `f64::round` does, without the call
 /// into libm that `round` is on baseline x86-64: the integer part by truncation, and the
 /// fraction `x − t`, which is exact here.
@@ -207,6 +218,29 @@ mod tests {
         assert_eq!(fixed(-0.0, 3), "0.000");
         assert_eq!(fixed(-2.5, 1), "-2.5");
         assert_eq!(fixed(5000.0, 4), "5000.0000");
+    }
+
+    #[test]
+    fn prints_whole_asks_the_printed_text() {
+        for (x, whole) in [
+            (820.0000000000001, true),
+            (819.99999999999, true),
+            (820.00005, false),
+            (820.00004, true),
+            (0.00004, true),
+            (-3.0, true),
+            (642.1749, false),
+            (f64::NAN, false),
+            (1e300, true),
+        ] {
+            let mut text = Vec::new();
+            push_fixed::<4>(&mut text, x);
+            let printed = String::from_utf8(text).unwrap();
+            assert_eq!(prints_whole::<4>(x), whole, "{x}");
+            if x.is_finite() && x.abs() < 1e15 {
+                assert_eq!(printed.ends_with(".0000"), whole, "{printed}");
+            }
+        }
     }
 
     #[test]

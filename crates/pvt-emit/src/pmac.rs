@@ -8,12 +8,18 @@
 //!
 //! - positions: absolute (`ABS`), program units, 6 decimals;
 //! - velocities: signed, units per second, 6 decimals — this assumes the coordinate
-//!   system's feedrate time unit `Ix90 = 1000` (ms per time unit: PMAC's default);
+//!   system's feedrate time unit `Ix90 = 1000` (ms per time unit: PMAC's default; `Isx90`
+//!   on Turbo PMAC);
 //! - piece time: `TA` in milliseconds with 4 decimals, written *before* the axis words.
 //!   Seed 000 prints `TA` after them, but PMAC takes each piece's time from the most
 //!   recently executed `PVT` or `TA` statement, so a trailing `TA` would time the next
 //!   piece. PMAC rounds `TA` to whole milliseconds without an error (seed 003); the count
-//!   of times that are not whole is stated at the end of the program.
+//!   of times that are not whole is stated at the end of the program. On Turbo PMAC, `TA`
+//!   times PVT pieces only with `I42 = 1` (then 1 ms resolution); under the default
+//!   `I42 = 0` only `PVT` and `TM` do, with a range of 0–4095.9998 ms.
+//! - no piece is longer than [`MAX_PIECE_SECONDS`] (4095 ms, within Turbo PMAC's range
+//!   under either `I42`): the pipeline cuts longer ones along their cubic
+//!   (`pvt_core::split`) and [`crate::Checked`] refuses any that reaches this writer.
 //!
 //! Every contour starts and ends at rest; consecutive contours chain, so the whole program
 //! is one `OPEN PROG n CLEAR … CLOSE` block. The grammar of what is written is
@@ -29,6 +35,9 @@ use std::io::{self, Write};
 pub const POSITION_DECIMALS: usize = 6;
 /// Decimals of piece times in milliseconds.
 pub const TIME_DECIMALS: usize = 4;
+/// Longest piece time written, seconds: 4095 ms, the whole milliseconds of Turbo PMAC's
+/// PVT time range under `I42 = 0` (0–4095.9998 ms; `I42 = 1` allows more).
+pub const MAX_PIECE_SECONDS: f64 = 4.095;
 
 /// Bytes of text gathered before they are written.
 const LINE_BATCH: usize = 64 * 1024;
@@ -94,9 +103,14 @@ impl<W: Write> ProgramWriter for PmacWriter<W> {
         )?;
         writeln!(
             t,
-            "; velocities in {units}/s: requires Ix90=1000 (the default)"
+            "; velocities in {units}/s: requires Ix90=1000 (the default; Isx90 on Turbo PMAC)"
         )?;
-        t.extend_from_slice(b"; piece times: TA in ms, set before each piece's axis words\n");
+        t.extend_from_slice(
+            b"; piece times: TA in ms, set before each piece's axis words; none over 4095 ms\n",
+        );
+        t.extend_from_slice(
+            b"; Turbo PMAC: requires I42=1, so that TA times PVT pieces (under I42=0 it does not)\n",
+        );
         writeln!(t, "OPEN PROG {} CLEAR\nABS", header.options.program_number)?;
         self.flush_line()
     }
@@ -161,6 +175,10 @@ impl<W: Write> ProgramWriter for PmacWriter<W> {
             }
         }
         self.flush_line()
+    }
+
+    fn max_piece_seconds(&self) -> Option<f64> {
+        Some(MAX_PIECE_SECONDS)
     }
 
     fn finish(&mut self) -> io::Result<()> {

@@ -5,7 +5,7 @@
 //! called, so a program of any length goes out in constant memory; it checks each value
 //! before writing it ([`crate::validate`]). It must not plan or look ahead.
 
-use crate::validate::{check_segment, check_start, InvalidProgram};
+use crate::validate::{check_piece_time, check_segment, check_start, InvalidProgram};
 use crate::EmitOptions;
 use pvt_core::{Axis, Interpolation, Motion, ProgramEvent, SegmentRef, Units};
 use std::io;
@@ -34,7 +34,7 @@ pub struct Totals {
     pub segments_in_contour: usize,
     /// Sum of piece times, seconds.
     pub time: f64,
-    /// Piece times that are not a whole number of milliseconds.
+    /// Piece times that PMAC text does not print as a whole number of milliseconds.
     pub fractional_ms: usize,
 }
 
@@ -50,7 +50,8 @@ impl Totals {
         self.segments += 1;
         self.segments_in_contour += 1;
         self.time += duration;
-        if !crate::number::is_whole(duration * 1000.0) {
+        // As PMAC text prints it: 820.0000 ms is whole, whatever bits carried it.
+        if !crate::number::prints_whole::<{ crate::pmac::TIME_DECIMALS }>(duration * 1000.0) {
             self.fractional_ms += 1;
         }
     }
@@ -71,6 +72,10 @@ pub trait ProgramWriter {
     /// Whether the back end can express `interpolation` (all take PVT).
     fn supports(&self, interpolation: Interpolation) -> bool {
         interpolation == Interpolation::Pvt
+    }
+    /// The longest piece time the format can express, seconds (`None`: no limit).
+    fn max_piece_seconds(&self) -> Option<f64> {
+        None
     }
 }
 
@@ -132,6 +137,9 @@ impl<W: ProgramWriter> Checked<W> {
         }
         self.segment += 1;
         check_segment(segment, self.contour, self.segment)?;
+        if let Some(max) = self.inner.max_piece_seconds() {
+            check_piece_time(segment, max, self.contour, self.segment)?;
+        }
         Ok(self.inner.segment(segment)?)
     }
 
@@ -165,5 +173,8 @@ impl<T: ProgramWriter + ?Sized> ProgramWriter for Box<T> {
     }
     fn supports(&self, interpolation: Interpolation) -> bool {
         (**self).supports(interpolation)
+    }
+    fn max_piece_seconds(&self) -> Option<f64> {
+        (**self).max_piece_seconds()
     }
 }

@@ -1,13 +1,17 @@
-//! The last check before output: every number finite, every piece time positive.
+//! The last check before output: every number finite, every piece time positive and
+//! within the format's longest.
 //!
-//! Owns the guarantee that no back end prints NaN, infinity or a non-positive time. It
-//! must not repair anything: a program that fails is an internal error of a planner.
+//! Owns the guarantee that no back end prints NaN, infinity, a non-positive time or a time
+//! over the format's longest (PMAC: 4095 ms). It
+//! must not repair anything: a program that fails is an internal error of a planner, except
+//! a piece too long for the format that could not be cut (longer than
+//! `pvt_core::split::MAX_SUB_PIECES` of the format's longest), which its input asked for.
 
 use pvt_core::{PvtProgram, SegmentRef};
 
 /// A program value no controller may receive, with where it is.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("internal error: contour {contour}, segment {segment} (source line {line}) has {what}; no output was written")]
+#[error("{}contour {contour}, segment {segment} (source line {line}) has {what}; no output was written", if *internal { "internal error: " } else { "" })]
 pub struct InvalidProgram {
     /// 1-based contour number.
     pub contour: usize,
@@ -17,6 +21,8 @@ pub struct InvalidProgram {
     pub line: u32,
     /// What is wrong, in words.
     pub what: String,
+    /// A planner's fault (NaN, infinity, a non-positive time), not the input's.
+    pub internal: bool,
 }
 
 impl InvalidProgram {
@@ -34,6 +40,7 @@ pub fn check_start(start: &[f64], contour: usize, line: u32) -> Result<(), Inval
         segment: 0,
         line,
         what: "a start position that is not finite".into(),
+        internal: true,
     })
 }
 
@@ -48,6 +55,7 @@ pub fn check_segment(
         segment,
         line: seg.line,
         what,
+        internal: true,
     };
     if !(seg.duration.is_finite() && seg.duration > 0.0) {
         return Err(fail(format!("piece time {} s", seg.duration)));
@@ -56,6 +64,29 @@ pub fn check_segment(
         return Err(fail("a position or velocity that is not finite".into()));
     }
     Ok(())
+}
+
+/// Checks that a segment's piece time is at most `max_seconds` (within a relative 1e-12,
+/// the rounding of a time cut into equal parts), for formats with a longest piece time.
+pub fn check_piece_time(
+    seg: &SegmentRef<'_>,
+    max_seconds: f64,
+    contour: usize,
+    segment: usize,
+) -> Result<(), InvalidProgram> {
+    if seg.duration <= max_seconds * (1.0 + 1e-12) {
+        return Ok(());
+    }
+    Err(InvalidProgram {
+        contour,
+        segment,
+        line: seg.line,
+        what: format!(
+            "piece time {} s, over the format's longest, {max_seconds} s, and too long to cut",
+            seg.duration
+        ),
+        internal: false,
+    })
 }
 
 /// Checks every position, velocity and piece time of `program`.

@@ -127,6 +127,25 @@ fn nan_and_non_positive_times_never_reach_an_output() {
 }
 
 #[test]
+fn pmac_refuses_a_piece_over_4095_ms_that_others_take() {
+    let mut p = program();
+    p.contours[0].durations[1] = 4.095;
+    assert!(emit_to_vec(&p, Format::Pmac, &options()).is_ok());
+    p.contours[0].durations[1] = 4.0951;
+    match emit_to_vec(&p, Format::Pmac, &options()) {
+        Err(StreamError::Invalid(e)) => {
+            assert_eq!((e.contour, e.segment, e.line), (1, 2, 4));
+            assert!(e.what.contains("longest"), "{}", e.what);
+            assert!(!e.internal && !e.to_string().contains("internal"), "{e}");
+        }
+        other => panic!("{other:?}"),
+    }
+    for format in [Format::Json, Format::MovePvt] {
+        assert!(emit_to_vec(&p, format, &options()).is_ok(), "{format:?}");
+    }
+}
+
+#[test]
 fn events_come_out_at_rest_between_contours() {
     use pvt_core::{EventKind, ProgramEvent, SpindleState};
     let mut p = program();

@@ -5,7 +5,7 @@
 
 use crate::pipeline::{CompileOptions, DrawingOptions, Failure, InputKind};
 use clap::{Parser, Subcommand, ValueEnum};
-use pvt_core::{AxisLimits, Planner, Timing, Units};
+use pvt_core::{AxisLimits, Planner, Rounding, Timing, Units};
 use pvt_emit::Format;
 use std::path::PathBuf;
 
@@ -106,6 +106,10 @@ pub struct PipelineArgs {
     /// Make every piece time a whole multiple of this, e.g. 1ms (PMAC takes whole ms).
     #[arg(long, value_name = "T", value_parser = duration)]
     pub quantize: Option<f64>,
+    /// Which way --quantize rounds piece times: up (never faster than planned) or
+    /// nearest (as PMAC rounds TA) [default: up].
+    #[arg(long = "quantize-rounding", value_name = "up|nearest", requires = "quantize", value_parser = rounding)]
+    pub quantize_rounding: Option<Rounding>,
     /// Feed, program units per minute: for moves before the first F word; required for
     /// drawings, which have none.
     #[arg(long, value_name = "F", value_parser = positive_number)]
@@ -187,6 +191,7 @@ impl PipelineArgs {
             timing: self.time_slice.map_or(Timing::FromFeed, Timing::TimeSlice),
             accel: self.accel,
             quantize: self.quantize,
+            quantize_rounding: self.quantize_rounding.unwrap_or_default(),
             work_offsets,
             arc_abs_tolerance_mm: self
                 .arc_abs_tolerance
@@ -307,6 +312,10 @@ pub struct PlotArgs {
 
 fn planner(text: &str) -> Result<Planner, String> {
     text.parse::<Planner>().map_err(|e| e.to_string())
+}
+
+fn rounding(text: &str) -> Result<Rounding, String> {
+    text.parse::<Rounding>()
 }
 
 /// A duration: a number with `s`, `ms` or `us` (no unit: seconds).

@@ -204,6 +204,19 @@ pub fn to_json(report: &CheckReport) -> serde_json::Value {
     })
 }
 
+/// A source line as the table prints it: `line N`, or `unknown line` for 0 (a binary DXF
+/// file, a JSON program without lines).
+struct Line(u32);
+
+impl std::fmt::Display for Line {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.0 {
+            0 => f.write_str("unknown line"),
+            n => write!(f, "line {n}"),
+        }
+    }
+}
+
 /// The report as a table for people.
 pub fn table(report: &CheckReport, units: &str) -> String {
     let mut t = String::new();
@@ -239,7 +252,7 @@ pub fn table(report: &CheckReport, units: &str) -> String {
             a.sampled_velocity.value,
             a.sampled_acceleration.value
         );
-        let at = |p: &Peak| format!("t={:.4} s line {}", p.time, p.line);
+        let at = |p: &Peak| format!("t={:.4} s {}", p.time, Line(p.line));
         let _ = writeln!(
             t,
             "     at: |v| {}, |a| {}, |j| {}",
@@ -251,16 +264,18 @@ pub fn table(report: &CheckReport, units: &str) -> String {
     if let Some(s) = &report.speed {
         let _ = writeln!(
             t,
-            "\nvector speed: min {:.6} {units}/s (line {}), max {:.6} {units}/s (line {}), RMS error against feed {:.6} {units}/s over {} samples",
-            s.min.value, s.min.line, s.max.value, s.max.line, s.rms_error, s.samples
+            "\nvector speed: min {:.6} {units}/s ({}), max {:.6} {units}/s ({}), RMS error against feed {:.6} {units}/s over {} samples",
+            s.min.value, Line(s.min.line), s.max.value, Line(s.max.line), s.rms_error, s.samples
         );
     }
     match &report.path_error {
         Some(p) => {
             let _ = writeln!(
                 t,
-                "largest distance from the source geometry: {:.9} {units} at t={:.4} s (line {})",
-                p.value, p.time, p.line
+                "largest distance from the source geometry: {:.9} {units} at t={:.4} s ({})",
+                p.value,
+                p.time,
+                Line(p.line)
             );
         }
         None => {
@@ -276,13 +291,13 @@ pub fn table(report: &CheckReport, units: &str) -> String {
     for v in &report.violations {
         let _ = writeln!(
             t,
-            "LIMIT EXCEEDED: {} {} {:.6} > {:.6} at t={:.4} s (line {})",
+            "LIMIT EXCEEDED: {} {} {:.6} > {:.6} at t={:.4} s ({})",
             v.axis,
             v.quantity.name(),
             v.value,
             v.limit,
             v.time,
-            v.line
+            Line(v.line)
         );
     }
     t

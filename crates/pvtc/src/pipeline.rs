@@ -6,8 +6,8 @@
 use crate::front::{self, Input};
 use miette::{LabeledSpan, NamedSource, Report, Severity};
 use pvt_core::{
-    plan_timed, plan_toolpath_report, ChordTolerance, PlanOptions, PlanReport, Planned, Planner,
-    PvtProgram, Timing, Toolpath, Units,
+    plan_timed, plan_toolpath_report, split_long_pieces, ChordTolerance, Interpolation,
+    PlanOptions, PlanReport, Planned, Planner, PvtProgram, Rounding, Timing, Toolpath, Units,
 };
 use pvt_emit::{emit_to_vec, EmitOptions, Format, StreamError};
 use std::io::Read;
@@ -143,6 +143,8 @@ pub struct CompileOptions {
     pub accel: Option<f64>,
     /// Piece-time quantum, seconds.
     pub quantize: Option<f64>,
+    /// Which way piece times go onto the quantum grid.
+    pub quantize_rounding: Rounding,
     /// G-code work offsets, G54…G59.3 rows of X Y Z (mm) A B C (degrees).
     pub work_offsets: [[f64; 6]; 9],
     /// G-code arc check: absolute radius tolerance, mm.
@@ -167,6 +169,7 @@ impl CompileOptions {
             timing: Timing::FromFeed,
             accel: None,
             quantize: None,
+            quantize_rounding: Rounding::Up,
             work_offsets: [[0.0; 6]; 9],
             arc_abs_tolerance_mm: 0.002,
             arc_rel_tolerance: 0.001,
@@ -256,6 +259,8 @@ pub fn plan(
         timing: options.timing,
         accel: options.accel,
         quantize: options.quantize,
+        quantize_rounding: options.quantize_rounding,
+        ..PlanOptions::default()
     };
     let (planned, toolpath) = match input {
         Input::Toolpath(toolpath) => (plan_toolpath_report(&toolpath, &plan_options), toolpath),
@@ -316,26 +321,47 @@ fn path_summary(planned: &Planned, toolpath: &Toolpath) -> Option<Vec<(String, S
 /// Compiles `source` into the bytes of `options.format`.
 pub fn compile(source: &Source, options: &CompileOptions) -> Result<Compiled, Failure> {
     let (planned, toolpath, mut warnings) = plan(source, options)?;
-    let program = &planned.program;
-    let mut header = settings(options, program.units);
+    let mut header = settings(options, planned.program.units);
     header.extend(path_summary(&planned, &toolpath).unwrap_or_default());
+    let program = fit_pieces(planned.program, options);
     let emit_options = EmitOptions {
         source: source.name.clone(),
         settings: header,
         program_number: 1,
     };
-    let bytes = emit_to_vec(program, options.format, &emit_options)
+    let bytes = emit_to_vec(&program, options.format, &emit_options)
         .map_err(|e| emit_failure(e, options, Some(source)))?;
     if options.format == Format::Pmac && options.quantize.is_none() {
-        warnings.extend(fractional_ms_warning(program));
+        warnings.extend(fractional_ms_warning(&program));
     }
     Ok(Compiled {
         bytes,
-        program: planned.program,
+        program,
         toolpath,
         report: planned.report,
         warnings,
     })
+}
+
+/// `program` with every piece longer than the format takes cut along its own cubic (the
+/// same motion; see [`split_grid`] for the times).
+pub fn fit_pieces(mut program: PvtProgram, options: &CompileOptions) -> PvtProgram {
+    if let (Some(max), Interpolation::Pvt) =
+        (options.format.max_piece_seconds(), program.interpolation)
+    {
+        for contour in &mut program.contours {
+            *contour = split_long_pieces(contour, max, split_grid(options));
+        }
+    }
+    program
+}
+
+/// The grid a long piece's time is cut on when the time is on it: `--quantize`, else the
+/// time the format's controller rounds to (PMAC: whole ms), so whole times stay whole.
+pub fn split_grid(options: &CompileOptions) -> Option<f64> {
+    options
+        .quantize
+        .or_else(|| options.format.piece_time_quantum())
 }
 
 /// A back end's refusal as a failure; `source` (when known) labels the line at fault.
@@ -403,8 +429,9 @@ fn plan_notes(report: &PlanReport, options: &CompileOptions) -> Vec<Report> {
         notes.push(miette::miette!(
             severity = Severity::Advice,
             code = "pvtc::plan::quantized",
-            "piece times made whole multiples of {} ms; largest change of mid-segment speed: {:.4} %",
+            "piece times made whole multiples of {} ms (rounded {}); largest change of mid-segment speed: {:.4} %",
             q * 1000.0,
+            rounding_words(options.quantize_rounding),
             report.quantize_speed_change * 100.0
         ));
     }
@@ -488,7 +515,13 @@ pub(crate) fn settings(options: &CompileOptions, units: Units) -> Vec<(String, S
         out.push(("acceleration".into(), format!("{a} {u}/s^2")));
     }
     if let Some(q) = options.quantize {
-        out.push(("piece times quantized to".into(), format!("{q} s")));
+        out.push((
+            "piece times quantized to".into(),
+            format!(
+                "{q} s, rounded {}",
+                rounding_words(options.quantize_rounding)
+            ),
+        ));
     }
     if let Some(m) = &options.machine {
         out.push(("machine".into(), m.name.clone()));
@@ -496,16 +529,26 @@ pub(crate) fn settings(options: &CompileOptions, units: Units) -> Vec<(String, S
     out
 }
 
+/// How a rounding reads after "rounded": `up`, `to nearest`.
+fn rounding_words(rounding: Rounding) -> &'static str {
+    match rounding {
+        Rounding::Up => "up",
+        Rounding::Nearest => "to nearest",
+    }
+}
+
 fn planner_description(planner: Planner) -> &'static str {
     match planner {
         Planner::Contour => {
             "contour (seed 000: bisector velocities, mid-segment speed = mean of end speeds)"
+        }
+        Planner::Path => {
+            "path (within the path tolerance of the true elements and the axis limits)"
         }
         Planner::Pt => "pt (seed 001: constant velocity between points)",
         Planner::Chord => "chord (seed 001/002: forward-difference velocities, last at rest)",
         Planner::ConstAccel => "const-accel (seed 001: constant-acceleration velocity fit)",
         Planner::Spline => "spline (C2 cubic spline through the points, rest at both ends)",
         Planner::Lspb => "lspb (seed 004: linear segments with parabolic blends)",
-        Planner::Path => "path (motion within the path tolerance of the programmed geometry)",
     }
 }

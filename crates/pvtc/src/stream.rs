@@ -9,7 +9,8 @@
 use pvt_core::discretize::{arc_positions, project};
 use pvt_core::{
     plan::{ContourStream, PlanError},
-    Axis, ChordTolerance, Element, ElementKind, EventKind, Motion, ProgramEvent,
+    Axis, ChordTolerance, Element, ElementKind, EventKind, Motion, PieceSplitter, ProgramEvent,
+    SegmentRef,
 };
 use pvt_emit::stream::Totals;
 use pvt_emit::{Checked, ProgramWriter, StreamError};
@@ -39,11 +40,20 @@ pub struct PlanningSink<W: ProgramWriter> {
     moved: MovedAxes,
     /// Segments written, their time, and those whose time is not a whole millisecond.
     pub totals: Totals,
+    /// Cuts pieces longer than the format takes (PMAC), as [`crate::pipeline::fit_pieces`].
+    splitter: Option<PieceSplitter>,
 }
 
 impl<W: ProgramWriter> PlanningSink<W> {
-    /// A sink writing to `writer` (already begun) on `axes`.
-    pub fn new(writer: Checked<W>, axes: Vec<Axis>, tolerance: ChordTolerance) -> PlanningSink<W> {
+    /// A sink writing to `writer` (already begun) on `axes`, cutting pieces longer than
+    /// `max_piece` seconds along their cubic (on `grid` where their time is on it).
+    pub fn new(
+        writer: Checked<W>,
+        axes: Vec<Axis>,
+        tolerance: ChordTolerance,
+        max_piece: Option<f64>,
+        grid: Option<f64>,
+    ) -> PlanningSink<W> {
         let dim = axes.len();
         PlanningSink {
             writer,
@@ -55,6 +65,7 @@ impl<W: ProgramWriter> PlanningSink<W> {
             failure: None,
             moved: MovedAxes::default(),
             totals: Totals::default(),
+            splitter: max_piece.map(|max| PieceSplitter::new(max, grid)),
         }
     }
 
@@ -69,6 +80,9 @@ impl<W: ProgramWriter> PlanningSink<W> {
             if let Err(e) = self.writer.contour(motion, &start, element.span.line) {
                 self.failure = Some(StreamFailure::Emit(e));
                 return;
+            }
+            if let Some(splitter) = self.splitter.as_mut() {
+                splitter.start(&start);
             }
             self.contour = Some(ContourStream::new(&start));
             self.contours += 1;
@@ -98,14 +112,14 @@ impl<W: ProgramWriter> PlanningSink<W> {
         let (Some(contour), None) = (self.contour.as_mut(), self.failure.as_ref()) else {
             return;
         };
-        let (writer, totals) = (&mut self.writer, &mut self.totals);
-        let mut emit_error = None;
-        let result = contour.push(point, feed, line, &mut |seg| {
-            totals.add_segment(seg.duration);
-            if emit_error.is_none() {
-                emit_error = writer.segment(&seg).err();
-            }
-        });
+        let mut out = Out {
+            writer: &mut self.writer,
+            totals: &mut self.totals,
+            splitter: self.splitter.as_mut(),
+            error: None,
+        };
+        let result = contour.push(point, feed, line, &mut |seg| out.segment(&seg));
+        let emit_error = out.error;
         self.failure = match (result, emit_error) {
             (Err(e), _) => Some(StreamFailure::Plan(e)),
             (Ok(()), Some(e)) => Some(StreamFailure::Emit(e)),
@@ -121,15 +135,14 @@ impl<W: ProgramWriter> PlanningSink<W> {
         if self.failure.is_some() {
             return;
         }
-        let (writer, totals) = (&mut self.writer, &mut self.totals);
-        let mut emit_error = None;
-        contour.finish(&mut |seg| {
-            totals.add_segment(seg.duration);
-            if emit_error.is_none() {
-                emit_error = writer.segment(&seg).err();
-            }
-        });
-        self.failure = emit_error.map(StreamFailure::Emit);
+        let mut out = Out {
+            writer: &mut self.writer,
+            totals: &mut self.totals,
+            splitter: self.splitter.as_mut(),
+            error: None,
+        };
+        contour.finish(&mut |seg| out.segment(&seg));
+        self.failure = out.error.map(StreamFailure::Emit);
     }
 
     /// Writes an event at rest (ending any open contour first).
@@ -188,6 +201,31 @@ impl MovedAxes {
             .into_iter()
             .filter(|a| self.moved[a.index()])
             .collect()
+    }
+}
+
+/// Where the planner's segments go: through the splitter (if any) into the writer,
+/// counted; the first write error is kept and later segments are dropped.
+struct Out<'a, W: ProgramWriter> {
+    writer: &'a mut Checked<W>,
+    totals: &'a mut Totals,
+    splitter: Option<&'a mut PieceSplitter>,
+    error: Option<StreamError>,
+}
+
+impl<W: ProgramWriter> Out<'_, W> {
+    fn segment(&mut self, seg: &SegmentRef<'_>) {
+        let (writer, totals, error) = (&mut *self.writer, &mut *self.totals, &mut self.error);
+        let mut write = |piece: &SegmentRef<'_>| {
+            totals.add_segment(piece.duration);
+            if error.is_none() {
+                *error = writer.segment(piece).err();
+            }
+        };
+        match self.splitter.as_deref_mut() {
+            Some(splitter) => splitter.push(seg, &mut write),
+            None => write(seg),
+        }
     }
 }
 
@@ -378,7 +416,13 @@ fn write_pass(
         options: &emit_options,
     };
     let begun = writer.begin(&header);
-    let mut sink = PlanningSink::new(writer, layout.axes.clone(), tolerance);
+    let mut sink = PlanningSink::new(
+        writer,
+        layout.axes.clone(),
+        tolerance,
+        options.format.max_piece_seconds(),
+        crate::pipeline::split_grid(options),
+    );
     if let Err(e) = begun {
         sink.failure = Some(StreamFailure::Emit(e));
     }

@@ -246,6 +246,20 @@ fn movepvt_output_compiles_as_c() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
+    let compiles = |c_file: &Path, object: &str| {
+        let o = Command::new(&cc)
+            .args(["-std=c99", "-Wall", "-Wextra", "-Werror", "-c", "-o"])
+            .arg(dir.path().join(object))
+            .arg(c_file)
+            .output()
+            .unwrap();
+        assert!(
+            o.status.success(),
+            "{} does not compile cleanly: {}",
+            c_file.display(),
+            String::from_utf8_lossy(&o.stderr)
+        );
+    };
     for sample in ["an208_octagon", "quad_circle_arc", "an208_step"] {
         let c_file = dir.path().join(format!("{sample}.c"));
         let input = format!("samples/gcode/{sample}.ngc");
@@ -261,20 +275,32 @@ fn movepvt_output_compiles_as_c() {
             None,
         );
         assert!(o.status.success(), "{}", stderr(&o));
-        let status = Command::new(&cc)
-            .args([
-                "-std=c99",
-                "-Wall",
-                "-Werror",
-                "-Wno-unused-variable",
-                "-c",
-                "-o",
-            ])
-            .arg(dir.path().join(format!("{sample}.o")))
-            .arg(&c_file)
-            .status()
-            .unwrap();
-        assert!(status.success(), "{sample}.c does not compile");
+        // Alone, and included by a program using only the arrays the header comment
+        // names, or only the table.
+        compiles(&c_file, &format!("{sample}.o"));
+        let arrays = dir.path().join(format!("{sample}_arrays.c"));
+        std::fs::write(
+            &arrays,
+            format!(
+                "#include \"{sample}.c\"\n\
+                 double first_time(void);\n\
+                 double first_time(void) {{ return pvtc_c1_start[0] + pvtc_c1_position[0] \
+                 + pvtc_c1_velocity[0] + pvtc_c1_time[0] + (double)PVTC_C1_POINTS; }}\n"
+            ),
+        )
+        .unwrap();
+        compiles(&arrays, &format!("{sample}_arrays.o"));
+        let table = dir.path().join(format!("{sample}_table.c"));
+        std::fs::write(
+            &table,
+            format!(
+                "#include \"{sample}.c\"\n\
+                 long points(void);\n\
+                 long points(void) {{ return pvtc_contours[0].count; }}\n"
+            ),
+        )
+        .unwrap();
+        compiles(&table, &format!("{sample}_table.o"));
     }
 }
 
@@ -328,6 +354,172 @@ fn pmac_warns_about_fractional_milliseconds_unless_quantized() {
     for line in text.lines().filter(|l| l.starts_with("TA")) {
         let ms = &line[2..line.find(' ').unwrap()];
         assert!(ms.ends_with(".0000"), "{line}");
+    }
+    // Every printed time is whole, so the program says none is not (820 ms was stored as
+    // 0.8200000000000001 s and counted as fractional).
+    assert!(!text.contains("not whole"), "{text}");
+}
+
+/// The piece times of a compile, ms as printed, and its header line about quantization.
+fn quantized(extra: &[&str]) -> (Vec<String>, String) {
+    let mut args = vec![
+        "compile",
+        "samples/gcode/an208_zigzag.ngc",
+        "--quantize",
+        "1ms",
+    ];
+    args.extend_from_slice(extra);
+    let o = pvtc(&args, None);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8(o.stdout).unwrap();
+    let times = text
+        .lines()
+        .filter_map(|l| l.strip_prefix("TA"))
+        .map(|l| l.split(' ').next().unwrap().to_string())
+        .collect();
+    let header = text
+        .lines()
+        .find(|l| l.contains("quantized"))
+        .unwrap_or_default()
+        .to_string();
+    (times, header)
+}
+
+#[test]
+fn quantized_times_round_up_or_to_nearest_as_asked_and_say_which() {
+    // Planned: 642.1749, 819.3295 and 1761.0297 ms.
+    let (up, header) = quantized(&[]);
+    assert_eq!(up, ["643.0000", "820.0000", "1762.0000"]);
+    assert!(header.contains("rounded up"), "{header}");
+    let (same, _) = quantized(&["--quantize-rounding", "up"]);
+    assert_eq!(same, up);
+    let (nearest, header) = quantized(&["--quantize-rounding", "nearest"]);
+    assert_eq!(nearest, ["642.0000", "819.0000", "1761.0000"]);
+    assert!(header.contains("rounded to nearest"), "{header}");
+    let o = pvtc(
+        &[
+            "compile",
+            "samples/gcode/an208_zigzag.ngc",
+            "--quantize-rounding",
+            "down",
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    // JSON carries each time as the f64 nearest to its decimal value.
+    let o = pvtc(
+        &[
+            "compile",
+            "samples/gcode/an208_zigzag.ngc",
+            "--quantize",
+            "1ms",
+            "--format",
+            "json",
+        ],
+        None,
+    );
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let t: Vec<f64> = v["contours"][0]["segments"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["t"].as_f64().unwrap())
+        .collect();
+    assert_eq!(t, [0.643, 0.82, 1.762]);
+}
+
+/// The pieces of a PMAC program of one axis: (time s, end position, end velocity).
+fn pmac_pieces(text: &str) -> Vec<(f64, f64, f64)> {
+    text.lines()
+        .filter_map(|l| l.strip_prefix("TA"))
+        .map(|l| {
+            let (ms, word) = l.split_once(" X").unwrap();
+            let (p, v) = word.split_once(':').unwrap();
+            (
+                ms.parse::<f64>().unwrap() / 1000.0,
+                p.parse().unwrap(),
+                v.parse().unwrap(),
+            )
+        })
+        .collect()
+}
+
+/// Position at time `t` of the cubics through `pieces` from rest at 0.
+fn position_at(pieces: &[(f64, f64, f64)], t: f64) -> f64 {
+    let (mut begin, mut p0, mut v0) = (0.0, 0.0, 0.0);
+    for (i, &(d, p1, v1)) in pieces.iter().enumerate() {
+        if t <= begin + d || i + 1 == pieces.len() {
+            let s = pvt_core::HermiteSegment::new(p0, v0, p1, v1, d);
+            return s.at(t - begin).position;
+        }
+        (begin, p0, v0) = (begin + d, p1, v1);
+    }
+    0.0
+}
+
+#[test]
+fn pmac_pieces_longer_than_4095_ms_are_split_without_changing_the_motion() {
+    let program = "G1 X100 F10\n";
+    let json = pvtc(&["compile", "-", "--format", "json"], Some(program));
+    assert!(json.status.success(), "{}", stderr(&json));
+    let v: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
+    let seg = &v["contours"][0]["segments"][0];
+    let whole = [(
+        seg["t"].as_f64().unwrap(),
+        seg["p"][0].as_f64().unwrap(),
+        seg["v"][0].as_f64().unwrap(),
+    )];
+    assert_eq!(whole[0].0, 900.0, "one piece of 900 s");
+    // In memory (standard input) and streamed (a file into -o): the same pieces.
+    let dir = tempfile::tempdir().unwrap();
+    let (ngc, pmac) = (dir.path().join("long.ngc"), dir.path().join("long.pmac"));
+    std::fs::write(&ngc, program).unwrap();
+    let o = pvtc(
+        &[
+            "compile",
+            ngc.to_str().unwrap(),
+            "-o",
+            pmac.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let streamed = std::fs::read_to_string(&pmac).unwrap();
+    let o = pvtc(&["compile", "-"], Some(program));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let in_memory = String::from_utf8(o.stdout).unwrap();
+    assert_eq!(
+        streamed.lines().skip(1).collect::<Vec<_>>(),
+        in_memory.lines().skip(1).collect::<Vec<_>>()
+    );
+    for text in [&streamed, &in_memory] {
+        let tas: Vec<&str> = text
+            .lines()
+            .filter_map(|l| l.strip_prefix("TA"))
+            .map(|l| l.split(' ').next().unwrap())
+            .collect();
+        // 900,000 ms in whole ms: 200 pieces of 4091 ms, 20 of 4090.
+        assert_eq!(tas.len(), 220, "{text}");
+        assert_eq!(tas.iter().filter(|&&ms| ms == "4091.0000").count(), 200);
+        assert_eq!(tas.iter().filter(|&&ms| ms == "4090.0000").count(), 20);
+        assert!(!text.contains("not whole ms"), "{text}");
+        let pieces = pmac_pieces(text);
+        for s in 0..=90_000 {
+            let t = 900.0 * f64::from(s) / 90_000.0;
+            let (a, b) = (position_at(&whole, t), position_at(&pieces, t));
+            // PMAC text carries 6 decimals of position and velocity, 4 of ms.
+            assert!((a - b).abs() < 1e-5, "t={t}: {a} vs {b}");
+        }
+    }
+    // Quantized, every piece stays on the 1 ms grid.
+    let o = pvtc(&["compile", "-", "--quantize", "1ms"], Some(program));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8(o.stdout).unwrap();
+    let pieces = pmac_pieces(&text);
+    assert_eq!(pieces.len(), 220);
+    for (t, _, _) in &pieces {
+        let ms = t * 1000.0;
+        assert!(ms <= 4095.0 && (ms - ms.round()).abs() < 1e-9, "{ms}");
     }
 }
 
@@ -413,6 +605,28 @@ fn check_reports_seed_001_step_acceleration_as_json() {
     );
     assert!((v["total_time"].as_f64().unwrap() - 1.75).abs() < 1e-9);
     assert!(v["max_path_error"].as_f64().is_some());
+}
+
+#[test]
+fn check_names_a_dxf_line_for_every_peak_or_says_it_is_unknown() {
+    // Rapids and entities inside blocks carry the line of an entity record.
+    let o = pvtc(
+        &["check", "samples/dxf/cad_part.dxf", "--feed", "1200"],
+        None,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(!text.contains("line 0"), "{text}");
+    assert!(!text.contains("unknown line"), "{text}");
+    // A binary drawing has no lines to give.
+    let o = pvtc(
+        &["check", "samples/dxf/cad_part_binary.dxf", "--feed", "1200"],
+        None,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(!text.contains("line 0"), "{text}");
+    assert!(text.contains("unknown line"), "{text}");
 }
 
 #[test]

@@ -31,6 +31,16 @@ static double pvtc_c1_time[] = {
 
 #define PVTC_CONTOUR_COUNT 1
 
+/* A program may use the table below or the arrays above: the table is marked as
+ * possibly unused. */
+#ifndef PVTC_MAYBE_UNUSED
+#if defined(__GNUC__)
+#define PVTC_MAYBE_UNUSED __attribute__((unused))
+#else
+#define PVTC_MAYBE_UNUSED
+#endif
+#endif
+
 /* Every contour in execution order. */
 typedef struct {
     const char *kind;
@@ -41,6 +51,6 @@ typedef struct {
     double *time;
 } pvtc_contour;
 
-static const pvtc_contour pvtc_contours[PVTC_CONTOUR_COUNT] = {
+static const pvtc_contour pvtc_contours[PVTC_CONTOUR_COUNT] PVTC_MAYBE_UNUSED = {
     {"feed", PVTC_C1_POINTS, pvtc_c1_start, pvtc_c1_position, pvtc_c1_velocity, pvtc_c1_time},
 };

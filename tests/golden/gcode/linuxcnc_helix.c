@@ -256,6 +256,16 @@ static double pvtc_c4_time[] = {
 
 #define PVTC_CONTOUR_COUNT 4
 
+/* A program may use the table below or the arrays above: the table is marked as
+ * possibly unused. */
+#ifndef PVTC_MAYBE_UNUSED
+#if defined(__GNUC__)
+#define PVTC_MAYBE_UNUSED __attribute__((unused))
+#else
+#define PVTC_MAYBE_UNUSED
+#endif
+#endif
+
 /* Every contour in execution order. */
 typedef struct {
     const char *kind;
@@ -266,7 +276,7 @@ typedef struct {
     double *time;
 } pvtc_contour;
 
-static const pvtc_contour pvtc_contours[PVTC_CONTOUR_COUNT] = {
+static const pvtc_contour pvtc_contours[PVTC_CONTOUR_COUNT] PVTC_MAYBE_UNUSED = {
     {"rapid", PVTC_C1_POINTS, pvtc_c1_start, pvtc_c1_position, pvtc_c1_velocity, pvtc_c1_time},
     {"rapid", PVTC_C2_POINTS, pvtc_c2_start, pvtc_c2_position, pvtc_c2_velocity, pvtc_c2_time},
     {"feed", PVTC_C3_POINTS, pvtc_c3_start, pvtc_c3_position, pvtc_c3_velocity, pvtc_c3_time},

@@ -7,7 +7,7 @@
 use super::const_accel::const_accel_velocities;
 use super::lspb::plan_lspb;
 use super::pt::plan_pt;
-use super::quantize::{mid_speed_change, quantize_time, retime};
+use super::quantize::{mid_speed_change, quantize_time, retime, Quantum};
 use super::spline::spline_velocities;
 use super::timed::{contour_from_velocities, runs_from_polyline, TimedPoints};
 use super::{chord::chord_velocities, plan_contour, PlanError, PlanOptions, Planner, Timing};
@@ -191,10 +191,17 @@ fn plan_run(
             Ok(quantize_whole(planned, options, report))
         }
         Planner::Lspb => {
+            // LSPB quantizes its own piece times: stretching pieces one by one (retime)
+            // would break the constant-acceleration blends.
             let accel = options.accel.ok_or(PlanError::MissingAccel)?;
-            let (planned, raised) = plan_lspb(run, accel, motion);
-            report.lengthened_segments += raised;
-            Ok(quantize_whole(planned, options, report))
+            let quantum = options.quantize.map(|seconds| Quantum {
+                seconds,
+                rounding: options.quantize_rounding,
+            });
+            let plan = plan_lspb(run, accel, quantum, motion);
+            report.lengthened_segments += plan.raised;
+            report.quantize_speed_change = report.quantize_speed_change.max(plan.speed_change);
+            Ok(plan.contour)
         }
         Planner::Chord | Planner::ConstAccel | Planner::Spline if run.velocities.is_some() => {
             let given = run.velocities.as_deref().unwrap_or_default();
@@ -213,7 +220,7 @@ fn plan_run(
             regridded
                 .durations
                 .iter_mut()
-                .for_each(|t| *t = quantize_time(*t, q));
+                .for_each(|t| *t = quantize_time(*t, q, options.quantize_rounding));
             let quantized = plan_with_times(&regridded, planner, motion);
             note_change(report, &planned, &quantized, interpolation(options));
             Ok(quantized)
@@ -292,7 +299,7 @@ fn quantize_whole(
     let Some(q) = options.quantize else {
         return planned;
     };
-    let quantized = retime(&planned, q);
+    let quantized = retime(&planned, q, options.quantize_rounding);
     note_change(report, &planned, &quantized, Interpolation::Pvt);
     quantized
 }

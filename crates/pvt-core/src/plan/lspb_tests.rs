@@ -8,6 +8,12 @@ fn run(dim: usize, points: &[f64], times: &[f64]) -> TimedPoints {
     r
 }
 
+/// The unquantized plan and its count of lengthened segments.
+fn lspb(run: &TimedPoints, accel: f64) -> (PvtContour, usize) {
+    let plan = plan_lspb(run, accel, None, Motion::Feed);
+    (plan.contour, plan.raised)
+}
+
 /// Every piece is a constant-acceleration piece within the limit on every axis.
 fn assert_zero_jerk_within(c: &PvtContour, accel: f64) {
     for i in 0..c.len() {
@@ -30,7 +36,7 @@ fn assert_zero_jerk_within(c: &PvtContour, accel: f64) {
 
 #[test]
 fn single_segment_is_a_trapezoid() {
-    let (c, raised) = plan_lspb(&run(1, &[0.0, 10.0], &[2.0]), 20.0, Motion::Feed);
+    let (c, raised) = lspb(&run(1, &[0.0, 10.0], &[2.0]), 20.0);
     assert_eq!((c.len(), raised), (3, 0));
     let tb = (2.0 - 2f64.sqrt()) / 2.0;
     assert!((c.durations[0] - tb).abs() < 1e-12 && (c.durations[2] - tb).abs() < 1e-12);
@@ -44,7 +50,7 @@ fn single_segment_is_a_trapezoid() {
 fn corner_deviation_is_dv_tb_over_8() {
     let pts = [0.0, 0.0, 10.0, 0.0, 10.0, 10.0, 10.0, 20.0];
     let accel = 50.0;
-    let (c, raised) = plan_lspb(&run(2, &pts, &[1.0, 1.0, 1.0]), accel, Motion::Feed);
+    let (c, raised) = lspb(&run(2, &pts, &[1.0, 1.0, 1.0]), accel);
     assert_eq!(raised, 0);
     assert_zero_jerk_within(&c, accel);
     // Pieces: start blend, cruise 0, corner blend, cruise 1, blend, cruise 2, end blend.
@@ -70,7 +76,7 @@ fn corner_deviation_is_dv_tb_over_8() {
 #[test]
 fn cruises_follow_the_chords_in_every_axis() {
     let pts = [0.0, 0.0, 0.0, 4.0, 2.0, 1.0, 9.0, -3.0, 2.0, 12.0, 0.0, 0.0];
-    let (c, _) = plan_lspb(&run(3, &pts, &[1.0, 1.5, 1.0]), 40.0, Motion::Feed);
+    let (c, _) = lspb(&run(3, &pts, &[1.0, 1.5, 1.0]), 40.0);
     // The middle segment's cruise velocity is its chord over its time.
     let cruise = c.segment(3).velocity;
     for k in 0..3 {
@@ -84,7 +90,7 @@ fn overlapping_blends_lengthen_the_segment() {
     // Reversals at 100 units/s with only 100 units/s²: far too short for the blends.
     let pts = [0.0, 10.0, 0.0, 10.0];
     let accel = 100.0;
-    let (c, raised) = plan_lspb(&run(1, &pts, &[0.1, 0.1, 0.1]), accel, Motion::Feed);
+    let (c, raised) = lspb(&run(1, &pts, &[0.1, 0.1, 0.1]), accel);
     assert!(raised > 0);
     assert!(c.total_time() > 0.3);
     assert!(c.durations.iter().all(|&t| t > 0.0));
@@ -94,17 +100,13 @@ fn overlapping_blends_lengthen_the_segment() {
         (10.0, 0.0)
     );
     // Lengthened segments keep every feasible plan feasible: planning again raises nothing.
-    let single = plan_lspb(&run(1, &[0.0, 10.0], &[0.1]), accel, Motion::Feed).0;
+    let single = lspb(&run(1, &[0.0, 10.0], &[0.1]), accel).0;
     assert!((single.total_time() - 2.0 * (10.0f64 / accel).sqrt()).abs() < 1e-9);
 }
 
 #[test]
 fn dwell_is_a_stop() {
-    let (c, raised) = plan_lspb(
-        &run(1, &[0.0, 0.0, 5.0, 5.0], &[0.5, 1.0, 0.5]),
-        100.0,
-        Motion::Feed,
-    );
+    let (c, raised) = lspb(&run(1, &[0.0, 0.0, 5.0, 5.0], &[0.5, 1.0, 0.5]), 100.0);
     assert_eq!(raised, 0);
     assert!((c.total_time() - 2.0).abs() < 1e-12);
     assert_zero_jerk_within(&c, 100.0);

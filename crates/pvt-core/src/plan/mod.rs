@@ -23,12 +23,18 @@ pub use chord::chord_velocities;
 pub use const_accel::const_accel_velocities;
 pub use contour::{plan_contour, segment_time, ContourStream, REVERSAL_TOLERANCE};
 pub use driver::{check_options, plan_timed, plan_toolpath_report, PlanReport, Planned};
-pub use lspb::{blend_corner_deviation, plan_lspb};
+pub use lspb::{blend_corner_deviation, plan_lspb, LspbPlan};
 pub use options::{Planner, Timing, UnknownPlanner};
 pub use path::{plan_path, PathOptions, PathReport, TANGENT_ANGLE};
 pub use pt::plan_pt;
+pub use quantize::Rounding;
 pub use spline::spline_velocities;
 pub use timed::TimedPoints;
+
+/// The shortest piece the LSPB planner writes, seconds: 0.1 µs, the finest time an output
+/// prints (PMAC: 4 decimals of milliseconds). Shorter pieces print as `TA0.0000`, and the
+/// rounding of their end positions swamps their acceleration.
+pub const MIN_PIECE_SECONDS: f64 = 1e-7;
 
 use crate::discretize::ChordTolerance;
 use crate::program::PvtProgram;
@@ -157,8 +163,10 @@ pub struct PlanOptions {
     pub timing: Timing,
     /// Acceleration limit, units/s², per axis (required by lspb).
     pub accel: Option<f64>,
-    /// Round every piece time up to a whole multiple of this many seconds (e.g. 0.001).
+    /// Make every piece time a whole multiple of this many seconds (e.g. 0.001).
     pub quantize: Option<f64>,
+    /// Which way piece times go onto the `quantize` grid.
+    pub quantize_rounding: Rounding,
 }
 
 impl Default for PlanOptions {
@@ -171,6 +179,7 @@ impl Default for PlanOptions {
             timing: Timing::default(),
             accel: None,
             quantize: None,
+            quantize_rounding: Rounding::Up,
         }
     }
 }

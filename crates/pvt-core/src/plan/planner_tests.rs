@@ -226,9 +226,15 @@ fn quantization_puts_every_piece_on_the_grid() {
                 "{planner}: {t}"
             );
         }
-        assert_eq!(q.ends, p.ends, "{planner}: positions must not move");
+        if planner == Planner::Lspb {
+            // LSPB plans again on the grid: its blends start and end elsewhere along the
+            // same lines, the run's end stays.
+            assert_eq!(q.ends[q.ends.len() - 2..], p.ends[p.ends.len() - 2..]);
+        } else {
+            assert_eq!(q.ends, p.ends, "{planner}: positions must not move");
+        }
         assert!(planned.report.quantize_speed_change > 0.0, "{planner}");
-        // LSPB's blends are short pieces, so a whole quantum stretches them most.
+        // LSPB's change is of its line speeds, which its short blends move most.
         let bound = if planner == Planner::Lspb { 0.5 } else { 0.2 };
         assert!(
             planned.report.quantize_speed_change < bound,

@@ -1,16 +1,22 @@
 //! Time quantization for controllers that take whole multiples of a time unit.
 //!
 //! Seed 003: PMAC takes PVT piece times in whole milliseconds and silently rounds any other
-//! value. Owns the rounding of piece times up to a multiple of a quantum `q` and the
-//! velocities that go with the new times, and measures what that did to the speed. It
-//! must not move a point: positions stay exact.
+//! value (to the nearest). Owns the rounding of piece times to a multiple of a quantum `q`
+//! and the velocities that go with the new times, and measures what that did to the
+//! speed. It must not move a point: positions stay exact.
 //!
 //! Method:
-//! - every piece time `T` becomes `T' = q·⌈T/q⌉` (up, so speeds stay at or below plan; a
-//!   time already on the grid within 1e-9 of a quantum stays; never less than one `q`);
+//! - every piece time `T` becomes `k` quanta, `k = ⌈T/q⌉` ([`Rounding::Up`], the default:
+//!   speeds stay at or below plan; a time on the grid within 1e-9 of a quantum stays) or
+//!   `k` the nearest whole number ([`Rounding::Nearest`], as PMAC rounds: speeds may rise
+//!   by up to `q/2` over the piece time); never less than one quantum. The time is stored
+//!   as the f64 nearest to `k/n` when `q = 1/n` s for a whole `n` (1 ms: `k/1000`, so
+//!   820 quanta are 0.82, not 0.8200000000000001), else as `k·q`;
 //! - PT and the velocity methods (chord, const-accel, spline) are planned again from the
 //!   new times with the same method, so the result is what that method gives for them;
-//! - contour, LSPB and given velocities are re-timed with [`retime`]: each piece is
+//! - LSPB quantizes its own blend and cruise times (see its module): stretching its
+//!   constant-acceleration pieces one by one would take them above the limit;
+//! - contour, path and given velocities are re-timed with [`retime`]: each piece is
 //!   stretched by `k = T'/T ≥ 1` and the velocity at each point is divided by the larger
 //!   stretch of the two pieces meeting there. A run of equal stretches is an exact time
 //!   scaling (the same path, speed divided by `k`); velocities stay continuous because each
@@ -18,23 +24,103 @@
 //!
 //! The report is the largest relative change of the vector speed at any piece's mid-time.
 
+use std::fmt;
+use std::str::FromStr;
+
 use crate::program::{Interpolation, PvtContour};
 use crate::vector::norm;
 
-/// The piece time `t` rounded up to a whole, positive multiple of `quantum`.
-pub fn quantize_time(t: f64, quantum: f64) -> f64 {
-    let k = (t / quantum - 1e-9).ceil().max(1.0);
-    k * quantum
+/// Which way a piece time goes onto the grid.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Hash)]
+pub enum Rounding {
+    /// Up to the next whole quantum: never faster than planned.
+    #[default]
+    Up,
+    /// To the nearest whole quantum (at least one), as PMAC rounds a `TA` time.
+    Nearest,
+}
+
+impl Rounding {
+    /// The name on the command line: `up` or `nearest`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Rounding::Up => "up",
+            Rounding::Nearest => "nearest",
+        }
+    }
+}
+
+impl fmt::Display for Rounding {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Rounding {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Rounding, String> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "up" => Ok(Rounding::Up),
+            "nearest" => Ok(Rounding::Nearest),
+            _ => Err(format!("unknown rounding `{s}`; expected up or nearest")),
+        }
+    }
+}
+
+/// `k` whole quanta of `quantum` seconds: the f64 nearest to `k/n` when `quantum` is `1/n`
+/// for a whole `n` (so 820 ms is 0.82 exactly as parsed), else `k·quantum`.
+pub fn quanta_time(k: f64, quantum: f64) -> f64 {
+    let per_second = 1.0 / quantum;
+    let whole = per_second.round();
+    if whole >= 1.0 && (per_second - whole).abs() <= 1e-9 * whole {
+        k / whole
+    } else {
+        k * quantum
+    }
+}
+
+/// A time grid: the quantum and which way times go onto it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Quantum {
+    /// Seconds per quantum.
+    pub seconds: f64,
+    /// Which way a time goes onto the grid.
+    pub rounding: Rounding,
+}
+
+impl Quantum {
+    /// `t` on the grid, rounded as asked (at least one quantum).
+    pub fn time(self, t: f64) -> f64 {
+        quantize_time(t, self.seconds, self.rounding)
+    }
+
+    /// Whole quanta nearest to `t` as the grid rounds (up or nearest), possibly none.
+    pub fn count(self, t: f64) -> f64 {
+        match self.rounding {
+            Rounding::Up => (t / self.seconds - 1e-9).ceil().max(0.0),
+            Rounding::Nearest => (t / self.seconds).round().max(0.0),
+        }
+    }
+}
+
+/// The piece time `t` as a whole, positive multiple of `quantum`, rounded as asked.
+pub fn quantize_time(t: f64, quantum: f64, rounding: Rounding) -> f64 {
+    let k = match rounding {
+        Rounding::Up => (t / quantum - 1e-9).ceil(),
+        Rounding::Nearest => (t / quantum).round(),
+    };
+    quanta_time(k.max(1.0), quantum)
 }
 
 /// Re-times a PVT contour onto the quantum grid as the module documentation describes.
-pub fn retime(contour: &PvtContour, quantum: f64) -> PvtContour {
+pub fn retime(contour: &PvtContour, quantum: f64, rounding: Rounding) -> PvtContour {
     let n = contour.len();
     let dim = contour.dim;
     let stretch: Vec<f64> = contour
         .durations
         .iter()
-        .map(|&t| quantize_time(t, quantum) / t)
+        .map(|&t| quantize_time(t, quantum, rounding) / t)
         .collect();
     let mut out = PvtContour::new(contour.motion, contour.start.clone());
     let mut v = vec![0.0; dim];
@@ -48,7 +134,12 @@ pub fn retime(contour: &PvtContour, quantum: f64) -> PvtContour {
         for (o, x) in v.iter_mut().zip(seg.velocity) {
             *o = x / k;
         }
-        out.push(seg.end, &v, quantize_time(seg.duration, quantum), seg.line);
+        out.push(
+            seg.end,
+            &v,
+            quantize_time(seg.duration, quantum, rounding),
+            seg.line,
+        );
     }
     out
 }
@@ -96,9 +187,24 @@ mod tests {
 
     #[test]
     fn times_round_up_to_the_grid() {
-        assert_eq!(quantize_time(0.0101, 0.001), 0.011);
-        assert!((quantize_time(0.003, 0.001) - 0.003).abs() < 1e-15);
-        assert_eq!(quantize_time(1e-6, 0.001), 0.001);
+        let up = |t| quantize_time(t, 0.001, Rounding::Up);
+        assert_eq!(up(0.0101), 0.011);
+        assert_eq!(up(0.003), 0.003);
+        assert_eq!(up(1e-6), 0.001);
+        // 820 quanta of 1 ms are 0.82, the f64 the decimal parses to.
+        assert_eq!(up(0.8193295), 0.82);
+        assert_eq!(up(0.8200000000000001), 0.82);
+        assert_eq!(quantize_time(0.07, 0.03, Rounding::Up), 3.0 * 0.03);
+    }
+
+    #[test]
+    fn times_round_to_the_nearest_quantum_but_never_to_none() {
+        let nearest = |t| quantize_time(t, 0.001, Rounding::Nearest);
+        assert_eq!(nearest(0.8193295), 0.819);
+        assert_eq!(nearest(0.8196), 0.82);
+        assert_eq!(nearest(1e-6), 0.001);
+        assert_eq!("nearest".parse::<Rounding>(), Ok(Rounding::Nearest));
+        assert!("down".parse::<Rounding>().is_err());
     }
 
     #[test]
@@ -106,7 +212,7 @@ mod tests {
         let mut c = PvtContour::new(Motion::Feed, vec![0.0]);
         c.push(&[1.0], &[2.0], 0.75, 1);
         c.push(&[2.0], &[0.0], 0.75, 2);
-        let r = retime(&c, 1.0);
+        let r = retime(&c, 1.0, Rounding::Up);
         assert_eq!(r.durations, vec![1.0, 1.0]);
         assert_eq!(r.velocities, vec![1.5, 0.0]);
         let change = mid_speed_change(&c, &r, Interpolation::Pvt);
