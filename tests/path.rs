@@ -12,7 +12,8 @@
 use proptest::prelude::*;
 use pvt_core::{
     plan_path, Arc, ArcDirection, Axis, AxisLimits, Contour, Element, ElementKind, Interpolation,
-    Motion, PathOptions, Plane, Position, PvtContour, PvtProgram, Span, Toolpath, Units,
+    Motion, PathOptions, PathStream, Plane, Position, PvtContour, PvtProgram, Span, Toolpath,
+    Units,
 };
 use pvtc_tests::reference::{self, Deviation};
 use std::collections::BTreeMap;
@@ -318,4 +319,71 @@ proptest! {
             }
         }
     }
+}
+
+/// Plans `c` through a [`PathStream`] holding at most `window` elements.
+fn plan_windowed(
+    c: &Contour,
+    tol: f64,
+    lim: &BTreeMap<Axis, AxisLimits>,
+    window: usize,
+) -> PvtContour {
+    let options = PathOptions {
+        tolerance: tol,
+        limits: lim.clone(),
+    };
+    let start = XYZ.iter().map(|a| c.elements[0].start[a.index()]).collect();
+    let mut out = PvtContour::new(c.motion, start);
+    let mut emit = |s: &pvt_core::SegmentRef<'_>| out.push(s.end, s.velocity, s.duration, s.line);
+    let mut stream = PathStream::with_window(&XYZ, &options, window);
+    for e in &c.elements {
+        stream.push(e, &mut emit).unwrap();
+    }
+    stream.finish(&mut emit).unwrap();
+    out
+}
+
+/// A 720-gon of radius 200 (1.7 mm sides) with a helical arc and a plunge in the middle.
+fn long_contour() -> Contour {
+    let mut elements = Vec::new();
+    let mut at = pos(200.0, 0.0, 0.0);
+    for i in 1..=720 {
+        let a = (i as f64).to_radians() * 0.5;
+        let next = pos(200.0 * a.cos(), 200.0 * a.sin(), 0.0);
+        elements.push(line(at, next, 50.0));
+        at = next;
+        if i == 360 {
+            let end = pos(at[0], at[1], -2.0);
+            elements.push(line(at, end, 20.0));
+            at = end;
+        }
+    }
+    contour(elements)
+}
+
+#[test]
+fn a_short_window_gives_the_same_motion_as_the_whole_contour() {
+    let c = long_contour();
+    let lim = limits(100.0, 1000.0);
+    let whole = plan_windowed(&c, 0.001, &lim, usize::MAX);
+    let windowed = plan_windowed(&c, 0.001, &lim, 16);
+    for planned in [&whole, &windowed] {
+        assert_follows(&c, planned, 0.001);
+        assert_within(planned, 100.0, 1000.0);
+    }
+    let ratio = windowed.total_time() / whole.total_time();
+    assert!((ratio - 1.0).abs() < 1e-6, "windowed / whole time {ratio}");
+}
+
+#[test]
+fn a_window_shorter_than_the_stopping_distance_is_slower_but_within_limits() {
+    let c = long_contour();
+    let lim = limits(100.0, 20.0);
+    let whole = plan_windowed(&c, 0.001, &lim, usize::MAX);
+    let windowed = plan_windowed(&c, 0.001, &lim, 4);
+    for planned in [&whole, &windowed] {
+        assert_follows(&c, planned, 0.001);
+        assert_within(planned, 100.0, 20.0);
+    }
+    assert!(windowed.total_time() >= whole.total_time() * (1.0 - 1e-9));
 }

@@ -25,7 +25,7 @@ pub use contour::{plan_contour, segment_time, ContourStream, REVERSAL_TOLERANCE}
 pub use driver::{check_options, plan_timed, plan_toolpath_report, PlanReport, Planned};
 pub use lspb::{blend_corner_deviation, plan_lspb, LspbPlan};
 pub use options::{Planner, Timing, UnknownPlanner};
-pub use path::{plan_path, PathOptions, PathReport, TANGENT_ANGLE};
+pub use path::{plan_path, PathOptions, PathReport, PathStream, TANGENT_ANGLE, WINDOW_ELEMENTS};
 pub use pt::plan_pt;
 pub use quantize::Rounding;
 pub use spline::spline_velocities;

@@ -8,7 +8,7 @@
 use super::curve::Curve;
 use super::pieces::Piece;
 use super::{AxisBounds, NORMAL_SHARE, TANGENT_ANGLE};
-use crate::program::PvtContour;
+use crate::program::SegmentRef;
 use crate::vector::norm;
 
 /// A point on an element: element index and parameter.
@@ -33,10 +33,22 @@ pub(super) struct Knot {
     cap: f64,
     /// Planned path speed, units/s.
     pub speed: f64,
+    /// The speed is given (a window's start, already emitted): never lowered.
+    fixed: bool,
+}
+
+/// Where a window of the path starts: on its first element at `param`, moving at
+/// `speed` (along the junction's direction when `junction` is given), as the pieces
+/// already emitted left it.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct Start {
+    pub param: f64,
+    pub speed: f64,
+    pub junction: Option<Junction>,
 }
 
 /// Two elements meeting at a knot.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub(super) struct Junction {
     /// Unit velocity direction at the junction: the bisector of the two tangents.
     pub direction: Vec<f64>,
@@ -73,24 +85,31 @@ impl Knot {
             blend: None,
             cap,
             speed: 0.0,
+            fixed: false,
         }
     }
 }
 
 impl Knots {
     /// Knots at every element end, along arcs by the error bound, and beside junctions.
-    pub fn new(curves: &[Curve], bounds: &AxisBounds, tolerance: f64) -> Knots {
+    pub fn new(curves: &[Curve], bounds: &AxisBounds, tolerance: f64, start: &Start) -> Knots {
+        let mut first = Knot::at(
+            Place {
+                element: 0,
+                param: start.param,
+            },
+            start.speed,
+        );
+        first.fixed = true;
         let mut this = Knots {
-            knots: vec![Knot::at(
-                Place {
-                    element: 0,
-                    param: 0.0,
-                },
-                0.0,
-            )],
+            knots: vec![first],
             junctions: Vec::new(),
             accelerates: bounds.accelerates(),
         };
+        if let Some(j) = &start.junction {
+            this.knots[0].junction = Some(0);
+            this.junctions.push(j.clone());
+        }
         let junctions: Vec<Option<(Junction, [f64; 2])>> = (0..curves.len() - 1)
             .map(|e| junction(&curves[e], &curves[e + 1], bounds, tolerance))
             .collect();
@@ -105,7 +124,11 @@ impl Knots {
                 this.knots
                     .push(Knot::at(place, before.map_or(0.0, |j| j.0.cap)));
             }
-            for param in inner_params(curve, tolerance) {
+            let from = if e == 0 { start.param } else { 0.0 };
+            for param in inner_params(curve, tolerance)
+                .into_iter()
+                .filter(|p| *p > from)
+            {
                 this.knots
                     .push(Knot::at(Place { element: e, param }, f64::INFINITY));
             }
@@ -188,11 +211,13 @@ impl Knots {
             if k < n - 1 {
                 cap = cap.min(piece_cap[k]);
             }
-            knot.speed = cap;
+            knot.speed = if knot.fixed { knot.cap } else { cap };
         }
         for k in (0..n - 1).rev() {
             let reach = reachable(self.knots[k + 1].speed, accel[k], length[k]);
-            self.knots[k].speed = self.knots[k].speed.min(reach);
+            if !self.knots[k].fixed {
+                self.knots[k].speed = self.knots[k].speed.min(reach);
+            }
         }
         for k in 0..n - 1 {
             let reach = reachable(self.knots[k].speed, accel[k], length[k]);
@@ -224,9 +249,6 @@ impl Knots {
                 continue;
             }
             let peak = cap.min((a * d + 0.5 * (va * va + vb * vb)).sqrt());
-            if peak <= va.max(vb) * (1.0 + 1e-9) {
-                continue;
-            }
             let rise = (peak * peak - va * va) / (2.0 * a);
             let fall = (peak * peak - vb * vb) / (2.0 * a);
             let element = self.knots[k].after.element;
@@ -292,8 +314,9 @@ impl Knots {
             }
             let factor = piece.limit_factor(bounds);
             if factor < 1.0 {
-                for knot in &mut self.knots[k..k + 2] {
-                    knot.cap = knot.cap.min(knot.speed * factor * 0.98);
+                for knot in self.knots[k..k + 2].iter_mut().filter(|k| !k.fixed) {
+                    let step = if factor > 0.999 { 1.0 - 1e-4 } else { 0.98 };
+                    knot.cap = knot.cap.min(knot.speed * factor * step);
                 }
                 slowed = true;
             }
@@ -301,15 +324,85 @@ impl Knots {
         slowed
     }
 
-    /// Appends every piece to `out`.
-    pub fn emit(&self, curves: &[Curve], pieces: &[Piece], out: &mut PvtContour) {
-        for (k, piece) in pieces.iter().enumerate() {
-            out.push(
-                &piece.end,
-                &piece.end_velocity,
-                piece.duration,
-                curves[self.knots[k].after.element].line,
-            );
+    /// Distance from every knot to the start of the window's last element (0 on it):
+    /// what is known to lie ahead of each knot, since the last element's end, and with
+    /// it how the last element is left, depends on elements not yet read.
+    fn known_ahead(&self, curves: &[Curve]) -> Vec<f64> {
+        let n = self.knots.len();
+        let last = &curves[curves.len() - 1];
+        let unknown = last.length(0.0, last.span);
+        let mut ahead = vec![0.0; n];
+        for k in (0..n - 1).rev() {
+            ahead[k] = ahead[k + 1] + self.piece_length(curves, k);
+        }
+        ahead.iter_mut().for_each(|d| *d = (*d - unknown).max(0.0));
+        ahead
+    }
+
+    /// Caps every knot (but the fixed start) at the speed from which the least
+    /// tangential acceleration `least` stops before the last element: whatever the
+    /// elements after the window ask, a window cut at any knot can still meet it.
+    pub fn cap_for_window(&mut self, curves: &[Curve], least: f64) {
+        let ahead = self.known_ahead(curves);
+        for (knot, d) in self.knots.iter_mut().zip(ahead) {
+            if !knot.fixed {
+                knot.cap = knot.cap.min((2.0 * least * d).sqrt());
+            }
+        }
+    }
+
+    /// The last knot at which the window may be cut with at least `keep` of known path
+    /// after it (see [`Knots::known_ahead`]; never a knot that starts a corner blend, never
+    /// one on the last element), and never earlier than half the knots; `None` when there
+    /// is none.
+    pub fn cut(&self, curves: &[Curve], keep: f64) -> Option<usize> {
+        let n = self.knots.len();
+        let last = curves.len() - 1;
+        let ahead = self.known_ahead(curves);
+        (1..n - 1).rev().find(|&k| {
+            let knot = &self.knots[k];
+            let cuttable = knot.blend.is_none() && knot.after.element < last;
+            cuttable && (ahead[k] >= keep || k <= n / 2)
+        })
+    }
+
+    /// Path length of piece `k`.
+    fn piece_length(&self, curves: &[Curve], k: usize) -> f64 {
+        match self.knots[k].blend {
+            Some(j) => 2.0 * self.junctions[j].blend.unwrap_or(0.0),
+            None => {
+                let (curve, from, to) = self.piece_span(curves, k);
+                curve.length(from, to)
+            }
+        }
+    }
+
+    /// Where a window continuing after knot `k` starts, and the element it starts on.
+    pub fn start_after(&self, k: usize) -> (usize, Start) {
+        let knot = &self.knots[k];
+        let start = Start {
+            param: knot.after.param,
+            speed: knot.speed,
+            junction: knot.junction.map(|j| self.junctions[j].clone()),
+        };
+        (knot.after.element, start)
+    }
+
+    /// Hands pieces `0..count` to `emit`.
+    pub fn emit(
+        &self,
+        curves: &[Curve],
+        pieces: &[Piece],
+        count: usize,
+        emit: &mut dyn FnMut(&SegmentRef<'_>),
+    ) {
+        for (k, piece) in pieces.iter().enumerate().take(count) {
+            emit(&SegmentRef {
+                end: &piece.end,
+                velocity: &piece.end_velocity,
+                duration: piece.duration,
+                line: curves[self.knots[k].after.element].line,
+            });
         }
     }
 

@@ -43,12 +43,13 @@ mod pieces;
 use super::PlanError;
 use crate::axis::Axis;
 use crate::check::AxisLimits;
-use crate::program::PvtContour;
+use crate::program::{PvtContour, SegmentRef};
 use crate::toolpath::Contour;
 use std::collections::BTreeMap;
 
+use crate::toolpath::Element;
 use curve::Curve;
-use knots::Knots;
+use knots::{Knots, Start};
 
 /// Largest angle between two elements' tangents that is passed at the feed when no
 /// acceleration limits are given (2°); a sharper corner is an exact stop.
@@ -102,35 +103,159 @@ impl AxisBounds {
     }
 }
 
+/// Most elements the planner holds at once: the window is planned and emitted up to a
+/// cut when it is full (see [`PathStream`]).
+pub const WINDOW_ELEMENTS: usize = 1024;
+
+/// The path planner on a stream of elements, in bounded memory.
+///
+/// Elements are held in a window of at most [`WINDOW_ELEMENTS`]. When it is full, the
+/// window is planned as if the contour stopped at its end, and the pieces up to a cut are
+/// emitted: the last knot with at least the stopping distance (the highest feed braked at
+/// the least tangential acceleration the limits leave) after it, or, when the window is
+/// shorter than that, the knot halfway. A knot's speed never depends on anything beyond
+/// its stopping distance, so the emitted pieces are those the whole contour would have
+/// had; with a window shorter than the stopping distance they are slower, never wrong.
+/// The window then starts at the cut with that knot's speed fixed.
+#[derive(Debug)]
+pub struct PathStream {
+    axes: Vec<Axis>,
+    options: PathOptions,
+    bounds: AxisBounds,
+    curves: Vec<Curve>,
+    window: usize,
+    start: Start,
+    report: PathReport,
+}
+
+impl PathStream {
+    /// A contour on `axes`, starting at rest.
+    pub fn new(axes: &[Axis], options: &PathOptions) -> PathStream {
+        PathStream::with_window(axes, options, WINDOW_ELEMENTS)
+    }
+
+    /// As [`PathStream::new`] with a window of `window` elements (at least 2).
+    pub fn with_window(axes: &[Axis], options: &PathOptions, window: usize) -> PathStream {
+        PathStream {
+            window: window.max(2),
+            axes: axes.to_vec(),
+            bounds: AxisBounds::new(axes, &options.limits),
+            options: options.clone(),
+            curves: Vec::new(),
+            start: Start {
+                param: 0.0,
+                speed: 0.0,
+                junction: None,
+            },
+            report: PathReport::default(),
+        }
+    }
+
+    /// Adds the next element; emits pieces when the window is full.
+    pub fn push(
+        &mut self,
+        element: &Element,
+        emit: &mut dyn FnMut(&SegmentRef<'_>),
+    ) -> Result<(), PlanError> {
+        check_element(element)?;
+        self.curves.extend(Curve::new(element, &self.axes));
+        if self.curves.len() >= self.window {
+            self.plan(false, emit)?;
+        }
+        Ok(())
+    }
+
+    /// Ends the contour at rest: emits every remaining piece and returns the report.
+    pub fn finish(
+        mut self,
+        emit: &mut dyn FnMut(&SegmentRef<'_>),
+    ) -> Result<PathReport, PlanError> {
+        if !self.curves.is_empty() {
+            self.plan(true, emit)?;
+        }
+        Ok(self.report)
+    }
+
+    /// Plans the window and emits up to the cut (all of it at the contour's end).
+    fn plan(&mut self, last: bool, emit: &mut dyn FnMut(&SegmentRef<'_>)) -> Result<(), PlanError> {
+        let (curves, bounds, tolerance) = (&self.curves, &self.bounds, self.options.tolerance);
+        let not_met = PlanError::PathNotMet {
+            line: curves[0].line,
+        };
+        let least = self.least_acceleration();
+        let mut knots = Knots::new(curves, bounds, tolerance, &self.start);
+        if !last {
+            knots.cap_for_window(curves, least);
+        }
+        settle(&mut knots, curves, bounds, tolerance).ok_or(not_met.clone())?;
+        knots.add_trapezoids(curves, bounds);
+        if !last {
+            knots.cap_for_window(curves, least);
+        }
+        let pieces = settle(&mut knots, curves, bounds, tolerance).ok_or(not_met)?;
+        let count = if last {
+            pieces.len()
+        } else {
+            match knots.cut(curves, self.stopping_distance()) {
+                Some(k) => k,
+                None => return Ok(()),
+            }
+        };
+        let worst = pieces[..count].iter().map(|p| p.error).fold(0.0, f64::max);
+        self.report.error_bound = self.report.error_bound.max(worst);
+        knots.emit(curves, &pieces, count, emit);
+        if !last {
+            let (element, start) = knots.start_after(count);
+            self.curves.drain(..element);
+            self.start = start;
+        }
+        Ok(())
+    }
+
+    /// The least tangential acceleration any piece has: an axis' acceleration less the
+    /// share its speed caps leave to the centripetal part (infinite without limits).
+    fn least_acceleration(&self) -> f64 {
+        let least = self
+            .bounds
+            .acceleration
+            .iter()
+            .fold(f64::INFINITY, |a, &b| a.min(b));
+        least * (1.0 - NORMAL_SHARE)
+    }
+
+    /// How far the highest feed of the window needs to come to rest at the least
+    /// tangential acceleration (0 without acceleration limits).
+    fn stopping_distance(&self) -> f64 {
+        let least = self.least_acceleration();
+        let fastest = self.curves.iter().map(|c| c.feed).fold(0.0, f64::max);
+        if least.is_finite() {
+            fastest * fastest / (2.0 * least)
+        } else {
+            0.0
+        }
+    }
+}
+
 /// Plans one contour on `axes` so that its motion follows the elements within
-/// `options.tolerance` and within every axis limit.
+/// `options.tolerance` and within every axis limit: [`PathStream`] fed the whole contour.
 pub fn plan_path(
     contour: &Contour,
     axes: &[Axis],
     options: &PathOptions,
 ) -> Result<(PvtContour, PathReport), PlanError> {
-    let curves = curves(contour, axes)?;
     let first = contour
         .elements
         .first()
         .map(|e| crate::discretize::project(&e.start, axes))
         .unwrap_or_else(|| vec![0.0; axes.len()]);
     let mut out = PvtContour::new(contour.motion, first);
-    if curves.is_empty() {
-        return Ok((out, PathReport::default()));
+    let mut emit = |seg: &SegmentRef<'_>| out.push(seg.end, seg.velocity, seg.duration, seg.line);
+    let mut stream = PathStream::new(axes, options);
+    for element in &contour.elements {
+        stream.push(element, &mut emit)?;
     }
-    let bounds = AxisBounds::new(axes, &options.limits);
-    let mut knots = Knots::new(&curves, &bounds, options.tolerance);
-    let line = curves[0].line;
-    // First without trapezoid knots, so that repairs do not multiply them; then with.
-    settle(&mut knots, &curves, &bounds, options.tolerance)
-        .ok_or(PlanError::PathNotMet { line })?;
-    knots.add_trapezoids(&curves, &bounds);
-    let pieces = settle(&mut knots, &curves, &bounds, options.tolerance)
-        .ok_or(PlanError::PathNotMet { line })?;
-    let error_bound = pieces.iter().map(|p| p.error).fold(0.0, f64::max);
-    knots.emit(&curves, &pieces, &mut out);
-    Ok((out, PathReport { error_bound }))
+    let report = stream.finish(&mut emit)?;
+    Ok((out, report))
 }
 
 /// Plans speeds, splits pieces over the tolerance and slows pieces over a limit until
@@ -155,21 +280,18 @@ fn settle(
     None
 }
 
-fn curves(contour: &Contour, axes: &[Axis]) -> Result<Vec<Curve>, PlanError> {
-    let mut curves = Vec::with_capacity(contour.elements.len());
-    for element in &contour.elements {
-        let line = element.span.line;
-        if !(element.feed.is_finite() && element.feed > 0.0) {
-            return Err(PlanError::BadFeed {
-                line,
-                feed: element.feed,
-            });
-        }
-        let finite = |p: &crate::axis::Position| p.iter().all(|x| x.is_finite());
-        if !finite(&element.start) || !finite(&element.end) {
-            return Err(PlanError::NonFinitePoint { line });
-        }
-        curves.extend(Curve::new(element, axes));
+/// Refuses an element with a feed that is not positive or a coordinate that is not finite.
+fn check_element(element: &Element) -> Result<(), PlanError> {
+    let line = element.span.line;
+    if !(element.feed.is_finite() && element.feed > 0.0) {
+        return Err(PlanError::BadFeed {
+            line,
+            feed: element.feed,
+        });
     }
-    Ok(curves)
+    let finite = |p: &crate::axis::Position| p.iter().all(|x| x.is_finite());
+    if !finite(&element.start) || !finite(&element.end) {
+        return Err(PlanError::NonFinitePoint { line });
+    }
+    Ok(())
 }
