@@ -260,7 +260,6 @@ pub fn plan(
         accel: options.accel,
         quantize: options.quantize,
         quantize_rounding: options.quantize_rounding,
-        ..PlanOptions::default()
     };
     let (planned, toolpath) = match input {
         Input::Toolpath(toolpath) => (plan_toolpath_report(&toolpath, &plan_options), toolpath),
