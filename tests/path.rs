@@ -86,7 +86,7 @@ fn deviation(c: &Contour, planned: &PvtContour) -> Deviation {
         contours: vec![c.clone()],
         ..Toolpath::default()
     };
-    reference::deviation(&program, &toolpath)
+    reference::deviation(&program, &toolpath, 1.0)
 }
 
 fn samples_of(c: &PvtContour) -> Vec<Vec<f64>> {

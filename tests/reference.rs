@@ -269,26 +269,65 @@ pub struct Deviation {
     pub gap: f64,
 }
 
-/// Elements near a piece whose line's elements are `on_line`: those and their
-/// neighbours (a corner or blend reaches into the next element); every element when the
-/// line has none.
-fn near(elements: &[Element], on_line: Option<&Vec<usize>>) -> Vec<usize> {
-    let Some(on_line) = on_line else {
-        return (0..elements.len()).collect();
-    };
-    let mut out: Vec<usize> = on_line
-        .iter()
-        .flat_map(|&i| [i.wrapping_sub(1), i, i + 1])
-        .filter(|&j| j < elements.len())
-        .collect();
-    out.sort_unstable();
-    out.dedup();
-    out
+/// An axis-aligned box on the program's axes.
+#[derive(Debug, Clone)]
+struct Bounds {
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+}
+
+impl Bounds {
+    fn of_points<'a>(points: impl IntoIterator<Item = &'a [f64]>, dim: usize) -> Bounds {
+        let mut b = Bounds {
+            lo: vec![f64::INFINITY; dim],
+            hi: vec![f64::NEG_INFINITY; dim],
+        };
+        for p in points {
+            for ((lo, hi), x) in b.lo.iter_mut().zip(&mut b.hi).zip(p) {
+                *lo = lo.min(*x);
+                *hi = hi.max(*x);
+            }
+        }
+        b
+    }
+
+    /// Whether the boxes come within `margin` of each other.
+    fn near(&self, other: &Bounds, margin: f64) -> bool {
+        (0..self.lo.len())
+            .all(|k| self.lo[k] <= other.hi[k] + margin && other.lo[k] <= self.hi[k] + margin)
+    }
+}
+
+/// A box holding element `e` on `axes`: its ends, and for an arc its whole circle.
+fn element_bounds(e: &Element, axes: &[Axis]) -> Bounds {
+    let (s, t) = ends(e, axes);
+    let mut b = Bounds::of_points([s.as_slice(), t.as_slice()], axes.len());
+    if let ElementKind::Arc(a) = e.kind {
+        let (_, _, r0, r1) = arc_angles(&a, e);
+        let r = r0.max(r1);
+        let (u, v, _) = a.plane.axes();
+        for (axis, c) in [(u, a.center[0]), (v, a.center[1])] {
+            if let Some(k) = axes.iter().position(|&x| x == axis) {
+                b.lo[k] = b.lo[k].min(c - r);
+                b.hi[k] = b.hi[k].max(c + r);
+            }
+        }
+    }
+    b
+}
+
+/// A box holding piece `i` of `c`: its control points (the curve lies in their hull).
+fn piece_bounds(c: &PvtContour, i: usize) -> Bounds {
+    let cp = control_points(c, i);
+    let points: Vec<Vec<f64>> = (0..4).map(|j| cp.iter().map(|q| q[j]).collect()).collect();
+    Bounds::of_points(points.iter().map(Vec::as_slice), c.dim)
 }
 
 /// The deviation of `program` from `toolpath` (contours matched in order, skipping
-/// toolpath contours that planned to nothing).
-pub fn deviation(program: &PvtProgram, toolpath: &Toolpath) -> Deviation {
+/// toolpath contours that planned to nothing). Only elements and pieces whose boxes come
+/// within `reach` of each other are measured: a larger deviation shows as one at least
+/// `reach` (or infinite).
+pub fn deviation(program: &PvtProgram, toolpath: &Toolpath, reach: f64) -> Deviation {
     let axes = &program.axes;
     let moving: Vec<&pvt_core::Contour> = toolpath
         .contours
@@ -303,40 +342,30 @@ pub fn deviation(program: &PvtProgram, toolpath: &Toolpath) -> Deviation {
     let mut out = Deviation::default();
     for (c, source) in program.contours.iter().zip(moving) {
         let elements = &source.elements;
-        let mut motion: Vec<(u32, Vec<Vec<f64>>, f64)> = Vec::new();
-        let mut element_lines: std::collections::HashMap<u32, Vec<usize>> = Default::default();
-        for (j, e) in elements.iter().enumerate() {
-            element_lines.entry(e.span.line).or_default().push(j);
-        }
+        let element_boxes: Vec<Bounds> = elements.iter().map(|e| element_bounds(e, axes)).collect();
+        let piece_boxes: Vec<Bounds> = (0..c.len()).map(|i| piece_bounds(c, i)).collect();
+        let samples: Vec<Vec<Vec<f64>>> = (0..c.len()).map(|i| piece_samples(c, i)).collect();
         for i in 0..c.len() {
-            let samples = piece_samples(c, i);
-            let candidates = near(elements, element_lines.get(&c.lines[i]));
-            for p in &samples {
+            let candidates: Vec<usize> = (0..elements.len())
+                .filter(|&j| piece_boxes[i].near(&element_boxes[j], reach))
+                .collect();
+            for p in &samples[i] {
                 let d = candidates
                     .iter()
                     .map(|&j| to_element(p, &elements[j], axes))
                     .fold(f64::INFINITY, f64::min);
                 out.error = out.error.max(d);
             }
-            motion.push((c.lines[i], samples, sample_sag(c, i)));
-        }
-        let mut by_line: std::collections::HashMap<u32, Vec<usize>> = Default::default();
-        for (i, m) in motion.iter().enumerate() {
-            by_line.entry(m.0).or_default().push(i);
         }
         for (j, e) in elements.iter().enumerate() {
-            let mut pieces: Vec<usize> = [j.wrapping_sub(1), j, j + 1]
-                .iter()
-                .filter_map(|&k| elements.get(k))
-                .flat_map(|e| by_line.get(&e.span.line).into_iter().flatten().copied())
+            let pieces: Vec<usize> = (0..c.len())
+                .filter(|&i| piece_boxes[i].near(&element_boxes[j], reach))
                 .collect();
-            pieces.sort_unstable();
-            pieces.dedup();
-            let sag = pieces.iter().map(|&m| motion[m].2).fold(0.0, f64::max);
+            let sag = pieces.iter().map(|&i| sample_sag(c, i)).fold(0.0, f64::max);
             for p in element_points(e, axes, 64) {
                 let d = pieces
                     .iter()
-                    .flat_map(|&m| motion[m].1.windows(2))
+                    .flat_map(|&i| samples[i].windows(2))
                     .map(|w| to_segment(&p, &w[0], &w[1]))
                     .fold(f64::INFINITY, f64::min);
                 out.gap = out.gap.max(d - sag);

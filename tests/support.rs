@@ -48,10 +48,12 @@ pub fn compile_file(name: &str, options: &CompileOptions) -> Vec<u8> {
     }
 }
 
-/// Compiles G-code text with default options and reads the JSON output back.
+/// Compiles G-code text with the contour planner (seed 000) and reads the JSON output back.
 pub fn compile_gcode_to_program(name: &str, text: &str) -> PvtProgram {
     let source = Source::from_text(name, text);
-    let out = match compile(&source, &CompileOptions::new(Format::Json)) {
+    let mut options = CompileOptions::new(Format::Json);
+    options.planner = pvt_core::Planner::Contour;
+    let out = match compile(&source, &options) {
         Ok(c) => c.bytes,
         Err(f) => panic!("{name} failed: {:?}", f.codes()),
     };

@@ -21,6 +21,7 @@ pub mod plan;
 pub mod polyline;
 pub mod program;
 pub mod split;
+pub mod stream;
 pub mod toolpath;
 pub mod vector;
 
@@ -39,6 +40,7 @@ pub use plan::{
 pub use polyline::Polyline;
 pub use program::{Interpolation, PvtContour, PvtProgram, SegmentRef};
 pub use split::{split_long_pieces, PieceSplitter};
+pub use stream::{PieceSink, PlanStage, ToolpathSink};
 pub use toolpath::{
     Arc, ArcDirection, Contour, CoolantState, Element, ElementKind, EventKind, Motion, Plane,
     ProgramEvent, Span, SpindleState, Toolpath,

@@ -324,8 +324,9 @@ pub struct Toolpath {
     pub contours: Vec<Contour>,
     /// Events between contours, in order; each happens with the machine at rest.
     pub events: Vec<ProgramEvent>,
-    /// The path tolerance the source asks for (G-code's last G64 P), program units.
-    pub path_tolerance: Option<f64>,
+    /// Path tolerances the source sets (G-code's G64 P), program units, each with the
+    /// index of the first contour it applies to, in order.
+    pub path_tolerances: Vec<(usize, f64)>,
 }
 
 impl Toolpath {

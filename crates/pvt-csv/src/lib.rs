@@ -74,7 +74,7 @@ impl PointSeries {
                 elements,
             }],
             events: Vec::new(),
-            path_tolerance: None,
+            path_tolerances: Vec::new(),
         }
     }
 }

@@ -278,7 +278,7 @@ pub fn read_drawing(bytes: &[u8], options: &DxfOptions) -> Result<Drawing, DxfEr
             units,
             contours,
             events: Vec::new(),
-            path_tolerance: None,
+            path_tolerances: Vec::new(),
         },
         warnings,
     })

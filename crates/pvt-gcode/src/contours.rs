@@ -15,15 +15,17 @@ pub(crate) struct CollectingSink {
     pub contours: Vec<Contour>,
     /// Events, each before the contour of its index.
     pub events: Vec<ProgramEvent>,
+    /// G64 P tolerances with the first contour each applies to.
+    pub path_tolerances: Vec<(usize, f64)>,
     run: Vec<Element>,
     motion: Option<Motion>,
 }
 
 impl CollectingSink {
     /// Ends the open contour, if any, and returns everything collected.
-    pub fn finish(mut self) -> (Vec<Contour>, Vec<ProgramEvent>) {
+    pub fn finish(mut self) -> (Vec<Contour>, Vec<ProgramEvent>, Vec<(usize, f64)>) {
         self.end_contour();
-        (self.contours, self.events)
+        (self.contours, self.events, self.path_tolerances)
     }
 }
 
@@ -41,6 +43,12 @@ impl ToolpathSink for CollectingSink {
             let elements = std::mem::take(&mut self.run);
             self.contours.push(Contour { motion, elements });
         }
+    }
+
+    fn path_tolerance(&mut self, tolerance: f64) {
+        // It applies from the next contour to begin.
+        let next = self.contours.len() + usize::from(self.motion.is_some());
+        self.path_tolerances.push((next, tolerance));
     }
 
     fn event(&mut self, event: &EventKind, line: u32) {

@@ -319,6 +319,7 @@ impl<'a> Interpreter<'a> {
         if let (Some((PathMode::Continuous, _)), Some(p)) = (request.path_mode, request.p) {
             let tolerance = p.value.abs() * self.scale();
             self.path_tolerance = Some(tolerance);
+            self.sink.path_tolerance(tolerance);
         }
     }
 

@@ -116,13 +116,13 @@ pub struct Compiled {
 pub fn compile(source: &str, options: &GcodeOptions) -> Result<Compiled, GcodeErrors> {
     let mut sink = contours::CollectingSink::default();
     let summary = compile_into(source, options, &mut sink)?;
-    let (contours, events) = sink.finish();
+    let (contours, events, path_tolerances) = sink.finish();
     Ok(Compiled {
         toolpath: pvt_core::Toolpath {
             units: summary.units,
             contours,
             events,
-            path_tolerance: summary.path_tolerance,
+            path_tolerances,
         },
         warnings: summary.warnings,
         path_tolerance: summary.path_tolerance,

@@ -59,6 +59,26 @@ struct Open {
     after: Option<usize>,
 }
 
+/// The byte range of 1-based `line` of `input` (without its line end), found in one
+/// streaming pass; `None` past the end.
+pub fn line_span(input: &mut impl BufRead, line: u32) -> std::io::Result<Option<Range<usize>>> {
+    let (mut offset, mut buf) = (0usize, Vec::new());
+    for number in 1.. {
+        buf.clear();
+        let read = input.read_until(b'\n', &mut buf)?;
+        if read == 0 {
+            return Ok(None);
+        }
+        if number == line {
+            let body = buf.strip_suffix(b"\n").unwrap_or(&buf);
+            let body = body.strip_suffix(b"\r").unwrap_or(body);
+            return Ok(Some(offset..offset + body.len()));
+        }
+        offset += read;
+    }
+    Ok(None)
+}
+
 /// For each span (byte range of `input`), the lines around it; `None` for a span past the
 /// end of the input or on a line longer than [`MAX_EXCERPT_LINE`].
 pub fn cut(

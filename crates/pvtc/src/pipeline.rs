@@ -9,6 +9,7 @@ use pvt_core::{
     plan_timed, plan_toolpath_report, split_long_pieces, ChordTolerance, Interpolation,
     PlanOptions, PlanReport, Planned, Planner, PvtProgram, Rounding, Timing, Toolpath, Units,
 };
+use pvt_emit::stream::Totals;
 use pvt_emit::{emit_to_vec, EmitOptions, Format, StreamError};
 use std::io::Read;
 use std::path::{Path, PathBuf};
@@ -231,36 +232,11 @@ pub fn plan(
     options: &CompileOptions,
 ) -> Result<(Planned, Toolpath, Vec<Report>), Failure> {
     let (input, mut warnings) = front::read(source, options)?;
-    let units = input.units();
-    let tolerance = options
-        .tolerance
-        .unwrap_or(units.from_mm(ChordTolerance::DEFAULT_MM));
-    let tolerance =
-        ChordTolerance::new(tolerance).expect("the CLI accepts only positive tolerances");
     let moved = match &input {
         Input::Toolpath(t) => t.moved_axes(),
         Input::Series(s) => s.axes.clone(),
     };
-    let limits = match &options.machine {
-        Some(m) => m
-            .limits_in(units, &moved)
-            .map_err(|e| Failure::Input(vec![Report::new(e)]))?,
-        None => Default::default(),
-    };
-    let path_tolerance = match &input {
-        Input::Toolpath(t) => t.path_tolerance,
-        Input::Series(_) => None,
-    };
-    let plan_options = PlanOptions {
-        tolerance,
-        path_tolerance,
-        limits,
-        planner: options.planner,
-        timing: options.timing,
-        accel: options.accel,
-        quantize: options.quantize,
-        quantize_rounding: options.quantize_rounding,
-    };
+    let plan_options = plan_options(options, input.units(), &moved)?;
     let (planned, toolpath) = match input {
         Input::Toolpath(toolpath) => (plan_toolpath_report(&toolpath, &plan_options), toolpath),
         Input::Series(series) => (
@@ -283,46 +259,72 @@ pub fn plan(
         Failure::Input(vec![report])
     })?;
     warnings.extend(plan_notes(&planned.report, options));
-    if let Some(summary) = path_summary(&planned, &toolpath) {
-        warnings.push(miette::miette!(
-            severity = Severity::Advice,
-            code = "pvtc::plan::summary",
-            "{}",
-            summary
-                .iter()
-                .map(|(k, v)| format!("{k}: {v}"))
-                .collect::<Vec<_>>()
-                .join("; ")
-        ));
-    }
     Ok((planned, toolpath, warnings))
 }
 
-/// What the path planner achieved, as (name, value) pairs for the summary on standard
-/// error and the output's header: pieces, path error bound, total time against the
-/// time at the feeds.
-fn path_summary(planned: &Planned, toolpath: &Toolpath) -> Option<Vec<(String, String)>> {
-    let error = planned.report.path_error?;
-    let program = &planned.program;
-    let u = program.units.name();
-    let time = program.total_time();
-    let ratio = time / toolpath.feed_time();
-    Some(vec![
-        ("pieces".into(), program.segment_count().to_string()),
-        ("path error".into(), format!("at most {error:.6} {u}")),
-        (
-            "total time".into(),
-            format!("{time:.4} s ({ratio:.3} x length / feed)"),
-        ),
-    ])
+/// What the path planner achieved, for standard error: pieces, the path error bound and
+/// the total time against the time at the feeds; `None` for the other planners.
+pub(crate) fn summary_note(report: &PlanReport, totals: &Totals, units: Units) -> Option<Report> {
+    let error = report.path_error?;
+    let ratio = totals.time / report.feed_time;
+    Some(miette::miette!(
+        severity = Severity::Advice,
+        code = "pvtc::plan::summary",
+        "{} pieces; path error at most {error:.6} {}; total time {:.4} s ({ratio:.3} x length / feed)",
+        totals.segments,
+        units.name(),
+        totals.time
+    ))
+}
+
+/// The totals a back end would count over `program`.
+fn totals_of(program: &PvtProgram) -> Totals {
+    let mut totals = Totals::default();
+    program
+        .contours
+        .iter()
+        .flat_map(|c| &c.durations)
+        .for_each(|t| totals.add_segment(*t));
+    totals
+}
+
+/// The planner's options for a program in `units` moving `moved`: every default of the
+/// planning resolved here, once, for every route.
+pub fn plan_options(
+    options: &CompileOptions,
+    units: Units,
+    moved: &[pvt_core::Axis],
+) -> Result<PlanOptions, Failure> {
+    let tolerance = options
+        .tolerance
+        .unwrap_or(units.from_mm(ChordTolerance::DEFAULT_MM));
+    let tolerance =
+        ChordTolerance::new(tolerance).expect("the CLI accepts only positive tolerances");
+    let limits = match &options.machine {
+        Some(m) => m
+            .limits_in(units, moved)
+            .map_err(|e| Failure::Input(vec![Report::new(e)]))?,
+        None => Default::default(),
+    };
+    Ok(PlanOptions {
+        tolerance,
+        path_tolerance: None,
+        limits,
+        planner: options.planner,
+        timing: options.timing,
+        accel: options.accel,
+        quantize: options.quantize,
+        quantize_rounding: options.quantize_rounding,
+    })
 }
 
 /// Compiles `source` into the bytes of `options.format`.
 pub fn compile(source: &Source, options: &CompileOptions) -> Result<Compiled, Failure> {
     let (planned, toolpath, mut warnings) = plan(source, options)?;
-    let mut header = settings(options, planned.program.units);
-    header.extend(path_summary(&planned, &toolpath).unwrap_or_default());
+    let header = settings(options, planned.program.units);
     let program = fit_pieces(planned.program, options);
+    let totals = totals_of(&program);
+    warnings.extend(summary_note(&planned.report, &totals, program.units));
     let emit_options = EmitOptions {
         source: source.name.clone(),
         settings: header,
@@ -400,12 +402,7 @@ pub(crate) fn emit_failure(
 
 /// Seed 003: PMAC rounds piece times to whole milliseconds without telling anyone.
 fn fractional_ms_warning(program: &PvtProgram) -> Option<Report> {
-    let mut totals = pvt_emit::stream::Totals::default();
-    program
-        .contours
-        .iter()
-        .flat_map(|c| &c.durations)
-        .for_each(|t| totals.add_segment(*t));
+    let totals = totals_of(program);
     fractional_ms_report(totals.fractional_ms, totals.segments)
 }
 
@@ -422,7 +419,7 @@ pub(crate) fn fractional_ms_report(fractional: usize, segments: usize) -> Option
 }
 
 /// Notes on what planning changed (quantization, lengthened blends, ignored velocities).
-fn plan_notes(report: &PlanReport, options: &CompileOptions) -> Vec<Report> {
+pub(crate) fn plan_notes(report: &PlanReport, options: &CompileOptions) -> Vec<Report> {
     let mut notes = Vec::new();
     if let Some(q) = options.quantize {
         notes.push(miette::miette!(

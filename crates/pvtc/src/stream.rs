@@ -6,11 +6,9 @@
 //! each of those stays in its crate, so the streamed output is byte-identical to the
 //! in-memory path's.
 
-use pvt_core::discretize::{arc_positions, project};
 use pvt_core::{
-    plan::{ContourStream, PlanError},
-    Axis, ChordTolerance, Element, ElementKind, EventKind, Motion, PieceSplitter, ProgramEvent,
-    SegmentRef,
+    plan::PlanError, Axis, Element, EventKind, Motion, PieceSink, PieceSplitter, PlanOptions,
+    PlanReport, PlanStage, ProgramEvent, SegmentRef, ToolpathSink,
 };
 use pvt_emit::stream::Totals;
 use pvt_emit::{Checked, ProgramWriter, StreamError};
@@ -26,160 +24,103 @@ pub enum StreamFailure {
     Emit(StreamError),
 }
 
-/// A G-code sink that plans and writes as elements arrive.
-pub struct PlanningSink<W: ProgramWriter> {
+/// Where the plan stage's pieces go: through the splitter (PMAC's longest piece) into
+/// the back end, counted; the first write error is kept and later pieces are dropped.
+pub struct WriterSink<W: ProgramWriter> {
     writer: Checked<W>,
-    axes: Vec<Axis>,
-    tolerance: ChordTolerance,
-    contour: Option<ContourStream>,
-    /// Contours started, for placing events.
-    contours: usize,
-    point: Vec<f64>,
-    failure: Option<StreamFailure>,
-    /// The axes the elements moved, to check the header's axes against.
-    moved: MovedAxes,
     /// Segments written, their time, and those whose time is not a whole millisecond.
     pub totals: Totals,
-    /// Cuts pieces longer than the format takes (PMAC), as [`crate::pipeline::fit_pieces`].
     splitter: Option<PieceSplitter>,
+    error: Option<StreamError>,
+}
+
+impl<W: ProgramWriter> PieceSink for WriterSink<W> {
+    fn contour(&mut self, motion: Motion, start: &[f64], line: u32) {
+        if self.error.is_none() {
+            self.error = self.writer.contour(motion, start, line).err();
+        }
+        if let Some(splitter) = self.splitter.as_mut() {
+            splitter.start(start);
+        }
+    }
+
+    fn piece(&mut self, seg: &SegmentRef<'_>) {
+        let (writer, totals, error) = (&mut self.writer, &mut self.totals, &mut self.error);
+        let mut write = |piece: &SegmentRef<'_>| {
+            totals.add_segment(piece.duration);
+            if error.is_none() {
+                *error = writer.segment(piece).err();
+            }
+        };
+        match self.splitter.as_mut() {
+            Some(splitter) => splitter.push(seg, &mut write),
+            None => write(seg),
+        }
+    }
+
+    fn event(&mut self, event: &ProgramEvent) {
+        if self.error.is_none() {
+            self.error = self.writer.event(event).err();
+        }
+    }
+}
+
+/// A G-code sink that plans and writes as elements arrive: pvt-core's [`PlanStage`] into
+/// a [`WriterSink`], noting the axes the elements move.
+pub struct PlanningSink<W: ProgramWriter> {
+    stage: PlanStage<WriterSink<W>>,
+    /// The axes the elements moved, to check the header's axes against.
+    moved: MovedAxes,
 }
 
 impl<W: ProgramWriter> PlanningSink<W> {
-    /// A sink writing to `writer` (already begun) on `axes`, cutting pieces longer than
-    /// `max_piece` seconds along their cubic (on `grid` where their time is on it).
+    /// A sink planning with `options` on `axes` into `writer` (already begun), cutting
+    /// pieces longer than `max_piece` seconds along their cubic (on `grid` where their
+    /// time is on it).
     pub fn new(
         writer: Checked<W>,
         axes: Vec<Axis>,
-        tolerance: ChordTolerance,
+        options: PlanOptions,
         max_piece: Option<f64>,
         grid: Option<f64>,
-    ) -> PlanningSink<W> {
-        let dim = axes.len();
-        PlanningSink {
+    ) -> Result<PlanningSink<W>, PlanError> {
+        let sink = WriterSink {
             writer,
-            axes,
-            tolerance,
-            contour: None,
-            contours: 0,
-            point: vec![0.0; dim],
-            failure: None,
-            moved: MovedAxes::default(),
             totals: Totals::default(),
             splitter: max_piece.map(|max| PieceSplitter::new(max, grid)),
-        }
-    }
-
-    /// Adds one element of a contour of kind `motion`.
-    pub fn element(&mut self, motion: Motion, element: &Element) {
-        self.moved.note(element);
-        if self.failure.is_some() {
-            return;
-        }
-        if self.contour.is_none() {
-            let start = project(&element.start, &self.axes);
-            if let Err(e) = self.writer.contour(motion, &start, element.span.line) {
-                self.failure = Some(StreamFailure::Emit(e));
-                return;
-            }
-            if let Some(splitter) = self.splitter.as_mut() {
-                splitter.start(&start);
-            }
-            self.contour = Some(ContourStream::new(&start));
-            self.contours += 1;
-        }
-        let line = element.span.line;
-        match &element.kind {
-            ElementKind::Line => self.push_position(&element.end, element.feed, line),
-            ElementKind::Arc(arc) => {
-                for p in arc_positions(arc, &element.start, &element.end, self.tolerance) {
-                    self.push_position(&p, element.feed, line);
-                }
-            }
-        }
-    }
-
-    /// Pushes position `p` on the sink's axes, through a reused buffer.
-    fn push_position(&mut self, p: &pvt_core::Position, feed: f64, line: u32) {
-        for (slot, axis) in self.point.iter_mut().zip(&self.axes) {
-            *slot = p[axis.index()];
-        }
-        let point = std::mem::take(&mut self.point);
-        self.push(&point, feed, line);
-        self.point = point;
-    }
-
-    fn push(&mut self, point: &[f64], feed: f64, line: u32) {
-        let (Some(contour), None) = (self.contour.as_mut(), self.failure.as_ref()) else {
-            return;
-        };
-        let mut out = Out {
-            writer: &mut self.writer,
-            totals: &mut self.totals,
-            splitter: self.splitter.as_mut(),
             error: None,
         };
-        let result = contour.push(point, feed, line, &mut |seg| out.segment(&seg));
-        let emit_error = out.error;
-        self.failure = match (result, emit_error) {
-            (Err(e), _) => Some(StreamFailure::Plan(e)),
-            (Ok(()), Some(e)) => Some(StreamFailure::Emit(e)),
-            (Ok(()), None) => None,
-        };
+        Ok(PlanningSink {
+            stage: PlanStage::new(axes, options, sink)?,
+            moved: MovedAxes::default(),
+        })
     }
 
-    /// Ends the current contour at rest.
-    pub fn end_contour(&mut self) {
-        let Some(mut contour) = self.contour.take() else {
-            return;
-        };
-        if self.failure.is_some() {
-            return;
+    /// Ends the program: the back end, the totals and the plan report, or the first
+    /// failure.
+    pub fn finish(self) -> Result<(W, Totals, PlanReport), StreamFailure> {
+        let (sink, report) = self.stage.finish().map_err(StreamFailure::Plan)?;
+        if let Some(e) = sink.error {
+            return Err(StreamFailure::Emit(e));
         }
-        let mut out = Out {
-            writer: &mut self.writer,
-            totals: &mut self.totals,
-            splitter: self.splitter.as_mut(),
-            error: None,
-        };
-        contour.finish(&mut |seg| out.segment(&seg));
-        self.failure = out.error.map(StreamFailure::Emit);
-    }
-
-    /// Writes an event at rest (ending any open contour first).
-    pub fn event(&mut self, kind: &EventKind, line: u32) {
-        self.end_contour();
-        if self.failure.is_some() {
-            return;
-        }
-        let event = ProgramEvent {
-            before_contour: self.contours,
-            kind: kind.clone(),
-            line,
-        };
-        if let Err(e) = self.writer.event(&event) {
-            self.failure = Some(StreamFailure::Emit(e));
-        }
-    }
-
-    /// Ends the program; returns the back end or the first failure.
-    pub fn finish(mut self) -> Result<W, StreamFailure> {
-        self.end_contour();
-        if let Some(f) = self.failure {
-            return Err(f);
-        }
-        self.writer.finish().map_err(StreamFailure::Emit)
+        let writer = sink.writer.finish().map_err(StreamFailure::Emit)?;
+        Ok((writer, sink.totals, report))
     }
 }
 
-impl<W: ProgramWriter> pvt_gcode::ToolpathSink for PlanningSink<W> {
+impl<W: ProgramWriter> ToolpathSink for PlanningSink<W> {
     fn element(&mut self, motion: Motion, element: &Element) {
-        PlanningSink::element(self, motion, element);
+        self.moved.note(element);
+        self.stage.element(motion, element);
     }
     fn end_contour(&mut self) {
-        PlanningSink::end_contour(self);
+        self.stage.end_contour();
     }
     fn event(&mut self, event: &EventKind, line: u32) {
-        PlanningSink::event(self, event, line);
+        self.stage.event(event, line);
+    }
+    fn path_tolerance(&mut self, tolerance: f64) {
+        self.stage.path_tolerance(tolerance);
     }
 }
 
@@ -204,32 +145,7 @@ impl MovedAxes {
     }
 }
 
-/// Where the planner's segments go: through the splitter (if any) into the writer,
-/// counted; the first write error is kept and later segments are dropped.
-struct Out<'a, W: ProgramWriter> {
-    writer: &'a mut Checked<W>,
-    totals: &'a mut Totals,
-    splitter: Option<&'a mut PieceSplitter>,
-    error: Option<StreamError>,
-}
-
-impl<W: ProgramWriter> Out<'_, W> {
-    fn segment(&mut self, seg: &SegmentRef<'_>) {
-        let (writer, totals, error) = (&mut *self.writer, &mut *self.totals, &mut self.error);
-        let mut write = |piece: &SegmentRef<'_>| {
-            totals.add_segment(piece.duration);
-            if error.is_none() {
-                *error = writer.segment(piece).err();
-            }
-        };
-        match self.splitter.as_deref_mut() {
-            Some(splitter) => splitter.push(seg, &mut write),
-            None => write(seg),
-        }
-    }
-}
-
-impl pvt_gcode::ToolpathSink for MovedAxes {
+impl ToolpathSink for MovedAxes {
     fn element(&mut self, _: Motion, element: &Element) {
         self.note(element);
     }
@@ -240,10 +156,7 @@ impl pvt_gcode::ToolpathSink for MovedAxes {
 /// Whether `path` and `options` can take the streaming path: a G-code file (not standard
 /// input) planned by the contour planner without quantization.
 pub fn can_stream(path: &std::path::Path, options: &crate::CompileOptions) -> bool {
-    path != std::path::Path::new("-")
-        && options.input == crate::InputKind::Gcode
-        && options.planner == pvt_core::Planner::Contour
-        && options.quantize.is_none()
+    path != std::path::Path::new("-") && options.input == crate::InputKind::Gcode
 }
 
 fn open(path: &std::path::Path) -> Result<std::io::BufReader<std::fs::File>, crate::Failure> {
@@ -296,6 +209,30 @@ fn reports(
         .collect()
 }
 
+/// A planning error as a report labelling its whole source line, as the in-memory path
+/// labels it ([`crate::pipeline`]'s `at_line`), with the lines around it cut from the file.
+fn plan_failure(path: &std::path::Path, name: &str, e: &PlanError) -> crate::Failure {
+    let span = open(path).ok().and_then(|mut input| {
+        crate::excerpt::line_span(&mut input, e.line())
+            .ok()
+            .flatten()
+    });
+    let excerpt = span.clone().and_then(|s| {
+        let mut input = open(path).ok()?;
+        crate::excerpt::cut(&mut input, &[s]).ok()?.pop().flatten()
+    });
+    let report = match (span, excerpt) {
+        (Some(span), Some(excerpt)) if e.line() > 0 => miette::miette!(
+            code = e.code().to_string(),
+            labels = vec![miette::LabeledSpan::at(span, "this line")],
+            "{e}"
+        )
+        .with_source_code(miette::NamedSource::new(name, excerpt)),
+        _ => miette::miette!(code = e.code().to_string(), "{name}: {e}"),
+    };
+    crate::Failure::Input(vec![report])
+}
+
 /// What the header fixes before the first piece is written.
 #[derive(Debug, Clone, PartialEq)]
 struct Layout {
@@ -321,7 +258,7 @@ struct Pass {
     /// The layout the program really has.
     layout: Layout,
     warnings: Vec<pvt_gcode::GcodeDiagnostic>,
-    outcome: Result<Totals, StreamFailure>,
+    outcome: Result<(Totals, PlanReport), StreamFailure>,
 }
 
 /// Compiles the G-code file at `path` into `out` in constant memory and returns the
@@ -367,17 +304,18 @@ pub fn compile_streaming(
         out.restart().map_err(restart)?;
         pass = write_pass(path, name, options, &gcode, &pass.layout.clone(), out)?;
     }
-    let totals = match pass.outcome {
-        Ok(totals) => totals,
-        Err(StreamFailure::Plan(e)) => {
-            return Err(crate::Failure::Input(vec![miette::miette!(
-                code = e.code().to_string(),
-                "{name}: {e}"
-            )]))
-        }
+    let (totals, report) = match pass.outcome {
+        Ok(done) => done,
+        Err(StreamFailure::Plan(e)) => return Err(plan_failure(path, name, &e)),
         Err(StreamFailure::Emit(e)) => return Err(crate::pipeline::emit_failure(e, options, None)),
     };
     let mut warnings = reports(path, name, pass.warnings);
+    warnings.extend(crate::pipeline::plan_notes(&report, options));
+    warnings.extend(crate::pipeline::summary_note(
+        &report,
+        &totals,
+        pass.layout.units,
+    ));
     if options.format == pvt_emit::Format::Pmac {
         warnings.extend(crate::pipeline::fractional_ms_report(
             totals.fractional_ms,
@@ -397,11 +335,8 @@ fn write_pass(
     layout: &Layout,
     out: &mut Target<'_>,
 ) -> Result<Pass, crate::Failure> {
-    let tolerance = options
-        .tolerance
-        .unwrap_or(layout.units.from_mm(ChordTolerance::DEFAULT_MM));
-    let tolerance =
-        ChordTolerance::new(tolerance).expect("the CLI accepts only positive tolerances");
+    let plan_options = crate::pipeline::plan_options(options, layout.units, &layout.axes)?;
+    let interpolation = plan_options.interpolation();
     let emit_options = pvt_emit::EmitOptions {
         source: name.to_owned(),
         settings: crate::pipeline::settings(options, layout.units),
@@ -412,29 +347,32 @@ fn write_pass(
     let header = pvt_emit::Header {
         axes: &layout.axes,
         units: layout.units,
-        interpolation: pvt_core::Interpolation::Pvt,
+        interpolation,
         options: &emit_options,
     };
-    let begun = writer.begin(&header);
-    let mut sink = PlanningSink::new(
-        writer,
-        layout.axes.clone(),
-        tolerance,
-        options.format.max_piece_seconds(),
-        crate::pipeline::split_grid(options),
-    );
-    if let Err(e) = begun {
-        sink.failure = Some(StreamFailure::Emit(e));
+    let failed = |failure| Pass {
+        layout: layout.clone(),
+        warnings: Vec::new(),
+        outcome: Err(failure),
+    };
+    if let Err(e) = writer.begin(&header) {
+        return Ok(failed(StreamFailure::Emit(e)));
     }
+    let max_piece = options.format.max_piece_seconds();
+    let grid = crate::pipeline::split_grid(options);
+    let mut sink =
+        match PlanningSink::new(writer, layout.axes.clone(), plan_options, max_piece, grid) {
+            Ok(sink) => sink,
+            Err(e) => return Ok(failed(StreamFailure::Plan(e))),
+        };
     let summary = compile_read(path, name, gcode, &mut sink)?;
     let found = Layout {
         axes: sink.moved.axes(),
         units: summary.units,
     };
-    let totals = sink.totals;
     Ok(Pass {
         layout: found,
         warnings: summary.warnings,
-        outcome: sink.finish().map(|_| totals),
+        outcome: sink.finish().map(|(_, totals, report)| (totals, report)),
     })
 }

@@ -15,7 +15,8 @@ use super::{plan_path, PathOptions};
 use crate::axis::{Axis, Units};
 use crate::discretize::flatten_contour;
 use crate::polyline::Polyline;
-use crate::program::{Interpolation, PvtContour, PvtProgram};
+use crate::program::{Interpolation, PvtContour, PvtProgram, SegmentRef};
+use crate::stream::{PieceSink, PlanStage, ToolpathSink};
 use crate::toolpath::{Contour, Element, ElementKind, Motion, ProgramEvent, Span, Toolpath};
 use crate::vector::{distance, max_abs};
 
@@ -31,6 +32,9 @@ pub struct PlanReport {
     /// The path planner's largest per-piece error bound, program units (`None` for the
     /// other planners, which promise no distance to the geometry between points).
     pub path_error: Option<f64>,
+    /// Time the planned path takes at its feeds with no acceleration at all (the sum
+    /// of every element's length over its feed), seconds.
+    pub feed_time: f64,
 }
 
 /// A planned program together with its report.
@@ -42,63 +46,105 @@ pub struct Planned {
     pub report: PlanReport,
 }
 
-/// Plans every contour of a toolpath with the chosen planner, timing and quantization.
+/// Plans every contour of a toolpath with the chosen planner, timing and quantization:
+/// the toolpath fed through the one planning path ([`PlanStage`]) into a collector.
 ///
 /// Contours that do not move are left out. See [`super::plan_toolpath`] for the program only.
 pub fn plan_toolpath_report(
     toolpath: &Toolpath,
     options: &PlanOptions,
 ) -> Result<Planned, PlanError> {
-    check_options(options)?;
     let axes: Vec<Axis> = toolpath.moved_axes();
-    let mut report = PlanReport::default();
-    let mut contours: Vec<PvtContour> = Vec::with_capacity(toolpath.contours.len());
-    // Program contour index of each toolpath contour (empty ones are left out).
-    let mut index_of = Vec::with_capacity(toolpath.contours.len() + 1);
-    for contour in &toolpath.contours {
-        index_of.push(contours.len());
-        if contour.elements.is_empty() {
-            continue;
+    let collector = Collector {
+        program: PvtProgram {
+            axes: axes.clone(),
+            units: toolpath.units,
+            interpolation: options.interpolation(),
+            contours: Vec::new(),
+            events: Vec::new(),
+        },
+    };
+    let mut stage = PlanStage::new(axes, options.clone(), collector)?;
+    let mut events = toolpath.events.iter().peekable();
+    let mut tolerances = toolpath.path_tolerances.iter().peekable();
+    for (index, contour) in toolpath.contours.iter().enumerate() {
+        while let Some(e) = events.next_if(|e| e.before_contour <= index) {
+            stage.event(&e.kind, e.line);
         }
-        let planned = if options.planner == Planner::Path {
-            let planned = follow_path(contour, &axes, options, &mut report)?;
-            quantize_whole(planned, options, &mut report)
-        } else if options.planner == Planner::Contour {
-            let polyline = flatten_contour(contour, &axes, options.tolerance);
+        while let Some(&(_, t)) = tolerances.next_if(|(from, _)| *from <= index) {
+            stage.path_tolerance(t);
+        }
+        for element in &contour.elements {
+            stage.element(contour.motion, element);
+        }
+        stage.end_contour();
+    }
+    for e in events {
+        stage.event(&e.kind, e.line);
+    }
+    let (collector, report) = stage.finish()?;
+    Ok(Planned {
+        program: collector.program,
+        report,
+    })
+}
+
+/// A [`PieceSink`] that keeps the whole program.
+struct Collector {
+    program: PvtProgram,
+}
+
+impl PieceSink for Collector {
+    fn contour(&mut self, motion: Motion, start: &[f64], _line: u32) {
+        self.program
+            .contours
+            .push(PvtContour::new(motion, start.to_vec()));
+    }
+
+    fn piece(&mut self, piece: &SegmentRef<'_>) {
+        if let Some(c) = self.program.contours.last_mut() {
+            c.push(piece.end, piece.velocity, piece.duration, piece.line);
+        }
+    }
+
+    fn event(&mut self, event: &ProgramEvent) {
+        self.program.events.push(event.clone());
+    }
+}
+
+/// Plans one whole contour with the chosen planner, then quantizes it: the planning of a
+/// contour [`PlanStage`] holds until it ends.
+pub(crate) fn plan_buffered(
+    contour: &Contour,
+    axes: &[Axis],
+    options: &PlanOptions,
+    report: &mut PlanReport,
+) -> Result<PvtContour, PlanError> {
+    if contour.elements.is_empty() {
+        return Ok(PvtContour::new(contour.motion, vec![0.0; axes.len()]));
+    }
+    Ok(match options.planner {
+        Planner::Path => {
+            let planned = follow_path(contour, axes, options, report)?;
+            quantize_whole(planned, options, report)
+        }
+        Planner::Contour => {
+            let polyline = flatten_contour(contour, axes, options.tolerance);
             let planned = plan_contour(&polyline, contour.motion)?;
-            quantize_whole(planned, options, &mut report)
-        } else {
-            let polyline = flatten_contour(contour, &axes, options.tolerance);
+            quantize_whole(planned, options, report)
+        }
+        _ => {
+            let polyline = flatten_contour(contour, axes, options.tolerance);
             let mut whole = PvtContour::new(contour.motion, polyline.point(0).to_vec());
             for run in runs_from_polyline(&polyline, options.timing)? {
                 append(
                     &mut whole,
-                    &plan_run(&run, options, contour.motion, &mut report)?,
+                    &plan_run(&run, options, contour.motion, report)?,
                 );
             }
             whole
-        };
-        if !planned.is_empty() {
-            contours.push(planned);
         }
-    }
-    index_of.push(contours.len());
-    let events = toolpath
-        .events
-        .iter()
-        .map(|e| ProgramEvent {
-            before_contour: index_of[e.before_contour.min(toolpath.contours.len())],
-            ..e.clone()
-        })
-        .collect();
-    let program = PvtProgram {
-        axes,
-        units: toolpath.units,
-        interpolation: interpolation(options),
-        contours,
-        events,
-    };
-    Ok(Planned { program, report })
+    })
 }
 
 /// Plans a point-time series (e.g. from CSV) on `axes` as one feed contour.
@@ -132,18 +178,11 @@ pub fn plan_timed(
     let program = PvtProgram {
         axes,
         units,
-        interpolation: interpolation(&options),
+        interpolation: options.interpolation(),
         contours,
         events: Vec::new(),
     };
     Ok(Planned { program, report })
-}
-
-fn interpolation(options: &PlanOptions) -> Interpolation {
-    match options.planner {
-        Planner::Pt => Interpolation::Pt,
-        _ => Interpolation::Pvt,
-    }
 }
 
 /// Rejects options that are out of range or that the chosen planner cannot honour.
@@ -222,7 +261,7 @@ fn plan_run(
                 .iter_mut()
                 .for_each(|t| *t = quantize_time(*t, q, options.quantize_rounding));
             let quantized = plan_with_times(&regridded, planner, motion);
-            note_change(report, &planned, &quantized, interpolation(options));
+            note_change(report, &planned, &quantized, options.interpolation());
             Ok(quantized)
         }
     }

@@ -22,6 +22,7 @@ mod timed;
 pub use chord::chord_velocities;
 pub use const_accel::const_accel_velocities;
 pub use contour::{plan_contour, segment_time, ContourStream, REVERSAL_TOLERANCE};
+pub(crate) use driver::plan_buffered;
 pub use driver::{check_options, plan_timed, plan_toolpath_report, PlanReport, Planned};
 pub use lspb::{blend_corner_deviation, plan_lspb, LspbPlan};
 pub use options::{Planner, Timing, UnknownPlanner};
@@ -167,6 +168,16 @@ pub struct PlanOptions {
     pub quantize: Option<f64>,
     /// Which way piece times go onto the `quantize` grid.
     pub quantize_rounding: Rounding,
+}
+
+impl PlanOptions {
+    /// How the controller moves between points under the chosen planner.
+    pub fn interpolation(&self) -> crate::program::Interpolation {
+        match self.planner {
+            Planner::Pt => crate::program::Interpolation::Pt,
+            _ => crate::program::Interpolation::Pvt,
+        }
+    }
 }
 
 impl Default for PlanOptions {

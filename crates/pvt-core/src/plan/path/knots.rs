@@ -315,7 +315,7 @@ impl Knots {
             let factor = piece.limit_factor(bounds);
             if factor < 1.0 {
                 for knot in self.knots[k..k + 2].iter_mut().filter(|k| !k.fixed) {
-                    let step = if factor > 0.999 { 1.0 - 1e-4 } else { 0.98 };
+                    let step = if factor > 0.9999 { 1.0 - 1e-3 } else { 0.98 };
                     knot.cap = knot.cap.min(knot.speed * factor * step);
                 }
                 slowed = true;

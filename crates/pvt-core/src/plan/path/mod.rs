@@ -59,6 +59,11 @@ pub const TANGENT_ANGLE: f64 = 2.0 * std::f64::consts::PI / 180.0;
 /// rest is for speeding up and slowing down along the path.
 const NORMAL_SHARE: f64 = 0.75;
 
+/// Share of each limit the planner plans to: the rest absorbs the rounding of peaks
+/// that a controller (or `check`) computes from the written positions of very short
+/// pieces, where 6·Δp/T² and the velocity terms nearly cancel.
+const PLAN_SHARE: f64 = 1.0 - 1e-5;
+
 /// Most rounds of splitting pieces and lowering speeds before the planner gives up.
 const MAX_ROUNDS: usize = 400;
 
@@ -89,7 +94,12 @@ impl AxisBounds {
     fn new(axes: &[Axis], limits: &BTreeMap<Axis, AxisLimits>) -> AxisBounds {
         let get = |f: fn(&AxisLimits) -> Option<f64>| -> Vec<f64> {
             axes.iter()
-                .map(|a| limits.get(a).and_then(f).unwrap_or(f64::INFINITY))
+                .map(|a| {
+                    limits
+                        .get(a)
+                        .and_then(f)
+                        .map_or(f64::INFINITY, |l| l * PLAN_SHARE)
+                })
                 .collect()
         };
         AxisBounds {

@@ -139,11 +139,12 @@ impl Piece {
                 self.duration,
             );
             let (velocity, acceleration) = peaks(&h);
-            if velocity > bounds.velocity[i] * (1.0 + 1e-9) {
-                factor = factor.min(bounds.velocity[i] / velocity);
+            let (vmax, amax) = (bounds.velocity[i], bounds.acceleration[i]);
+            if velocity > vmax * (1.0 + 1e-9) {
+                factor = factor.min(vmax / velocity);
             }
-            if acceleration > bounds.acceleration[i] * (1.0 + 1e-9) {
-                factor = factor.min((bounds.acceleration[i] / acceleration).sqrt());
+            if acceleration > amax * (1.0 + 1e-9) {
+                factor = factor.min((amax / acceleration).sqrt());
             }
         }
         factor

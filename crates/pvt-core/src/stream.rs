@@ -1,0 +1,251 @@
+//! The one planning path: a toolpath in program order in, planned pieces out.
+//!
+//! Owns the [`ToolpathSink`] a front end pushes elements, contour ends and events into,
+//! the [`PieceSink`] a back end (or a collector) receives pieces from, and the
+//! [`PlanStage`] between them, which holds only what its planner must look ahead over:
+//! - `path`: a [`PathStream`] window of at most [`crate::plan::WINDOW_ELEMENTS`] elements;
+//! - `contour`: seed 000's three-point [`ContourStream`] over the flattened points;
+//! - the other planners, and any planner with quantization (which re-times a whole
+//!   contour): the open contour's elements, planned when it ends.
+//!
+//! [`crate::plan::plan_toolpath_report`] is this stage with a collecting sink; there is no
+//! second pipeline. It must not parse or print.
+
+use crate::axis::Axis;
+use crate::discretize::{arc_positions, project};
+use crate::plan::{
+    plan_buffered, ContourStream, PathOptions, PathStream, PlanError, PlanOptions, PlanReport,
+    Planner,
+};
+use crate::program::SegmentRef;
+use crate::toolpath::{Contour, Element, ElementKind, EventKind, Motion, ProgramEvent};
+
+/// Receives a toolpath in program order, one element at a time.
+///
+/// Elements between two [`ToolpathSink::end_contour`] calls form one rest-to-rest contour
+/// and share one [`Motion`]; a rapid move is always followed by `end_contour`. An event
+/// comes only with no contour open (the machine at rest).
+pub trait ToolpathSink {
+    /// The next move of the open contour (or the first of a new one).
+    fn element(&mut self, motion: Motion, element: &Element);
+    /// The open contour ends: the machine comes to rest.
+    fn end_contour(&mut self);
+    /// Something happens at rest, from source line `line`.
+    fn event(&mut self, event: &EventKind, line: u32);
+    /// The path tolerance (G-code's G64 P), program units, from the next contour on.
+    fn path_tolerance(&mut self, _tolerance: f64) {}
+}
+
+/// Receives planned motion: contours of pieces, and events between them.
+pub trait PieceSink {
+    /// A contour starts at rest at `start` (its first element is on `line`).
+    fn contour(&mut self, motion: Motion, start: &[f64], line: u32);
+    /// The next piece of the open contour.
+    fn piece(&mut self, piece: &SegmentRef<'_>);
+    /// An event at rest, before the next contour.
+    fn event(&mut self, event: &ProgramEvent);
+}
+
+/// The open contour and what its planner holds of it.
+enum Open {
+    Path(Box<PathStream>),
+    Points(Box<ContourStream>),
+    Buffered(Contour),
+}
+
+/// The planning stage: a [`ToolpathSink`] that plans as elements arrive and hands pieces
+/// to a [`PieceSink`]. The first planning error stops it; later input is ignored.
+pub struct PlanStage<S: PieceSink> {
+    axes: Vec<Axis>,
+    options: PlanOptions,
+    sink: S,
+    open: Option<(Open, Pending)>,
+    contours: usize,
+    report: PlanReport,
+    error: Option<PlanError>,
+    point: Vec<f64>,
+}
+
+/// A contour whose start is not yet handed on: a contour with no piece is left out.
+struct Pending {
+    motion: Motion,
+    start: Vec<f64>,
+    line: u32,
+    started: bool,
+}
+
+impl<S: PieceSink> PlanStage<S> {
+    /// A stage planning on `axes` with `options` into `sink`.
+    pub fn new(axes: Vec<Axis>, options: PlanOptions, sink: S) -> Result<PlanStage<S>, PlanError> {
+        crate::plan::check_options(&options)?;
+        Ok(PlanStage {
+            point: vec![0.0; axes.len()],
+            axes,
+            options,
+            sink,
+            open: None,
+            contours: 0,
+            report: PlanReport::default(),
+            error: None,
+        })
+    }
+
+    /// The path options the path planner runs with.
+    fn path_options(&self) -> PathOptions {
+        PathOptions {
+            tolerance: self
+                .options
+                .path_tolerance
+                .unwrap_or(self.options.tolerance.get()),
+            limits: self.options.limits.clone(),
+        }
+    }
+
+    /// Ends the program: finishes any open contour; the sink and the report, or the
+    /// first planning error.
+    pub fn finish(mut self) -> Result<(S, PlanReport), PlanError> {
+        self.close();
+        match self.error {
+            Some(e) => Err(e),
+            None => Ok((self.sink, self.report)),
+        }
+    }
+
+    fn begin(&mut self, motion: Motion, element: &Element) {
+        let start = project(&element.start, &self.axes);
+        let streams = self.options.quantize.is_none();
+        let open = match self.options.planner {
+            Planner::Path if streams => {
+                Open::Path(Box::new(PathStream::new(&self.axes, &self.path_options())))
+            }
+            Planner::Contour if streams => Open::Points(Box::new(ContourStream::new(&start))),
+            _ => Open::Buffered(Contour {
+                motion,
+                elements: Vec::new(),
+            }),
+        };
+        let pending = Pending {
+            motion,
+            start,
+            line: element.span.line,
+            started: false,
+        };
+        self.open = Some((open, pending));
+    }
+
+    /// Pushes one element into the open contour's planner.
+    fn push(&mut self, element: &Element) -> Result<(), PlanError> {
+        let Some((open, pending)) = self.open.as_mut() else {
+            return Ok(());
+        };
+        let (sink, contours) = (&mut self.sink, &mut self.contours);
+        let mut emit = |seg: &SegmentRef<'_>| hand_on(sink, contours, pending, seg);
+        match open {
+            Open::Path(stream) => stream.push(element, &mut emit),
+            Open::Buffered(contour) => {
+                contour.elements.push(*element);
+                Ok(())
+            }
+            Open::Points(stream) => {
+                let line = element.span.line;
+                let ends = match &element.kind {
+                    ElementKind::Line => vec![element.end],
+                    ElementKind::Arc(arc) => {
+                        arc_positions(arc, &element.start, &element.end, self.options.tolerance)
+                    }
+                };
+                for p in ends {
+                    for (slot, axis) in self.point.iter_mut().zip(&self.axes) {
+                        *slot = p[axis.index()];
+                    }
+                    stream.push(&self.point, element.feed, line, &mut |seg| emit(&seg))?;
+                }
+                Ok(())
+            }
+        }
+    }
+
+    /// Ends the open contour: its planner emits what it still holds.
+    fn close(&mut self) {
+        let Some((open, mut pending)) = self.open.take() else {
+            return;
+        };
+        if self.error.is_some() {
+            return;
+        }
+        let (sink, contours) = (&mut self.sink, &mut self.contours);
+        let mut emit = |seg: &SegmentRef<'_>| hand_on(sink, contours, &mut pending, seg);
+        let result = match open {
+            Open::Path(stream) => stream.finish(&mut emit).map(|r| {
+                let worst = self.report.path_error.unwrap_or(0.0).max(r.error_bound);
+                self.report.path_error = Some(worst);
+            }),
+            Open::Points(mut stream) => {
+                stream.finish(&mut |seg| emit(&seg));
+                Ok(())
+            }
+            Open::Buffered(contour) => {
+                plan_buffered(&contour, &self.axes, &self.options, &mut self.report).map(
+                    |planned| {
+                        for seg in planned.segments() {
+                            emit(&seg);
+                        }
+                    },
+                )
+            }
+        };
+        if let Err(e) = result {
+            self.error = Some(e);
+        }
+    }
+}
+
+/// Hands a piece on, starting its contour first if this is the contour's first piece.
+fn hand_on<S: PieceSink>(
+    sink: &mut S,
+    contours: &mut usize,
+    pending: &mut Pending,
+    seg: &SegmentRef<'_>,
+) {
+    if !pending.started {
+        pending.started = true;
+        *contours += 1;
+        sink.contour(pending.motion, &pending.start, pending.line);
+    }
+    sink.piece(seg);
+}
+
+impl<S: PieceSink> ToolpathSink for PlanStage<S> {
+    fn element(&mut self, motion: Motion, element: &Element) {
+        if self.error.is_some() {
+            return;
+        }
+        if self.open.is_none() {
+            self.begin(motion, element);
+        }
+        self.report.feed_time += element.length() / element.feed;
+        if let Err(e) = self.push(element) {
+            self.error = Some(e);
+        }
+    }
+
+    fn end_contour(&mut self) {
+        self.close();
+    }
+
+    fn path_tolerance(&mut self, tolerance: f64) {
+        self.options.path_tolerance = Some(tolerance);
+    }
+
+    fn event(&mut self, event: &EventKind, line: u32) {
+        self.close();
+        if self.error.is_some() {
+            return;
+        }
+        self.sink.event(&ProgramEvent {
+            before_contour: self.contours,
+            kind: event.clone(),
+            line,
+        });
+    }
+}
