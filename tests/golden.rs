@@ -497,14 +497,20 @@ fn stream_both_ways(
 ) -> (Vec<u8>, Vec<miette::Report>) {
     use pvtc::output::Target;
     let mut streamed = Vec::new();
-    let warnings =
-        pvtc::stream::compile_streaming(path, name, options, &mut Target::Stream(&mut streamed))
-            .unwrap_or_else(|f| panic!("{name}: {:?}", f.codes()));
+    let warnings = pvtc::stream::compile_streaming(
+        path,
+        name,
+        options,
+        false,
+        &mut Target::Stream(&mut streamed),
+    )
+    .unwrap_or_else(|f| panic!("{name}: {:?}", f.codes()));
     let mut file = tempfile::tempfile().unwrap();
     pvtc::stream::compile_streaming(
         path,
         name,
         options,
+        false,
         &mut Target::File {
             file: &mut file,
             start: 0,

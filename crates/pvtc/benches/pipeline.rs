@@ -99,6 +99,7 @@ fn bench(c: &mut Criterion) {
                         black_box(p),
                         "bench.ngc",
                         &options,
+                        false,
                         &mut target,
                     )
                     .expect("compiles")

@@ -90,10 +90,11 @@ fn run_job(job: &Job, args: &CompileArgs) -> Outcome {
     let streamable = args
         .compile_options(&name)
         .ok()
-        .filter(|o| crate::stream::can_stream(&job.input, o) && !args.pipeline.deny_warnings);
+        .filter(|o| crate::stream::can_stream(&job.input, o));
     if let Some(options) = streamable {
         let result = output::write_file_with(&job.output, |out| {
-            crate::stream::compile_streaming(&job.input, &name, &options, out)
+            let deny = args.pipeline.deny_warnings;
+            crate::stream::compile_streaming(&job.input, &name, &options, deny, out)
         });
         let failure = result.err().map(|f| first_diagnostic(&f));
         return Outcome {

@@ -41,6 +41,48 @@ pub fn run(cli: Cli) -> ExitCode {
     }
 }
 
+/// G-code, from a file or standard input, streams: standard input is first copied to a
+/// temporary file, so every route runs in the same bounded memory.
+fn compile_gcode(
+    args: &CompileArgs,
+    input: &std::path::Path,
+    options: &CompileOptions,
+    reporter: &Reporter,
+) -> ExitCode {
+    let spooled = match stdin_file(input) {
+        Ok(spooled) => spooled,
+        Err(failure) => return reporter.fail(&failure),
+    };
+    let (path, name) = match &spooled {
+        Some(file) => (file.path(), "<stdin>".to_string()),
+        None => (input, input.display().to_string()),
+    };
+    let deny = args.pipeline.deny_warnings;
+    let result = output::write_with(args.output.as_deref(), |out| {
+        stream::compile_streaming(path, &name, options, deny, out)
+    });
+    match result.map(|warnings| reporter.warnings(&warnings)) {
+        Ok(Ok(())) => ExitCode::SUCCESS,
+        Ok(Err(code)) => code,
+        Err(failure) => reporter.fail(&failure),
+    }
+}
+
+/// For `-`, standard input copied into a temporary file (removed when dropped).
+fn stdin_file(input: &std::path::Path) -> Result<Option<tempfile::NamedTempFile>, Failure> {
+    if input != std::path::Path::new("-") {
+        return Ok(None);
+    }
+    let failure = |error| Failure::Io {
+        path: "<stdin>".into(),
+        action: "read",
+        error,
+    };
+    let mut file = tempfile::NamedTempFile::new().map_err(failure)?;
+    std::io::copy(&mut std::io::stdin().lock(), file.as_file_mut()).map_err(failure)?;
+    Ok(Some(file))
+}
+
 fn compile_command(args: &CompileArgs) -> ExitCode {
     if args.out_dir.is_some() || args.inputs.len() > 1 {
         return batch::run(args);
@@ -48,16 +90,8 @@ fn compile_command(args: &CompileArgs) -> ExitCode {
     let reporter = Reporter::new(&args.pipeline);
     let input = &args.inputs[0];
     if let Ok(options) = args.compile_options(&input.display().to_string()) {
-        if stream::can_stream(input, &options) && !args.pipeline.deny_warnings {
-            let name = input.display().to_string();
-            let result = output::write_with(args.output.as_deref(), |out| {
-                stream::compile_streaming(input, &name, &options, out)
-            });
-            return match result.map(|warnings| reporter.warnings(&warnings)) {
-                Ok(Ok(())) => ExitCode::SUCCESS,
-                Ok(Err(code)) => code,
-                Err(failure) => reporter.fail(&failure),
-            };
+        if options.input == InputKind::Gcode {
+            return compile_gcode(args, input, &options, &reporter);
         }
     }
     let source = match Source::read(input) {

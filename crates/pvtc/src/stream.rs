@@ -274,6 +274,7 @@ pub fn compile_streaming(
     path: &std::path::Path,
     name: &str,
     options: &crate::CompileOptions,
+    deny_warnings: bool,
     out: &mut Target<'_>,
 ) -> Result<Vec<miette::Report>, crate::Failure> {
     if out.is_file_at(path) {
@@ -287,12 +288,23 @@ pub fn compile_streaming(
         let prescan = pvt_gcode::prescan(&mut open(path)?).map_err(|e| read_failure(path, e))?;
         Layout::guess(&prescan, &gcode)
     } else {
+        // A stream cannot start over: a first pass finds the axes and units, a second
+        // plans the whole program into nothing, so that a pipe never receives a program
+        // that an error, or a warning under --deny-warnings, would cut short.
         let mut moved = MovedAxes::default();
         let summary = compile_read(path, name, &gcode, &mut moved)?;
-        Layout {
+        let layout = Layout {
             axes: moved.axes(),
             units: summary.units,
-        }
+        };
+        let mut nothing = std::io::sink();
+        let mut null = Target::Stream(&mut nothing);
+        let check = write_pass(path, name, options, &gcode, &layout, &mut null)?;
+        deny(
+            &outcome_warnings(path, name, options, check)?,
+            deny_warnings,
+        )?;
+        layout
     };
     let mut pass = write_pass(path, name, options, &gcode, &layout, out)?;
     if pass.layout != layout {
@@ -304,6 +316,45 @@ pub fn compile_streaming(
         out.restart().map_err(restart)?;
         pass = write_pass(path, name, options, &gcode, &pass.layout.clone(), out)?;
     }
+    let warnings = outcome_warnings(path, name, options, pass)?;
+    deny(&warnings, deny_warnings)?;
+    Ok(warnings)
+}
+
+/// Fails with the warnings and one error when any is a warning and `deny_warnings`.
+fn deny(warnings: &[miette::Report], deny_warnings: bool) -> Result<(), crate::Failure> {
+    let count = warnings
+        .iter()
+        .filter(|r| r.severity() == Some(miette::Severity::Warning))
+        .count();
+    if !deny_warnings || count == 0 {
+        return Ok(());
+    }
+    let mut reports: Vec<miette::Report> = warnings
+        .iter()
+        .filter(|r| r.severity() == Some(miette::Severity::Warning))
+        .map(|r| {
+            miette::miette!(
+                severity = miette::Severity::Warning,
+                code = r.code().map(|c| c.to_string()).unwrap_or_default(),
+                "{r}"
+            )
+        })
+        .collect();
+    reports.push(miette::miette!(
+        code = "pvtc::deny_warnings",
+        "{count} warning(s) and --deny-warnings; nothing was written"
+    ));
+    Err(crate::Failure::Input(reports))
+}
+
+/// What a pass ended with: its warnings, notes and summary, or its failure.
+fn outcome_warnings(
+    path: &std::path::Path,
+    name: &str,
+    options: &crate::CompileOptions,
+    pass: Pass,
+) -> Result<Vec<miette::Report>, crate::Failure> {
     let (totals, report) = match pass.outcome {
         Ok(done) => done,
         Err(StreamFailure::Plan(e)) => return Err(plan_failure(path, name, &e)),
