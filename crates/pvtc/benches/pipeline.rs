@@ -76,7 +76,7 @@ fn bench(c: &mut Criterion) {
                 &source,
                 |b, s| {
                     b.iter(|| {
-                        compile(black_box(s), &CompileOptions::new(Format::Pmac))
+                        compile(black_box(s), &contour_options())
                             .expect("compiles")
                             .bytes
                             .len()
@@ -94,7 +94,7 @@ fn bench(c: &mut Criterion) {
                         start: 0,
                     };
                     target.restart().expect("empties the file");
-                    let options = CompileOptions::new(Format::Pmac);
+                    let options = contour_options();
                     pvtc::stream::compile_streaming(
                         black_box(p),
                         "bench.ngc",
@@ -117,3 +117,10 @@ mod harness {
     criterion::criterion_group!(benches, super::bench);
 }
 criterion_main!(harness::benches);
+
+/// PMAC output planned by the contour planner (seed 000), the rows the README reports.
+fn contour_options() -> CompileOptions {
+    let mut options = CompileOptions::new(Format::Pmac);
+    options.planner = pvt_core::Planner::Contour;
+    options
+}
