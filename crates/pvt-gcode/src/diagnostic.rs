@@ -450,7 +450,8 @@ pub enum GcodeDiagnostic {
         length: usize,
         /// The limit, [`crate::MAX_LINE_BYTES`].
         limit: usize,
-        /// The start of the line (unlabelled: the line is too long to show).
+        /// The line (its first bytes are shown).
+        #[label("this line")]
         span: SourceSpan,
     },
 

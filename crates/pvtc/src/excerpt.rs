@@ -15,6 +15,9 @@ use miette::{MietteError, MietteSpanContents, SourceCode, SourceSpan, SpanConten
 /// Lines kept before and after the lines of a span (miette shows one by default).
 const CONTEXT_LINES: usize = 2;
 
+/// Bytes shown of a line longer than [`MAX_EXCERPT_LINE`].
+const LONG_LINE_SHOWN: usize = 120;
+
 /// Longest line copied into an excerpt; a longer one ends the context around it.
 const MAX_EXCERPT_LINE: u64 = 64 * 1024;
 
@@ -37,7 +40,9 @@ impl SourceCode for Excerpt {
             .offset()
             .checked_sub(self.offset)
             .ok_or(MietteError::OutOfBounds)?;
-        let local = SourceSpan::new(start.into(), span.len());
+        // A span running past the excerpt (a line too long to keep) shows what is kept.
+        let start = start.min(self.text.len());
+        let local = SourceSpan::new(start.into(), span.len().min(self.text.len() - start));
         let contents = self.text.as_str().read_span(&local, before, after)?;
         let at = contents.span().offset() + self.offset;
         Ok(Box::new(MietteSpanContents::new(
@@ -107,7 +112,15 @@ pub fn cut(
             ring.clear();
             open.drain(..)
                 .for_each(|o| found[o.index] = Some(o.excerpt));
-            while order.next_if(|&i| spans[i].start < offset).is_some() {}
+            // A span on the long line gets its first bytes, so it keeps its line number.
+            let head = String::from_utf8_lossy(&line[..line.len().min(LONG_LINE_SHOWN)]);
+            while let Some(i) = order.next_if(|&i| spans[i].start < offset) {
+                found[i] = Some(Excerpt {
+                    text: format!("{head}…"),
+                    offset: start,
+                    first_line: number,
+                });
+            }
             number += 1;
             continue;
         }

@@ -34,7 +34,7 @@ pub type FrontResult = Result<(Input, Vec<Report>), Failure>;
 pub fn read(source: &Source, options: &CompileOptions) -> FrontResult {
     match options.input {
         InputKind::Gcode => gcode(source, options),
-        InputKind::Dxf => dxf(&source.bytes, options),
+        InputKind::Dxf => dxf(source, options),
         InputKind::Csv => csv(source, options),
     }
 }
@@ -74,7 +74,8 @@ pub fn gcode_options(options: &CompileOptions) -> pvt_gcode::GcodeOptions {
     }
 }
 
-fn dxf(bytes: &[u8], options: &CompileOptions) -> FrontResult {
+fn dxf(source: &Source, options: &CompileOptions) -> FrontResult {
+    let bytes = &source.bytes;
     let Some(feed) = options.feed else {
         return Err(Failure::Usage(
             "a drawing has no feed: give one with --feed F (units per minute), e.g. --feed 1200"
@@ -99,7 +100,11 @@ fn dxf(bytes: &[u8], options: &CompileOptions) -> FrontResult {
             drawing.warnings.into_iter().map(Report::new).collect(),
         )),
         Err(errors) => Err(Failure::Input(
-            errors.errors.into_iter().map(Report::new).collect(),
+            errors
+                .errors
+                .into_iter()
+                .map(|e| dxf_report(e, source))
+                .collect(),
         )),
     }
 }
@@ -117,4 +122,15 @@ fn csv(source: &Source, options: &CompileOptions) -> FrontResult {
                 .collect(),
         )),
     }
+}
+
+/// A drawing's error, labelling its line of the file where the line is known (a text
+/// DXF), as every other input's errors are labelled.
+fn dxf_report(e: pvt_dxf::DxfError, source: &Source) -> Report {
+    let line = e.span().line;
+    if line == 0 {
+        return Report::new(e);
+    }
+    crate::pipeline::at_line(&e.code_str(), &e.to_string(), line, source)
+        .with_source_code(source.named_text())
 }

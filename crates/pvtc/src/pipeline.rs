@@ -451,7 +451,7 @@ pub(crate) fn plan_notes(report: &PlanReport, options: &CompileOptions) -> Vec<R
 }
 
 /// A diagnostic labelling the whole of 1-based `line` of the source.
-fn at_line(code: &str, message: &str, line: u32, source: &Source) -> Report {
+pub(crate) fn at_line(code: &str, message: &str, line: u32, source: &Source) -> Report {
     let text = &source.bytes;
     let mut start = 0;
     for _ in 1..line.max(1) {

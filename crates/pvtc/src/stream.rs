@@ -204,7 +204,9 @@ fn reports(
             Some(excerpt) => {
                 miette::Report::new(d).with_source_code(miette::NamedSource::new(name, excerpt))
             }
-            None => miette::Report::new(d),
+            // An empty file still names its one line.
+            None => miette::Report::new(d)
+                .with_source_code(miette::NamedSource::new(name, String::new())),
         })
         .collect()
 }
