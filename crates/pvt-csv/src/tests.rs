@@ -1,3 +1,5 @@
+//! Unit tests of the CSV front end: columns, rows and their diagnostics.
+
 use super::*;
 use proptest::prelude::*;
 use pvt_core::{check_program, plan_timed, CheckOptions, PlanOptions, Planner};

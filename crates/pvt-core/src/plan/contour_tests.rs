@@ -1,3 +1,5 @@
+//! Unit tests of the contour planner (seed 000): degenerate cases and exactness.
+
 use super::*;
 use crate::hermite::HermiteSegment;
 

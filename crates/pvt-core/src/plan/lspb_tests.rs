@@ -1,3 +1,5 @@
+//! Unit tests of the LSPB planner (seed 004): blends, grids and the acceleration bound.
+
 use super::*;
 
 fn run(dim: usize, points: &[f64], times: &[f64]) -> TimedPoints {

@@ -1,0 +1,149 @@
+//! Tidy: the docs and the tree say the same thing (in the spirit of rust-analyzer's
+//! `xtask/src/tidy.rs`). Every source file starts with a `//!` doc saying what it owns;
+//! ARCHITECTURE.md names every crate of the workspace and no other, and its count of bad
+//! inputs is the count in tests/bad; a test that can return early says `SKIPPED:` and why.
+
+use pvtc_tests::root;
+use std::path::{Path, PathBuf};
+
+/// Every `.rs` file below `dir`, sorted.
+fn rust_files(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for entry in std::fs::read_dir(&d).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                stack.push(path);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                out.push(path);
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// The workspace's member crates under `crates/`, from Cargo.toml.
+fn member_crates() -> Vec<String> {
+    let manifest = std::fs::read_to_string(root().join("Cargo.toml")).unwrap();
+    let members = manifest
+        .lines()
+        .find(|l| l.trim_start().starts_with("members"))
+        .expect("a members line");
+    members
+        .split('"')
+        .filter_map(|m| m.strip_prefix("crates/"))
+        .map(str::to_string)
+        .collect()
+}
+
+#[test]
+fn every_source_file_starts_with_a_module_doc() {
+    let mut missing = Vec::new();
+    let mut dirs: Vec<PathBuf> = member_crates()
+        .iter()
+        .map(|c| root().join("crates").join(c).join("src"))
+        .collect();
+    dirs.push(root().join("tests"));
+    for dir in dirs {
+        for file in rust_files(&dir) {
+            let text = std::fs::read_to_string(&file).unwrap();
+            let first = text.lines().find(|l| !l.trim().is_empty()).unwrap_or("");
+            if !first.starts_with("//!") {
+                missing.push(file.strip_prefix(root()).unwrap().display().to_string());
+            }
+        }
+    }
+    assert!(missing.is_empty(), "files without a //! doc: {missing:?}");
+}
+
+#[test]
+fn architecture_names_every_crate_and_no_other() {
+    let text = std::fs::read_to_string(root().join("ARCHITECTURE.md")).unwrap();
+    let named: Vec<String> = text
+        .lines()
+        .filter_map(|l| l.strip_prefix("### `crates/"))
+        .filter_map(|l| l.strip_suffix('`'))
+        .map(str::to_string)
+        .collect();
+    let mut members = member_crates();
+    members.sort();
+    let mut sorted = named.clone();
+    sorted.sort();
+    assert_eq!(
+        sorted, members,
+        "ARCHITECTURE.md's crate sections against Cargo.toml"
+    );
+}
+
+#[test]
+fn architecture_counts_the_bad_inputs() {
+    let text = std::fs::read_to_string(root().join("ARCHITECTURE.md")).unwrap();
+    let claim: usize = text
+        .split("`tests/bad.rs`: ")
+        .nth(1)
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .expect("ARCHITECTURE.md says how many bad inputs there are");
+    let files = std::fs::read_dir(root().join("tests/bad"))
+        .unwrap()
+        .filter(|e| e.as_ref().unwrap().file_name() != "EXPECTED")
+        .count();
+    assert_eq!(claim, files, "ARCHITECTURE.md's count of tests/bad");
+}
+
+/// The body of every `#[test]` function of `text`: from its `fn` to the matching brace.
+fn test_bodies(text: &str) -> Vec<&str> {
+    let mut out = Vec::new();
+    let mut rest = text;
+    while let Some(at) = rest.find("#[test]") {
+        let after = &rest[at..];
+        let Some(open) = after.find('{') else { break };
+        let mut depth = 0;
+        let mut end = after.len();
+        for (i, c) in after[open..].char_indices() {
+            match c {
+                '{' => depth += 1,
+                '}' => {
+                    depth -= 1;
+                    if depth == 0 {
+                        end = open + i + 1;
+                        break;
+                    }
+                }
+                _ => {}
+            }
+        }
+        out.push(&after[..end]);
+        rest = &after[end..];
+    }
+    out
+}
+
+#[test]
+fn a_test_that_returns_early_says_it_skipped() {
+    let mut dirs: Vec<PathBuf> = member_crates()
+        .iter()
+        .map(|c| root().join("crates").join(c).join("tests"))
+        .filter(|d| d.is_dir())
+        .collect();
+    dirs.push(root().join("tests"));
+    let mut silent = Vec::new();
+    for dir in dirs {
+        for file in rust_files(&dir) {
+            let text = std::fs::read_to_string(&file).unwrap();
+            for body in test_bodies(&text) {
+                let returns = body.contains("return;") || body.contains("return }");
+                if returns && !body.contains("#[ignore") && !text.contains("SKIPPED:") {
+                    let name = body.split("fn ").nth(1).unwrap_or("").split('(').next();
+                    silent.push(format!("{}: {}", file.display(), name.unwrap_or("")));
+                }
+            }
+        }
+    }
+    assert!(
+        silent.is_empty(),
+        "tests that return early without saying SKIPPED: {silent:?}"
+    );
+}
