@@ -17,6 +17,8 @@ use crate::vector::distance;
 /// The toolpath's elements, indexed by source line, on the program's axes.
 pub(super) struct Source<'a> {
     elements: Vec<&'a Element>,
+    /// Each element's box on the program columns (an arc's: its whole circle).
+    bounds: Vec<(Vec<f64>, Vec<f64>)>,
     by_line: BTreeMap<u32, Vec<usize>>,
     /// Axis index (into a `Position`) of every program column.
     columns: Vec<usize>,
@@ -30,10 +32,13 @@ impl<'a> Source<'a> {
         for (i, e) in elements.iter().enumerate() {
             by_line.entry(e.span.line).or_default().push(i);
         }
+        let columns: Vec<usize> = axes.iter().map(|a| a.index()).collect();
+        let bounds = elements.iter().map(|e| element_bounds(e, &columns)).collect();
         Source {
             elements,
+            bounds,
             by_line,
-            columns: axes.iter().map(|a| a.index()).collect(),
+            columns,
         }
     }
 
@@ -58,6 +63,21 @@ impl<'a> Source<'a> {
             }
         }
         out
+    }
+
+    /// Of `candidates`, those that can hold the nearest element to any point of the box
+    /// `lo..hi`: `start` is a point in the box; an element farther from the box than
+    /// `start` is from its nearest candidate plus the box's diagonal cannot be nearest.
+    pub fn near(&self, candidates: &[usize], start: &[f64], lo: &[f64], hi: &[f64]) -> Vec<usize> {
+        let reach = self.distance(candidates, start) + distance(lo, hi);
+        candidates
+            .iter()
+            .copied()
+            .filter(|&i| {
+                let (elo, ehi) = &self.bounds[i];
+                (0..lo.len()).all(|k| elo[k] <= hi[k] + reach && lo[k] <= ehi[k] + reach)
+            })
+            .collect()
     }
 
     /// Distance from `point` (program columns) to the nearest of the given elements.
@@ -162,4 +182,22 @@ pub(super) fn golden(mut lo: f64, mut hi: f64, mut g: impl FnMut(f64) -> f64) ->
     } else {
         x2
     }
+}
+
+/// An element's box on `columns`: its ends, and for an arc the square around its circle.
+fn element_bounds(e: &Element, columns: &[usize]) -> (Vec<f64>, Vec<f64>) {
+    let mut lo: Vec<f64> = columns.iter().map(|&c| e.start[c].min(e.end[c])).collect();
+    let mut hi: Vec<f64> = columns.iter().map(|&c| e.start[c].max(e.end[c])).collect();
+    if let ElementKind::Arc(arc) = &e.kind {
+        let sw = arc.sweep(&e.start, &e.end);
+        let r = sw.start_radius.max(sw.end_radius);
+        let (first, second, _) = arc.plane.axes();
+        for (axis, centre) in [(first, arc.center[0]), (second, arc.center[1])] {
+            if let Some(k) = columns.iter().position(|&c| c == axis.index()) {
+                lo[k] = lo[k].min(centre - r);
+                hi[k] = hi[k].max(centre + r);
+            }
+        }
+    }
+    (lo, hi)
 }

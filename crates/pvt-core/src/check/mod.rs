@@ -272,12 +272,36 @@ fn closed_form(
 }
 
 /// The largest distance from the motion to the source geometry, with where it happens.
+/// The box of a piece's cubic on every axis: its Bézier control points' (PT: its ends').
+fn piece_box(tl: &Timeline<'_>, p: &timeline::Piece) -> (Vec<f64>, Vec<f64>) {
+    let dim = tl.program.axes.len();
+    let (mut lo, mut hi) = (vec![0.0; dim], vec![0.0; dim]);
+    for k in 0..dim {
+        let h = tl.cubic(p, k);
+        let end = h.end();
+        let t3 = p.duration / 3.0;
+        let points = [
+            h.p0,
+            h.p0 + h.v0 * t3,
+            end.position - end.velocity * t3,
+            end.position,
+        ];
+        lo[k] = points.iter().fold(f64::INFINITY, |a, &b| a.min(b));
+        hi[k] = points.iter().fold(f64::NEG_INFINITY, |a, &b| a.max(b));
+    }
+    (lo, hi)
+}
+
 fn path_error(tl: &Timeline<'_>, source: &Source<'_>) -> Peak {
     let dim = tl.program.axes.len();
     let mut worst = Peak::default();
     let mut point = vec![0.0; dim];
     for p in &tl.pieces {
-        let candidates = source.candidates(p.line);
+        let (lo, hi) = piece_box(tl, p);
+        for (k, x) in point.iter_mut().enumerate() {
+            *x = tl.position(p, k, 0.0);
+        }
+        let candidates = source.near(&source.candidates(p.line), &point, &lo, &hi);
         let mut gap = |t: f64| {
             for (k, x) in point.iter_mut().enumerate() {
                 *x = tl.position(p, k, t);
