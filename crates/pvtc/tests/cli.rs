@@ -931,3 +931,103 @@ fn check_refuses_a_program_too_long_to_sample_instead_of_running_for_hours() {
         stderr(&o)
     );
 }
+
+const SQUARE: &str = "G21 G90\nG1 X100 F6000\nG1 Y100\nG1 X0\nG1 Y0\nM2\n";
+
+#[test]
+fn check_max_path_error_fails_seed_000_on_a_square_and_passes_the_path_planner() {
+    let dir = tempfile::tempdir().unwrap();
+    let square = dir.path().join("square.ngc");
+    std::fs::write(&square, SQUARE).unwrap();
+    let square = square.to_str().unwrap();
+    let args = ["check", square, "--max-path-error", "0.001"];
+    let o = pvtc(&[&args[..], &["--planner", "contour"]].concat(), None);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("pvtc::check::path_error"),
+        "{}",
+        stderr(&o)
+    );
+    let o = pvtc(&args, None);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
+
+#[test]
+fn check_with_a_machine_file_passes_the_path_planner_and_fails_seed_000() {
+    let args = [
+        "check",
+        "samples/dxf/cad_part.dxf",
+        "--feed",
+        "1200",
+        "--machine",
+        "samples/machines/mill.toml",
+    ];
+    let o = pvtc(&args, None);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let o = pvtc(&[&args[..], &["--planner", "contour"]].concat(), None);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let table = String::from_utf8_lossy(&o.stdout);
+    assert!(table.contains("LIMIT EXCEEDED: X acceleration"), "{table}");
+}
+
+#[test]
+fn a_machine_file_without_a_moved_axis_is_refused_with_its_code() {
+    let dir = tempfile::tempdir().unwrap();
+    let machine = dir.path().join("m.toml");
+    std::fs::write(
+        &machine,
+        "units = \"mm\"\n[axes.X]\nmax_velocity = 100\nmax_acceleration = 1000\n",
+    )
+    .unwrap();
+    let o = pvtc(
+        &[
+            "compile",
+            "-",
+            "--machine",
+            machine.to_str().unwrap(),
+            "--diagnostics",
+            "json",
+        ],
+        Some(SQUARE),
+    );
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("pvtc::machine::missing_axis"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(o.stdout.is_empty());
+}
+
+#[test]
+fn quantizing_the_path_planner_warns_that_nothing_is_rechecked() {
+    let o = pvtc(
+        &["compile", "-", "--quantize", "1ms", "--diagnostics", "json"],
+        Some(SQUARE),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("pvtc::plan::quantized_path"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn deny_warnings_on_standard_input_writes_nothing() {
+    // PMAC output of times that are not whole ms warns.
+    let odd = "G21 G90\nG1 X10.123 F777\nM2\n";
+    let o = pvtc(
+        &["compile", "-", "--deny-warnings", "--diagnostics", "json"],
+        Some(odd),
+    );
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("pvtc::deny_warnings"), "{}", stderr(&o));
+    assert!(o.stdout.is_empty());
+    let o = pvtc(
+        &["compile", "-", "--deny-warnings", "--format", "json"],
+        Some(odd),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!o.stdout.is_empty());
+}

@@ -33,7 +33,10 @@ impl<'a> Source<'a> {
             by_line.entry(e.span.line).or_default().push(i);
         }
         let columns: Vec<usize> = axes.iter().map(|a| a.index()).collect();
-        let bounds = elements.iter().map(|e| element_bounds(e, &columns)).collect();
+        let bounds = elements
+            .iter()
+            .map(|e| element_bounds(e, &columns))
+            .collect();
         Source {
             elements,
             bounds,
