@@ -3,9 +3,6 @@
  * path tolerance: 0.001 mm
  * rapid: 5000 mm/min (default)
  * default feed: none (every feed move needs an F word)
- * pieces: 4
- * path error: at most 0.000000 mm
- * total time: 6.0000 s (1.500 x length / feed)
  * axes: X Y (interleaved in this order)
  * position: mm; velocity: mm/s; time: s from the previous point
  * For each contour N: set each axis to pvtc_cN_start (PositionSet), then
