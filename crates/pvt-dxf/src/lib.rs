@@ -76,6 +76,9 @@ pub struct DxfOptions {
     pub rapid: Option<f64>,
     /// Chord tolerance in output units; `None` is 0.001 mm in the output units.
     pub tolerance: Option<f64>,
+    /// Share of the chord tolerance that splines and ellipses are flattened within (1:
+    /// all of it; the path planner takes half, keeping the other half for the motion).
+    pub curve_share: f64,
     /// End points closer than this are joined; `None` is the larger of 0.01 mm (in the
     /// output units) and the chord tolerance.
     pub join_tolerance: Option<f64>,
@@ -99,6 +102,7 @@ impl DxfOptions {
             feed,
             rapid: None,
             tolerance: None,
+            curve_share: 1.0,
             join_tolerance: None,
             layers: Vec::new(),
             units: None,
@@ -225,7 +229,8 @@ pub fn read_drawing(bytes: &[u8], options: &DxfOptions) -> Result<Drawing, DxfEr
     }
     check_layers(&drawing, &source, &options.layers).map_err(DxfErrors::one)?;
 
-    let mut reader = Reader::new(&drawing, &source, tolerance, &options.layers);
+    let curves = tolerance * options.curve_share.clamp(f64::MIN_POSITIVE, 1.0);
+    let mut reader = Reader::new(&drawing, &source, curves, &options.layers);
     reader.read_model(model.into_iter(), Affine::scaling(to_output), drawing_mm);
     for r in unknown_model {
         let layer = if r.layer.is_empty() {

@@ -87,6 +87,7 @@ fn dxf(source: &Source, options: &CompileOptions) -> FrontResult {
         feed,
         rapid: options.rapid,
         tolerance: options.tolerance,
+        curve_share: options.curve_share(),
         join_tolerance: d.join_tolerance,
         layers: d.layers.clone(),
         units: d.units,

@@ -157,6 +157,17 @@ pub struct CompileOptions {
 }
 
 impl CompileOptions {
+    /// Share of the tolerance a drawing's splines and ellipses are flattened within: the
+    /// path planner keeps the motion within the rest of it, so that the motion is within
+    /// the whole tolerance of the true curve; the other planners' chords take all of it.
+    pub fn curve_share(&self) -> f64 {
+        if self.input == InputKind::Dxf && self.planner == Planner::Path {
+            0.5
+        } else {
+            1.0
+        }
+    }
+
     /// Default options writing `format`.
     pub fn new(format: Format) -> CompileOptions {
         CompileOptions {
@@ -306,9 +317,11 @@ pub fn plan_options(
             .map_err(|e| Failure::Input(vec![Report::new(e)]))?,
         None => Default::default(),
     };
+    let path_tolerance = (options.curve_share() < 1.0)
+        .then(|| tolerance.get() * (1.0 - options.curve_share()));
     Ok(PlanOptions {
         tolerance,
-        path_tolerance: None,
+        path_tolerance,
         limits,
         planner: options.planner,
         timing: options.timing,
