@@ -68,6 +68,7 @@ const XYZ: [Axis; 3] = [Axis::X, Axis::Y, Axis::Z];
 fn plan(c: &Contour, tolerance: f64, limits: &BTreeMap<Axis, AxisLimits>) -> PvtContour {
     let options = PathOptions {
         tolerance,
+        corner_tolerance: None,
         limits: limits.clone(),
     };
     plan_path(c, &XYZ, &options).expect("plans").0
@@ -225,6 +226,24 @@ fn a_wider_tolerance_rounds_corners_faster_than_exact_stop() {
 }
 
 #[test]
+fn a_corner_tolerance_blends_corners_without_a_machine_file() {
+    let c = contour(square(100.0, 100.0));
+    let options = PathOptions {
+        tolerance: 0.001,
+        corner_tolerance: Some(0.05),
+        limits: BTreeMap::new(),
+    };
+    let blended = plan_path(&c, &XYZ, &options).unwrap().0;
+    let d = deviation(&c, &blended);
+    assert!(d.error <= 0.05 && d.gap <= 0.05, "{d:?}");
+    // No stop inside the contour: every interior knot moves.
+    for i in 0..blended.len() - 1 {
+        let v = blended.segment(i).velocity;
+        assert!(v.iter().any(|x| *x != 0.0), "stop at piece {i}");
+    }
+}
+
+#[test]
 fn full_circle_within_limits() {
     let c = contour(vec![arc(
         pos(50.0, 0.0, 0.0),
@@ -330,6 +349,7 @@ fn plan_windowed(
 ) -> PvtContour {
     let options = PathOptions {
         tolerance: tol,
+        corner_tolerance: None,
         limits: lim.clone(),
     };
     let start = XYZ.iter().map(|a| c.elements[0].start[a.index()]).collect();

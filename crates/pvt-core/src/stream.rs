@@ -14,8 +14,7 @@
 use crate::axis::Axis;
 use crate::discretize::{arc_positions, project};
 use crate::plan::{
-    plan_buffered, ContourStream, PathOptions, PathStream, PlanError, PlanOptions, PlanReport,
-    Planner,
+    plan_buffered, ContourStream, PathStream, PlanError, PlanOptions, PlanReport, Planner,
 };
 use crate::program::SegmentRef;
 use crate::toolpath::{Contour, Element, ElementKind, EventKind, Motion, ProgramEvent};
@@ -90,17 +89,6 @@ impl<S: PieceSink> PlanStage<S> {
         })
     }
 
-    /// The path options the path planner runs with.
-    fn path_options(&self) -> PathOptions {
-        PathOptions {
-            tolerance: self
-                .options
-                .path_tolerance
-                .unwrap_or(self.options.tolerance.get()),
-            limits: self.options.limits.clone(),
-        }
-    }
-
     /// Ends the program: finishes any open contour; the sink and the report, or the
     /// first planning error.
     pub fn finish(mut self) -> Result<(S, PlanReport), PlanError> {
@@ -115,9 +103,10 @@ impl<S: PieceSink> PlanStage<S> {
         let start = project(&element.start, &self.axes);
         let streams = self.options.quantize.is_none();
         let open = match self.options.planner {
-            Planner::Path if streams => {
-                Open::Path(Box::new(PathStream::new(&self.axes, &self.path_options())))
-            }
+            Planner::Path if streams => Open::Path(Box::new(PathStream::new(
+                &self.axes,
+                &self.options.path_options(),
+            ))),
             Planner::Contour if streams => Open::Points(Box::new(ContourStream::new(&start))),
             _ => Open::Buffered(Contour {
                 motion,

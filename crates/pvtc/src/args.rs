@@ -96,6 +96,11 @@ pub struct PipelineArgs {
     /// path planner keeps and `check` verifies.
     #[arg(long, value_name = "FILE")]
     pub machine: Option<PathBuf>,
+    /// Path planner: round a corner between two lines within this distance, program
+    /// units, without stopping (without --machine too, at the feed) [default: corners
+    /// blend within the path tolerance with --machine, and stop without it].
+    #[arg(long = "corner-tolerance", value_name = "T", value_parser = positive_number)]
+    pub corner_tolerance: Option<f64>,
     /// Fixed time per piece (seed 002) for pt/chord/const-accel/spline/lspb, e.g. 5ms;
     /// default: time = distance / feed.
     #[arg(long = "time-slice", value_name = "T", value_parser = duration)]
@@ -184,6 +189,7 @@ impl PipelineArgs {
             format,
             input,
             machine,
+            corner_tolerance: self.corner_tolerance,
             feed: self.feed,
             rapid: self.rapid,
             tolerance: self.tolerance,

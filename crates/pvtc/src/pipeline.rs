@@ -130,6 +130,8 @@ pub struct CompileOptions {
     pub input: InputKind,
     /// Machine limits from `--machine`.
     pub machine: Option<crate::machine::Machine>,
+    /// How far the path planner may round a corner between two lines, program units.
+    pub corner_tolerance: Option<f64>,
     /// Feed for moves before the first F word (required for drawings), units per minute.
     pub feed: Option<f64>,
     /// Rapid rate, program units per minute; `None` is 5000 mm/min.
@@ -174,6 +176,7 @@ impl CompileOptions {
             format,
             input: InputKind::Gcode,
             machine: None,
+            corner_tolerance: None,
             feed: None,
             rapid: None,
             tolerance: None,
@@ -317,11 +320,12 @@ pub fn plan_options(
             .map_err(|e| Failure::Input(vec![Report::new(e)]))?,
         None => Default::default(),
     };
-    let path_tolerance = (options.curve_share() < 1.0)
-        .then(|| tolerance.get() * (1.0 - options.curve_share()));
+    let path_tolerance =
+        (options.curve_share() < 1.0).then(|| tolerance.get() * (1.0 - options.curve_share()));
     Ok(PlanOptions {
         tolerance,
         path_tolerance,
+        corner_tolerance: options.corner_tolerance,
         limits,
         planner: options.planner,
         timing: options.timing,

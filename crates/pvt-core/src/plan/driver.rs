@@ -6,12 +6,12 @@
 
 use super::const_accel::const_accel_velocities;
 use super::lspb::plan_lspb;
+use super::plan_path;
 use super::pt::plan_pt;
 use super::quantize::{mid_speed_change, quantize_time, retime, Quantum};
 use super::spline::spline_velocities;
 use super::timed::{contour_from_velocities, runs_from_polyline, TimedPoints};
 use super::{chord::chord_velocities, plan_contour, PlanError, PlanOptions, Planner, Timing};
-use super::{plan_path, PathOptions};
 use crate::axis::{Axis, Units};
 use crate::discretize::flatten_contour;
 use crate::polyline::Polyline;
@@ -274,10 +274,7 @@ fn follow_path(
     options: &PlanOptions,
     report: &mut PlanReport,
 ) -> Result<PvtContour, PlanError> {
-    let path = PathOptions {
-        tolerance: options.path_tolerance.unwrap_or(options.tolerance.get()),
-        limits: options.limits.clone(),
-    };
+    let path = options.path_options();
     let (planned, achieved) = plan_path(contour, axes, &path)?;
     let worst = report.path_error.unwrap_or(0.0).max(achieved.error_bound);
     report.path_error = Some(worst);

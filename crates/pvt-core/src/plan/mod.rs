@@ -156,6 +156,9 @@ pub struct PlanOptions {
     pub tolerance: ChordTolerance,
     /// Path tolerance of the path planner, program units; `None` is the chord tolerance.
     pub path_tolerance: Option<f64>,
+    /// Corner tolerance of the path planner's blends, program units (`None`: the path
+    /// tolerance, and no blend without limits).
+    pub corner_tolerance: Option<f64>,
     /// Per-axis machine limits the path planner honours (and `check` verifies).
     pub limits: std::collections::BTreeMap<crate::axis::Axis, crate::check::AxisLimits>,
     /// Which planner chooses velocities and times.
@@ -171,6 +174,16 @@ pub struct PlanOptions {
 }
 
 impl PlanOptions {
+    /// What the path planner runs with: the path tolerance (the chord tolerance unless
+    /// set), the corner tolerance and the limits.
+    pub fn path_options(&self) -> PathOptions {
+        PathOptions {
+            tolerance: self.path_tolerance.unwrap_or(self.tolerance.get()),
+            corner_tolerance: self.corner_tolerance,
+            limits: self.limits.clone(),
+        }
+    }
+
     /// How the controller moves between points under the chosen planner.
     pub fn interpolation(&self) -> crate::program::Interpolation {
         match self.planner {
@@ -185,6 +198,7 @@ impl Default for PlanOptions {
         PlanOptions {
             tolerance: ChordTolerance::new(ChordTolerance::DEFAULT_MM).expect("positive"),
             path_tolerance: None,
+            corner_tolerance: None,
             limits: std::collections::BTreeMap::new(),
             planner: Planner::default(),
             timing: Timing::default(),

@@ -92,7 +92,13 @@ impl Knot {
 
 impl Knots {
     /// Knots at every element end, along arcs by the error bound, and beside junctions.
-    pub fn new(curves: &[Curve], bounds: &AxisBounds, tolerance: f64, start: &Start) -> Knots {
+    pub fn new(
+        curves: &[Curve],
+        bounds: &AxisBounds,
+        tolerance: f64,
+        corner: Option<f64>,
+        start: &Start,
+    ) -> Knots {
         let mut first = Knot::at(
             Place {
                 element: 0,
@@ -111,7 +117,7 @@ impl Knots {
             this.junctions.push(j.clone());
         }
         let junctions: Vec<Option<(Junction, [f64; 2])>> = (0..curves.len() - 1)
-            .map(|e| junction(&curves[e], &curves[e + 1], bounds, tolerance))
+            .map(|e| junction(&curves[e], &curves[e + 1], bounds, tolerance, corner))
             .collect();
         for (e, curve) in curves.iter().enumerate() {
             let before = e.checked_sub(1).and_then(|j| junctions[j].as_ref());
@@ -480,6 +486,7 @@ fn junction(
     b: &Curve,
     bounds: &AxisBounds,
     tolerance: f64,
+    corner: Option<f64>,
 ) -> Option<(Junction, [f64; 2])> {
     let t_in = unit_tangent(a, a.span);
     let t_out = unit_tangent(b, 0.0);
@@ -487,7 +494,8 @@ fn junction(
     let diff: Vec<f64> = t_in.iter().zip(&t_out).map(|(x, y)| x - y).collect();
     let (sum_norm, diff_norm) = (norm(&sum), norm(&diff));
     let angle = 2.0 * libm::atan2(diff_norm, sum_norm);
-    if sum_norm < 1e-6 || (!bounds.accelerates() && angle > TANGENT_ANGLE) {
+    let stops = !bounds.accelerates() && corner.is_none() && angle > TANGENT_ANGLE;
+    if sum_norm < 1e-6 || stops {
         return None;
     }
     let direction: Vec<f64> = sum.iter().map(|x| x / sum_norm).collect();
@@ -506,8 +514,9 @@ fn junction(
         cap: a.feed.min(b.feed),
         tangents: [t_in, t_out],
     };
-    if a.is_line() && b.is_line() && bounds.accelerates() && deviation > 1e-12 {
-        let l = (tolerance / junction.half_turn_sin)
+    let blends = bounds.accelerates() || corner.is_some();
+    if a.is_line() && b.is_line() && blends && deviation > 1e-12 {
+        let l = (corner.unwrap_or(tolerance) / junction.half_turn_sin)
             .min(0.45 * a.span)
             .min(0.45 * b.span);
         junction.blend = Some(l);

@@ -72,6 +72,10 @@ const MAX_ROUNDS: usize = 400;
 pub struct PathOptions {
     /// Path tolerance: the farthest the motion may be from the programmed geometry.
     pub tolerance: f64,
+    /// Corner tolerance: how far a blend between two lines may round their corner
+    /// (`None`: the path tolerance). With it, corners blend without a machine file too,
+    /// at the speed the limits (if any) allow.
+    pub corner_tolerance: Option<f64>,
     /// Per-axis limits; an axis not listed (or a limit left out) is not limited.
     pub limits: BTreeMap<Axis, AxisLimits>,
 }
@@ -193,7 +197,8 @@ impl PathStream {
             line: curves[0].line,
         };
         let least = self.least_acceleration();
-        let mut knots = Knots::new(curves, bounds, tolerance, &self.start);
+        let corner = self.options.corner_tolerance;
+        let mut knots = Knots::new(curves, bounds, tolerance, corner, &self.start);
         if !last {
             knots.cap_for_window(curves, least);
         }
