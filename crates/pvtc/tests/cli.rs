@@ -749,6 +749,33 @@ fn batch_compiles_a_folder_and_matches_single_runs() {
 }
 
 #[test]
+fn batch_mirrors_subfolders_under_the_out_dir() {
+    let dir = tempfile::tempdir().unwrap();
+    let inputs = dir.path().join("in");
+    std::fs::create_dir_all(inputs.join("sub")).unwrap();
+    std::fs::write(inputs.join("a.ngc"), "G1 X1 F100\n").unwrap();
+    std::fs::write(inputs.join("sub/b.ngc"), "G1 X2 F100\n").unwrap();
+    let out = dir.path().join("out");
+    let o = pvtc(
+        &[
+            "compile",
+            inputs.to_str().unwrap(),
+            "--out-dir",
+            out.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("2 files compiled, 0 failed"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(out.join("a.pmac").is_file());
+    assert!(out.join("sub/b.pmac").is_file());
+}
+
+#[test]
 fn batch_keeps_going_past_a_bad_file_and_exits_1() {
     let dir = tempfile::tempdir().unwrap();
     let inputs = dir.path().join("in");
