@@ -162,6 +162,38 @@ pub struct PipelineArgs {
 }
 
 impl PipelineArgs {
+    /// Refuses an option that would do nothing for this input and planner (a usage
+    /// error): `--time-slice` for `path`, `contour` or a CSV series (which brings its own
+    /// times), `--accel` for any planner but `lspb`, `--layer` for anything but a drawing.
+    fn check_used(&self, input: InputKind, planner: Planner) -> Result<(), Failure> {
+        let name = planner.name();
+        if self.time_slice.is_some() {
+            if input == InputKind::Csv {
+                return Err(Failure::Usage(
+                    "--time-slice does nothing for a CSV series, which brings its own times".into(),
+                ));
+            }
+            if matches!(planner, Planner::Path | Planner::Contour) {
+                return Err(Failure::Usage(format!(
+                    "--time-slice does nothing with the {name} planner: it times pt, chord, \
+                     const-accel, spline and lspb (--planner NAME)"
+                )));
+            }
+        }
+        if self.accel.is_some() && planner != Planner::Lspb {
+            return Err(Failure::Usage(format!(
+                "--accel does nothing with the {name} planner: it sets the blends of lspb \
+                 (--planner lspb)"
+            )));
+        }
+        if !self.layers.is_empty() && input != InputKind::Dxf {
+            return Err(Failure::Usage(
+                "--layer does nothing here: it selects layers of a DXF drawing".into(),
+            ));
+        }
+        Ok(())
+    }
+
     /// The pipeline options these arguments ask for, for a source named `name`; reads the
     /// `--offsets` file if one is given.
     pub fn compile_options(&self, name: &str, format: Format) -> Result<CompileOptions, Failure> {
@@ -176,6 +208,8 @@ impl PipelineArgs {
             Some(InputArg::Csv) => InputKind::Csv,
             None => InputKind::from_name(name),
         };
+        let planner = self.planner.unwrap_or(input.default_planner());
+        self.check_used(input, planner)?;
         let machine = match &self.machine {
             Some(path) => Some(crate::machine::Machine::read(path)?),
             None => None,
@@ -187,7 +221,7 @@ impl PipelineArgs {
             feed: self.feed,
             rapid: self.rapid,
             tolerance: self.tolerance,
-            planner: self.planner.unwrap_or(input.default_planner()),
+            planner,
             timing: self.time_slice.map_or(Timing::FromFeed, Timing::TimeSlice),
             accel: self.accel,
             quantize: self.quantize,
@@ -240,6 +274,11 @@ pub struct CompileArgs {
 impl CompileArgs {
     /// The pipeline options for a source named `name`.
     pub fn compile_options(&self, name: &str) -> Result<CompileOptions, Failure> {
+        if self.jobs.is_some() && self.out_dir.is_none() {
+            return Err(Failure::Usage(
+                "-j does nothing without --out-dir: it sets how many files compile at once".into(),
+            ));
+        }
         self.pipeline.compile_options(name, self.format.into())
     }
 }

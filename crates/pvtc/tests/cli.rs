@@ -586,6 +586,80 @@ fn lspb_needs_an_acceleration() {
     assert!(ok.status.success(), "{}", stderr(&ok));
 }
 
+/// Asserts that `args` is refused as a usage error whose message contains `says`.
+fn assert_usage(args: &[&str], says: &str) {
+    let o = pvtc(args, None);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+    assert!(err.contains("pvtc::usage"), "{args:?}: {err}");
+    assert!(err.contains(says), "{args:?}: {err}");
+    assert!(o.stdout.is_empty(), "{args:?}");
+}
+
+#[test]
+fn options_that_would_do_nothing_are_usage_errors() {
+    let ngc = "samples/gcode/an208_zigzag.ngc";
+    let csv = "samples/csv/an208_step.csv";
+    let dxf = "samples/dxf/lines_arcs.dxf";
+    // --time-slice: path (G-code default), contour (CSV default), any CSV series.
+    assert_usage(
+        &["compile", ngc, "--time-slice", "5ms"],
+        "--time-slice does nothing",
+    );
+    let contour = [
+        "compile",
+        ngc,
+        "--planner",
+        "contour",
+        "--time-slice",
+        "5ms",
+    ];
+    assert_usage(&contour, "with the contour planner");
+    assert_usage(&["compile", csv, "--time-slice", "5ms"], "CSV series");
+    let csv_pt = ["compile", csv, "--planner", "pt", "--time-slice", "5ms"];
+    assert_usage(&csv_pt, "CSV series");
+    // --accel: any planner but lspb.
+    assert_usage(&["compile", ngc, "--accel", "1000"], "--accel does nothing");
+    assert_usage(
+        &["compile", csv, "--accel", "1000"],
+        "with the contour planner",
+    );
+    let pt = ["compile", ngc, "--planner", "pt", "--accel", "1000"];
+    assert_usage(&pt, "with the pt planner");
+    // --layer: DXF only.
+    assert_usage(&["compile", ngc, "--layer", "CUT"], "--layer does nothing");
+    assert_usage(&["compile", csv, "--layer", "CUT"], "--layer does nothing");
+    // -j: only with --out-dir.
+    assert_usage(
+        &["compile", ngc, "-j", "2"],
+        "-j does nothing without --out-dir",
+    );
+    // The same options where they do something are accepted.
+    let used = [
+        vec![
+            "compile",
+            ngc,
+            "--planner",
+            "pt",
+            "--time-slice",
+            "5ms",
+            "--format",
+            "json",
+        ],
+        vec!["compile", ngc, "--planner", "lspb", "--accel", "400000"],
+        vec!["compile", dxf, "--feed", "1200", "--layer", "CUT"],
+    ];
+    for args in used {
+        let o = pvtc(&args, None);
+        assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let out = out.to_str().unwrap();
+    let o = pvtc(&["compile", ngc, "--out-dir", out, "-j", "2"], None);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
 #[test]
 fn check_reports_seed_001_step_acceleration_as_json() {
     let o = pvtc(
