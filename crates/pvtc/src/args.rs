@@ -357,7 +357,8 @@ fn rounding(text: &str) -> Result<Rounding, String> {
     text.parse::<Rounding>()
 }
 
-/// A duration: a number with `s`, `ms` or `us` (no unit: seconds).
+/// A duration: a number with `s`, `ms` or `us`. A bare number is refused (`pvtc::usage`)
+/// rather than read in some unit: `--quantize 1` could mean 1 s or 1 ms.
 pub fn duration(text: &str) -> Result<f64, String> {
     let t = text.trim();
     let (number, scale) = if let Some(n) = t.strip_suffix("ms") {
@@ -367,7 +368,10 @@ pub fn duration(text: &str) -> Result<f64, String> {
     } else if let Some(n) = t.strip_suffix('s') {
         (n, 1.0)
     } else {
-        (t, 1.0)
+        positive_number(t)?;
+        return Err(format!(
+            "pvtc::usage: a duration needs a unit (s, ms or us): write {t}ms or {t}s"
+        ));
     };
     Ok(positive_number(number)? * scale)
 }
@@ -413,12 +417,17 @@ mod tests {
     use super::*;
 
     #[test]
-    fn durations_take_units() {
+    fn durations_need_units() {
         assert_eq!(duration("0.5ms"), Ok(0.0005));
         assert_eq!(duration("250us"), Ok(0.00025));
         assert_eq!(duration("2s"), Ok(2.0));
-        assert_eq!(duration("0.001"), Ok(0.001));
         assert!(duration("-1ms").is_err() && duration("fast").is_err());
+        let bare = duration("1").unwrap_err();
+        assert!(
+            bare.contains("pvtc::usage") && bare.contains("write 1ms or 1s"),
+            "{bare}"
+        );
+        assert!(duration("0.001").is_err() && duration(" 5 ").is_err());
     }
 
     #[test]

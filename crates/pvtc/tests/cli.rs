@@ -661,6 +661,26 @@ fn options_that_would_do_nothing_are_usage_errors() {
 }
 
 #[test]
+fn a_duration_without_a_unit_is_a_usage_error_with_a_hint() {
+    let ngc = "samples/gcode/an208_zigzag.ngc";
+    for (option, value) in [("--quantize", "1"), ("--time-slice", "5")] {
+        let o = pvtc(&["compile", ngc, "--planner", "pt", option, value], None);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{option}: {err}");
+        assert!(err.contains("pvtc::usage"), "{option}: {err}");
+        assert!(
+            err.contains(&format!("write {value}ms or {value}s")),
+            "{err}"
+        );
+    }
+    let o = pvtc(&["check", ngc, "--servo-period", "0.5"], None);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("write 0.5ms or 0.5s"), "{}", stderr(&o));
+    let o = pvtc(&["compile", ngc, "--quantize", "1ms"], None);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+#[test]
 fn check_reports_seed_001_step_acceleration_as_json() {
     let o = pvtc(
         &[
