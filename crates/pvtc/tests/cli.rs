@@ -681,6 +681,19 @@ fn a_duration_without_a_unit_is_a_usage_error_with_a_hint() {
 }
 
 #[test]
+fn inch_defaults_print_rounded_in_the_header() {
+    let o = pvtc(&["compile", "-"], Some("G20 G90\nG1 X1 F10\nM2\n"));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8(o.stdout).unwrap();
+    assert!(
+        text.contains("196.85 in/min (default 5000 mm/min)"),
+        "{text}"
+    );
+    assert!(text.contains("0.0000393701 in"), "{text}");
+    assert!(!text.contains("196.8503937"), "{text}");
+}
+
+#[test]
 fn check_reports_seed_001_step_acceleration_as_json() {
     let o = pvtc(
         &[
