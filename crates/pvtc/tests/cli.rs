@@ -934,6 +934,39 @@ fn plot_writes_an_svg() {
 }
 
 #[test]
+fn plot_refuses_an_output_named_for_another_format() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["part.png", "part"] {
+        let png = dir.path().join(name);
+        let o = pvtc(
+            &[
+                "plot",
+                "samples/gcode/an208_octagon.ngc",
+                "-o",
+                png.to_str().unwrap(),
+            ],
+            None,
+        );
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(err.contains("pvtc::usage"), "{err}");
+        assert!(err.contains("FILE.svg"), "{err}");
+        assert!(!png.exists(), "nothing written to {name}");
+    }
+    let upper = dir.path().join("PART.SVG");
+    let o = pvtc(
+        &[
+            "plot",
+            "samples/gcode/an208_octagon.ngc",
+            "-o",
+            upper.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+#[test]
 fn offsets_file_and_units_conversion_apply_to_gcode() {
     let dir = tempfile::tempdir().unwrap();
     let offsets = dir.path().join("offsets.txt");
