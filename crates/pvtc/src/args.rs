@@ -167,6 +167,38 @@ pub struct PipelineArgs {
 }
 
 impl PipelineArgs {
+    /// Refuses an option that would do nothing for this input and planner (a usage
+    /// error): `--time-slice` for `path`, `contour` or a CSV series (which brings its own
+    /// times), `--accel` for any planner but `lspb`, `--layer` for anything but a drawing.
+    fn check_used(&self, input: InputKind, planner: Planner) -> Result<(), Failure> {
+        let name = planner.name();
+        if self.time_slice.is_some() {
+            if input == InputKind::Csv {
+                return Err(Failure::Usage(
+                    "--time-slice does nothing for a CSV series, which brings its own times".into(),
+                ));
+            }
+            if matches!(planner, Planner::Path | Planner::Contour) {
+                return Err(Failure::Usage(format!(
+                    "--time-slice does nothing with the {name} planner: it times pt, chord, \
+                     const-accel, spline and lspb (--planner NAME)"
+                )));
+            }
+        }
+        if self.accel.is_some() && planner != Planner::Lspb {
+            return Err(Failure::Usage(format!(
+                "--accel does nothing with the {name} planner: it sets the blends of lspb \
+                 (--planner lspb)"
+            )));
+        }
+        if !self.layers.is_empty() && input != InputKind::Dxf {
+            return Err(Failure::Usage(
+                "--layer does nothing here: it selects layers of a DXF drawing".into(),
+            ));
+        }
+        Ok(())
+    }
+
     /// The pipeline options these arguments ask for, for a source named `name`; reads the
     /// `--offsets` file if one is given.
     pub fn compile_options(&self, name: &str, format: Format) -> Result<CompileOptions, Failure> {
@@ -181,6 +213,8 @@ impl PipelineArgs {
             Some(InputArg::Csv) => InputKind::Csv,
             None => InputKind::from_name(name),
         };
+        let planner = self.planner.unwrap_or(input.default_planner());
+        self.check_used(input, planner)?;
         let machine = match &self.machine {
             Some(path) => Some(crate::machine::Machine::read(path)?),
             None => None,
@@ -193,7 +227,7 @@ impl PipelineArgs {
             feed: self.feed,
             rapid: self.rapid,
             tolerance: self.tolerance,
-            planner: self.planner.unwrap_or(input.default_planner()),
+            planner,
             timing: self.time_slice.map_or(Timing::FromFeed, Timing::TimeSlice),
             accel: self.accel,
             quantize: self.quantize,
@@ -246,6 +280,11 @@ pub struct CompileArgs {
 impl CompileArgs {
     /// The pipeline options for a source named `name`.
     pub fn compile_options(&self, name: &str) -> Result<CompileOptions, Failure> {
+        if self.jobs.is_some() && self.out_dir.is_none() {
+            return Err(Failure::Usage(
+                "-j does nothing without --out-dir: it sets how many files compile at once".into(),
+            ));
+        }
         self.pipeline.compile_options(name, self.format.into())
     }
 }
@@ -324,7 +363,8 @@ fn rounding(text: &str) -> Result<Rounding, String> {
     text.parse::<Rounding>()
 }
 
-/// A duration: a number with `s`, `ms` or `us` (no unit: seconds).
+/// A duration: a number with `s`, `ms` or `us`. A bare number is refused (`pvtc::usage`)
+/// rather than read in some unit: `--quantize 1` could mean 1 s or 1 ms.
 pub fn duration(text: &str) -> Result<f64, String> {
     let t = text.trim();
     let (number, scale) = if let Some(n) = t.strip_suffix("ms") {
@@ -334,7 +374,10 @@ pub fn duration(text: &str) -> Result<f64, String> {
     } else if let Some(n) = t.strip_suffix('s') {
         (n, 1.0)
     } else {
-        (t, 1.0)
+        positive_number(t)?;
+        return Err(format!(
+            "pvtc::usage: a duration needs a unit (s, ms or us): write {t}ms or {t}s"
+        ));
     };
     Ok(positive_number(number)? * scale)
 }
@@ -380,12 +423,17 @@ mod tests {
     use super::*;
 
     #[test]
-    fn durations_take_units() {
+    fn durations_need_units() {
         assert_eq!(duration("0.5ms"), Ok(0.0005));
         assert_eq!(duration("250us"), Ok(0.00025));
         assert_eq!(duration("2s"), Ok(2.0));
-        assert_eq!(duration("0.001"), Ok(0.001));
         assert!(duration("-1ms").is_err() && duration("fast").is_err());
+        let bare = duration("1").unwrap_err();
+        assert!(
+            bare.contains("pvtc::usage") && bare.contains("write 1ms or 1s"),
+            "{bare}"
+        );
+        assert!(duration("0.001").is_err() && duration(" 5 ").is_err());
     }
 
     #[test]

@@ -1,6 +1,7 @@
 //! Batch compilation: many inputs into one directory, in parallel.
 //!
-//! Owns expanding inputs (files, directories, globs) into jobs, naming outputs, running
+//! Owns expanding inputs (files, directories, globs) into jobs, naming outputs (a
+//! directory's tree is mirrored under the output directory), running
 //! the jobs on a rayon pool with a progress bar (drawn only on a terminal) and the
 //! summary. Every job is the single-file pipeline unchanged, so a batch output is
 //! byte-identical to compiling that file alone; a failing file never stops the others and
@@ -49,8 +50,8 @@ pub fn run(args: &CompileArgs) -> ExitCode {
             return ExitCode::from(EXIT_USAGE);
         }
     };
-    if let Err(e) = std::fs::create_dir_all(out_dir) {
-        eprintln!("error: cannot create {}: {e}", out_dir.display());
+    if let Err((dir, e)) = create_output_dirs(out_dir, &jobs) {
+        eprintln!("error: cannot create {}: {e}", dir.display());
         return ExitCode::from(EXIT_INPUT_ERROR);
     }
     let outcomes = match args.jobs {
@@ -64,6 +65,20 @@ pub fn run(args: &CompileArgs) -> ExitCode {
         None => run_jobs(&jobs, args),
     };
     summarize(&outcomes)
+}
+
+/// Creates `out_dir` and every folder a job writes into, so the input tree is mirrored
+/// under it (`in/sub/b.ngc` writes `OUT/sub/b.pmac`).
+fn create_output_dirs(out_dir: &Path, jobs: &[Job]) -> Result<(), (PathBuf, std::io::Error)> {
+    let dirs = jobs
+        .iter()
+        .filter_map(|job| job.output.parent())
+        .chain(std::iter::once(out_dir))
+        .collect::<std::collections::BTreeSet<_>>();
+    for dir in dirs {
+        std::fs::create_dir_all(dir).map_err(|e| (dir.to_path_buf(), e))?;
+    }
+    Ok(())
 }
 
 /// Compiles every job in parallel, in input order in the result.

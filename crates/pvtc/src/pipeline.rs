@@ -499,9 +499,10 @@ pub(crate) fn at_line(code: &str, message: &str, line: u32, source: &Source) -> 
 /// The settings every output header names, in a fixed order.
 pub(crate) fn settings(options: &CompileOptions, units: Units) -> Vec<(String, String)> {
     let u = units.name();
-    let tolerance = options
-        .tolerance
-        .unwrap_or(units.from_mm(ChordTolerance::DEFAULT_MM));
+    let tolerance = match options.tolerance {
+        Some(t) => t,
+        None => significant(units.from_mm(ChordTolerance::DEFAULT_MM)),
+    };
     let rapid = match options.rapid {
         Some(r) => format!("{r} {u}/min"),
         None if units == Units::Millimetre => {
@@ -509,7 +510,7 @@ pub(crate) fn settings(options: &CompileOptions, units: Units) -> Vec<(String, S
         }
         None => format!(
             "{} {u}/min (default 5000 mm/min)",
-            units.from_mm(DEFAULT_RAPID_MM_PER_MIN)
+            significant(units.from_mm(DEFAULT_RAPID_MM_PER_MIN))
         ),
     };
     let feed = match options.feed {
@@ -548,6 +549,16 @@ pub(crate) fn settings(options: &CompileOptions, units: Units) -> Vec<(String, S
         out.push(("machine".into(), m.name.clone()));
     }
     out
+}
+
+/// Significant digits of a default converted into other units, as a header prints it.
+const HEADER_DIGITS: usize = 6;
+
+/// `x` rounded to [`HEADER_DIGITS`] significant digits, for the header text only (a
+/// converted default such as 5000 mm/min reads `196.85 in/min`, not
+/// `196.8503937007874`); planning uses the unrounded value.
+fn significant(x: f64) -> f64 {
+    format!("{x:.*e}", HEADER_DIGITS - 1).parse().unwrap_or(x)
 }
 
 /// How a rounding reads after "rounded": `up`, `to nearest`.

@@ -586,6 +586,113 @@ fn lspb_needs_an_acceleration() {
     assert!(ok.status.success(), "{}", stderr(&ok));
 }
 
+/// Asserts that `args` is refused as a usage error whose message contains `says`.
+fn assert_usage(args: &[&str], says: &str) {
+    let o = pvtc(args, None);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+    assert!(err.contains("pvtc::usage"), "{args:?}: {err}");
+    assert!(err.contains(says), "{args:?}: {err}");
+    assert!(o.stdout.is_empty(), "{args:?}");
+}
+
+#[test]
+fn options_that_would_do_nothing_are_usage_errors() {
+    let ngc = "samples/gcode/an208_zigzag.ngc";
+    let csv = "samples/csv/an208_step.csv";
+    let dxf = "samples/dxf/lines_arcs.dxf";
+    // --time-slice: path (G-code default), contour (CSV default), any CSV series.
+    assert_usage(
+        &["compile", ngc, "--time-slice", "5ms"],
+        "--time-slice does nothing",
+    );
+    let contour = [
+        "compile",
+        ngc,
+        "--planner",
+        "contour",
+        "--time-slice",
+        "5ms",
+    ];
+    assert_usage(&contour, "with the contour planner");
+    assert_usage(&["compile", csv, "--time-slice", "5ms"], "CSV series");
+    let csv_pt = ["compile", csv, "--planner", "pt", "--time-slice", "5ms"];
+    assert_usage(&csv_pt, "CSV series");
+    // --accel: any planner but lspb.
+    assert_usage(&["compile", ngc, "--accel", "1000"], "--accel does nothing");
+    assert_usage(
+        &["compile", csv, "--accel", "1000"],
+        "with the contour planner",
+    );
+    let pt = ["compile", ngc, "--planner", "pt", "--accel", "1000"];
+    assert_usage(&pt, "with the pt planner");
+    // --layer: DXF only.
+    assert_usage(&["compile", ngc, "--layer", "CUT"], "--layer does nothing");
+    assert_usage(&["compile", csv, "--layer", "CUT"], "--layer does nothing");
+    // -j: only with --out-dir.
+    assert_usage(
+        &["compile", ngc, "-j", "2"],
+        "-j does nothing without --out-dir",
+    );
+    // The same options where they do something are accepted.
+    let used = [
+        vec![
+            "compile",
+            ngc,
+            "--planner",
+            "pt",
+            "--time-slice",
+            "5ms",
+            "--format",
+            "json",
+        ],
+        vec!["compile", ngc, "--planner", "lspb", "--accel", "400000"],
+        vec!["compile", dxf, "--feed", "1200", "--layer", "CUT"],
+    ];
+    for args in used {
+        let o = pvtc(&args, None);
+        assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let out = out.to_str().unwrap();
+    let o = pvtc(&["compile", ngc, "--out-dir", out, "-j", "2"], None);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+#[test]
+fn a_duration_without_a_unit_is_a_usage_error_with_a_hint() {
+    let ngc = "samples/gcode/an208_zigzag.ngc";
+    for (option, value) in [("--quantize", "1"), ("--time-slice", "5")] {
+        let o = pvtc(&["compile", ngc, "--planner", "pt", option, value], None);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{option}: {err}");
+        assert!(err.contains("pvtc::usage"), "{option}: {err}");
+        assert!(
+            err.contains(&format!("write {value}ms or {value}s")),
+            "{err}"
+        );
+    }
+    let o = pvtc(&["check", ngc, "--servo-period", "0.5"], None);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("write 0.5ms or 0.5s"), "{}", stderr(&o));
+    let o = pvtc(&["compile", ngc, "--quantize", "1ms"], None);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+#[test]
+fn inch_defaults_print_rounded_in_the_header() {
+    let o = pvtc(&["compile", "-"], Some("G20 G90\nG1 X1 F10\nM2\n"));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8(o.stdout).unwrap();
+    assert!(
+        text.contains("196.85 in/min (default 5000 mm/min)"),
+        "{text}"
+    );
+    assert!(text.contains("0.0000393701 in"), "{text}");
+    assert!(!text.contains("196.8503937"), "{text}");
+}
+
 #[test]
 fn check_reports_seed_001_step_acceleration_as_json() {
     let o = pvtc(
@@ -749,6 +856,33 @@ fn batch_compiles_a_folder_and_matches_single_runs() {
 }
 
 #[test]
+fn batch_mirrors_subfolders_under_the_out_dir() {
+    let dir = tempfile::tempdir().unwrap();
+    let inputs = dir.path().join("in");
+    std::fs::create_dir_all(inputs.join("sub")).unwrap();
+    std::fs::write(inputs.join("a.ngc"), "G1 X1 F100\n").unwrap();
+    std::fs::write(inputs.join("sub/b.ngc"), "G1 X2 F100\n").unwrap();
+    let out = dir.path().join("out");
+    let o = pvtc(
+        &[
+            "compile",
+            inputs.to_str().unwrap(),
+            "--out-dir",
+            out.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("2 files compiled, 0 failed"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(out.join("a.pmac").is_file());
+    assert!(out.join("sub/b.pmac").is_file());
+}
+
+#[test]
 fn batch_keeps_going_past_a_bad_file_and_exits_1() {
     let dir = tempfile::tempdir().unwrap();
     let inputs = dir.path().join("in");
@@ -797,6 +931,39 @@ fn plot_writes_an_svg() {
     assert!(o.status.success(), "{}", stderr(&o));
     let text = std::fs::read_to_string(&svg).unwrap();
     assert!(text.starts_with("<svg") && text.trim_end().ends_with("</svg>"));
+}
+
+#[test]
+fn plot_refuses_an_output_named_for_another_format() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["part.png", "part"] {
+        let png = dir.path().join(name);
+        let o = pvtc(
+            &[
+                "plot",
+                "samples/gcode/an208_octagon.ngc",
+                "-o",
+                png.to_str().unwrap(),
+            ],
+            None,
+        );
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(err.contains("pvtc::usage"), "{err}");
+        assert!(err.contains("FILE.svg"), "{err}");
+        assert!(!png.exists(), "nothing written to {name}");
+    }
+    let upper = dir.path().join("PART.SVG");
+    let o = pvtc(
+        &[
+            "plot",
+            "samples/gcode/an208_octagon.ngc",
+            "-o",
+            upper.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
 }
 
 #[test]
