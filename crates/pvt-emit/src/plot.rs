@@ -22,7 +22,7 @@ use pvt_core::PvtProgram;
 pub use sample::{sample_program, SampleAt, SampleOptions, Samples};
 
 /// How the plot looks.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct PlotOptions {
     /// Title printed over the whole document (e.g. the source's name).
     pub title: String,
@@ -30,6 +30,8 @@ pub struct PlotOptions {
     pub width: u32,
     /// Height of the document, pixels (600 at least).
     pub height: u32,
+    /// Per-axis limits drawn as ± lines on the velocity and acceleration panels.
+    pub limits: std::collections::BTreeMap<pvt_core::Axis, pvt_core::AxisLimits>,
 }
 
 impl Default for PlotOptions {
@@ -38,6 +40,7 @@ impl Default for PlotOptions {
             title: "pvtc motion".to_string(),
             width: 1000,
             height: 1500,
+            limits: std::collections::BTreeMap::new(),
         }
     }
 }

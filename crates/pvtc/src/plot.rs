@@ -22,12 +22,20 @@ pub fn run(args: &PlotArgs) -> ExitCode {
         Err(code) => return code,
     };
     let program = loaded.program;
+    let limits = match &loaded.options.machine {
+        Some(m) => match m.limits_in(program.units, &program.axes) {
+            Ok(limits) => limits,
+            Err(e) => return reporter.fail(&crate::Failure::Input(vec![miette::Report::new(e)])),
+        },
+        None => Default::default(),
+    };
     let options = pvt_emit::plot::PlotOptions {
         title: format!(
             "{} ({})",
             args.input.display(),
             loaded.options.planner.name()
         ),
+        limits,
         ..Default::default()
     };
     let svg = match pvt_emit::plot::plot_svg(&program, &options) {

@@ -1198,3 +1198,22 @@ fn deny_warnings_on_standard_input_writes_nothing() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(!o.stdout.is_empty());
 }
+
+#[test]
+fn plot_with_a_machine_file_draws_the_limits() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("p.svg");
+    let svg_name = svg.to_str().unwrap();
+    let args = ["plot", "samples/gcode/square.ngc", "-o", svg_name];
+    let o = pvtc(&args, None);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!std::fs::read_to_string(&svg).unwrap().contains("X limit"));
+    let machine = ["--machine", "samples/machines/mill.toml"];
+    let o = pvtc(&[&args[..], &machine].concat(), None);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(
+        text.contains("X limit") && text.contains("Y limit"),
+        "no limit lines"
+    );
+}

@@ -93,8 +93,8 @@ pub(super) fn render(
         super::path::legend_panel(&legend, &ctx)?;
         let rows = bottom.split_evenly((3, 1));
         speed_panel(&rows[0], &ctx)?;
-        axes_panel(&rows[1], &ctx, Quantity::Velocity)?;
-        axes_panel(&rows[2], &ctx, Quantity::Acceleration)?;
+        axes_panel(&rows[1], &ctx, Quantity::Velocity, options)?;
+        axes_panel(&rows[2], &ctx, Quantity::Acceleration, options)?;
         root.present().map_err(failed)?;
     }
     Ok(svg)
@@ -230,14 +230,34 @@ fn describe(ctx: &Ctx, q: Quantity) -> (String, String) {
     }
 }
 
-/// Each axis' velocity or acceleration against time, one colour an axis.
-fn axes_panel(area: &Area, ctx: &Ctx, q: Quantity) -> Result<(), PlotError> {
+/// The limit of `q` on each axis of the program, where `options` gives one.
+fn limits_of(ctx: &Ctx, q: Quantity, options: &PlotOptions) -> Vec<Option<f64>> {
+    ctx.program
+        .axes
+        .iter()
+        .map(|a| {
+            let l = options.limits.get(a)?;
+            match q {
+                Quantity::Velocity => l.velocity,
+                Quantity::Acceleration => l.acceleration,
+            }
+        })
+        .collect()
+}
+
+/// Each axis' velocity or acceleration against time, one colour an axis, with its
+/// limits (if given) as dashed lines at ± the limit.
+fn axes_panel(area: &Area, ctx: &Ctx, q: Quantity, options: &PlotOptions) -> Result<(), PlotError> {
     let s = ctx.samples;
     let values = match q {
         Quantity::Velocity => &s.velocity,
         Quantity::Acceleration => &s.acceleration,
     };
-    let (lo, hi) = extent(values.iter().copied())?;
+    let limits = limits_of(ctx, q, options);
+    let (mut lo, mut hi) = extent(values.iter().copied())?;
+    for l in limits.iter().flatten() {
+        (lo, hi) = (lo.min(-l), hi.max(*l));
+    }
     let (caption, y_desc) = describe(ctx, q);
     let area = titled(area, &caption)?;
     let mut chart = chart(
@@ -263,6 +283,20 @@ fn axes_panel(area: &Area, ctx: &Ctx, q: Quantity) -> Result<(), PlotError> {
                 series.label(ctx.axis_name(axis)).legend(move |(x, y)| {
                     PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
                 });
+            }
+        }
+        if let Some(limit) = limits[axis] {
+            let (t0, t1) = time_range(ctx);
+            let style = colour.mix(0.7).stroke_width(1);
+            for sign in [1.0, -1.0] {
+                let line =
+                    DashedLineSeries::new([(t0, sign * limit), (t1, sign * limit)], 6, 4, style);
+                let series = chart.draw_series(line).map_err(failed)?;
+                if sign > 0.0 {
+                    series
+                        .label(format!("{} limit", ctx.axis_name(axis)))
+                        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
+                }
             }
         }
     }
