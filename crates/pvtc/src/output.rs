@@ -193,6 +193,11 @@ pub fn write_file_with<T>(
         action: "write",
         error,
     };
+    if let Some(mut device) = special_file(path).map_err(fail)? {
+        // A device or a pipe (`-o /dev/null`, a FIFO) is written in place, as a stream:
+        // renaming a temporary file onto it would replace it with a regular file.
+        return write(&mut Target::Stream(&mut device));
+    }
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
@@ -334,5 +339,16 @@ fn permissions_for(path: &Path) -> std::fs::Permissions {
             .expect("the working directory exists");
         p.set_readonly(false);
         p
+    }
+}
+
+/// `path` opened for writing when it exists and is neither a regular file nor a
+/// directory (a device, a FIFO); `None` otherwise.
+fn special_file(path: &Path) -> std::io::Result<Option<std::fs::File>> {
+    match std::fs::metadata(path) {
+        Ok(m) if !m.is_file() && !m.is_dir() => {
+            std::fs::OpenOptions::new().write(true).open(path).map(Some)
+        }
+        _ => Ok(None),
     }
 }

@@ -1217,3 +1217,39 @@ fn plot_with_a_machine_file_draws_the_limits() {
         "no limit lines"
     );
 }
+
+/// `-o` naming a FIFO (as `-o /dev/null` names a device) writes into it and leaves it a
+/// FIFO: renaming a temporary file onto it would replace it with a regular file.
+#[cfg(unix)]
+#[test]
+fn output_to_a_fifo_writes_through_it_and_keeps_it() {
+    use std::os::unix::fs::FileTypeExt;
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("out.fifo");
+    if !Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .is_ok_and(|s| s.success())
+    {
+        eprintln!("SKIPPED: no mkfifo on this machine");
+        return;
+    }
+    let reader = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || std::fs::read(fifo).unwrap())
+    };
+    let o = pvtc(
+        &[
+            "compile",
+            "samples/gcode/square.ngc",
+            "-o",
+            fifo.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    // Checked before joining: had the FIFO been replaced, its reader would wait for ever.
+    assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
+    let written = reader.join().unwrap();
+    assert!(String::from_utf8_lossy(&written).contains("CLOSE"));
+}
