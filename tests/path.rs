@@ -407,3 +407,25 @@ fn a_window_shorter_than_the_stopping_distance_is_slower_but_within_limits() {
     }
     assert!(windowed.total_time() >= whole.total_time() * (1.0 - 1e-9));
 }
+
+#[test]
+fn a_tolerance_no_piece_can_meet_is_an_error_naming_the_line() {
+    // A 1° bend passed at the feed: its pieces halve each round, 400 rounds fall short.
+    let bend = (1.0f64).to_radians();
+    let c = contour(vec![
+        line(pos(0.0, 0.0, 0.0), pos(10.0, 0.0, 0.0), 50.0),
+        line(
+            pos(10.0, 0.0, 0.0),
+            pos(10.0 + 10.0 * bend.cos(), 10.0 * bend.sin(), 0.0),
+            50.0,
+        ),
+    ]);
+    let options = PathOptions {
+        tolerance: 1e-200,
+        corner_tolerance: None,
+        limits: BTreeMap::new(),
+    };
+    let e = plan_path(&c, &XYZ, &options).unwrap_err();
+    assert_eq!(e.code(), "pvtc::plan::path_not_met");
+    assert_eq!(e.line(), 1);
+}
