@@ -302,10 +302,7 @@ pub fn compile_streaming(
         let mut nothing = std::io::sink();
         let mut null = Target::Stream(&mut nothing);
         let check = write_pass(path, name, options, &gcode, &layout, &mut null)?;
-        deny(
-            &outcome_warnings(path, name, options, check)?,
-            deny_warnings,
-        )?;
+        deny(outcome_warnings(path, name, options, check)?, deny_warnings)?;
         layout
     };
     let mut pass = write_pass(path, name, options, &gcode, &layout, out)?;
@@ -318,31 +315,21 @@ pub fn compile_streaming(
         out.restart().map_err(restart)?;
         pass = write_pass(path, name, options, &gcode, &pass.layout.clone(), out)?;
     }
-    let warnings = outcome_warnings(path, name, options, pass)?;
-    deny(&warnings, deny_warnings)?;
-    Ok(warnings)
+    deny(outcome_warnings(path, name, options, pass)?, deny_warnings)
 }
 
-/// Fails with the warnings and one error when any is a warning and `deny_warnings`.
-fn deny(warnings: &[miette::Report], deny_warnings: bool) -> Result<(), crate::Failure> {
-    let count = warnings
-        .iter()
-        .filter(|r| r.severity() == Some(miette::Severity::Warning))
-        .count();
+/// The warnings, or, when any is a warning and `deny_warnings`, a failure holding them
+/// (sources and labels kept) and one error saying nothing was written.
+fn deny(
+    warnings: Vec<miette::Report>,
+    deny_warnings: bool,
+) -> Result<Vec<miette::Report>, crate::Failure> {
+    let is_warning = |r: &miette::Report| r.severity() == Some(miette::Severity::Warning);
+    let count = warnings.iter().filter(|r| is_warning(r)).count();
     if !deny_warnings || count == 0 {
-        return Ok(());
+        return Ok(warnings);
     }
-    let mut reports: Vec<miette::Report> = warnings
-        .iter()
-        .filter(|r| r.severity() == Some(miette::Severity::Warning))
-        .map(|r| {
-            miette::miette!(
-                severity = miette::Severity::Warning,
-                code = r.code().map(|c| c.to_string()).unwrap_or_default(),
-                "{r}"
-            )
-        })
-        .collect();
+    let mut reports: Vec<miette::Report> = warnings.into_iter().filter(is_warning).collect();
     reports.push(miette::miette!(
         code = "pvtc::deny_warnings",
         "{count} warning(s) and --deny-warnings; nothing was written"
