@@ -88,8 +88,12 @@ pub struct PipelineArgs {
     #[arg(long = "input-format", value_enum)]
     pub input_format: Option<InputArg>,
     /// Planner: path (motion within --tolerance of the drawn geometry; default for G-code
-    /// and DXF), contour (bisector velocities through every point; default for CSV), pt,
-    /// chord, const-accel, spline or lspb.
+    /// and DXF), contour (bisector velocities at the feed, mid-segment speed = mean of end
+    /// speeds; default for CSV), pt (constant velocity between points), chord-forward
+    /// (velocity = outgoing chord / time, as the quad-circle MovePVT example; `chord` is an
+    /// alias), chord-back (velocity = incoming chord / time, as AN208), const-accel
+    /// (constant acceleration within each piece), spline (C2 cubic spline) or lspb (linear
+    /// segments with parabolic blends at --accel).
     #[arg(long, value_name = "NAME", value_parser = planner)]
     pub planner: Option<Planner>,
     /// Machine file (TOML) with per-axis velocity, acceleration and jerk limits that the
@@ -101,7 +105,7 @@ pub struct PipelineArgs {
     /// blend within the path tolerance with --machine, and stop without it].
     #[arg(long = "corner-tolerance", value_name = "T", value_parser = positive_number)]
     pub corner_tolerance: Option<f64>,
-    /// Fixed time per piece (seed 002) for pt/chord/const-accel/spline/lspb, e.g. 5ms;
+    /// Fixed time per piece for pt/chord-forward/chord-back/const-accel/spline/lspb, e.g. 5ms;
     /// default: time = distance / feed.
     #[arg(long = "time-slice", value_name = "T", value_parser = duration)]
     pub time_slice: Option<f64>,
@@ -180,8 +184,8 @@ impl PipelineArgs {
             }
             if matches!(planner, Planner::Path | Planner::Contour) {
                 return Err(Failure::Usage(format!(
-                    "--time-slice does nothing with the {name} planner: it times pt, chord, \
-                     const-accel, spline and lspb (--planner NAME)"
+                    "--time-slice does nothing with the {name} planner: it times pt, \
+                     chord-forward, chord-back, const-accel, spline and lspb (--planner NAME)"
                 )));
             }
         }

@@ -572,15 +572,22 @@ fn rounding_words(rounding: Rounding) -> &'static str {
 fn planner_description(planner: Planner) -> &'static str {
     match planner {
         Planner::Contour => {
-            "contour (seed 000: bisector velocities, mid-segment speed = mean of end speeds)"
+            "contour (bisector velocities at the feed, mid-segment speed = mean of end speeds)"
         }
         Planner::Path => {
             "path (within the path tolerance of the true elements and the axis limits)"
         }
-        Planner::Pt => "pt (seed 001: constant velocity between points)",
-        Planner::Chord => "chord (seed 001/002: forward-difference velocities, last at rest)",
-        Planner::ConstAccel => "const-accel (seed 001: constant-acceleration velocity fit)",
+        Planner::Pt => "pt (position-time: constant velocity between points, AN208's PT)",
+        Planner::Chord => {
+            "chord-forward (velocity at a point = outgoing chord / its time, rest at both ends)"
+        }
+        Planner::ChordBack => {
+            "chord-back (velocity at a point = incoming chord / its time, AN208; rest at both ends)"
+        }
+        Planner::ConstAccel => {
+            "const-accel (each piece at constant acceleration from the previous velocity, AN208)"
+        }
         Planner::Spline => "spline (C2 cubic spline through the points, rest at both ends)",
-        Planner::Lspb => "lspb (seed 004: linear segments with parabolic blends)",
+        Planner::Lspb => "lspb (linear segments with parabolic blends at --accel)",
     }
 }
