@@ -3,7 +3,7 @@
 //! Owns the flags, their help text and their conversion into pipeline options (reading
 //! the `--offsets` file through [`crate::offsets`]). It must not compile anything.
 
-use crate::pipeline::{CompileOptions, DrawingOptions, Failure, InputKind};
+use crate::pipeline::{CompileOptions, DrawingOptions, Failure, InputKind, VelocitySource};
 use clap::{Parser, Subcommand, ValueEnum};
 use pvt_core::{AxisLimits, Planner, Rounding, Timing, Units};
 use pvt_emit::Format;
@@ -70,6 +70,15 @@ pub enum UnitsArg {
     Mm,
     /// Inches.
     In,
+}
+
+/// Where a series' velocities come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum VelocitiesArg {
+    /// The series' velocity columns, as given.
+    File,
+    /// The planner's own method; velocity columns are ignored.
+    Plan,
 }
 
 /// How diagnostics are printed.
@@ -162,7 +171,12 @@ pub struct PipelineArgs {
     /// G-code: relative arc radius tolerance (0.001 = 0.1 %) [default: 0.001].
     #[arg(long = "arc-rel-tolerance", value_name = "R", value_parser = positive_number)]
     pub arc_rel_tolerance: Option<f64>,
-    /// Fail when there is any warning.
+    /// CSV: where the velocities come from: `file` (the series' v<axis> columns, as given)
+    /// or `plan` (the planner's method; the columns are ignored) [default: file when the
+    /// series has velocity columns and the planner takes velocities].
+    #[arg(long, value_name = "file|plan", value_enum)]
+    pub velocities: Option<VelocitiesArg>,
+    /// Fail when there is any warning (notes never fail).
     #[arg(long = "deny-warnings")]
     pub deny_warnings: bool,
     /// How to print diagnostics.
@@ -194,6 +208,11 @@ impl PipelineArgs {
                 "--accel does nothing with the {name} planner: it sets the blends of lspb \
                  (--planner lspb)"
             )));
+        }
+        if self.velocities.is_some() && input != InputKind::Csv {
+            return Err(Failure::Usage(
+                "--velocities does nothing here: it chooses the velocities of a CSV series".into(),
+            ));
         }
         if !self.layers.is_empty() && input != InputKind::Dxf {
             return Err(Failure::Usage(
@@ -252,6 +271,10 @@ impl PipelineArgs {
                     UnitsArg::In => Units::Inch,
                 }),
             },
+            velocities: self.velocities.map(|v| match v {
+                VelocitiesArg::File => VelocitySource::File,
+                VelocitiesArg::Plan => VelocitySource::Plan,
+            }),
         })
     }
 }

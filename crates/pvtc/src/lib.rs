@@ -20,7 +20,9 @@ pub mod report;
 pub mod stream;
 
 pub use args::{Cli, Command, CompileArgs};
-pub use pipeline::{compile, plan, CompileOptions, DrawingOptions, Failure, InputKind, Source};
+pub use pipeline::{
+    compile, plan, CompileOptions, DrawingOptions, Failure, InputKind, Source, VelocitySource,
+};
 
 use report::Reporter;
 use std::process::ExitCode;
