@@ -476,7 +476,7 @@ pub(crate) fn emit_failure(
         StreamError::Unsupported(interpolation) => Failure::Input(vec![miette::miette!(
             code = "pvtc::emit::unsupported_interpolation",
             help =
-                "PMAC PVT mode needs velocities: choose a PVT planner, or --format json or movepvt",
+                "PMAC PVT mode needs velocities: choose a PVT planner, or --format movepvt (MovePT arrays) or json",
             "the {} format cannot express {interpolation:?} motion",
             options.format.name()
         )]),

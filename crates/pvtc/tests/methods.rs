@@ -206,3 +206,63 @@ fn the_contour_planner_on_a_series_says_it_replaces_the_times() {
     );
     assert!(!codes(&o).iter().any(|c| c.ends_with("times_replaced")));
 }
+
+#[test]
+fn pt_into_movepvt_is_movept_arrays_that_compile_and_pmac_points_there() {
+    let pmac = pvtc(&[
+        "compile",
+        "samples/gcode/an208_zigzag.ngc",
+        "--planner",
+        "pt",
+        "--diagnostics",
+        "json",
+    ]);
+    assert_eq!(pmac.status.code(), Some(1));
+    let hint: serde_json::Value =
+        serde_json::from_str(text(&pmac.stderr).lines().next().unwrap()).unwrap();
+    assert_eq!(hint["code"], "pvtc::emit::unsupported_interpolation");
+    assert!(hint["help"]
+        .as_str()
+        .unwrap()
+        .contains("--format movepvt (MovePT arrays)"));
+    let dir = tempfile::tempdir().unwrap();
+    let c_file = dir.path().join("zigzag_pt.c");
+    let o = pvtc(&[
+        "compile",
+        "samples/gcode/an208_zigzag.ngc",
+        "--planner",
+        "pt",
+        "--format",
+        "movepvt",
+        "-o",
+        c_file.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let c = std::fs::read_to_string(&c_file).unwrap();
+    assert!(c.contains("MovePT(pvtc_cN_position, pvtc_cN_time") && !c.contains("_velocity[]"));
+    // The positions are the program's points: the zigzag's corners.
+    assert!(c.contains("    5000.0, 0.0,\n    0.0, 10000.0,\n    5000.0, 1000.0,\n"), "{c}");
+    let cc = std::env::var("CC").unwrap_or_else(|_| "cc".into());
+    if Command::new(&cc).arg("--version").output().is_err() {
+        eprintln!("SKIPPED compiling: no C compiler `{cc}` on this machine");
+        return;
+    }
+    let user = dir.path().join("user.c");
+    std::fs::write(
+        &user,
+        "#include \"zigzag_pt.c\"\n\
+         double first(void);\n\
+         double first(void) { return pvtc_c1_position[0] + pvtc_c1_time[0] \
+         + (double)PVTC_C1_POINTS + (double)pvtc_contours[0].count; }\n",
+    )
+    .unwrap();
+    for file in [&c_file, &user] {
+        let o = Command::new(&cc)
+            .args(["-std=c99", "-Wall", "-Wextra", "-Werror", "-c", "-o"])
+            .arg(dir.path().join("out.o"))
+            .arg(file)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", text(&o.stderr));
+    }
+}
