@@ -1,18 +1,196 @@
 //! Rendering diagnostics on standard error.
 //!
-//! Owns how failures and warnings look: for people, miette's report with file, line,
-//! column, a label under the offending text and a help line; for tools
-//! (`--diagnostics json`), one JSON object per line. It must not decide what is an error.
+//! Owns how failures, warnings and notes look: for people, miette's report with file,
+//! line, column, a label under the offending text and a help line; for tools
+//! (`--diagnostics json`), one JSON object per line. Repeats of one code in one input are
+//! one diagnostic ([`group`]): the count, the lines of every place, labels on the first
+//! [`SHOWN_PLACES`]. It must not decide what is an error.
 
 use crate::args::{DiagnosticsArg, PipelineArgs};
 use crate::pipeline::Failure;
 use crate::{EXIT_INPUT_ERROR, EXIT_USAGE};
-use miette::{Report, Severity};
+use miette::{Diagnostic, LabeledSpan, Report, ReportHandler, Severity, SourceCode, SourceSpan};
+use std::fmt;
 use std::process::ExitCode;
 
 /// Most diagnostics printed for one input; the rest are counted (a wrong file can have
 /// one error per line).
 pub const MAX_PRINTED: usize = 50;
+
+/// Places of a repeated diagnostic that are labelled in its rendering; the lines of the
+/// rest are listed in its help.
+pub const SHOWN_PLACES: usize = 3;
+
+/// Lines of a repeated diagnostic's places listed in its help; the rest are counted.
+const LISTED_LINES: usize = 20;
+
+/// One diagnostic as printed: a single report, or the repeats of one code grouped.
+#[derive(Debug)]
+pub enum Item<'a> {
+    /// A diagnostic that occurs once.
+    Single(&'a Report),
+    /// Two or more diagnostics with one code and severity, in source order.
+    Repeated(Repeated<'a>),
+}
+
+/// Groups repeats of one code and severity into one item at the place of the first, in
+/// the order of the reports. Reports without a code or without a label stay single.
+pub fn group(reports: &[Report]) -> Vec<Item<'_>> {
+    let mut items: Vec<Item<'_>> = Vec::new();
+    let key = |r: &Report| {
+        let labelled = r.labels().is_some_and(|mut l| l.next().is_some());
+        let code = r.code().map(|c| c.to_string());
+        (labelled && r.source_code().is_some())
+            .then_some(code)
+            .flatten()
+            .map(|c| (c, r.severity()))
+    };
+    let mut keys: Vec<(Option<(String, Option<Severity>)>, usize)> = Vec::new();
+    for report in reports {
+        let k = key(report);
+        if let Some(k) = &k {
+            if let Some(&(_, at)) = keys.iter().find(|(key, _)| key.as_ref() == Some(k)) {
+                match &mut items[at] {
+                    Item::Repeated(group) => group.members.push(report),
+                    Item::Single(first) => {
+                        items[at] = Item::Repeated(Repeated {
+                            members: vec![first, report],
+                        })
+                    }
+                }
+                continue;
+            }
+        }
+        keys.push((k, items.len()));
+        items.push(Item::Single(report));
+    }
+    items
+}
+
+/// Repeats of one diagnostic code in one input, rendered as one diagnostic.
+#[derive(Debug)]
+pub struct Repeated<'a> {
+    members: Vec<&'a Report>,
+}
+
+impl Repeated<'_> {
+    /// How many times the diagnostic occurs.
+    pub fn count(&self) -> usize {
+        self.members.len()
+    }
+
+    /// 1-based line of each place, in order (0 where it cannot be read).
+    pub fn lines(&self) -> Vec<usize> {
+        self.members.iter().map(|r| place(r).map_or(0, |p| p.line)).collect()
+    }
+}
+
+impl fmt::Display for Repeated<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let shown = self.count().min(SHOWN_PLACES);
+        write!(
+            f,
+            "{} ({} times; the first {shown} shown)",
+            self.members[0],
+            self.count()
+        )
+    }
+}
+
+impl std::error::Error for Repeated<'_> {}
+
+impl Diagnostic for Repeated<'_> {
+    fn code<'b>(&'b self) -> Option<Box<dyn fmt::Display + 'b>> {
+        self.members[0].code()
+    }
+
+    fn severity(&self) -> Option<Severity> {
+        self.members[0].severity()
+    }
+
+    fn help<'b>(&'b self) -> Option<Box<dyn fmt::Display + 'b>> {
+        let lines = self.lines();
+        let mut listed: Vec<String> = lines
+            .iter()
+            .take(LISTED_LINES)
+            .map(|l| l.to_string())
+            .collect();
+        if lines.len() > LISTED_LINES {
+            listed.push(format!("and {} more", lines.len() - LISTED_LINES));
+        }
+        let at = format!("at lines {}", listed.join(", "));
+        Some(Box::new(match self.members[0].help() {
+            Some(help) => format!("{help}\n{at}"),
+            None => at,
+        }))
+    }
+
+    fn source_code(&self) -> Option<&dyn SourceCode> {
+        Some(self)
+    }
+
+    fn labels(&self) -> Option<Box<dyn Iterator<Item = LabeledSpan> + '_>> {
+        Some(Box::new(
+            self.members
+                .iter()
+                .take(SHOWN_PLACES)
+                .filter_map(|r| r.labels().and_then(|mut l| l.next())),
+        ))
+    }
+}
+
+/// The group's places come from each member's own source (a streamed file's excerpts hold
+/// only the lines around their own diagnostic): a span is read from the first member whose
+/// source holds all of it.
+impl SourceCode for Repeated<'_> {
+    fn read_span<'b>(
+        &'b self,
+        span: &SourceSpan,
+        before: usize,
+        after: usize,
+    ) -> Result<Box<dyn miette::SpanContents<'b> + 'b>, miette::MietteError> {
+        let end = span.offset() + span.len();
+        for source in self.members.iter().filter_map(|r| r.source_code()) {
+            if let Ok(contents) = source.read_span(span, before, after) {
+                let got = contents.span();
+                if got.offset() <= span.offset() && got.offset() + got.len() >= end {
+                    return Ok(contents);
+                }
+            }
+        }
+        Err(miette::MietteError::OutOfBounds)
+    }
+}
+
+/// Where a report's first label is: file, 1-based line and column, offset and length.
+struct Place {
+    file: Option<String>,
+    line: usize,
+    column: usize,
+    offset: usize,
+    length: usize,
+}
+
+fn place(report: &Report) -> Option<Place> {
+    let label = report.labels()?.next()?;
+    let contents = report.source_code()?.read_span(label.inner(), 0, 0).ok()?;
+    Some(Place {
+        file: contents.name().map(str::to_owned),
+        line: contents.line() + 1,
+        column: contents.column() + 1,
+        offset: label.offset(),
+        length: label.len(),
+    })
+}
+
+/// Renders a diagnostic as miette's default handler renders a [`Report`].
+struct Rendered<'a>(&'a dyn Diagnostic);
+
+impl fmt::Display for Rendered<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        miette::MietteHandler::default().debug(self.0, f)
+    }
+}
 
 /// Prints diagnostics the way the command line asked.
 #[derive(Debug, Clone, Copy)]
@@ -50,13 +228,12 @@ impl Reporter {
                 return ExitCode::from(EXIT_USAGE);
             }
             Failure::Input(reports) => {
-                for report in reports.iter().take(MAX_PRINTED) {
-                    self.print(report);
-                }
+                self.print_all(reports);
                 let n = reports.len();
+                let items = group(reports).len();
                 if !self.json {
-                    if n > MAX_PRINTED {
-                        eprintln!("… and {} more errors not shown", n - MAX_PRINTED);
+                    if items > MAX_PRINTED {
+                        eprintln!("… and {} more diagnostics not shown", items - MAX_PRINTED);
                     }
                     eprintln!(
                         "error: {n} error{} in the input; nothing was written",
@@ -70,9 +247,7 @@ impl Reporter {
 
     /// Prints warnings; with `--deny-warnings` any warning fails the run.
     pub fn warnings(&self, reports: &[Report]) -> Result<(), ExitCode> {
-        for report in reports {
-            self.print(report);
-        }
+        self.print_all(reports);
         let denied = reports
             .iter()
             .filter(|r| r.severity() == Some(Severity::Warning))
@@ -86,6 +261,19 @@ impl Reporter {
         Ok(())
     }
 
+    /// Prints `reports` with repeats grouped, at most [`MAX_PRINTED`] diagnostics.
+    pub fn print_all(&self, reports: &[Report]) {
+        for item in group(reports).iter().take(MAX_PRINTED) {
+            match item {
+                Item::Single(report) => self.print(report),
+                Item::Repeated(repeated) if self.json => {
+                    eprintln!("{}", repeated_json(repeated));
+                }
+                Item::Repeated(repeated) => eprintln!("{}", Rendered(repeated)),
+            }
+        }
+    }
+
     fn print(&self, report: &Report) {
         if self.json {
             eprintln!("{}", to_json(report));
@@ -93,6 +281,30 @@ impl Reporter {
             eprintln!("{report:?}");
         }
     }
+}
+
+/// A repeated diagnostic as one JSON object: the first's fields (message and help as
+/// the first place has them), `count`, and `places` with file, line, column, offset and
+/// length of every place.
+pub fn repeated_json(repeated: &Repeated<'_>) -> serde_json::Value {
+    let mut value = to_json(repeated.members[0]);
+    value["count"] = serde_json::json!(repeated.count());
+    let places: Vec<serde_json::Value> = repeated
+        .members
+        .iter()
+        .filter_map(|r| place(r))
+        .map(|p| {
+            serde_json::json!({
+                "file": p.file,
+                "line": p.line,
+                "column": p.column,
+                "offset": p.offset,
+                "length": p.length,
+            })
+        })
+        .collect();
+    value["places"] = serde_json::json!(places);
+    value
 }
 
 /// One diagnostic as a JSON object: code, severity, message, help, file, line, column.

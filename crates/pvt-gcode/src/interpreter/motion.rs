@@ -203,8 +203,10 @@ impl Interpreter<'_> {
         self.position = end;
         let Some(feed) = feed else { return };
         if end == start {
-            return self.warn(GcodeDiagnostic::ZeroLengthMove {
-                span: span(block.span()),
+            let span = span(block.span());
+            return self.warn(match motion {
+                Motion::Rapid => GcodeDiagnostic::RapidToCurrentPoint { span },
+                Motion::Feed => GcodeDiagnostic::ZeroLengthMove { span },
             });
         }
         let element = Element {
