@@ -244,7 +244,7 @@ fn pt_into_movepvt_is_movept_arrays_that_compile_and_pmac_points_there() {
     assert!(c.contains("    5000.0, 0.0,\n    0.0, 10000.0,\n    5000.0, 1000.0,\n"), "{c}");
     let cc = std::env::var("CC").unwrap_or_else(|_| "cc".into());
     if Command::new(&cc).arg("--version").output().is_err() {
-        eprintln!("SKIPPED compiling: no C compiler `{cc}` on this machine");
+        eprintln!("SKIPPED: compiling, no C compiler `{cc}` on this machine");
         return;
     }
     let user = dir.path().join("user.c");
