@@ -263,12 +263,74 @@ impl Reporter {
 
     /// Prints `reports` with repeats grouped, at most [`MAX_PRINTED`] diagnostics.
     pub fn print_all(&self, reports: &[Report]) {
+        self.print_items(reports, None);
+    }
+
+    /// A batch: prints one input's diagnostics under its name (JSON: each object has
+    /// `input`); nothing for an input without any.
+    pub fn print_for_input(&self, input: &std::path::Path, reports: &[Report]) {
+        if reports.is_empty() {
+            return;
+        }
+        let name = input.display().to_string();
+        if !self.json {
+            let errors = reports
+                .iter()
+                .filter(|r| r.severity().unwrap_or(Severity::Error) == Severity::Error)
+                .count();
+            let warnings = reports
+                .iter()
+                .filter(|r| r.severity() == Some(Severity::Warning))
+                .count();
+            eprintln!("── {name}: {}", counts(errors, warnings));
+        }
+        self.print_items(reports, Some(&name));
+        if !self.json {
+            let items = group(reports).len();
+            if items > MAX_PRINTED {
+                eprintln!("… and {} more diagnostics not shown", items - MAX_PRINTED);
+            }
+        }
+    }
+
+    /// The end of a batch: files compiled, failed, and the warnings of those compiled.
+    pub fn batch_summary(&self, compiled: usize, failed: usize, warnings: usize) {
+        let text = format!(
+            "{compiled} files compiled, {failed} failed, {warnings} warning{}",
+            if warnings == 1 { "" } else { "s" }
+        );
+        if self.json {
+            eprintln!(
+                "{}",
+                serde_json::json!({
+                    "code": "pvtc::batch::summary",
+                    "severity": "advice",
+                    "message": text,
+                    "compiled": compiled,
+                    "failed": failed,
+                    "warnings": warnings,
+                })
+            );
+        } else {
+            eprintln!("{text}");
+        }
+    }
+
+    fn print_items(&self, reports: &[Report], input: Option<&str>) {
         for item in group(reports).iter().take(MAX_PRINTED) {
+            if self.json {
+                let mut value = match item {
+                    Item::Single(report) => to_json(report),
+                    Item::Repeated(repeated) => repeated_json(repeated),
+                };
+                if let Some(input) = input {
+                    value["input"] = serde_json::json!(input);
+                }
+                eprintln!("{value}");
+                continue;
+            }
             match item {
                 Item::Single(report) => self.print(report),
-                Item::Repeated(repeated) if self.json => {
-                    eprintln!("{}", repeated_json(repeated));
-                }
                 Item::Repeated(repeated) => eprintln!("{}", Rendered(repeated)),
             }
         }
@@ -280,6 +342,17 @@ impl Reporter {
         } else {
             eprintln!("{report:?}");
         }
+    }
+}
+
+/// "1 error", "2 warnings", "1 error, 3 warnings", "notes only".
+fn counts(errors: usize, warnings: usize) -> String {
+    let plural = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
+    match (errors, warnings) {
+        (0, 0) => "notes only".into(),
+        (0, w) => plural(w, "warning"),
+        (e, 0) => plural(e, "error"),
+        (e, w) => format!("{}, {}", plural(e, "error"), plural(w, "warning")),
     }
 }
 

@@ -170,3 +170,66 @@ fn ordinary_cam_output_passes_deny_warnings_with_notes() {
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(stderr(&o).contains("pvtc::gcode::zero_length_move"));
 }
+
+#[test]
+fn a_batch_prints_each_files_diagnostics_under_its_name_and_a_summary() {
+    let dir = tempfile::tempdir().unwrap();
+    let inputs = dir.path().join("in");
+    std::fs::create_dir(&inputs).unwrap();
+    std::fs::copy(
+        root().join("samples/gcode/an208_step.ngc"),
+        inputs.join("a_step.ngc"),
+    )
+    .unwrap();
+    std::fs::write(inputs.join("b_good.ngc"), "G21 G90\nG1 X1 F100\n").unwrap();
+    std::fs::write(
+        inputs.join("c_bad.ngc"),
+        "G21 G90\nG1 X1 Y1 F100\nG1 X2 Q7 Y2\nG1 X3 Y3 Q3\n",
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    let args = [
+        "compile",
+        inputs.to_str().unwrap(),
+        "--out-dir",
+        out.to_str().unwrap(),
+        "--format",
+        "json",
+    ];
+    let o = pvtc(&args);
+    assert_eq!(o.status.code(), Some(1));
+    let err = stderr(&o);
+    let step = err.find("a_step.ngc: 7 warnings").expect(&err);
+    let bad = err.find("c_bad.ngc: 2 errors").expect(&err);
+    assert!(step < bad, "{err}");
+    // The warnings are rendered in full (source, labels), not one line.
+    let warnings = &err[step..bad];
+    assert!(warnings.contains("(7 times; the first 3 shown)"), "{err}");
+    assert!(warnings.contains("│ G1 X0 F1200000"), "{err}");
+    // So are the errors, with the lines of both places.
+    let errors = &err[bad..];
+    assert!(errors.contains("│ G1 X2 Q7 Y2") && errors.contains("at lines 3, 4"), "{err}");
+    assert!(err.trim_end().ends_with("2 files compiled, 1 failed, 7 warnings"), "{err}");
+
+    let mut json_args = args.to_vec();
+    json_args.extend(["--diagnostics", "json"]);
+    let o = pvtc(&json_args);
+    let values = json_lines(&o);
+    let zero = values
+        .iter()
+        .find(|v| v["code"] == "pvtc::gcode::zero_length_move")
+        .unwrap();
+    assert!(zero["input"].as_str().unwrap().ends_with("a_step.ngc"));
+    assert_eq!(zero["count"], 7);
+    let unknown = values
+        .iter()
+        .find(|v| v["code"] == "pvtc::gcode::unknown_word")
+        .unwrap();
+    assert!(unknown["input"].as_str().unwrap().ends_with("c_bad.ngc"));
+    let summary = values.last().unwrap();
+    assert_eq!(summary["code"], "pvtc::batch::summary");
+    assert_eq!(
+        (&summary["compiled"], &summary["failed"], &summary["warnings"]),
+        (&serde_json::json!(2), &serde_json::json!(1), &serde_json::json!(7))
+    );
+}
