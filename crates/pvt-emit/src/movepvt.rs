@@ -130,7 +130,9 @@ impl<W: Write> ProgramWriter for MovePvtWriter<W> {
             t.push_str(
                 " * For each contour N: set each axis to pvtc_cN_start (PositionSet), then\n",
             );
-            t.push_str(" *   MovePT(pvtc_cN_position, pvtc_cN_time, PVTC_CN_POINTS, -1, false, true);\n");
+            t.push_str(
+                " *   MovePT(pvtc_cN_position, pvtc_cN_time, PVTC_CN_POINTS, -1, false, true);\n",
+            );
         } else {
             t.push_str(&format!(
                 " * position: {units}; velocity: {units}/s; time: s from the previous point\n"

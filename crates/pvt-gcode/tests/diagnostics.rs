@@ -188,9 +188,15 @@ fn a_rapid_to_the_current_point_is_a_note_and_a_feed_move_a_warning() {
     assert_eq!(
         found,
         [
-            ("pvtc::gcode::rapid_to_current_point", Some(Severity::Advice)),
+            (
+                "pvtc::gcode::rapid_to_current_point",
+                Some(Severity::Advice)
+            ),
             ("pvtc::gcode::zero_length_move", Some(Severity::Warning)),
-            ("pvtc::gcode::rapid_to_current_point", Some(Severity::Advice)),
+            (
+                "pvtc::gcode::rapid_to_current_point",
+                Some(Severity::Advice)
+            ),
         ]
     );
 }

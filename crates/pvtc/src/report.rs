@@ -37,19 +37,11 @@ pub enum Item<'a> {
 /// the order of the reports. Reports without a code or without a label stay single.
 pub fn group(reports: &[Report]) -> Vec<Item<'_>> {
     let mut items: Vec<Item<'_>> = Vec::new();
-    let key = |r: &Report| {
-        let labelled = r.labels().is_some_and(|mut l| l.next().is_some());
-        let code = r.code().map(|c| c.to_string());
-        (labelled && r.source_code().is_some())
-            .then_some(code)
-            .flatten()
-            .map(|c| (c, r.severity()))
-    };
-    let mut keys: Vec<(Option<(String, Option<Severity>)>, usize)> = Vec::new();
+    // Each groupable code and severity met, with the index of its item.
+    let mut keys: Vec<(GroupKey, usize)> = Vec::new();
     for report in reports {
-        let k = key(report);
-        if let Some(k) = &k {
-            if let Some(&(_, at)) = keys.iter().find(|(key, _)| key.as_ref() == Some(k)) {
+        if let Some(k) = group_key(report) {
+            if let Some(&(_, at)) = keys.iter().find(|(key, _)| *key == k) {
                 match &mut items[at] {
                     Item::Repeated(group) => group.members.push(report),
                     Item::Single(first) => {
@@ -60,11 +52,23 @@ pub fn group(reports: &[Report]) -> Vec<Item<'_>> {
                 }
                 continue;
             }
+            keys.push((k, items.len()));
         }
-        keys.push((k, items.len()));
         items.push(Item::Single(report));
     }
     items
+}
+
+/// What repeats are grouped by: the code and the severity.
+type GroupKey = (String, Option<Severity>);
+
+/// The key of a report that can be grouped: one with a code, a label and a source.
+fn group_key(r: &Report) -> Option<GroupKey> {
+    let labelled = r.labels().is_some_and(|mut l| l.next().is_some());
+    if !labelled || r.source_code().is_none() {
+        return None;
+    }
+    Some((r.code()?.to_string(), r.severity()))
 }
 
 /// Repeats of one diagnostic code in one input, rendered as one diagnostic.
@@ -81,7 +85,10 @@ impl Repeated<'_> {
 
     /// 1-based line of each place, in order (0 where it cannot be read).
     pub fn lines(&self) -> Vec<usize> {
-        self.members.iter().map(|r| place(r).map_or(0, |p| p.line)).collect()
+        self.members
+            .iter()
+            .map(|r| place(r).map_or(0, |p| p.line))
+            .collect()
     }
 }
 

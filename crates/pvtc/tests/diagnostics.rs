@@ -67,7 +67,11 @@ fn repeated_warnings_are_one_diagnostic_with_a_count_and_their_places() {
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let text = stderr(&o);
-    assert_eq!(text.matches("pvtc::gcode::zero_length_move").count(), 1, "{text}");
+    assert_eq!(
+        text.matches("pvtc::gcode::zero_length_move").count(),
+        1,
+        "{text}"
+    );
     assert!(text.contains("(7 times; the first 3 shown)"), "{text}");
     assert_eq!(text.matches("╰── zero-length move").count(), 3, "{text}");
     let listed: Vec<String> = expected.iter().map(|l| l.to_string()).collect();
@@ -105,13 +109,12 @@ fn repeated_warnings_are_one_diagnostic_with_a_count_and_their_places() {
 fn repeated_errors_are_grouped_too_and_a_single_one_is_not() {
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("bad.ngc");
-    std::fs::write(&input, "G21\nG1 X1 Q1 F100\nG1 X2 Q2\nG1 X3 Q3\nG1 X4 Y4 Y5\n").unwrap();
-    let o = pvtc(&[
-        "compile",
-        input.to_str().unwrap(),
-        "--diagnostics",
-        "json",
-    ]);
+    std::fs::write(
+        &input,
+        "G21\nG1 X1 Q1 F100\nG1 X2 Q2\nG1 X3 Q3\nG1 X4 Y4 Y5\n",
+    )
+    .unwrap();
+    let o = pvtc(&["compile", input.to_str().unwrap(), "--diagnostics", "json"]);
     assert_eq!(o.status.code(), Some(1));
     let found = json_lines(&o);
     let unknown = found
@@ -155,7 +158,10 @@ fn ordinary_cam_output_passes_deny_warnings_with_notes() {
         .into_iter()
         .find(|v| v["code"] == "pvtc::gcode::rapid_to_current_point")
         .unwrap_or_else(|| panic!("{}", stderr(&o)));
-    assert_eq!((note["severity"].as_str(), note["line"].as_u64()), (Some("advice"), Some(4)));
+    assert_eq!(
+        (note["severity"].as_str(), note["line"].as_u64()),
+        (Some("advice"), Some(4))
+    );
     // A feed move to the current point is still a warning, and still denied.
     std::fs::write(&input, "G21 G90\nG1 X0 F100\nG1 X10\n").unwrap();
     let o = pvtc(&[
@@ -208,8 +214,15 @@ fn a_batch_prints_each_files_diagnostics_under_its_name_and_a_summary() {
     assert!(warnings.contains("│ G1 X0 F1200000"), "{err}");
     // So are the errors, with the lines of both places.
     let errors = &err[bad..];
-    assert!(errors.contains("│ G1 X2 Q7 Y2") && errors.contains("at lines 3, 4"), "{err}");
-    assert!(err.trim_end().ends_with("2 files compiled, 1 failed, 7 warnings"), "{err}");
+    assert!(
+        errors.contains("│ G1 X2 Q7 Y2") && errors.contains("at lines 3, 4"),
+        "{err}"
+    );
+    assert!(
+        err.trim_end()
+            .ends_with("2 files compiled, 1 failed, 7 warnings"),
+        "{err}"
+    );
 
     let mut json_args = args.to_vec();
     json_args.extend(["--diagnostics", "json"]);
@@ -229,7 +242,15 @@ fn a_batch_prints_each_files_diagnostics_under_its_name_and_a_summary() {
     let summary = values.last().unwrap();
     assert_eq!(summary["code"], "pvtc::batch::summary");
     assert_eq!(
-        (&summary["compiled"], &summary["failed"], &summary["warnings"]),
-        (&serde_json::json!(2), &serde_json::json!(1), &serde_json::json!(7))
+        (
+            &summary["compiled"],
+            &summary["failed"],
+            &summary["warnings"]
+        ),
+        (
+            &serde_json::json!(2),
+            &serde_json::json!(1),
+            &serde_json::json!(7)
+        )
     );
 }

@@ -61,7 +61,11 @@ fn headers_and_help_name_the_methods_in_words_not_seed_numbers() {
                 assert_eq!(o.status.code(), Some(1));
                 continue;
             }
-            assert!(o.status.success(), "{planner} {format}: {}", text(&o.stderr));
+            assert!(
+                o.status.success(),
+                "{planner} {format}: {}",
+                text(&o.stderr)
+            );
             let planner_line = out
                 .lines()
                 .find(|l| l.contains("planner"))
@@ -117,7 +121,11 @@ fn codes(o: &Output) -> Vec<String> {
         .filter(|l| l.starts_with('{'))
         .map(|l| {
             let v: serde_json::Value = serde_json::from_str(l).unwrap();
-            format!("{} {}", v["severity"].as_str().unwrap(), v["code"].as_str().unwrap())
+            format!(
+                "{} {}",
+                v["severity"].as_str().unwrap(),
+                v["code"].as_str().unwrap()
+            )
         })
         .collect()
 }
@@ -156,10 +164,7 @@ fn velocity_columns_are_used_or_ignored_as_asked_and_never_silently() {
         .map(|planner| {
             let o = compile_csv(zigzag, &["--planner", planner, "--velocities", "plan"]);
             assert!(o.status.success(), "{planner}: {}", text(&o.stderr));
-            assert_eq!(
-                codes(&o)[0],
-                "advice pvtc::plan::velocity_columns_ignored"
-            );
+            assert_eq!(codes(&o)[0], "advice pvtc::plan::velocity_columns_ignored");
             let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
             serde_json::to_vec(&v["contours"]).unwrap()
         })
@@ -241,7 +246,10 @@ fn pt_into_movepvt_is_movept_arrays_that_compile_and_pmac_points_there() {
     let c = std::fs::read_to_string(&c_file).unwrap();
     assert!(c.contains("MovePT(pvtc_cN_position, pvtc_cN_time") && !c.contains("_velocity[]"));
     // The positions are the program's points: the zigzag's corners.
-    assert!(c.contains("    5000.0, 0.0,\n    0.0, 10000.0,\n    5000.0, 1000.0,\n"), "{c}");
+    assert!(
+        c.contains("    5000.0, 0.0,\n    0.0, 10000.0,\n    5000.0, 1000.0,\n"),
+        "{c}"
+    );
     let cc = std::env::var("CC").unwrap_or_else(|_| "cc".into());
     if Command::new(&cc).arg("--version").output().is_err() {
         eprintln!("SKIPPED: compiling, no C compiler `{cc}` on this machine");

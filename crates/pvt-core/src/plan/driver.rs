@@ -4,6 +4,7 @@
 //! option checks, quantization of the result and the [`PlanReport`] of what the planning
 //! changed. It must not implement a planner itself.
 
+use super::chord::{chord_back_velocities, chord_velocities};
 use super::const_accel::const_accel_velocities;
 use super::lspb::plan_lspb;
 use super::plan_path;
@@ -11,7 +12,6 @@ use super::pt::plan_pt;
 use super::quantize::{mid_speed_change, quantize_time, retime, Quantum};
 use super::spline::spline_velocities;
 use super::timed::{contour_from_velocities, runs_from_polyline, TimedPoints};
-use super::chord::{chord_back_velocities, chord_velocities};
 use super::{plan_contour, PlanError, PlanOptions, Planner, Timing};
 use crate::axis::{Axis, Units};
 use crate::discretize::flatten_contour;

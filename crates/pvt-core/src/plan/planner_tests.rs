@@ -77,13 +77,21 @@ fn an208_backward(dim: usize, points: &[f64], dt: f64) -> Vec<f64> {
 fn chord_back_is_an208_backward_difference_on_its_step_table() {
     // AN208 table 1: the step, points every 500 samples of 500 µs = 0.25 s.
     let step = [0.0, 0.0, 0.0, 0.0, 5000.0, 5000.0, 5000.0, 5000.0];
-    let back = plan(&series(1, &step, 0.25), &[Axis::X], &options(Planner::ChordBack));
+    let back = plan(
+        &series(1, &step, 0.25),
+        &[Axis::X],
+        &options(Planner::ChordBack),
+    );
     let c = &back.program.contours[0];
     assert_eq!(c.velocities, an208_backward(1, &step, 0.25));
     // The chord behind the point at 2000 samples (5000 counts in 0.25 s): 20000 counts/s
     // there, where the forward difference puts it on the point before.
     assert_eq!(c.velocities, vec![0.0, 0.0, 0.0, 20000.0, 0.0, 0.0, 0.0]);
-    let forward = plan(&series(1, &step, 0.25), &[Axis::X], &options(Planner::Chord));
+    let forward = plan(
+        &series(1, &step, 0.25),
+        &[Axis::X],
+        &options(Planner::Chord),
+    );
     assert_eq!(
         forward.program.contours[0].velocities,
         vec![0.0, 0.0, 20000.0, 0.0, 0.0, 0.0, 0.0]
@@ -100,7 +108,10 @@ fn chord_back_gives_an208_zigzag_velocity_at_its_second_point() {
     assert_eq!(c.velocities, an208_backward(2, &zigzag, 0.25));
     assert_eq!(&c.velocities[..2], &[20000.0, 0.0]);
     let forward = plan(&series(2, &zigzag, 0.25), &XY, &options(Planner::Chord));
-    assert_eq!(&forward.program.contours[0].velocities[..2], &[-20000.0, 40000.0]);
+    assert_eq!(
+        &forward.program.contours[0].velocities[..2],
+        &[-20000.0, 40000.0]
+    );
 }
 
 #[test]
