@@ -94,13 +94,21 @@ impl Repeated<'_> {
 
 impl fmt::Display for Repeated<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let shown = self.count().min(SHOWN_PLACES);
-        write!(
-            f,
-            "{} ({} times; the first {shown} shown)",
-            self.members[0],
-            self.count()
-        )
+        let (first, n) = (self.members[0], self.count());
+        let same = self
+            .members
+            .iter()
+            .all(|r| r.to_string() == first.to_string());
+        let shown = if n > SHOWN_PLACES {
+            format!("; the first {SHOWN_PLACES} shown")
+        } else {
+            String::new()
+        };
+        if same {
+            write!(f, "{first} ({n} times{shown})")
+        } else {
+            write!(f, "{first} (and {} more like it{shown})", n - 1)
+        }
     }
 }
 

@@ -218,6 +218,8 @@ fn a_batch_prints_each_files_diagnostics_under_its_name_and_a_summary() {
         errors.contains("│ G1 X2 Q7 Y2") && errors.contains("at lines 3, 4"),
         "{err}"
     );
+    // Q7 and Q3 read differently: the first message, and how many more like it.
+    assert!(errors.contains("(and 1 more like it)"), "{err}");
     assert!(
         err.trim_end()
             .ends_with("2 files compiled, 1 failed, 7 warnings"),
