@@ -40,6 +40,8 @@ pub enum FormatArg {
     Movepvt,
     /// The pvtc JSON document, version 1.
     Json,
+    /// The interpreted elements and events as JSON lines, before planning (one input).
+    Toolpath,
 }
 
 impl From<FormatArg> for Format {
@@ -48,6 +50,8 @@ impl From<FormatArg> for Format {
             FormatArg::Pmac => Format::Pmac,
             FormatArg::Movepvt => Format::MovePvt,
             FormatArg::Json => Format::Json,
+            // `toolpath` stops before planning (crate::toolpath): no back end sees it.
+            FormatArg::Toolpath => Format::Json,
         }
     }
 }
