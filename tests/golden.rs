@@ -106,7 +106,14 @@ fn default_tolerance(units: pvt_core::Units) -> f64 {
 /// Asserts the default planner's motion of `sample` is within the path tolerance of its
 /// toolpath and covers it; with `machine`, also within every axis limit.
 fn check_follows(sample: &str, machine: Option<&str>) {
+    check_follows_on(sample, machine, None);
+}
+
+/// As [`check_follows`], with piece times on a grid of `quantum` seconds when given (and
+/// then every piece time a whole number of quanta).
+fn check_follows_on(sample: &str, machine: Option<&str>, quantum: Option<f64>) {
     let mut options = options_for(sample, Format::Json);
+    options.quantize = quantum;
     if let Some(m) = machine {
         options.machine = Some(pvtc::machine::Machine::read(&root().join(m)).unwrap());
     }
@@ -140,6 +147,15 @@ fn check_follows(sample: &str, machine: Option<&str>) {
         "{sample}: path point {} from the motion > {tol}",
         d.gap
     );
+    if let Some(q) = quantum {
+        for t in program.contours.iter().flat_map(|c| &c.durations) {
+            let whole = (t / q).round();
+            assert!(
+                whole >= 1.0 && (t / q - whole).abs() < 1e-9,
+                "{sample}: piece time {t} is not whole quanta of {q}"
+            );
+        }
+    }
     let Some(m) = &options.machine else { return };
     let limits = m.limits_in(program.units, &program.axes).unwrap();
     for contour in &program.contours {
@@ -179,6 +195,21 @@ fn samples_with_a_machine_file_stay_within_its_limits() {
             "samples/machines/router_inch.toml",
         ] {
             check_follows(sample, Some(machine));
+        }
+    }
+}
+
+#[test]
+fn samples_on_a_1ms_grid_with_a_machine_file_stay_within_its_limits_and_the_tolerance() {
+    for sample in samples("gcode", ".ngc")
+        .iter()
+        .chain(&samples("dxf", ".dxf"))
+    {
+        for machine in [
+            "samples/machines/mill.toml",
+            "samples/machines/router_inch.toml",
+        ] {
+            check_follows_on(sample, Some(machine), Some(0.001));
         }
     }
 }

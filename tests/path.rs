@@ -12,8 +12,8 @@
 use proptest::prelude::*;
 use pvt_core::{
     plan_path, Arc, ArcDirection, Axis, AxisLimits, Contour, Element, ElementKind, Interpolation,
-    Motion, PathOptions, PathStream, Plane, Position, PvtContour, PvtProgram, Span, Toolpath,
-    Units,
+    Motion, PathOptions, PathStream, Plane, Position, PvtContour, PvtProgram, Quantum, Rounding,
+    Span, Toolpath, Units,
 };
 use pvtc_tests::reference::{self, Deviation};
 use std::collections::BTreeMap;
@@ -66,12 +66,39 @@ fn contour(mut elements: Vec<Element>) -> Contour {
 const XYZ: [Axis; 3] = [Axis::X, Axis::Y, Axis::Z];
 
 fn plan(c: &Contour, tolerance: f64, limits: &BTreeMap<Axis, AxisLimits>) -> PvtContour {
+    plan_on(c, tolerance, limits, None)
+}
+
+/// As [`plan`], with piece times on `quantum`'s grid when given.
+fn plan_on(
+    c: &Contour,
+    tolerance: f64,
+    limits: &BTreeMap<Axis, AxisLimits>,
+    quantum: Option<Quantum>,
+) -> PvtContour {
     let options = PathOptions {
         tolerance,
         corner_tolerance: None,
         limits: limits.clone(),
+        quantum,
     };
     plan_path(c, &XYZ, &options).expect("plans").0
+}
+
+const MS: Quantum = Quantum {
+    seconds: 0.001,
+    rounding: Rounding::Up,
+};
+
+/// Asserts every piece time is a whole number (at least one) of `q` seconds.
+fn assert_on_grid(planned: &PvtContour, q: f64) {
+    for &t in &planned.durations {
+        let whole = (t / q).round();
+        assert!(
+            whole >= 1.0 && (t / q - whole).abs() < 1e-9,
+            "piece time {t} is not whole quanta of {q}"
+        );
+    }
 }
 
 /// The independent deviation of a planned contour from its elements.
@@ -232,6 +259,7 @@ fn a_corner_tolerance_blends_corners_without_a_machine_file() {
         tolerance: 0.001,
         corner_tolerance: Some(0.05),
         limits: BTreeMap::new(),
+        quantum: None,
     };
     let blended = plan_path(&c, &XYZ, &options).unwrap().0;
     let d = deviation(&c, &blended);
@@ -340,6 +368,90 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(32))]
+
+    /// `--quantize`: on the grid, every piece stays within the limits and the tolerance,
+    /// as measured by the reference (re-timing after planning broke both).
+    #[test]
+    fn random_programs_on_a_time_grid_stay_within_limits_and_tolerance(
+        steps in prop::collection::vec(step(), 1..6),
+        tol_exp in -3.0..-1.0f64,
+        feed in 5.0..200.0f64,
+        quantum_ms in prop_oneof![Just(1.0f64), Just(2.0), Just(0.442)],
+        nearest in any::<bool>(),
+    ) {
+        let c = contour(program(&steps, feed));
+        let tol = 10f64.powf(tol_exp);
+        let lim = limits(80.0, 800.0);
+        let q = Quantum {
+            seconds: quantum_ms / 1000.0,
+            rounding: if nearest { Rounding::Nearest } else { Rounding::Up },
+        };
+        let planned = plan_on(&c, tol, &lim, Some(q));
+        assert_on_grid(&planned, q.seconds);
+        let d = deviation(&c, &planned);
+        prop_assert!(d.error <= tol, "off by {} > {}", d.error, tol);
+        prop_assert!(d.gap <= tol, "gap {} > {}", d.gap, tol);
+        for (v, a) in reference::peaks(&planned) {
+            prop_assert!(v <= 80.0 * (1.0 + 1e-6), "v {}", v);
+            prop_assert!(a <= 800.0 * (1.0 + 1e-6), "a {}", a);
+        }
+    }
+}
+
+/// The time grid's plain re-timing (each piece stretched, each knot's velocity divided by
+/// the larger stretch beside it) breaks the acceleration limit on the square's short
+/// trapezoid and blend pieces; planning on the grid does not, and costs little time.
+#[test]
+fn a_square_on_a_1ms_grid_keeps_its_limits_and_tolerance() {
+    let c = contour(square(100.0, 100.0));
+    let lim = limits(100.0, 1000.0);
+    for tol in [0.001, 0.5] {
+        let free = plan(&c, tol, &lim);
+        let retimed = pvt_core::plan::quantize::retime(&free, 0.001, Rounding::Up);
+        let broken = reference::peaks(&retimed)
+            .iter()
+            .any(|(v, a)| *v > 100.0 * (1.0 + 1e-6) || *a > 1000.0 * (1.0 + 1e-6));
+        let planned = plan_on(&c, tol, &lim, Some(MS));
+        assert_on_grid(&planned, 0.001);
+        assert_within(&planned, 100.0, 1000.0);
+        assert_follows(&c, &planned, tol);
+        let ratio = planned.total_time() / free.total_time();
+        assert!(
+            (1.0..1.02).contains(&ratio),
+            "tol {tol}: grid / free time {ratio}"
+        );
+        assert!(
+            broken,
+            "tol {tol}: re-timing after planning kept the limits"
+        );
+    }
+}
+
+/// With a quantum the stream holds the whole contour: a window of 16 gives the same
+/// motion, on the grid, within the limits and the tolerance.
+#[test]
+fn a_long_contour_on_a_grid_keeps_its_limits_and_tolerance_whatever_the_window() {
+    let c = long_contour();
+    let lim = limits(100.0, 1000.0);
+    let mut times = Vec::new();
+    for window in [16, usize::MAX] {
+        let options = PathOptions {
+            tolerance: 0.001,
+            corner_tolerance: None,
+            limits: lim.clone(),
+            quantum: Some(MS),
+        };
+        let planned = plan_stream(&c, &options, window);
+        assert_on_grid(&planned, 0.001);
+        assert_follows(&c, &planned, 0.001);
+        assert_within(&planned, 100.0, 1000.0);
+        times.push(planned.total_time());
+    }
+    assert_eq!(times[0], times[1]);
+}
+
 /// Plans `c` through a [`PathStream`] holding at most `window` elements.
 fn plan_windowed(
     c: &Contour,
@@ -351,11 +463,17 @@ fn plan_windowed(
         tolerance: tol,
         corner_tolerance: None,
         limits: lim.clone(),
+        quantum: None,
     };
+    plan_stream(c, &options, window)
+}
+
+/// Plans `c` with `options` through a [`PathStream`] holding at most `window` elements.
+fn plan_stream(c: &Contour, options: &PathOptions, window: usize) -> PvtContour {
     let start = XYZ.iter().map(|a| c.elements[0].start[a.index()]).collect();
     let mut out = PvtContour::new(c.motion, start);
     let mut emit = |s: &pvt_core::SegmentRef<'_>| out.push(s.end, s.velocity, s.duration, s.line);
-    let mut stream = PathStream::with_window(&XYZ, &options, window);
+    let mut stream = PathStream::with_window(&XYZ, options, window);
     for e in &c.elements {
         stream.push(e, &mut emit).unwrap();
     }
@@ -424,6 +542,7 @@ fn a_tolerance_no_piece_can_meet_is_an_error_naming_the_line() {
         tolerance: 1e-200,
         corner_tolerance: None,
         limits: BTreeMap::new(),
+        quantum: None,
     };
     let e = plan_path(&c, &XYZ, &options).unwrap_err();
     assert_eq!(e.code(), "pvtc::plan::path_not_met");

@@ -34,8 +34,8 @@ pub use discretize::{flatten_contour, ChordTolerance};
 pub use hermite::{HermiteSegment, State};
 pub use plan::{
     plan_contour, plan_path, plan_timed, plan_toolpath, plan_toolpath_report, PathOptions,
-    PathReport, PathStream, PlanOptions, PlanReport, Planned, Planner, Rounding, TimedPoints,
-    Timing,
+    PathReport, PathStream, PlanOptions, PlanReport, Planned, Planner, Quantum, Rounding,
+    TimedPoints, Timing,
 };
 pub use polyline::Polyline;
 pub use program::{Interpolation, PvtContour, PvtProgram, SegmentRef};

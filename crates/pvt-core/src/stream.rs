@@ -3,9 +3,10 @@
 //! Owns the [`ToolpathSink`] a front end pushes elements, contour ends and events into,
 //! the [`PieceSink`] a back end (or a collector) receives pieces from, and the
 //! [`PlanStage`] between them, which holds only what its planner must look ahead over:
-//! - `path`: a [`PathStream`] window of at most [`crate::plan::WINDOW_ELEMENTS`] elements;
+//! - `path`: a [`PathStream`] window of at most [`crate::plan::WINDOW_ELEMENTS`] elements
+//!   (with quantization too: it puts each window's pieces on the grid itself);
 //! - `contour`: seed 000's three-point [`ContourStream`] over the flattened points;
-//! - the other planners, and any planner with quantization (which re-times a whole
+//! - the other planners, and contour with quantization (which re-times a whole
 //!   contour): the open contour's elements, planned when it ends.
 //!
 //! [`crate::plan::plan_toolpath_report`] is this stage with a collecting sink; there is no
@@ -103,7 +104,7 @@ impl<S: PieceSink> PlanStage<S> {
         let start = project(&element.start, &self.axes);
         let streams = self.options.quantize.is_none();
         let open = match self.options.planner {
-            Planner::Path if streams => Open::Path(Box::new(PathStream::new(
+            Planner::Path => Open::Path(Box::new(PathStream::new(
                 &self.axes,
                 &self.options.path_options(),
             ))),
@@ -168,6 +169,8 @@ impl<S: PieceSink> PlanStage<S> {
             Open::Path(stream) => stream.finish(&mut emit).map(|r| {
                 let worst = self.report.path_error.unwrap_or(0.0).max(r.error_bound);
                 self.report.path_error = Some(worst);
+                let change = self.report.quantize_speed_change.max(r.speed_change);
+                self.report.quantize_speed_change = change;
             }),
             Open::Points(mut stream) => {
                 stream.finish(&mut |seg| emit(&seg));

@@ -514,14 +514,6 @@ pub(crate) fn plan_notes(report: &PlanReport, options: &CompileOptions) -> Vec<R
             report.quantize_speed_change * 100.0
         ));
     }
-    if options.quantize.is_some() && options.planner == Planner::Path {
-        notes.push(miette::miette!(
-            severity = Severity::Warning,
-            code = "pvtc::plan::quantized_path",
-            help = "run pvtc check --max-path-error and --machine on the output",
-            "the path planner's pieces were re-timed onto the quantum after planning: the path error bound and the limits are not re-checked"
-        ));
-    }
     if report.lengthened_segments > 0 {
         notes.push(miette::miette!(
             severity = Severity::Warning,

@@ -1167,17 +1167,45 @@ fn a_machine_file_without_a_moved_axis_is_refused_with_its_code() {
 }
 
 #[test]
-fn quantizing_the_path_planner_warns_that_nothing_is_rechecked() {
+fn quantized_path_motion_passes_check_with_the_machine_file_and_the_tolerance() {
+    let dir = tempfile::tempdir().unwrap();
+    let machine = dir.path().join("m.toml");
+    let mut axes = String::from("units = \"mm\"\nservo_period = 0.0005\n");
+    for axis in ["X", "Y", "Z"] {
+        axes += &format!("[axes.{axis}]\nmax_velocity = 100\nmax_acceleration = 1000\n");
+    }
+    std::fs::write(&machine, axes).unwrap();
+    let square = dir.path().join("square.ngc");
+    std::fs::write(&square, format!("G64 P0.5\n{SQUARE}")).unwrap();
+    let (machine, square) = (machine.to_str().unwrap(), square.to_str().unwrap());
     let o = pvtc(
-        &["compile", "-", "--quantize", "1ms", "--diagnostics", "json"],
-        Some(SQUARE),
+        &[
+            "compile",
+            square,
+            "--machine",
+            machine,
+            "--quantize",
+            "1ms",
+            "--diagnostics",
+            "json",
+        ],
+        None,
     );
     assert!(o.status.success(), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("pvtc::plan::quantized_path"),
-        "{}",
-        stderr(&o)
-    );
+    assert!(!stderr(&o).contains("quantized_path"), "{}", stderr(&o));
+    let args = [
+        "check",
+        square,
+        "--machine",
+        machine,
+        "--quantize",
+        "1ms",
+        "--max-path-error",
+        "0.5",
+    ];
+    let o = pvtc(&args, None);
+    let table = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(0), "{table}{}", stderr(&o));
 }
 
 #[test]

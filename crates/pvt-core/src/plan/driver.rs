@@ -125,10 +125,7 @@ pub(crate) fn plan_buffered(
         return Ok(PvtContour::new(contour.motion, vec![0.0; axes.len()]));
     }
     Ok(match options.planner {
-        Planner::Path => {
-            let planned = follow_path(contour, axes, options, report)?;
-            quantize_whole(planned, options, report)
-        }
+        Planner::Path => follow_path(contour, axes, options, report)?,
         Planner::Contour => {
             let polyline = flatten_contour(contour, axes, options.tolerance);
             let planned = plan_contour(&polyline, contour.motion)?;
@@ -222,10 +219,7 @@ fn plan_run(
     let planner = options.planner;
     report.velocities_ignored |= run.velocities.is_some() && !planner.is_velocity_method();
     match planner {
-        Planner::Path => {
-            let planned = follow_path(&lines_of(run), &axes_of(run.dim), options, report)?;
-            Ok(quantize_whole(planned, options, report))
-        }
+        Planner::Path => follow_path(&lines_of(run), &axes_of(run.dim), options, report),
         Planner::Contour => {
             let planned = plan_contour(&polyline_of(run), motion)?;
             Ok(quantize_whole(planned, options, report))
@@ -274,7 +268,8 @@ fn plan_run(
     }
 }
 
-/// Plans one contour with the path planner at the options' path tolerance and limits.
+/// Plans one contour with the path planner at the options' path tolerance and limits,
+/// on the quantum grid if asked (the path planner quantizes its own pieces).
 fn follow_path(
     contour: &Contour,
     axes: &[Axis],
@@ -285,6 +280,7 @@ fn follow_path(
     let (planned, achieved) = plan_path(contour, axes, &path)?;
     let worst = report.path_error.unwrap_or(0.0).max(achieved.error_bound);
     report.path_error = Some(worst);
+    report.quantize_speed_change = report.quantize_speed_change.max(achieved.speed_change);
     Ok(planned)
 }
 

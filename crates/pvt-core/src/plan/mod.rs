@@ -28,7 +28,7 @@ pub use lspb::{blend_corner_deviation, plan_lspb, LspbPlan};
 pub use options::{Planner, Timing, UnknownPlanner};
 pub use path::{plan_path, PathOptions, PathReport, PathStream, TANGENT_ANGLE, WINDOW_ELEMENTS};
 pub use pt::plan_pt;
-pub use quantize::Rounding;
+pub use quantize::{Quantum, Rounding};
 pub use spline::spline_velocities;
 pub use timed::TimedPoints;
 
@@ -181,6 +181,10 @@ impl PlanOptions {
             tolerance: self.path_tolerance.unwrap_or(self.tolerance.get()),
             corner_tolerance: self.corner_tolerance,
             limits: self.limits.clone(),
+            quantum: self.quantize.map(|seconds| quantize::Quantum {
+                seconds,
+                rounding: self.quantize_rounding,
+            }),
         }
     }
 

@@ -35,6 +35,29 @@
 //! decelerate). Finally every piece's per-axis velocity and acceleration peaks are
 //! computed in closed form; where one exceeds a limit the speeds of its knots are lowered
 //! and the passes run again.
+//!
+//! # Quantization
+//! With a quantum `q` (`--quantize`), the planned pieces go onto the grid here, before
+//! they are emitted, and are checked again: piece `i` of planned time `Tᵢ` gets `nᵢ`
+//! whole quanta (as the grid rounds `Tᵢ`, at least one), its stretch is `kᵢ = nᵢq/Tᵢ`, and
+//! each knot's velocity is divided by `K = max(kᵢ₋₁, kᵢ)`, the larger stretch beside it
+//! (the contour's first and last, at rest, by their one piece's). Positions do not move. The reference
+//! motion of a piece becomes the cubic `φ(t)` in the parameter with the knots' new rates
+//! `w/K` at its ends over `nᵢq`; since `K ≥ kᵢ` it is monotone (the Hermite ratios
+//! `α + β ≤ 2`), so `c(φ(t))` stays on the piece's part of the element, and with
+//! `φ'''' = 0` the error bound above gains one term and reads
+//!
+//! ```text
+//! T⁴/384 · (D₄·ω⁴ + 6·D₃·ω²·|φ''| + 3·D₂·φ''² + 4·D₂·ω·|φ'''|)  +  4/27 · T · (|Δv_a| + |Δv_b|)/K
+//! ```
+//!
+//! with `ω` and `|φ''|` the closed-form peaks of the cubic `φ`. A corner blend keeps its
+//! bound: its inner control points only move towards its ends. Every piece's closed-form
+//! peaks are checked; a piece over a limit gets more quanta (which lowers the velocities
+//! beside it), and a piece still over a limit, or over the tolerance, is slowed or split
+//! in the plan and the whole contour is planned and put on the grid again. With a
+//! quantum, [`PathStream`] holds the whole contour (no window): a window's first
+//! velocity, already written, could not be divided again.
 
 mod curve;
 mod knots;
@@ -43,6 +66,7 @@ mod pieces;
 use super::PlanError;
 use crate::axis::Axis;
 use crate::check::AxisLimits;
+use crate::plan::quantize::Quantum;
 use crate::program::{PvtContour, SegmentRef};
 use crate::toolpath::Contour;
 use std::collections::BTreeMap;
@@ -78,6 +102,8 @@ pub struct PathOptions {
     pub corner_tolerance: Option<f64>,
     /// Per-axis limits; an axis not listed (or a limit left out) is not limited.
     pub limits: BTreeMap<Axis, AxisLimits>,
+    /// Time grid of the piece times (`--quantize`), if any.
+    pub quantum: Option<Quantum>,
 }
 
 /// What the path planner achieved on a contour.
@@ -85,6 +111,8 @@ pub struct PathOptions {
 pub struct PathReport {
     /// The largest per-piece error bound, program units.
     pub error_bound: f64,
+    /// Largest relative change of the mid-piece speed that the quantum grid made.
+    pub speed_change: f64,
 }
 
 /// Per projected axis: velocity and acceleration limits (infinite where none).
@@ -130,7 +158,8 @@ pub const WINDOW_ELEMENTS: usize = 1024;
 /// shorter than that, the knot halfway. A knot's speed never depends on anything beyond
 /// its stopping distance, so the emitted pieces are those the whole contour would have
 /// had; with a window shorter than the stopping distance they are slower, never wrong.
-/// The window then starts at the cut with that knot's speed fixed.
+/// The window then starts at the cut with that knot's speed fixed. With a quantum the
+/// whole contour is held and planned at its end (see "Quantization" above).
 #[derive(Debug)]
 pub struct PathStream {
     axes: Vec<Axis>,
@@ -173,7 +202,7 @@ impl PathStream {
     ) -> Result<(), PlanError> {
         check_element(element)?;
         self.curves.extend(Curve::new(element, &self.axes));
-        if self.curves.len() >= self.window {
+        if self.options.quantum.is_none() && self.curves.len() >= self.window {
             self.plan(false, emit)?;
         }
         Ok(())
@@ -207,7 +236,14 @@ impl PathStream {
         if !last {
             knots.cap_for_window(curves, least);
         }
-        let pieces = settle(&mut knots, curves, bounds, tolerance).ok_or(not_met)?;
+        let mut pieces = settle(&mut knots, curves, bounds, tolerance).ok_or(not_met.clone())?;
+        if let Some(quantum) = self.options.quantum {
+            let grid =
+                on_grid(&mut knots, curves, bounds, tolerance, quantum, pieces).ok_or(not_met)?;
+            let change = pieces::mid_speed_change(&grid.planned, &grid.grid.pieces);
+            self.report.speed_change = self.report.speed_change.max(change);
+            pieces = grid.grid.pieces;
+        }
         let count = if last {
             pieces.len()
         } else {
@@ -291,6 +327,35 @@ fn settle(
             continue;
         }
         return Some(pieces);
+    }
+    None
+}
+
+/// The planned pieces and the same on the grid.
+struct OnGrid {
+    planned: Vec<pieces::Piece>,
+    grid: pieces::Grid,
+}
+
+/// Puts the settled `pieces` on the quantum grid; where a piece on the grid is over the
+/// tolerance it is split, where it is still over a limit it is slowed, and the window
+/// is settled and put on the grid again. `None` after [`MAX_ROUNDS`].
+fn on_grid(
+    knots: &mut Knots,
+    curves: &[Curve],
+    bounds: &AxisBounds,
+    tolerance: f64,
+    quantum: Quantum,
+    mut planned: Vec<pieces::Piece>,
+) -> Option<OnGrid> {
+    for _ in 0..MAX_ROUNDS {
+        let grid = knots.on_grid(curves, bounds, &planned, quantum);
+        let changed = knots.split_over(curves, &grid.pieces, tolerance)
+            || knots.slow_over(&grid.pieces, bounds);
+        if !changed {
+            return Some(OnGrid { planned, grid });
+        }
+        planned = settle(knots, curves, bounds, tolerance)?;
     }
     None
 }

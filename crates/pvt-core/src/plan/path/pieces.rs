@@ -2,12 +2,14 @@
 //!
 //! Owns the piece time from the reference motion (constant parameter acceleration), the
 //! per-piece error bound of the module documentation, and the closed-form per-axis peaks
-//! that limits are checked against. It must not move knots or change speeds.
+//! that limits are checked against, and the same pieces on a quantum grid. It must not
+//! move knots or change speeds.
 
 use super::curve::Curve;
 use super::knots::Knots;
 use super::AxisBounds;
 use crate::hermite::HermiteSegment;
+use crate::plan::quantize::{quanta_time, Quantum};
 
 /// One piece, ready to emit.
 #[derive(Debug, Clone)]
@@ -163,4 +165,179 @@ fn peaks(h: &HermiteSegment) -> (f64, f64) {
         }
     }
     (velocity, h.a0.abs().max(end.acceleration.abs()))
+}
+
+/// Most rounds of lengthening pieces on the grid before the planner lowers speeds instead.
+const GRID_ROUNDS: usize = 64;
+
+/// Pieces on a time grid.
+#[derive(Debug, Clone)]
+pub(super) struct Grid {
+    pub pieces: Vec<Piece>,
+}
+
+impl Knots {
+    /// The pieces on the quantum grid (see the module documentation of [`super`],
+    /// "Quantization"): each piece gets whole quanta, at first as the grid rounds its
+    /// planned time, and each knot's velocity is divided by the larger stretch of its two
+    /// pieces (the first knot, whose velocity is already written, by 1). A piece whose
+    /// closed-form peaks then exceed a limit gets more quanta, up to [`GRID_ROUNDS`]
+    /// rounds; each piece's error bound is recomputed for its new reference motion.
+    pub fn on_grid(
+        &self,
+        curves: &[Curve],
+        bounds: &AxisBounds,
+        pieces: &[Piece],
+        quantum: Quantum,
+    ) -> Grid {
+        let mut counts: Vec<f64> = pieces
+            .iter()
+            .map(|p| quantum.count(p.duration).max(1.0))
+            .collect();
+        let mut grid = self.grid_pieces(curves, pieces, &counts, quantum.seconds);
+        for _ in 0..GRID_ROUNDS {
+            let mut raised = false;
+            for (count, piece) in counts.iter_mut().zip(&grid.pieces) {
+                let factor = piece.limit_factor(bounds);
+                if factor < 1.0 {
+                    *count = (*count / factor).ceil().max(*count + 1.0);
+                    raised = true;
+                }
+            }
+            if !raised {
+                break;
+            }
+            grid = self.grid_pieces(curves, pieces, &counts, quantum.seconds);
+        }
+        grid
+    }
+
+    /// The pieces with `counts[i]` quanta each and the knot velocities divided by the
+    /// larger stretch beside them.
+    fn grid_pieces(&self, curves: &[Curve], pieces: &[Piece], counts: &[f64], q: f64) -> Grid {
+        let n = pieces.len();
+        let times: Vec<f64> = counts.iter().map(|&k| quanta_time(k, q)).collect();
+        let stretch: Vec<f64> = times
+            .iter()
+            .zip(pieces)
+            .map(|(t, p)| t / p.duration)
+            .collect();
+        let mut scale = vec![1.0; n + 1];
+        for j in 1..=n {
+            scale[j] = if j == n {
+                stretch[n - 1]
+            } else {
+                stretch[j - 1].max(stretch[j])
+            };
+        }
+        let pieces = pieces
+            .iter()
+            .enumerate()
+            .map(|(k, p)| self.grid_piece(curves, p, k, times[k], [scale[k], scale[k + 1]]))
+            .collect();
+        Grid { pieces }
+    }
+
+    /// Piece `k` in time `t` with its end velocities divided by `scale`, and its error
+    /// bound for the reference motion φ(t) that is the cubic in the parameter from the
+    /// knots' new parameter rates (see "Quantization" in [`super`]).
+    fn grid_piece(&self, curves: &[Curve], p: &Piece, k: usize, t: f64, scale: [f64; 2]) -> Piece {
+        let divide = |v: &[f64], s: f64| v.iter().map(|x| x / s).collect::<Vec<f64>>();
+        let mut piece = Piece {
+            start: p.start.clone(),
+            end: p.end.clone(),
+            start_velocity: divide(&p.start_velocity, scale[0]),
+            end_velocity: divide(&p.end_velocity, scale[1]),
+            duration: t,
+            error: p.error,
+        };
+        let stretch = t / p.duration;
+        if self.knots[k].blend.is_some() {
+            // The inner control points move towards the ends (scale ≥ stretch): the
+            // blend's bound holds as it was.
+            if scale[0] < stretch || scale[1] < stretch {
+                piece.error = f64::INFINITY;
+            }
+            return piece;
+        }
+        if p.at_rest() {
+            // A slower smoothstep on the same chord.
+            return piece;
+        }
+        let (curve, from, to) = self.piece_span(curves, k);
+        let (a, b) = (&self.knots[k], &self.knots[k + 1]);
+        let (wa, wb) = (
+            a.speed / (scale[0] * curve.rate(from)),
+            b.speed / (scale[1] * curve.rate(to)),
+        );
+        let phi = HermiteSegment::new(from, wa, to, wb, t);
+        let (rate, accel, slowest) = parameter_peaks(&phi);
+        if slowest < 0.0 {
+            // φ would leave the piece's parameter range (not with K ≥ k).
+            piece.error = f64::INFINITY;
+            return piece;
+        }
+        let [d2, d3, d4] = curve.derivative_bounds();
+        let jerk = phi.jerk.abs();
+        let bend = t.powi(4) / 384.0
+            * (d4 * rate.powi(4)
+                + 6.0 * d3 * rate * rate * accel
+                + 3.0 * d2 * accel * accel
+                + 4.0 * d2 * rate * jerk);
+        let mismatch = |speed: f64, junction: Option<usize>, s: f64| {
+            junction.map_or(0.0, |j| speed * self.junctions[j].deviation / s)
+        };
+        let turn = 4.0 / 27.0
+            * t
+            * (mismatch(a.speed, a.junction, scale[0]) + mismatch(b.speed, b.junction, scale[1]));
+        piece.error = bend + turn;
+        piece
+    }
+}
+
+/// Largest |φ'| and |φ''| of a cubic parameter motion, and its least φ'.
+fn parameter_peaks(phi: &HermiteSegment) -> (f64, f64, f64) {
+    let end = phi.end();
+    let (mut fastest, mut slowest) = (phi.v0.max(end.velocity), phi.v0.min(end.velocity));
+    if phi.jerk != 0.0 {
+        let t = -phi.a0 / phi.jerk;
+        if t > 0.0 && t < phi.duration {
+            let v = phi.at(t).velocity;
+            fastest = fastest.max(v);
+            slowest = slowest.min(v);
+        }
+    }
+    (
+        fastest.max(-slowest),
+        phi.a0.abs().max(end.acceleration.abs()),
+        slowest,
+    )
+}
+
+/// Largest relative change of the vector speed at mid-piece from `before` to `after`
+/// (pieces that stand still at mid-piece left out).
+pub(super) fn mid_speed_change(before: &[Piece], after: &[Piece]) -> f64 {
+    let mid = |p: &Piece| {
+        let v: Vec<f64> = (0..p.start.len())
+            .map(|i| {
+                HermiteSegment::new(
+                    p.start[i],
+                    p.start_velocity[i],
+                    p.end[i],
+                    p.end_velocity[i],
+                    p.duration,
+                )
+                .at(p.duration / 2.0)
+                .velocity
+            })
+            .collect();
+        crate::vector::norm(&v)
+    };
+    before
+        .iter()
+        .zip(after)
+        .map(|(b, a)| (mid(b), mid(a)))
+        .filter(|(b, _)| *b > 1e-12)
+        .map(|(b, a)| (a - b).abs() / b)
+        .fold(0.0, f64::max)
 }
