@@ -171,6 +171,14 @@ fn check_follows_on(sample: &str, machine: Option<&str>, quantum: Option<f64>) {
                 "{sample}: axis {k} acceleration {a} > {amax}"
             );
         }
+        for (k, j) in reference::jerks(contour).into_iter().enumerate() {
+            if let Some(jmax) = limits[&program.axes[k]].jerk {
+                assert!(
+                    j <= jmax * (1.0 + 1e-6),
+                    "{sample}: axis {k} jerk {j} > {jmax}"
+                );
+            }
+        }
     }
 }
 

@@ -124,6 +124,10 @@ fn samples_of(c: &PvtContour) -> Vec<Vec<f64>> {
 }
 
 fn limits(v: f64, a: f64) -> BTreeMap<Axis, AxisLimits> {
+    limits_with_jerk(v, a, None)
+}
+
+fn limits_with_jerk(v: f64, a: f64, j: Option<f64>) -> BTreeMap<Axis, AxisLimits> {
     XYZ.iter()
         .map(|&axis| {
             (
@@ -131,7 +135,7 @@ fn limits(v: f64, a: f64) -> BTreeMap<Axis, AxisLimits> {
                 AxisLimits {
                     velocity: Some(v),
                     acceleration: Some(a),
-                    jerk: None,
+                    jerk: j,
                 },
             )
         })
@@ -398,6 +402,59 @@ proptest! {
             prop_assert!(a <= 800.0 * (1.0 + 1e-6), "a {}", a);
         }
     }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(32))]
+
+    /// With a jerk limit every piece's jerk (independently: the third difference of its
+    /// control points) stays within it, on a time grid or not, and so do the other
+    /// limits and the tolerance.
+    #[test]
+    fn random_programs_with_a_jerk_limit_keep_it(
+        steps in prop::collection::vec(step(), 1..6),
+        tol_exp in -3.0..-1.0f64,
+        feed in 5.0..200.0f64,
+        on_grid in any::<bool>(),
+    ) {
+        let c = contour(program(&steps, feed));
+        let tol = 10f64.powf(tol_exp);
+        let lim = limits_with_jerk(80.0, 800.0, Some(20000.0));
+        let planned = plan_on(&c, tol, &lim, on_grid.then_some(MS));
+        let d = deviation(&c, &planned);
+        prop_assert!(d.error <= tol, "off by {} > {}", d.error, tol);
+        prop_assert!(d.gap <= tol, "gap {} > {}", d.gap, tol);
+        for (v, a) in reference::peaks(&planned) {
+            prop_assert!(v <= 80.0 * (1.0 + 1e-6), "v {}", v);
+            prop_assert!(a <= 800.0 * (1.0 + 1e-6), "a {}", a);
+        }
+        for j in reference::jerks(&planned) {
+            prop_assert!(j <= 20000.0 * (1.0 + 1e-6), "jerk {}", j);
+        }
+    }
+}
+
+/// A full circle R=50 at 100 mm/s and 1000 mm/s² has pieces with jerk near v³/R²
+/// (8000 mm/s³ at 100 mm/s); a 2000 mm/s³ limit slows it and holds.
+#[test]
+fn a_jerk_limit_slows_a_circle_and_holds() {
+    let c = contour(vec![arc(
+        pos(50.0, 0.0, 0.0),
+        pos(50.0, 0.0, 0.0),
+        [0.0, 0.0],
+        true,
+        6000.0,
+    )]);
+    let free = plan(&c, 0.001, &limits(100.0, 1000.0));
+    let worst = reference::jerks(&free).into_iter().fold(0.0, f64::max);
+    assert!(worst > 2000.0, "jerk {worst} without a limit");
+    let held = plan(&c, 0.001, &limits_with_jerk(100.0, 1000.0, Some(2000.0)));
+    for j in reference::jerks(&held) {
+        assert!(j <= 2000.0 * (1.0 + 1e-6), "jerk {j}");
+    }
+    assert_within(&held, 100.0, 1000.0);
+    assert_follows(&c, &held, 0.001);
+    assert!(held.total_time() > free.total_time());
 }
 
 /// The time grid's plain re-timing (each piece stretched, each knot's velocity divided by

@@ -5,7 +5,8 @@
 //! Written from the definitions, not from pvt-core's planners or `check`: a piece from
 //! p0 (velocity v0) to p1 (v1) in time T is the cubic Bézier p0, p0 + v0·T/3,
 //! p1 − v1·T/3, p1; its velocity is the quadratic Bézier of 3·(P[j+1] − P[j])/T and its
-//! acceleration the line between 6·(P[j] − 2P[j+1] + P[j+2])/T² at the two ends. Arcs
+//! acceleration the line between 6·(P[j] − 2P[j+1] + P[j+2])/T² at the two ends, its
+//! jerk the constant 6·(P₃ − 3P₂ + 3P₁ − P₀)/T³. Arcs
 //! are measured with std's trigonometry (not libm) from centre, direction and turns.
 #![allow(clippy::disallowed_methods)]
 
@@ -370,6 +371,33 @@ pub fn deviation(program: &PvtProgram, toolpath: &Toolpath, reach: f64) -> Devia
                     .fold(f64::INFINITY, f64::min);
                 out.gap = out.gap.max(d - sag);
             }
+        }
+    }
+    out
+}
+
+/// Per-axis largest |jerk| of a contour: a cubic's jerk is constant, the third difference
+/// of its control points, 6·(P₃ − 3P₂ + 3P₁ − P₀)/T³. The differences are taken from the
+/// end states (P₁ − P₀ = v₀T/3, P₃ − P₂ = v₁T/3, P₂ − P₁ = p₁ − p₀ − (v₀ + v₁)T/3), not
+/// from the control points themselves: on a piece of microseconds far from the origin,
+/// the rounding of each control point alone is worth a jerk of 10⁴ and more.
+pub fn jerks(c: &PvtContour) -> Vec<f64> {
+    let mut out = vec![0.0f64; c.dim];
+    for i in 0..c.len() {
+        let seg = c.segment(i);
+        let (p0, v0): (Vec<f64>, Vec<f64>) = if i == 0 {
+            (c.start.clone(), vec![0.0; c.dim])
+        } else {
+            let prev = c.segment(i - 1);
+            (prev.end.to_vec(), prev.velocity.to_vec())
+        };
+        let t = seg.duration;
+        for k in 0..c.dim {
+            let first = v0[k] * t / 3.0;
+            let last = seg.velocity[k] * t / 3.0;
+            let middle = (seg.end[k] - p0[k]) - first - last;
+            let j = 6.0 * ((last - middle) - (middle - first)) / (t * t * t);
+            out[k] = out[k].max(j.abs());
         }
     }
     out

@@ -36,6 +36,13 @@
 //! computed in closed form; where one exceeds a limit the speeds of its knots are lowered
 //! and the passes run again.
 //!
+//! # Jerk
+//! With a jerk limit, each piece's own jerk (the constant third derivative of its cubic,
+//! `6·a₃`) is bounded the same way: a piece over it has its knots slowed by the cube root
+//! of the excess (its jerk scales with the cube of its speeds). The step of the
+//! acceleration between two pieces at a knot is not bounded: the pieces are C¹, and a
+//! servo loop that spreads that step over one period sees `|Δa|/Tₛ`.
+//!
 //! # Quantization
 //! With a quantum `q` (`--quantize`), the planned pieces go onto the grid here, before
 //! they are emitted, and are checked again: piece `i` of planned time `Tᵢ` gets `nᵢ`
@@ -115,11 +122,13 @@ pub struct PathReport {
     pub speed_change: f64,
 }
 
-/// Per projected axis: velocity and acceleration limits (infinite where none).
+/// Per projected axis: velocity, acceleration and jerk limits (infinite where none).
 #[derive(Debug, Clone)]
 pub(super) struct AxisBounds {
     pub velocity: Vec<f64>,
     pub acceleration: Vec<f64>,
+    /// Bounds each piece's own (constant) jerk, `6·a₃` of its cubic.
+    pub jerk: Vec<f64>,
 }
 
 impl AxisBounds {
@@ -137,6 +146,7 @@ impl AxisBounds {
         AxisBounds {
             velocity: get(|l| l.velocity),
             acceleration: get(|l| l.acceleration),
+            jerk: get(|l| l.jerk),
         }
     }
 

@@ -128,8 +128,8 @@ impl Piece {
             .all(|v| *v == 0.0)
     }
 
-    /// 1 when every axis' closed-form velocity and acceleration peaks are within its
-    /// limits; otherwise the factor by which the piece's speeds should shrink.
+    /// 1 when every axis' closed-form velocity and acceleration peaks and its jerk are
+    /// within its limits; otherwise the factor by which the piece's speeds should shrink.
     pub fn limit_factor(&self, bounds: &AxisBounds) -> f64 {
         let mut factor: f64 = 1.0;
         for i in 0..self.start.len() {
@@ -147,6 +147,10 @@ impl Piece {
             }
             if acceleration > amax * (1.0 + 1e-9) {
                 factor = factor.min((amax / acceleration).sqrt());
+            }
+            let (jerk, jmax) = (h.jerk.abs(), bounds.jerk[i]);
+            if jerk > jmax * (1.0 + 1e-9) {
+                factor = factor.min(libm::cbrt(jmax / jerk));
             }
         }
         factor
