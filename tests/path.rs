@@ -256,6 +256,45 @@ fn a_wider_tolerance_rounds_corners_faster_than_exact_stop() {
     assert_within(&loose, 100.0, 1000.0);
 }
 
+/// A blend at equal end speeds passes L·sin(α/2)/2 from the corner, so it is sized to
+/// that: the corner is the full tolerance from the motion (it was half), and the square
+/// is faster than with blends sized by the triangle bound L·sin(α/2) (4.2872 s).
+#[test]
+fn corner_blends_use_the_whole_tolerance() {
+    let c = contour(square(100.0, 100.0));
+    let lim = limits(100.0, 1000.0);
+    let planned = plan(&c, 0.5, &lim);
+    let d = deviation(&c, &planned);
+    assert!(d.gap <= 0.5 && d.error <= 0.5, "{d:?}");
+    assert!(
+        d.gap >= 0.49,
+        "the corner is only {} from the motion",
+        d.gap
+    );
+    assert_within(&planned, 100.0, 1000.0);
+    assert!(planned.total_time() < 4.25, "{}", planned.total_time());
+}
+
+/// Blends between a fast and a slow line have unequal end speeds, which would take the
+/// blend farther than at equal speeds: their speeds are evened out where needed.
+#[test]
+fn blends_between_fast_and_slow_lines_keep_the_tolerance() {
+    let mut elements = Vec::new();
+    let mut at = pos(0.0, 0.0, 0.0);
+    for i in 0..12 {
+        let next = pos(at[0] + 10.0, if i % 2 == 0 { 6.0 } else { 0.0 }, 0.0);
+        elements.push(line(at, next, if i % 3 == 0 { 100.0 } else { 8.0 }));
+        at = next;
+    }
+    let c = contour(elements);
+    let lim = limits(100.0, 1000.0);
+    for tol in [0.5, 0.05, 0.001] {
+        let planned = plan(&c, tol, &lim);
+        assert_follows(&c, &planned, tol);
+        assert_within(&planned, 100.0, 1000.0);
+    }
+}
+
 #[test]
 fn a_corner_tolerance_blends_corners_without_a_machine_file() {
     let c = contour(square(100.0, 100.0));

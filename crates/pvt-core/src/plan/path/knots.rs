@@ -60,6 +60,9 @@ pub(super) struct Junction {
     pub blend: Option<f64>,
     /// sin(α/2) of the turning angle α.
     pub half_turn_sin: f64,
+    /// How far a corner blend may be from the corner and the lines (the corner
+    /// tolerance, else the path tolerance).
+    pub tolerance: f64,
     /// The speed cap at the junction (or of the blend piece).
     pub cap: f64,
     /// Unit tangents arriving and leaving.
@@ -91,13 +94,15 @@ impl Knot {
 }
 
 impl Knots {
-    /// Knots at every element end, along arcs by the error bound, and beside junctions.
+    /// Knots at every element end, along arcs by the error bound, and beside junctions;
+    /// `narrow` sizes corner blends for a time grid (see `junction`).
     pub fn new(
         curves: &[Curve],
         bounds: &AxisBounds,
         tolerance: f64,
         corner: Option<f64>,
         start: &Start,
+        narrow: bool,
     ) -> Knots {
         let mut first = Knot::at(
             Place {
@@ -117,7 +122,16 @@ impl Knots {
             this.junctions.push(j.clone());
         }
         let junctions: Vec<Option<(Junction, [f64; 2])>> = (0..curves.len() - 1)
-            .map(|e| junction(&curves[e], &curves[e + 1], bounds, tolerance, corner))
+            .map(|e| {
+                junction(
+                    &curves[e],
+                    &curves[e + 1],
+                    bounds,
+                    tolerance,
+                    corner,
+                    narrow,
+                )
+            })
             .collect();
         for (e, curve) in curves.iter().enumerate() {
             let before = e.checked_sub(1).and_then(|j| junctions[j].as_ref());
@@ -287,12 +301,25 @@ impl Knots {
         (&curves[a.element], a.param, b.param)
     }
 
-    /// Splits every piece whose error bound exceeds `tolerance` at its middle parameter.
-    /// Returns whether any was split.
+    /// Splits every piece whose error bound exceeds `tolerance` at its middle parameter;
+    /// a corner blend over its tolerance instead gets both end speeds capped at the
+    /// slower one (at equal speeds it meets it). Returns whether any changed.
     pub fn split_over(&mut self, curves: &[Curve], pieces: &[Piece], tolerance: f64) -> bool {
         let mut out = Vec::with_capacity(self.knots.len());
         let mut split = false;
         for (k, piece) in pieces.iter().enumerate() {
+            if let Some(j) = self.knots[k].blend {
+                if piece.error > self.junctions[j].tolerance {
+                    let slower = self.knots[k].speed.min(self.knots[k + 1].speed);
+                    for i in [k, k + 1] {
+                        let knot = &mut self.knots[i];
+                        if !knot.fixed && knot.cap > slower {
+                            knot.cap = slower;
+                            split = true;
+                        }
+                    }
+                }
+            }
             out.push(self.knots[k]);
             if piece.error > tolerance && self.knots[k].blend.is_none() {
                 let (_, from, to) = self.piece_span(curves, k);
@@ -487,6 +514,7 @@ fn junction(
     bounds: &AxisBounds,
     tolerance: f64,
     corner: Option<f64>,
+    narrow: bool,
 ) -> Option<(Junction, [f64; 2])> {
     let t_in = unit_tangent(a, a.span);
     let t_out = unit_tangent(b, 0.0);
@@ -511,12 +539,19 @@ fn junction(
         deviation,
         blend: None,
         half_turn_sin: 0.5 * diff_norm,
+        tolerance: corner.unwrap_or(tolerance),
         cap: a.feed.min(b.feed),
         tangents: [t_in, t_out],
     };
     let blends = bounds.accelerates() || corner.is_some();
     if a.is_line() && b.is_line() && blends && deviation > 1e-12 {
-        let l = (corner.unwrap_or(tolerance) / junction.half_turn_sin)
+        // At equal end speeds the blend passes within L·sin(α/2)/2 of the corner (see
+        // `blend_error`): L is sized for that, and unequal speeds are evened out where
+        // they would take it farther. On a time grid, whose stretches move the inner
+        // control points, L is sized by the triangle bound L·sin(α/2), which holds for
+        // any of them.
+        let share = if narrow { 1.0 } else { 2.0 * (1.0 - 1e-9) };
+        let l = (share * junction.tolerance / junction.half_turn_sin)
             .min(0.45 * a.span)
             .min(0.45 * b.span);
         junction.blend = Some(l);

@@ -237,7 +237,8 @@ impl PathStream {
         };
         let least = self.least_acceleration();
         let corner = self.options.corner_tolerance;
-        let mut knots = Knots::new(curves, bounds, tolerance, corner, &self.start);
+        let narrow = self.options.quantum.is_some();
+        let mut knots = Knots::new(curves, bounds, tolerance, corner, &self.start, narrow);
         if !last {
             knots.cap_for_window(curves, least);
         }

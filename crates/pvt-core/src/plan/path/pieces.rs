@@ -80,9 +80,7 @@ impl Knots {
     /// The corner blend after knot `k`: from the first line at L before the corner to
     /// the second at L after it, velocities along each line, time from
     /// [`blend_time`], so both inner control points lie on the lines within L of the
-    /// corner and the cubic stays inside the triangle they span with the corner. Its farthest
-    /// point from the two lines is no farther than its midpoint is from the corner,
-    /// at most L·sin(α/2), which is also how far the corner is from the motion.
+    /// corner; its error is [`blend_error`].
     fn blend_piece(&self, curves: &[Curve], k: usize, j: usize) -> Piece {
         let junction = &self.junctions[j];
         let l = junction.blend.unwrap_or(0.0);
@@ -95,15 +93,51 @@ impl Knots {
         b.position(l, &mut end);
         let (va, vb) = (self.knots[k].speed, self.knots[k + 1].speed);
         let scaled = |t: &[f64], v: f64| t.iter().map(|x| x * v).collect::<Vec<f64>>();
+        let duration = blend_time(l, va, vb);
         Piece {
             start,
             end,
             start_velocity: scaled(&junction.tangents[0], va),
             end_velocity: scaled(&junction.tangents[1], vb),
-            duration: blend_time(l, va, vb),
-            error: l * junction.half_turn_sin,
+            duration,
+            error: blend_error(
+                l,
+                va * duration / 3.0,
+                vb * duration / 3.0,
+                junction.half_turn_sin,
+            ),
         }
     }
+}
+
+/// How far a corner blend of half-length `l` whose inner control points lie `da` and
+/// `db` from its ends (towards the corner C, both at most `l`) can be from the two lines
+/// and how far C can be from it.
+///
+/// With unit tangents t₁, t₂ and turning angle α, the blend is
+/// `B(u) − C = −A(u)·t₁ + E(u)·t₂`, `A(u) = (1−u)³l + 3u(1−u)²(l − da)` falling from l to
+/// 0 and `E(u) = 3u²(1−u)(l − db) + u³l` rising from 0 to l. Its distance from the first
+/// line is `E·sin α` and from the second `A·sin α` (whichever foot lies on its line; one
+/// does), so at most `min(A, E)·sin α`; and C is at most `|B(u*) − C| = 2·A(u*)·sin(α/2)`
+/// from it, where A and E cross at u*. Both are at most `2·A(u*)·sin(α/2)`; at equal end
+/// speeds (da = db = 2l/3) `A(u*) = l/4`, so `l·sin(α/2)/2`.
+fn blend_error(l: f64, da: f64, db: f64, half_turn_sin: f64) -> f64 {
+    let (a, e) = ((l - da).clamp(0.0, l), (l - db).clamp(0.0, l));
+    let first = |u: f64| (1.0 - u).powi(3) * l + 3.0 * u * (1.0 - u).powi(2) * a;
+    let second = |u: f64| 3.0 * u * u * (1.0 - u) * e + u.powi(3) * l;
+    let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
+    for _ in 0..64 {
+        let mid = 0.5 * (lo + hi);
+        if first(mid) >= second(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    // min(A, E) ≤ A(lo) everywhere: E ≤ E(lo) ≤ A(lo) left of lo, A ≤ A(lo) right of it.
+    // Whatever da and db, the blend stays in the triangle of its ends and C, within
+    // l·sin(α/2) of both lines and of C.
+    (2.0 * first(lo)).min(l) * half_turn_sin
 }
 
 /// Time of a blend of half-length `l` from speed `va` to `vb`: 4L/(va + vb), the
@@ -234,6 +268,7 @@ impl Knots {
                 stretch[j - 1].max(stretch[j])
             };
         }
+
         let pieces = pieces
             .iter()
             .enumerate()
@@ -255,13 +290,13 @@ impl Knots {
             duration: t,
             error: p.error,
         };
-        let stretch = t / p.duration;
-        if self.knots[k].blend.is_some() {
-            // The inner control points move towards the ends (scale ≥ stretch): the
-            // blend's bound holds as it was.
-            if scale[0] < stretch || scale[1] < stretch {
-                piece.error = f64::INFINITY;
-            }
+        if let Some(j) = self.knots[k].blend {
+            // The inner control points move towards the ends (scale ≥ stretch): within
+            // the triangle bound, which sizes blends on a grid.
+            let l = self.junctions[j].blend.unwrap_or(0.0);
+            let offset = |v: &[f64]| crate::vector::norm(v) * t / 3.0;
+            let (da, db) = (offset(&piece.start_velocity), offset(&piece.end_velocity));
+            piece.error = blend_error(l, da, db, self.junctions[j].half_turn_sin);
             return piece;
         }
         if p.at_rest() {
@@ -344,4 +379,71 @@ pub(super) fn mid_speed_change(before: &[Piece], after: &[Piece]) -> f64 {
         .filter(|(b, _)| *b > 1e-12)
         .map(|(b, a)| (a - b).abs() / b)
         .fold(0.0, f64::max)
+}
+
+#[cfg(test)]
+// std's trigonometry on purpose: the check is independent of the planner's libm.
+#[allow(clippy::disallowed_methods)]
+mod tests {
+    use super::blend_error;
+
+    /// Distance from `p` to the ray from the origin along `t` (unit).
+    fn to_ray(p: [f64; 2], t: [f64; 2]) -> f64 {
+        let along = (p[0] * t[0] + p[1] * t[1]).max(0.0);
+        (p[0] - along * t[0]).hypot(p[1] - along * t[1])
+    }
+
+    /// The blend bound against the cubic sampled densely: its distance from the two
+    /// lines and the corner's distance from it, for turns from 10° to 170° and inner
+    /// control points anywhere within L of the ends.
+    #[test]
+    fn blend_bound_holds_and_is_tight_at_equal_speeds() {
+        let l = 1.0;
+        for degrees in [10.0f64, 45.0, 90.0, 135.0, 170.0] {
+            let alpha = degrees.to_radians();
+            // Corner at the origin; arrive along +x, leave turned by α.
+            let t1 = [1.0, 0.0];
+            let t2 = [alpha.cos(), alpha.sin()];
+            let half = (alpha / 2.0).sin();
+            for i in 0..=6 {
+                for j in 0..=6 {
+                    let (da, db) = (l * i as f64 / 6.0, l * j as f64 / 6.0);
+                    let p = [
+                        [-l * t1[0], -l * t1[1]],
+                        [-(l - da) * t1[0], -(l - da) * t1[1]],
+                        [(l - db) * t2[0], (l - db) * t2[1]],
+                        [l * t2[0], l * t2[1]],
+                    ];
+                    let (mut far, mut near) = (0.0f64, f64::INFINITY);
+                    for s in 0..=4000 {
+                        let u = s as f64 / 4000.0;
+                        let w = [
+                            (1.0 - u).powi(3),
+                            3.0 * u * (1.0 - u).powi(2),
+                            3.0 * u * u * (1.0 - u),
+                            u.powi(3),
+                        ];
+                        let b = [0, 1].map(|k| (0..4).map(|m| w[m] * p[m][k]).sum::<f64>());
+                        // The incoming line is the ray from the corner along −t1.
+                        let lines = to_ray(b, [-t1[0], -t1[1]]).min(to_ray(b, t2));
+                        far = far.max(lines);
+                        near = near.min(b[0].hypot(b[1]));
+                    }
+                    let bound = blend_error(l, da, db, half);
+                    assert!(
+                        far <= bound * (1.0 + 1e-9),
+                        "lines: {degrees}° {da} {db}: {far} > {bound}"
+                    );
+                    // The corner's bound is its distance at one instant, which the
+                    // samples straddle: 1e-4 covers their spacing.
+                    assert!(
+                        near <= bound * (1.0 + 1e-4),
+                        "corner: {degrees}° {da} {db}: {near} > {bound}"
+                    );
+                }
+            }
+            let equal = blend_error(l, 2.0 * l / 3.0, 2.0 * l / 3.0, half);
+            assert!((equal - l * half / 2.0).abs() < 1e-12, "{equal}");
+        }
+    }
 }
