@@ -295,6 +295,36 @@ fn blends_between_fast_and_slow_lines_keep_the_tolerance() {
     }
 }
 
+/// The bench's ellipse (60 × 30 mm, 720 chords) at 1000 mm/s: its blends must turn and
+/// change speed at once. TOPP-RA's time-optimal motion on it takes 2.7833 s
+/// (`bench/toppra/RESULTS.md`); blends that let the passes use their lines' whole
+/// tangential acceleration took 3.3522 s (1.204×), repaired in small steps.
+#[test]
+fn a_dense_polyline_keeps_speed_through_its_blends() {
+    let points: Vec<Position> = (0..=720)
+        .map(|i| {
+            let a = if i == 720 {
+                0.0
+            } else {
+                std::f64::consts::TAU * i as f64 / 720.0
+            };
+            pos(60.0 * a.cos(), 30.0 * a.sin(), 0.0)
+        })
+        .collect();
+    let c = contour(
+        points
+            .windows(2)
+            .map(|w| line(w[0], w[1], 1000.0))
+            .collect(),
+    );
+    let lim = limits(100.0, 1000.0);
+    let planned = plan(&c, 0.001, &lim);
+    assert_within(&planned, 100.0, 1000.0);
+    assert_follows(&c, &planned, 0.001);
+    let ratio = planned.total_time() / 2.7833;
+    assert!(ratio <= 1.05, "ratio to TOPP-RA {ratio}");
+}
+
 #[test]
 fn a_corner_tolerance_blends_corners_without_a_machine_file() {
     let c = contour(square(100.0, 100.0));
