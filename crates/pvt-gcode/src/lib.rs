@@ -43,6 +43,7 @@ mod prescan;
 mod request;
 mod sink;
 mod syntax;
+mod tools;
 mod value;
 
 pub use diagnostic::{line_col, GcodeDiagnostic, GcodeErrors};
@@ -51,6 +52,7 @@ pub use lines::MAX_LINE_BYTES;
 pub use prescan::{prescan, Prescan};
 pub use sink::{StreamSummary, ToolpathSink};
 pub use syntax::{check_syntax, SyntaxSummary};
+pub use tools::{Tool, ToolTable};
 
 use interpreter::{Flow, Interpreter};
 use parser::{LineKind, SourceLine, SourceLines};
@@ -82,6 +84,9 @@ pub struct GcodeOptions {
     /// X Y Z in millimetres and A B C in degrees; zero by default. A position in the
     /// output is the program coordinate plus the active row plus any G92 offset.
     pub work_offsets: [[f64; 6]; 9],
+    /// The tool table G43 and G43.2 read (LinuxCNC's `.tbl` format, millimetres); empty
+    /// by default, where only H0 (no offset) is known.
+    pub tool_table: ToolTable,
 }
 
 impl Default for GcodeOptions {
@@ -93,6 +98,7 @@ impl Default for GcodeOptions {
             arc_rel_tolerance: 0.001,
             units: None,
             work_offsets: [[0.0; 6]; 9],
+            tool_table: ToolTable::default(),
         }
     }
 }

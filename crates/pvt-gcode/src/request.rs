@@ -7,7 +7,9 @@
 use pvt_core::{Axis, CoolantState, Plane, SpindleState, Units, AXIS_COUNT};
 
 use crate::block::{Block, Word};
-use crate::codes::{self, Distance, FeedMode, GCode, MCode, MotionMode, NonModal, PathMode};
+use crate::codes::{
+    self, Distance, FeedMode, GCode, MCode, MotionMode, NonModal, PathMode, ToolLength,
+};
 use crate::diagnostic::{span, GcodeDiagnostic};
 
 /// A program stop (modal group 4).
@@ -36,7 +38,18 @@ pub(crate) struct Request {
     pub spindle: Option<(SpindleState, Word)>,
     pub coolant: Option<(CoolantState, Word)>,
     pub tool_change: Option<((), Word)>,
+    pub tool_length: Option<(ToolLength, Word)>,
+    /// G98 (`false`) or G99 (`true`).
+    pub retract: Option<(bool, Word)>,
+    /// G96 (`true`) or G97.
+    pub surface_speed: Option<(bool, Word)>,
+    /// M48…M53, accepted as state.
+    pub overrides: Option<((), Word)>,
     pub p: Option<Word>,
+    pub q: Option<Word>,
+    pub l: Option<Word>,
+    pub h: Option<Word>,
+    pub d: Option<Word>,
     pub s: Option<Word>,
     pub t: Option<Word>,
     /// X Y Z A B C, indexed by [`Axis::index`].
@@ -48,6 +61,9 @@ pub(crate) struct Request {
     /// The block makes no move: an unsupported code uses its axis words, or its motion
     /// codes conflict (both reported).
     pub no_move: bool,
+    /// The block has a G code pvtc does not know: it is skipped whole, so that no mode
+    /// drifts, and the motion mode becomes unknown until the next motion code.
+    pub unknown_g: bool,
 }
 
 impl Request {
@@ -75,6 +91,10 @@ impl Request {
                 b'R' => put_word(&mut request.radius, word, errors),
                 b'F' => put_word(&mut request.feed, word, errors),
                 b'P' => put_word(&mut request.p, word, errors),
+                b'Q' => put_word(&mut request.q, word, errors),
+                b'L' => put_word(&mut request.l, word, errors),
+                b'H' => put_word(&mut request.h, word, errors),
+                b'D' => put_word(&mut request.d, word, errors),
                 b'S' => put_word(&mut request.s, word, errors),
                 b'T' => put_word(&mut request.t, word, errors),
                 b'$' => errors.push(ignored(
@@ -104,6 +124,7 @@ impl Request {
     fn read_g(&mut self, word: Word, errors: &mut Vec<GcodeDiagnostic>) {
         let tenths = codes::tenths(word.value);
         let Some(code) = tenths.and_then(codes::g_code) else {
+            self.unknown_g = true;
             return errors.push(unknown_code(word, "not an RS274NGC G code"));
         };
         let modes =
@@ -152,6 +173,27 @@ impl Request {
                 errors,
                 modes("non-modal group"),
             ),
+            GCode::ToolLength(t) => put_mode(
+                &mut self.tool_length,
+                t,
+                word,
+                errors,
+                modes("tool length offset"),
+            ),
+            GCode::Retract(r) => put_mode(
+                &mut self.retract,
+                r,
+                word,
+                errors,
+                modes("canned cycle return level"),
+            ),
+            GCode::SurfaceSpeed(c) => put_mode(
+                &mut self.surface_speed,
+                c,
+                word,
+                errors,
+                modes("spindle speed mode"),
+            ),
             GCode::NoOp(_) => {}
             GCode::Unsupported(feature) => {
                 errors.push(unsupported(word, feature.name));
@@ -185,6 +227,9 @@ impl Request {
                 modes("tool change"),
             ),
             Some(MCode::End) => put_mode(&mut self.stop, Stop::End, word, errors, stop_conflict),
+            Some(MCode::Override) => {
+                put_mode(&mut self.overrides, (), word, errors, modes("override"))
+            }
             Some(MCode::Unsupported(feature)) => errors.push(unsupported(word, feature)),
             None => errors.push(unknown_code(word, "not an RS274NGC M code")),
         }

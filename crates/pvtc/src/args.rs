@@ -1,7 +1,8 @@
 //! Command-line arguments.
 //!
 //! Owns the flags, their help text and their conversion into pipeline options (reading
-//! the `--offsets` file through [`crate::offsets`]). It must not compile anything.
+//! the `--offsets` file through [`crate::offsets`], the `--tool-table` file through
+//! [`crate::tools`]). It must not compile anything.
 
 use crate::pipeline::{CompileOptions, DrawingOptions, Failure, InputKind};
 use clap::{Parser, Subcommand, ValueEnum};
@@ -151,6 +152,10 @@ pub struct PipelineArgs {
     /// millimetres and degrees) [default: all zero].
     #[arg(long, value_name = "FILE")]
     pub offsets: Option<PathBuf>,
+    /// G-code: the tool table G43 H reads, in LinuxCNC's `.tbl` format (lines like
+    /// `T1 P1 Z0.5 D6 ;comment`, millimetres and degrees) [default: no tools].
+    #[arg(long = "tool-table", value_name = "FILE")]
+    pub tool_table: Option<PathBuf>,
     /// G-code: a centre-format arc is refused when its start and end radii differ by
     /// more than this many mm and by more than --arc-rel-tolerance [default: 0.002].
     #[arg(long = "arc-abs-tolerance", value_name = "MM", value_parser = positive_number)]
@@ -206,6 +211,10 @@ impl PipelineArgs {
             Some(path) => crate::offsets::read(path)?,
             None => [[0.0; 6]; 9],
         };
+        let tool_table = match &self.tool_table {
+            Some(path) => crate::tools::read(path)?,
+            None => pvt_gcode::ToolTable::default(),
+        };
         let defaults = pvt_gcode::GcodeOptions::default();
         let input = match self.input_format {
             Some(InputArg::Gcode) => InputKind::Gcode,
@@ -233,6 +242,7 @@ impl PipelineArgs {
             quantize: self.quantize,
             quantize_rounding: self.quantize_rounding.unwrap_or_default(),
             work_offsets,
+            tool_table,
             arc_abs_tolerance_mm: self
                 .arc_abs_tolerance
                 .unwrap_or(defaults.arc_abs_tolerance_mm),

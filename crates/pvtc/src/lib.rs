@@ -18,6 +18,7 @@ pub mod pipeline;
 pub mod plot;
 pub mod report;
 pub mod stream;
+pub mod tools;
 
 pub use args::{Cli, Command, CompileArgs};
 pub use pipeline::{compile, plan, CompileOptions, DrawingOptions, Failure, InputKind, Source};

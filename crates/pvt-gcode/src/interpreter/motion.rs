@@ -13,7 +13,7 @@ use pvt_core::{
 use super::{Feed, Interpreter};
 use crate::arcs::{self, ArcProblem, ArcTolerance};
 use crate::block::{cover, Block, Word};
-use crate::codes::{Distance, FeedMode, MotionMode, NonModal, PathMode};
+use crate::codes::{Distance, FeedMode, MotionMode, NonModal, PathMode, ToolLength};
 use crate::diagnostic::{span, GcodeDiagnostic};
 use crate::request::Request;
 
@@ -37,7 +37,13 @@ impl Interpreter<'_> {
 
     /// The block's move in the motion mode in effect.
     pub(super) fn run_motion(&mut self, request: &Request, block: &Block) {
-        let offsets_use_axes = matches!(request.non_modal, Some((NonModal::SetOffset, _)));
+        let offsets_use_axes = matches!(
+            request.non_modal,
+            Some((NonModal::SetOffset | NonModal::Home(_) | NonModal::SetHome(_), _))
+        ) || matches!(
+            request.tool_length,
+            Some((ToolLength::Dynamic | ToolLength::Add, _))
+        );
         if request.no_move || offsets_use_axes {
             return;
         }
@@ -52,6 +58,11 @@ impl Interpreter<'_> {
                 }
             }
             Some(MotionMode::Unsupported) => {}
+            Some(MotionMode::Cycle(cycle)) => {
+                if has_axes {
+                    self.cycle_move(cycle, request, block);
+                }
+            }
             Some(mode @ (MotionMode::Rapid | MotionMode::Linear)) => {
                 self.reject_arc_words(request, mode.name());
                 if has_axes {
@@ -87,7 +98,7 @@ impl Interpreter<'_> {
     }
 
     /// The end position of the block's move: machine coordinates, output units.
-    fn target(&self, request: &Request) -> Result<Position, GcodeDiagnostic> {
+    pub(super) fn target(&self, request: &Request) -> Result<Position, GcodeDiagnostic> {
         const WHAT: [&str; 6] = [
             "X coordinate",
             "Y coordinate",
@@ -105,7 +116,7 @@ impl Interpreter<'_> {
             };
             let value = self.program_value(axis, word.value);
             end[i] = match (machine, self.modal.distance) {
-                (true, _) => value,
+                (true, _) => value + self.tool.offset[i],
                 (false, Distance::Absolute) => value + self.offset(i),
                 (false, Distance::Incremental) => end[i] + value,
             };
@@ -118,7 +129,7 @@ impl Interpreter<'_> {
 
     /// The feed of a feed move, units per second; `None` (reported) when there is none.
     /// The move's `length` is measured only under G93, the one mode that needs it.
-    fn feed_rate(
+    pub(super) fn feed_rate(
         &mut self,
         request: &Request,
         block: &Block,
@@ -178,7 +189,7 @@ impl Interpreter<'_> {
     }
 
     /// The rapid rate, units per second.
-    fn rapid_rate(&self) -> f64 {
+    pub(super) fn rapid_rate(&self) -> f64 {
         let per_minute = match self.options.rapid {
             Some(rapid) if rapid > 0.0 && rapid.is_finite() => rapid,
             _ => self.output().from_mm(crate::DEFAULT_RAPID_MM_PER_MIN),
@@ -207,6 +218,25 @@ impl Interpreter<'_> {
                 span: span(block.span()),
             });
         }
+        let element = Element {
+            kind: ElementKind::Line,
+            start,
+            end,
+            feed,
+            span: element_span(block),
+        };
+        self.emit(motion, &element);
+    }
+
+    /// A straight move from `start` to `end` (not equal) at `feed` units per second.
+    pub(super) fn straight(
+        &mut self,
+        motion: Motion,
+        start: Position,
+        end: Position,
+        feed: f64,
+        block: &Block,
+    ) {
         let element = Element {
             kind: ElementKind::Line,
             start,
