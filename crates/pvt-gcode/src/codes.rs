@@ -145,6 +145,10 @@ pub(crate) enum NonModal {
     Home(usize),
     /// G28.1 (0) or G30.1 (1): store the current position as that home position.
     SetHome(usize),
+    /// G10: write a coordinate system (L2, L20) or a tool table entry (L1, L10, L11).
+    SetTable,
+    /// G52: a local offset, kept where G92 keeps its offset (as LinuxCNC does).
+    LocalOffset,
 }
 
 /// An RS274NGC feature beyond what pvtc compiles.
@@ -249,6 +253,8 @@ pub(crate) fn g_code(tenths: u32) -> Option<GCode> {
         280 => NonModal(self::NonModal::Home(0)),
         300 => NonModal(self::NonModal::Home(1)),
         281 => NonModal(self::NonModal::SetHome(0)),
+        100 => NonModal(self::NonModal::SetTable),
+        520 => NonModal(self::NonModal::LocalOffset),
         301 => NonModal(self::NonModal::SetHome(1)),
         730 => Motion(MotionMode::Cycle(self::Cycle::ChipBreak)),
         810 => Motion(MotionMode::Cycle(self::Cycle::Drill)),
@@ -268,10 +274,8 @@ pub(crate) fn g_code(tenths: u32) -> Option<GCode> {
 /// The feature of a G code pvtc knows but does not execute (motion group excluded).
 fn unsupported_g(tenths: u32) -> Option<Feature> {
     Some(match tenths {
-        100 => feature("setting offset tables", true),
         171 | 181 | 191 => feature("UVW planes", false),
         410 | 411 | 420 | 421 => feature("cutter radius compensation", false),
-        520 => feature("local coordinate offsets", true),
         700 | 710 | 720 => feature("lathe cycles", true),
         950 => feature("feed per revolution", false),
         _ => return None,

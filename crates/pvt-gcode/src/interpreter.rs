@@ -95,6 +95,11 @@ pub(crate) struct Interpreter<'a> {
     pending: Vec<GcodeDiagnostic>,
     /// The request of the block being executed, its storage reused from block to block.
     request: Option<Box<Request>>,
+    /// Work offsets G54…G59.3 (rows; X Y Z millimetres, A B C degrees), from
+    /// [`GcodeOptions::work_offsets`] and changed by G10 L2/L20.
+    pub(crate) work_offsets: [[f64; AXIS_COUNT]; 9],
+    /// The tool table, from [`GcodeOptions::tool_table`] and changed by G10 L1/L10/L11.
+    pub(crate) tools: crate::ToolTable,
     /// Tool selected and loaded, and the tool length offset in effect.
     pub(crate) tool: machine::ToolState,
     /// G28 and G30 home positions (#5161…, #5181…), output units, without tool offset.
@@ -130,6 +135,8 @@ impl<'a> Interpreter<'a> {
             quiet: false,
             pending: Vec::new(),
             request: None,
+            work_offsets: options.work_offsets,
+            tools: options.tool_table.clone(),
             tool: machine::ToolState::default(),
             homes: [[0.0; AXIS_COUNT]; 2],
             cycle: cycles::CycleMemory {
@@ -191,6 +198,7 @@ impl<'a> Interpreter<'a> {
         // F after the units of its block, so `G21 F254` is 254 mm/min.
         self.set_feed(request);
         self.set_offsets(request);
+        self.set_tables(request);
         self.home(request, block);
         self.check_p_word(request);
         self.check_words(request);
@@ -302,7 +310,10 @@ impl<'a> Interpreter<'a> {
     /// A P word no code of the block uses is a warning.
     fn check_p_word(&mut self, request: &Request) {
         let Some(p) = request.p else { return };
-        let used = matches!(request.non_modal, Some((NonModal::Dwell, _)))
+        let used = matches!(
+            request.non_modal,
+            Some((NonModal::Dwell | NonModal::SetTable, _))
+        )
             || matches!(request.path_mode, Some((PathMode::Continuous, _)))
             || request.overrides.is_some()
             || matches!(
@@ -372,7 +383,6 @@ impl<'a> Interpreter<'a> {
     /// The work plus G92 plus tool length offset of axis `i`, output units (degrees for rotary axes).
     fn offset(&self, i: usize) -> f64 {
         let work = self
-            .options
             .work_offsets
             .get(self.modal.coord_system)
             .map_or(0.0, |w| w[i]);
@@ -410,7 +420,9 @@ impl<'a> Interpreter<'a> {
             NonModal::Dwell
             | NonModal::MachineCoords
             | NonModal::Home(_)
-            | NonModal::SetHome(_) => {}
+            | NonModal::SetHome(_)
+            | NonModal::SetTable
+            | NonModal::LocalOffset => {}
         }
     }
 

@@ -37,6 +37,7 @@ mod diagnostic;
 mod interpreter;
 mod kept;
 mod lines;
+mod messages;
 mod params;
 mod parser;
 mod prescan;

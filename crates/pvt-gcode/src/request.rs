@@ -56,6 +56,8 @@ pub(crate) struct Request {
     pub axes: [Option<Word>; AXIS_COUNT],
     /// I J K.
     pub offsets: [Option<Word>; 3],
+    /// `@` (polar radius) and `^` (polar angle, degrees).
+    pub polar: [Option<Word>; 2],
     pub radius: Option<Word>,
     pub feed: Option<Word>,
     /// The block makes no move: an unsupported code uses its axis words, or its motion
@@ -89,6 +91,8 @@ impl Request {
                     put_word(slot, word, errors);
                 }
                 b'R' => put_word(&mut request.radius, word, errors),
+                b'@' => put_word(&mut request.polar[0], word, errors),
+                b'^' => put_word(&mut request.polar[1], word, errors),
                 b'F' => put_word(&mut request.feed, word, errors),
                 b'P' => put_word(&mut request.p, word, errors),
                 b'Q' => put_word(&mut request.q, word, errors),
@@ -113,12 +117,12 @@ impl Request {
 
     /// True when the block has any axis word.
     pub fn has_axis_words(&self) -> bool {
-        self.axes.iter().any(Option::is_some)
+        self.axes.iter().chain(&self.polar).any(Option::is_some)
     }
 
-    /// The block's axis words, in X Y Z A B C order.
+    /// The block's axis words, in X Y Z A B C `@` `^` order.
     pub fn axis_words(&self) -> impl Iterator<Item = &Word> {
-        self.axes.iter().flatten()
+        self.axes.iter().chain(&self.polar).flatten()
     }
 
     fn read_g(&mut self, word: Word, errors: &mut Vec<GcodeDiagnostic>) {

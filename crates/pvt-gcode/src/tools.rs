@@ -119,6 +119,11 @@ impl ToolTable {
         self.tools.iter().find(|t| t.number == number)
     }
 
+    /// The tool numbered `number` to change (G10 L1, L10, L11).
+    pub(crate) fn get_mut(&mut self, number: u32) -> Option<&mut Tool> {
+        self.tools.iter_mut().find(|t| t.number == number)
+    }
+
     /// True when the table has no tools.
     pub fn is_empty(&self) -> bool {
         self.tools.is_empty()

@@ -259,3 +259,71 @@ fn the_unknown_block_sets_no_mode() {
     assert_eq!(result.unwrap_err().diagnostics.len(), 1);
     assert_eq!(sink.0, [1.0, 2.0]);
 }
+
+#[test]
+fn g10_writes_coordinate_systems_and_g52_shares_g92() {
+    let got = moves(
+        "G21 G90\nG0 X1 Y1\nG10 L2 P2 X10 Y20\nG55 G0 X1 Y1\nG10 L2 P0 X5\nG0 X2\nG10 L20 P1 X0 Y0\nG54 G0 X1 Y1\nG52 X3\nG0 X2\nG92.1\nG0 X2\n",
+        &GcodeOptions::default(),
+    );
+    // G10 L20 P1 at machine (7, 21) makes that point G54's (0, 0).
+    let want = [
+        (RAPID, [1.0, 1.0, 0.0]),
+        (RAPID, [11.0, 21.0, 0.0]),
+        (RAPID, [7.0, 21.0, 0.0]),
+        (RAPID, [8.0, 22.0, 0.0]),
+        (RAPID, [7.0 + 3.0 + 2.0, 22.0, 0.0]),
+        (RAPID, [7.0 + 2.0, 22.0, 0.0]),
+    ];
+    assert_moves(&got, &want);
+}
+
+#[test]
+fn g10_l1_and_l10_write_the_tool_table() {
+    let options = GcodeOptions {
+        tool_table: ToolTable::parse("T1 P1 Z0\n").unwrap(),
+        ..GcodeOptions::default()
+    };
+    let got = moves(
+        "G21 G90\nG0 Z10\nG10 L1 P1 Z3\nG43 H1\nG0 Z0\nG10 L10 P1 Z4\nG43 H1\nG0 Z0\n",
+        &options,
+    );
+    // L1: length 3. L10 at machine Z 3 reading Z4: length 3 - 4 = -1.
+    let want = [
+        (RAPID, [0.0, 0.0, 10.0]),
+        (RAPID, [0.0, 0.0, 3.0]),
+        (RAPID, [0.0, 0.0, -1.0]),
+    ];
+    assert_moves(&got, &want);
+}
+
+#[test]
+fn polar_words_give_radius_and_angle_from_the_origin() {
+    let got = moves(
+        "G21 G90 F100\nG0 @5 ^90\nG1 ^30\nG91 G1 @1 ^15\n",
+        &GcodeOptions::default(),
+    );
+    let deg = |d: f64| d.to_radians();
+    let want = [
+        (RAPID, [0.0, 5.0, 0.0]),
+        (FEED, [5.0 * deg(30.0).cos(), 5.0 * deg(30.0).sin(), 0.0]),
+        (FEED, [6.0 * deg(45.0).cos(), 6.0 * deg(45.0).sin(), 0.0]),
+    ];
+    assert_moves(&got, &want);
+    assert_eq!(errors("G21 F1\nG1 X1 @2\n"), [("bad_value", 2, 7)]);
+}
+
+#[test]
+fn debug_and_print_comments_are_messages_with_parameters() {
+    let c = ok("G21\n#1=2.5\n#<a>=3\n(DEBUG, a=#<a> f=%.2f#1)\n(PRINT,p #1)\n(LOGOPEN,x.log)\nG0 X1\n");
+    let texts: Vec<_> = c
+        .toolpath
+        .events
+        .iter()
+        .filter_map(|e| match &e.kind {
+            EventKind::Message { text } => Some(text.as_str()),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(texts, ["a=3.000000 f=2.50", "p 2.500000"]);
+}

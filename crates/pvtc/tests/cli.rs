@@ -1253,3 +1253,37 @@ fn output_to_a_fifo_writes_through_it_and_keeps_it() {
     let written = reader.join().unwrap();
     assert!(String::from_utf8_lossy(&written).contains("CLOSE"));
 }
+
+#[test]
+fn tool_table_offsets_apply_and_its_errors_name_the_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let table = dir.path().join("tools.tbl");
+    std::fs::write(&table, "T1 P1 Z12.7 D6 ;6 mm drill\nT2 P2 Z-5\n").unwrap();
+    let program = "G21 G90\nG0 X1 Y0 Z0\nT1 M6 G43 H1\nG0 Z10\n";
+    let run = |extra: &[&str]| {
+        let mut args = vec!["compile", "-", "--format", "json"];
+        args.extend_from_slice(extra);
+        pvtc(&args, Some(program))
+    };
+    let o = run(&["--tool-table", table.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let last = v["contours"].as_array().unwrap().last().unwrap().clone();
+    // Z10 with tool 1's 12.7 mm length: the machine Z is 22.7.
+    assert_eq!(last["segments"][0]["p"], serde_json::json!([1.0, 22.7]));
+    // Without the table, H1 is an unknown tool.
+    let o = run(&[]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("pvtc::gcode::unknown_tool"), "{}", stderr(&o));
+    // A bad word names its line and is labelled.
+    std::fs::write(&table, "T1 Z1\nT2 Z1.x\n").unwrap();
+    let o = run(&["--tool-table", table.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = stderr(&o);
+    assert!(err.contains("pvtc::tool_table::syntax"), "{err}");
+    assert!(err.contains("line 2: `Z1.x`"), "{err}");
+    assert!(o.stdout.is_empty());
+    let missing = dir.path().join("missing.tbl");
+    let o = run(&["--tool-table", missing.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+}

@@ -83,7 +83,7 @@ impl Interpreter<'_> {
         if number == 0 {
             return Some([0.0; AXIS_COUNT]);
         }
-        let Some(tool) = self.options.tool_table.get(number) else {
+        let Some(tool) = self.tools.get(number) else {
             self.push(GcodeDiagnostic::UnknownTool {
                 tool: number,
                 span: span(at.span()),
@@ -137,6 +137,100 @@ impl Interpreter<'_> {
         }
     }
 
+    /// G10 L1/L10/L11 (tool table) and L2/L20 (coordinate systems); G52.
+    pub(super) fn set_tables(&mut self, request: &Request) {
+        let Some((code @ (NonModal::SetTable | NonModal::LocalOffset), word)) = request.non_modal
+        else {
+            return;
+        };
+        self.output_units.get_or_insert(self.modal.units);
+        if code == NonModal::LocalOffset {
+            for axis in Axis::ALL {
+                if let Some(w) = request.axes[axis.index()] {
+                    self.g92[axis.index()] = self.program_value(axis, w.value);
+                }
+            }
+            return;
+        }
+        let Some(l) = request.l else {
+            return self.push(super::missing(word, "an L word (L1, L2, L10, L11 or L20)"));
+        };
+        let Some(p) = request.p else {
+            return self.push(super::missing(word, "a P word (which table entry)"));
+        };
+        let Some(p_number) = super::whole(p.value) else {
+            return self.push(super::bad_value(p, "a whole number ≥ 0"));
+        };
+        if let Some(r) = request.radius {
+            return self.push(GcodeDiagnostic::Unsupported {
+                code: format!("G10 {}", r.name()),
+                feature: "coordinate system rotation",
+                places: 1,
+                span: span(r.span()),
+            });
+        }
+        let mm = |me: &Self, axis: Axis, value: f64| match axis.is_rotary() {
+            true => value,
+            false => value * me.output().mm_per_unit(),
+        };
+        match l.value {
+            2.0 | 20.0 => {
+                let row = match p_number {
+                    0 => self.modal.coord_system,
+                    1..=9 => p_number as usize - 1,
+                    _ => return self.push(super::bad_value(p, "P0 (current) or P1…P9 (G54…G59.3)")),
+                };
+                for axis in Axis::ALL {
+                    let i = axis.index();
+                    let Some(w) = request.axes[i] else { continue };
+                    let value = self.program_value(axis, w.value);
+                    let offset = match l.value == 2.0 {
+                        true => value,
+                        false => self.position[i] - self.g92[i] - self.tool.offset[i] - value,
+                    };
+                    self.work_offsets[row][i] = mm(self, axis, offset);
+                }
+            }
+            1.0 | 10.0 | 11.0 => {
+                if self.tools.get(p_number).is_none() {
+                    return self.push(GcodeDiagnostic::UnknownTool {
+                        tool: p_number,
+                        span: span(p.span()),
+                    });
+                }
+                let mut values = [None; AXIS_COUNT];
+                for axis in Axis::ALL {
+                    let i = axis.index();
+                    let Some(w) = request.axes[i] else { continue };
+                    let value = self.program_value(axis, w.value);
+                    let offset = match l.value {
+                        1.0 => value,
+                        // L10: the current position reads `value` with this tool's
+                        // offset; L11 as L10 in G59.3 without G92.
+                        10.0 => self.position[i] - (self.offset(i) - self.tool.offset[i]) - value,
+                        _ => {
+                            let work = self.work_offsets[8][i];
+                            let work = match axis.is_rotary() {
+                                true => work,
+                                false => self.output().from_mm(work),
+                            };
+                            self.position[i] - work - value
+                        }
+                    };
+                    values[i] = Some(mm(self, axis, offset));
+                }
+                if let Some(tool) = self.tools.get_mut(p_number) {
+                    for (slot, value) in tool.offsets.iter_mut().zip(values) {
+                        if let Some(v) = value {
+                            *slot = v;
+                        }
+                    }
+                }
+            }
+            _ => self.push(super::bad_value(l, "L1, L2, L10, L11 or L20 with G10")),
+        }
+    }
+
     /// M6 loads the selected tool; G96/G97 and G64 Q are kept as state.
     pub(super) fn machine_state(&mut self, request: &Request) {
         if let Some(t) = request.t.and_then(|t| super::whole(t.value)) {
@@ -164,10 +258,11 @@ impl Interpreter<'_> {
         );
         let q_used = cycle || matches!(request.path_mode, Some((PathMode::Continuous, _)));
         let d_used = self.surface_speed;
+        let l_used = cycle || matches!(request.non_modal, Some((NonModal::SetTable, _)));
         let checks = [
             (request.h, h_used, "no code of this block takes H (G43, G43.2 do)"),
             (request.d, d_used, "D is the maximum spindle speed of G96 only"),
-            (request.l, cycle, "no code of this block takes L (canned cycles do)"),
+            (request.l, l_used, "no code of this block takes L (G10, canned cycles do)"),
             (request.q, q_used, "no code of this block takes Q (G64, G73, G83 do)"),
         ];
         for (word, used, reason) in checks {

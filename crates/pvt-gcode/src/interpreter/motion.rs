@@ -39,7 +39,14 @@ impl Interpreter<'_> {
     pub(super) fn run_motion(&mut self, request: &Request, block: &Block) {
         let offsets_use_axes = matches!(
             request.non_modal,
-            Some((NonModal::SetOffset | NonModal::Home(_) | NonModal::SetHome(_), _))
+            Some((
+                NonModal::SetOffset
+                    | NonModal::Home(_)
+                    | NonModal::SetHome(_)
+                    | NonModal::SetTable
+                    | NonModal::LocalOffset,
+                _
+            ))
         ) || matches!(
             request.tool_length,
             Some((ToolLength::Dynamic | ToolLength::Add, _))
@@ -124,7 +131,55 @@ impl Interpreter<'_> {
                 return Err(out_of_range(WHAT[i], end[i], word.span()));
             }
         }
+        if request.polar.iter().any(Option::is_some) {
+            self.polar_target(request, machine, &mut end)?;
+        }
         Ok(end)
+    }
+
+    /// `@` radius and `^` angle (degrees) from the program origin in the XY plane, set
+    /// as LinuxCNC does: under G91 added to the current radius and angle.
+    fn polar_target(
+        &self,
+        request: &Request,
+        machine: bool,
+        end: &mut Position,
+    ) -> Result<(), GcodeDiagnostic> {
+        let first = request.polar.iter().flatten().next().copied();
+        let at = first.map_or(0..0, |w| w.span());
+        let refuse = |detail: &'static str| GcodeDiagnostic::BadValue {
+            word: first.map_or_else(String::new, |w| w.name()),
+            expected: detail,
+            span: span(at.clone()),
+        };
+        if request.axes[0].is_some() || request.axes[1].is_some() {
+            return Err(refuse("polar words (@, ^) replace X and Y; give one or the other"));
+        }
+        if self.modal.plane != Plane::XY || machine {
+            return Err(refuse("polar words (@, ^) work in G17 without G53"));
+        }
+        let scale = self.scale();
+        let x = (self.position[0] - self.offset(0)) / scale;
+        let y = (self.position[1] - self.offset(1)) / scale;
+        let (mut radius, mut angle) = (libm::hypot(x, y), libm::atan2(y, x));
+        let [r_word, a_word] = request.polar.map(|w| w.map(|w| w.value));
+        match self.modal.distance {
+            Distance::Absolute => {
+                radius = r_word.unwrap_or(radius);
+                angle = a_word.map_or(angle, f64::to_radians);
+            }
+            Distance::Incremental => {
+                radius += r_word.unwrap_or(0.0);
+                angle += a_word.map_or(0.0, f64::to_radians);
+            }
+        }
+        end[0] = radius * libm::cos(angle) * scale + self.offset(0);
+        end[1] = radius * libm::sin(angle) * scale + self.offset(1);
+        if end[0].is_finite() && end[1].is_finite() {
+            Ok(())
+        } else {
+            Err(out_of_range("X coordinate", end[0], at))
+        }
     }
 
     /// The feed of a feed move, units per second; `None` (reported) when there is none.
