@@ -124,6 +124,17 @@ impl ToolTable {
         self.tools.iter_mut().find(|t| t.number == number)
     }
 
+    /// Multiplies every length (X Y Z offsets, diameter) by `factor`, e.g. 25.4 for a
+    /// table written in inches.
+    pub fn scale_lengths(&mut self, factor: f64) {
+        for tool in &mut self.tools {
+            for offset in &mut tool.offsets[..3] {
+                *offset *= factor;
+            }
+            tool.diameter *= factor;
+        }
+    }
+
     /// True when the table has no tools.
     pub fn is_empty(&self) -> bool {
         self.tools.is_empty()

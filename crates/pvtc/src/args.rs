@@ -156,6 +156,10 @@ pub struct PipelineArgs {
     /// `T1 P1 Z0.5 D6 ;comment`, millimetres and degrees) [default: no tools].
     #[arg(long = "tool-table", value_name = "FILE")]
     pub tool_table: Option<PathBuf>,
+    /// G-code: the units of the --tool-table file's lengths (LinuxCNC reads a table in
+    /// its machine units; the standalone `rs274` in inches) [default: mm].
+    #[arg(long = "tool-table-units", value_enum, value_name = "UNITS")]
+    pub tool_table_units: Option<UnitsArg>,
     /// G-code: a centre-format arc is refused when its start and end radii differ by
     /// more than this many mm and by more than --arc-rel-tolerance [default: 0.002].
     #[arg(long = "arc-abs-tolerance", value_name = "MM", value_parser = positive_number)]
@@ -196,6 +200,16 @@ impl PipelineArgs {
                  (--planner lspb)"
             )));
         }
+        if self.tool_table_units.is_some() && self.tool_table.is_none() {
+            return Err(Failure::Usage(
+                "--tool-table-units does nothing without --tool-table FILE".into(),
+            ));
+        }
+        if self.tool_table.is_some() && input != InputKind::Gcode {
+            return Err(Failure::Usage(
+                "--tool-table does nothing here: G43 H in a G-code program reads it".into(),
+            ));
+        }
         if !self.layers.is_empty() && input != InputKind::Dxf {
             return Err(Failure::Usage(
                 "--layer does nothing here: it selects layers of a DXF drawing".into(),
@@ -212,7 +226,13 @@ impl PipelineArgs {
             None => [[0.0; 6]; 9],
         };
         let tool_table = match &self.tool_table {
-            Some(path) => crate::tools::read(path)?,
+            Some(path) => {
+                let mut table = crate::tools::read(path)?;
+                if self.tool_table_units == Some(UnitsArg::In) {
+                    table.scale_lengths(25.4);
+                }
+                table
+            }
             None => pvt_gcode::ToolTable::default(),
         };
         let defaults = pvt_gcode::GcodeOptions::default();

@@ -1271,6 +1271,20 @@ fn tool_table_offsets_apply_and_its_errors_name_the_line() {
     let last = v["contours"].as_array().unwrap().last().unwrap().clone();
     // Z10 with tool 1's 12.7 mm length: the machine Z is 22.7.
     assert_eq!(last["segments"][0]["p"], serde_json::json!([1.0, 22.7]));
+    // The same table read in inches: 12.7 in is 322.58 mm.
+    let o = run(&[
+        "--tool-table",
+        table.to_str().unwrap(),
+        "--tool-table-units",
+        "in",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let last = v["contours"].as_array().unwrap().last().unwrap().clone();
+    let z = last["segments"][0]["p"][1].as_f64().unwrap();
+    assert!((z - (10.0 + 12.7 * 25.4)).abs() < 1e-9, "{z}");
+    let o = run(&["--tool-table-units", "in"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     // Without the table, H1 is an unknown tool.
     let o = run(&[]);
     assert_eq!(o.status.code(), Some(1));
