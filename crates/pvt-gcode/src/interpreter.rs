@@ -102,7 +102,7 @@ pub(crate) struct Interpreter<'a> {
     pub(crate) tools: crate::ToolTable,
     /// Tool selected and loaded, and the tool length offset in effect.
     pub(crate) tool: machine::ToolState,
-    /// G28 and G30 home positions (#5161…, #5181…), output units, without tool offset.
+    /// G28 and G30 home positions (#5161…, #5181…): machine positions, output units.
     pub(crate) homes: [Position; 2],
     /// Canned cycle levels kept between blocks, and the G98/G99 mode.
     pub(crate) cycle: cycles::CycleMemory,

@@ -209,7 +209,7 @@ fn fanuc_post_lines_compile() {
     )
     .unwrap_or_else(|e| panic!("{e:?}"));
     let last = c.toolpath.contours.last().unwrap().elements.last().unwrap();
-    assert!((last.end[2] - (2.0 + 12.7)).abs() < 1e-9);
+    assert!((last.end[2] - (2.0 + 12.7)).abs() < 1e-9, "{last:?}");
 }
 
 #[test]
@@ -326,4 +326,20 @@ fn debug_and_print_comments_are_messages_with_parameters() {
         })
         .collect();
     assert_eq!(texts, ["a=3.000000 f=2.50", "p 2.500000"]);
+}
+
+#[test]
+fn g28_and_g53_reach_machine_positions_whatever_the_tool_offset() {
+    let got = moves(
+        "G21 G90\nG0 X1 Z5\nT1 M6\nG43 H1\nG53 G0 Z0\nG0 Z2\nG91 G28 Z0\n",
+        &table(),
+    );
+    // Tool 1 is 12.7 long: G53 Z0 and the G28 home are machine 0, Z2 is 2 + 12.7.
+    let want = [
+        (RAPID, [1.0, 0.0, 5.0]),
+        (RAPID, [1.0, 0.0, 0.0]),
+        (RAPID, [1.0, 0.0, 14.7]),
+        (RAPID, [1.0, 0.0, 0.0]),
+    ];
+    assert_moves(&got, &want);
 }

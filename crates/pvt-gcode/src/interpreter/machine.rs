@@ -4,8 +4,8 @@
 //!
 //! Owns the tool and home state, kept as plain fields of the interpreter (current tool
 //! #5400, offsets #5401…, homes #5161…/#5181…) and what each of these codes does to it.
-//! Homes and tool offsets are output units; a home is a machine position without the
-//! tool offset, as LinuxCNC stores it. It must not read words nor expand cycles.
+//! Homes and tool offsets are output units; a home is a machine position, which G28/G30
+//! reach whatever tool offset is in effect (as G53 does). It must not read words nor expand cycles.
 
 use pvt_core::{Axis, Motion, Position, AXIS_COUNT};
 
@@ -107,9 +107,7 @@ impl Interpreter<'_> {
         };
         match code {
             NonModal::SetHome(k) => {
-                for i in 0..AXIS_COUNT {
-                    self.homes[k][i] = self.position[i] - self.tool.offset[i];
-                }
+                self.homes[k] = self.position;
             }
             NonModal::Home(k) => {
                 self.output_units.get_or_insert(self.modal.units);
@@ -121,7 +119,7 @@ impl Interpreter<'_> {
                 let mut end = via;
                 for i in 0..AXIS_COUNT {
                     if all || request.axes[i].is_some() {
-                        end[i] = self.homes[k][i] + self.tool.offset[i];
+                        end[i] = self.homes[k][i];
                     }
                 }
                 let rate = self.rapid_rate();

@@ -123,7 +123,7 @@ impl Interpreter<'_> {
             };
             let value = self.program_value(axis, word.value);
             end[i] = match (machine, self.modal.distance) {
-                (true, _) => value + self.tool.offset[i],
+                (true, _) => value,
                 (false, Distance::Absolute) => value + self.offset(i),
                 (false, Distance::Incremental) => end[i] + value,
             };
