@@ -270,7 +270,9 @@ impl<'a> Interpreter<'a> {
 
     /// S, T, M6, M3/M4/M5 and M7/M8/M9, in that order.
     fn machine_events(&mut self, request: &Request, line: u32) {
-        let css = request.surface_speed.map_or(self.surface_speed, |(css, _)| css);
+        let css = request
+            .surface_speed
+            .map_or(self.surface_speed, |(css, _)| css);
         if let Some(s) = request.s.filter(|_| !css) {
             match s.value >= 0.0 {
                 true => self.event(EventKind::SpindleSpeed { rpm: s.value }, line),
@@ -313,8 +315,7 @@ impl<'a> Interpreter<'a> {
         let used = matches!(
             request.non_modal,
             Some((NonModal::Dwell | NonModal::SetTable, _))
-        )
-            || matches!(request.path_mode, Some((PathMode::Continuous, _)))
+        ) || matches!(request.path_mode, Some((PathMode::Continuous, _)))
             || request.overrides.is_some()
             || matches!(
                 self.modal.motion,

@@ -79,7 +79,10 @@ fn format_spec(spec: &str) -> Option<(Format, usize)> {
     let (decimals, len) = match spec.strip_prefix('.') {
         Some(digits) => {
             let n = digits.bytes().take_while(u8::is_ascii_digit).count();
-            (digits[..n].parse().ok().filter(|&d: &usize| d <= 20)?, 1 + n)
+            (
+                digits[..n].parse().ok().filter(|&d: &usize| d <= 20)?,
+                1 + n,
+            )
         }
         None => (6, 0),
     };

@@ -154,9 +154,10 @@ mod tests {
 
     #[test]
     fn reads_linuxcnc_lines() {
-        let table =
-            ToolTable::parse("T1 P1 Z0.5 D0.25 ;comment\n\n; only a comment\nt2 p2 x0.1 z-1.5 d0.5\n")
-                .unwrap();
+        let table = ToolTable::parse(
+            "T1 P1 Z0.5 D0.25 ;comment\n\n; only a comment\nt2 p2 x0.1 z-1.5 d0.5\n",
+        )
+        .unwrap();
         let t1 = table.get(1).unwrap();
         assert_eq!(t1.offsets, [0.0, 0.0, 0.5, 0.0, 0.0, 0.0]);
         assert_eq!(t1.diameter, 0.25);

@@ -61,7 +61,10 @@ fn g81_returns_to_the_start_level_under_g98_and_to_r_under_g99() {
 
 #[test]
 fn g83_pecks_step_by_q_and_re_enter_0_254_mm_above_the_last_depth() {
-    let got = moves("G21 F100\nG0 Z10\nG83 X1 Y1 Z-5 R1 Q2\n", &GcodeOptions::default());
+    let got = moves(
+        "G21 F100\nG0 Z10\nG83 X1 Y1 Z-5 R1 Q2\n",
+        &GcodeOptions::default(),
+    );
     // Independent: depths 1-2=-1, -3, then the bottom -5; each re-entry 0.254 above.
     let mut want = vec![
         (RAPID, [0.0, 0.0, 10.0]),
@@ -77,7 +80,10 @@ fn g83_pecks_step_by_q_and_re_enter_0_254_mm_above_the_last_depth() {
     want.push((RAPID, [1.0, 1.0, 1.0]));
     assert_moves(&got, &want);
     // G73 breaks the chip without going back to R; inches back off 0.01.
-    let got = moves("G20 F10\nG0 Z1\nG73 X1 Z-0.5 R0.1 Q0.3\n", &GcodeOptions::default());
+    let got = moves(
+        "G20 F10\nG0 Z1\nG73 X1 Z-0.5 R0.1 Q0.3\n",
+        &GcodeOptions::default(),
+    );
     let z: Vec<f64> = got.iter().map(|m| m.1[2]).collect();
     let want = [1.0, 1.0, 0.1, 0.1 - 0.3, 0.1 - 0.3 + 0.01, -0.5, 0.1];
     assert_eq!(z.len(), want.len(), "{z:?}");
@@ -124,7 +130,15 @@ fn tapping_and_boring_cycles_turn_the_spindle_as_linuxcnc_does() {
     use SpindleState::*;
     assert_eq!(
         spindle,
-        [Clockwise, Off, CounterClockwise, Off, Clockwise, Off, Clockwise]
+        [
+            Clockwise,
+            Off,
+            CounterClockwise,
+            Off,
+            Clockwise,
+            Off,
+            Clockwise
+        ]
     );
     assert!(c
         .toolpath
@@ -175,10 +189,7 @@ fn tool_length_offsets_shift_the_machine_position() {
         (RAPID, [4.0, 1.0, 15.0 - 38.1]),
     ];
     assert_moves(&got, &want);
-    assert_eq!(
-        errors("G21 F1\nG0 X1\nG43 H3\n"),
-        [("unknown_tool", 3, 5)]
-    );
+    assert_eq!(errors("G21 F1\nG0 X1\nG43 H3\n"), [("unknown_tool", 3, 5)]);
 }
 
 #[test]
@@ -224,7 +235,10 @@ fn modes_accepted_as_state() {
         .collect();
     assert_eq!(rpm.len(), 1, "G96's S is a surface speed, not rpm");
     let c = ok("G21 G1 X1 F100 Q2 H1 L3 D1\n");
-    let ignored = c.warnings.iter().filter(|w| w.code() == "pvtc::gcode::ignored_word");
+    let ignored = c
+        .warnings
+        .iter()
+        .filter(|w| w.code() == "pvtc::gcode::ignored_word");
     assert_eq!(ignored.count(), 4);
 }
 
@@ -315,7 +329,8 @@ fn polar_words_give_radius_and_angle_from_the_origin() {
 
 #[test]
 fn debug_and_print_comments_are_messages_with_parameters() {
-    let c = ok("G21\n#1=2.5\n#<a>=3\n(DEBUG, a=#<a> f=%.2f#1)\n(PRINT,p #1)\n(LOGOPEN,x.log)\nG0 X1\n");
+    let c =
+        ok("G21\n#1=2.5\n#<a>=3\n(DEBUG, a=#<a> f=%.2f#1)\n(PRINT,p #1)\n(LOGOPEN,x.log)\nG0 X1\n");
     let texts: Vec<_> = c
         .toolpath
         .events

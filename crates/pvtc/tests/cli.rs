@@ -1288,7 +1288,11 @@ fn tool_table_offsets_apply_and_its_errors_name_the_line() {
     // Without the table, H1 is an unknown tool.
     let o = run(&[]);
     assert_eq!(o.status.code(), Some(1));
-    assert!(stderr(&o).contains("pvtc::gcode::unknown_tool"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("pvtc::gcode::unknown_tool"),
+        "{}",
+        stderr(&o)
+    );
     // A bad word names its line and is labelled.
     std::fs::write(&table, "T1 Z1\nT2 Z1.x\n").unwrap();
     let o = run(&["--tool-table", table.to_str().unwrap()]);

@@ -176,7 +176,9 @@ impl Interpreter<'_> {
                 let row = match p_number {
                     0 => self.modal.coord_system,
                     1..=9 => p_number as usize - 1,
-                    _ => return self.push(super::bad_value(p, "P0 (current) or P1…P9 (G54…G59.3)")),
+                    _ => {
+                        return self.push(super::bad_value(p, "P0 (current) or P1…P9 (G54…G59.3)"))
+                    }
                 };
                 for axis in Axis::ALL {
                     let i = axis.index();
@@ -258,10 +260,26 @@ impl Interpreter<'_> {
         let d_used = self.surface_speed;
         let l_used = cycle || matches!(request.non_modal, Some((NonModal::SetTable, _)));
         let checks = [
-            (request.h, h_used, "no code of this block takes H (G43, G43.2 do)"),
-            (request.d, d_used, "D is the maximum spindle speed of G96 only"),
-            (request.l, l_used, "no code of this block takes L (G10, canned cycles do)"),
-            (request.q, q_used, "no code of this block takes Q (G64, G73, G83 do)"),
+            (
+                request.h,
+                h_used,
+                "no code of this block takes H (G43, G43.2 do)",
+            ),
+            (
+                request.d,
+                d_used,
+                "D is the maximum spindle speed of G96 only",
+            ),
+            (
+                request.l,
+                l_used,
+                "no code of this block takes L (G10, canned cycles do)",
+            ),
+            (
+                request.q,
+                q_used,
+                "no code of this block takes Q (G64, G73, G83 do)",
+            ),
         ];
         for (word, used, reason) in checks {
             if let (Some(word), false) = (word, used) {

@@ -153,7 +153,9 @@ impl Interpreter<'_> {
             span: span(at.clone()),
         };
         if request.axes[0].is_some() || request.axes[1].is_some() {
-            return Err(refuse("polar words (@, ^) replace X and Y; give one or the other"));
+            return Err(refuse(
+                "polar words (@, ^) replace X and Y; give one or the other",
+            ));
         }
         if self.modal.plane != Plane::XY || machine {
             return Err(refuse("polar words (@, ^) work in G17 without G53"));
