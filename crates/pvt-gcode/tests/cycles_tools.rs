@@ -317,11 +317,11 @@ fn polar_words_give_radius_and_angle_from_the_origin() {
         "G21 G90 F100\nG0 @5 ^90\nG1 ^30\nG91 G1 @1 ^15\n",
         &GcodeOptions::default(),
     );
-    let deg = |d: f64| d.to_radians();
+    let (half_root3, root_half) = (3.0_f64.sqrt() / 2.0, 0.5_f64.sqrt());
     let want = [
         (RAPID, [0.0, 5.0, 0.0]),
-        (FEED, [5.0 * deg(30.0).cos(), 5.0 * deg(30.0).sin(), 0.0]),
-        (FEED, [6.0 * deg(45.0).cos(), 6.0 * deg(45.0).sin(), 0.0]),
+        (FEED, [5.0 * half_root3, 5.0 * 0.5, 0.0]),
+        (FEED, [6.0 * root_half, 6.0 * root_half, 0.0]),
     ];
     assert_moves(&got, &want);
     assert_eq!(errors("G21 F1\nG1 X1 @2\n"), [("bad_value", 2, 7)]);

@@ -117,9 +117,9 @@ impl Interpreter<'_> {
                 };
                 let all = !request.has_axis_words();
                 let mut end = via;
-                for i in 0..AXIS_COUNT {
-                    if all || request.axes[i].is_some() {
-                        end[i] = self.homes[k][i];
+                for ((end, home), word) in end.iter_mut().zip(self.homes[k]).zip(request.axes) {
+                    if all || word.is_some() {
+                        *end = home;
                     }
                 }
                 let rate = self.rapid_rate();
