@@ -27,7 +27,7 @@ pub enum GcodeDiagnostic {
         span: SourceSpan,
     },
 
-    /// A word whose letter pvtc does not know (`Q5`, `S1000`) or a code that is no G-code.
+    /// A word whose letter pvtc does not know (`E5`, `~`) or a code that is no G-code.
     #[error("unknown word `{word}`: {meaning}")]
     #[diagnostic(
         code(pvtc::gcode::unknown_word),

@@ -2,7 +2,7 @@
 //!
 //! Owns the lexical rules (letters, numbers, comments, `%` lines, block delete, line
 //! numbers, line ends, BOM), written as nom parsers, one per EBNF production. It must not
-//! give words a meaning: a well-formed `Q5` is the interpreter's to reject. A malformed
+//! give words a meaning: a well-formed `E5` is the interpreter's to reject. A malformed
 //! line yields one diagnostic and no block; the caller carries on with the next line.
 
 use nom::bytes::complete::{take_till, take_while};

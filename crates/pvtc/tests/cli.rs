@@ -28,7 +28,7 @@ fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
-const BAD_LINE_3: &str = "G21 G90\nG1 X1 Y1 F100\nG1 X2 Q7 Y2\nG1 X3 Y3\n";
+const BAD_LINE_3: &str = "G21 G90\nG1 X1 Y1 F100\nG1 X2 E7 Y2\nG1 X3 Y3\n";
 
 #[test]
 fn compiles_a_sample_to_json_on_stdout() {
@@ -156,7 +156,7 @@ fn stdout_redirected_to_a_file_streams_and_starts_over_like_an_output_file() {
     // An error after enough moves that output has been written by then.
     let bad = dir.path().join("bad.ngc");
     let moves: String = (1..=5000).map(|i| format!("G1 X{i} F600\n")).collect();
-    std::fs::write(&bad, moves + "G1 X2 Q7 Y2\n").unwrap();
+    std::fs::write(&bad, moves + "G1 X2 E7 Y2\n").unwrap();
     let append = std::fs::OpenOptions::new().append(true).open(&out).unwrap();
     let o = pvtc_into(&["compile", bad.to_str().unwrap()], append);
     assert_eq!(o.status.code(), Some(1));
