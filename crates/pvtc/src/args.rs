@@ -4,7 +4,7 @@
 //! the `--offsets` file through [`crate::offsets`], the `--tool-table` file through
 //! [`crate::tools`]). It must not compile anything.
 
-use crate::pipeline::{CompileOptions, DrawingOptions, Failure, InputKind};
+use crate::pipeline::{CompileOptions, DrawingOptions, Failure, InputKind, VelocitySource};
 use clap::{Parser, Subcommand, ValueEnum};
 use pvt_core::{AxisLimits, Planner, Rounding, Timing, Units};
 use pvt_emit::Format;
@@ -41,6 +41,8 @@ pub enum FormatArg {
     Movepvt,
     /// The pvtc JSON document, version 1.
     Json,
+    /// The interpreted elements and events as JSON lines, before planning (one input).
+    Toolpath,
 }
 
 impl From<FormatArg> for Format {
@@ -49,6 +51,8 @@ impl From<FormatArg> for Format {
             FormatArg::Pmac => Format::Pmac,
             FormatArg::Movepvt => Format::MovePvt,
             FormatArg::Json => Format::Json,
+            // `toolpath` stops before planning (crate::toolpath): no back end sees it.
+            FormatArg::Toolpath => Format::Json,
         }
     }
 }
@@ -73,6 +77,15 @@ pub enum UnitsArg {
     In,
 }
 
+/// Where a series' velocities come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum VelocitiesArg {
+    /// The series' velocity columns, as given.
+    File,
+    /// The planner's own method; velocity columns are ignored.
+    Plan,
+}
+
 /// How diagnostics are printed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum DiagnosticsArg {
@@ -89,8 +102,12 @@ pub struct PipelineArgs {
     #[arg(long = "input-format", value_enum)]
     pub input_format: Option<InputArg>,
     /// Planner: path (motion within --tolerance of the drawn geometry; default for G-code
-    /// and DXF), contour (bisector velocities through every point; default for CSV), pt,
-    /// chord, const-accel, spline or lspb.
+    /// and DXF), contour (bisector velocities at the feed, mid-segment speed = mean of end
+    /// speeds; default for CSV), pt (constant velocity between points), chord-forward
+    /// (velocity = outgoing chord / time, as the quad-circle MovePVT example; `chord` is an
+    /// alias), chord-back (velocity = incoming chord / time, as AN208), const-accel
+    /// (constant acceleration within each piece), spline (C2 cubic spline) or lspb (linear
+    /// segments with parabolic blends at --accel).
     #[arg(long, value_name = "NAME", value_parser = planner)]
     pub planner: Option<Planner>,
     /// Machine file (TOML) with per-axis velocity, acceleration and jerk limits that the
@@ -102,7 +119,7 @@ pub struct PipelineArgs {
     /// blend within the path tolerance with --machine, and stop without it].
     #[arg(long = "corner-tolerance", value_name = "T", value_parser = positive_number)]
     pub corner_tolerance: Option<f64>,
-    /// Fixed time per piece (seed 002) for pt/chord/const-accel/spline/lspb, e.g. 5ms;
+    /// Fixed time per piece for pt/chord-forward/chord-back/const-accel/spline/lspb, e.g. 5ms;
     /// default: time = distance / feed.
     #[arg(long = "time-slice", value_name = "T", value_parser = duration)]
     pub time_slice: Option<f64>,
@@ -167,7 +184,12 @@ pub struct PipelineArgs {
     /// G-code: relative arc radius tolerance (0.001 = 0.1 %) [default: 0.001].
     #[arg(long = "arc-rel-tolerance", value_name = "R", value_parser = positive_number)]
     pub arc_rel_tolerance: Option<f64>,
-    /// Fail when there is any warning.
+    /// CSV: where the velocities come from: `file` (the series' v<axis> columns, as given)
+    /// or `plan` (the planner's method; the columns are ignored) [default: file when the
+    /// series has velocity columns and the planner takes velocities].
+    #[arg(long, value_name = "file|plan", value_enum)]
+    pub velocities: Option<VelocitiesArg>,
+    /// Fail when there is any warning (notes never fail).
     #[arg(long = "deny-warnings")]
     pub deny_warnings: bool,
     /// How to print diagnostics.
@@ -189,8 +211,8 @@ impl PipelineArgs {
             }
             if matches!(planner, Planner::Path | Planner::Contour) {
                 return Err(Failure::Usage(format!(
-                    "--time-slice does nothing with the {name} planner: it times pt, chord, \
-                     const-accel, spline and lspb (--planner NAME)"
+                    "--time-slice does nothing with the {name} planner: it times pt, \
+                     chord-forward, chord-back, const-accel, spline and lspb (--planner NAME)"
                 )));
             }
         }
@@ -208,6 +230,11 @@ impl PipelineArgs {
         if self.tool_table.is_some() && input != InputKind::Gcode {
             return Err(Failure::Usage(
                 "--tool-table does nothing here: G43 H in a G-code program reads it".into(),
+            ));
+        }
+        if self.velocities.is_some() && input != InputKind::Csv {
+            return Err(Failure::Usage(
+                "--velocities does nothing here: it chooses the velocities of a CSV series".into(),
             ));
         }
         if !self.layers.is_empty() && input != InputKind::Dxf {
@@ -278,6 +305,10 @@ impl PipelineArgs {
                     UnitsArg::In => Units::Inch,
                 }),
             },
+            velocities: self.velocities.map(|v| match v {
+                VelocitiesArg::File => VelocitySource::File,
+                VelocitiesArg::Plan => VelocitySource::Plan,
+            }),
         })
     }
 }

@@ -281,6 +281,8 @@ impl Interpreter<'_> {
                 }
                 spindle(self, SpindleState::Off);
                 spindle(self, SpindleState::CounterClockwise);
+                // rs274 dwells P (0 without one) with the spindle reversed.
+                self.event(EventKind::Dwell { seconds: plan.p }, line);
                 let ok = feed(self, clear);
                 spindle(self, SpindleState::Off);
                 spindle(self, SpindleState::Clockwise);
