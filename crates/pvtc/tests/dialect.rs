@@ -670,7 +670,8 @@ mod generated {
                     code,
                     to_r,
                     hole,
-                    r: f64::from(r) / 10.0 - 5.0,
+                    // Never 0: R must not round onto the start level.
+                    r: f64::from(r) / 10.0 - 4.95,
                     depth: f64::from(depth) / 10.0,
                     q: f64::from(q) / 10.0,
                     repeats,
