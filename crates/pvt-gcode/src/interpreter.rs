@@ -193,8 +193,9 @@ impl<'a> Interpreter<'a> {
         self.machine_events(request, block.line);
         self.dwell(request, block.line);
         self.set_modes(request);
-        self.set_tool_length(request);
+        // M6 loads its tool before G43 of the same block reads it.
         self.machine_state(request);
+        self.set_tool_length(request);
         // F after the units of its block, so `G21 F254` is 254 mm/min.
         self.set_feed(request);
         self.set_offsets(request);

@@ -358,3 +358,9 @@ fn g28_and_g53_reach_machine_positions_whatever_the_tool_offset() {
     ];
     assert_moves(&got, &want);
 }
+
+#[test]
+fn g43_without_h_takes_the_tool_m6_loads_in_the_same_block() {
+    let got = moves("G21 G90\nG0 X1\nT1 M6 G43\nG0 Z0\n", &table());
+    assert_moves(&got, &[(RAPID, [1.0, 0.0, 0.0]), (RAPID, [1.0, 0.0, 12.7])]);
+}
