@@ -364,3 +364,26 @@ fn g43_without_h_takes_the_tool_m6_loads_in_the_same_block() {
     let got = moves("G21 G90\nG0 X1\nT1 M6 G43\nG0 Z0\n", &table());
     assert_moves(&got, &[(RAPID, [1.0, 0.0, 0.0]), (RAPID, [1.0, 0.0, 12.7])]);
 }
+
+#[test]
+fn a_tiny_peck_or_a_huge_level_is_refused_not_run() {
+    let head = "G21 G90 F100\nG0 X0 Y0 Z5\n";
+    let e = |body: &str| errors(&format!("{head}{body}"));
+    assert_eq!(e("G83 X1 Z-1000 R1 Q0.000001\n"), [("cycle", 3, 1)]);
+    let huge = format!("1{}", "0".repeat(300));
+    assert_eq!(e(&format!("G81 X1 Z-1 R{huge}\n")), [("cycle", 3, 1)]);
+    assert_eq!(
+        e(&format!("G91 G81 X{huge} Z-1 R1 L3\n")),
+        [("cycle", 3, 5)]
+    );
+}
+
+#[test]
+fn pecks_times_repeats_are_bounded() {
+    // 1000 pecks a hole is fine; 1000 pecks times L200 is refused.
+    let ok = "G21 G90 F100\nG0 X0 Y0 Z5\nG91 G83 X1 Z-101 R-4 Q0.1 L2\n";
+    assert!(compile(ok, &GcodeOptions::default()).is_ok());
+    let head = "G21 G90 F100\nG0 X0 Y0 Z5\n";
+    let e = |body: &str| errors(&format!("{head}{body}"));
+    assert_eq!(e("G91 G83 X1 Z-101 R-4 Q0.1 L200\n"), [("cycle", 3, 5)]);
+}

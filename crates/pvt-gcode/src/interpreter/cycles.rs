@@ -16,6 +16,10 @@ use crate::diagnostic::{span, GcodeDiagnostic};
 use crate::request::Request;
 use pvt_core::EventKind;
 
+/// The most pecks (holes, for cycles without Q) one block may make: a smaller Q or a
+/// larger L is refused, never a hang.
+const MAX_PECKS: f64 = 100_000.0;
+
 /// What LinuxCNC keeps between cycle blocks, program units.
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct CycleMemory {
@@ -161,6 +165,21 @@ impl Interpreter<'_> {
                 ([current[0], current[1]], step, r, r + bottom_word)
             }
         };
+        let far = |v: f64| !v.is_finite() || v.abs() > 1e9;
+        if far(r) || far(bottom) || start.iter().chain(&step).any(|&v| far(v)) {
+            return Err("a level or position is out of range (beyond 1e9)".into());
+        }
+        let pecks = match q.filter(|_| matches!(cycle, Cycle::ChipBreak | Cycle::Peck)) {
+            Some(q) => ((r - bottom) / q).max(1.0),
+            None => 1.0,
+        };
+        if pecks * f64::from(repeats) > MAX_PECKS {
+            return Err(format!(
+                "more than {MAX_PECKS} pecks in one block (L{repeats}, from R{r} to \
+                 {normal}{bottom} by Q{})",
+                q.unwrap_or(0.0)
+            ));
+        }
         if r < bottom {
             return Err(format!(
                 "the R level {r} is below the bottom {normal}{bottom}"
