@@ -363,18 +363,22 @@ fn pmac_line_matches_grammar(line: &str) -> bool {
         let Some((scale, axis)) = def.split_at_checked(def.len().saturating_sub(1)) else {
             return false;
         };
-        let scale_ok = scale.split_once('.').map_or(integer(scale), |(i, f)| {
-            integer(i) && integer(f)
-        });
+        let scale_ok = scale
+            .split_once('.')
+            .map_or(integer(scale), |(i, f)| integer(i) && integer(f));
         return integer(motor) && scale_ok && "XYZABC".contains(axis) && !axis.is_empty();
     }
     // event_line: a command, " ; ", the event's name and line.
     if let Some((command, origin)) = line.split_once(" ; ") {
         let origin_ok = origin.split_once(" from line ").is_some_and(|(name, n)| {
-            !name.is_empty() && name.bytes().all(|b| b.is_ascii_lowercase() || b == b'_') && integer(n)
+            !name.is_empty()
+                && name.bytes().all(|b| b.is_ascii_lowercase() || b == b'_')
+                && integer(n)
         });
-        let command_ok = ["M01", "M03", "M04", "M05", "M06", "M07", "M08", "M09", "STOP"]
-            .contains(&command)
+        let command_ok = [
+            "M01", "M03", "M04", "M05", "M06", "M07", "M08", "M09", "STOP",
+        ]
+        .contains(&command)
             || command.strip_prefix('T').is_some_and(integer)
             || command
                 .strip_prefix('S')
@@ -519,7 +523,10 @@ fn pmac_settings_and_event_commands_follow_the_pmac_grammar() {
         "{out}"
     );
     // The defaults are today's output: program 1, no &n, events as comments.
-    for sample in ["samples/gcode/fanuc_post_dwell_checksum.ngc", "samples/gcode/square.ngc"] {
+    for sample in [
+        "samples/gcode/fanuc_post_dwell_checksum.ngc",
+        "samples/gcode/square.ngc",
+    ] {
         let mut options = options_for(sample, Format::Pmac);
         options.pmac = pvt_emit::PmacSettings::default();
         let golden = std::fs::read(root().join(golden_name(sample, Format::Pmac))).unwrap();

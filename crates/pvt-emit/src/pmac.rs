@@ -86,7 +86,10 @@ impl AxisDefinition {
             return Err(format!("motor #{motor} is out of range: 1 to {MAX_MOTOR}"));
         }
         let mut chars = def.chars();
-        let axis = chars.next_back().and_then(Axis::from_letter).ok_or_else(bad)?;
+        let axis = chars
+            .next_back()
+            .and_then(Axis::from_letter)
+            .ok_or_else(bad)?;
         let scale = chars.as_str();
         let digits = scale.replacen('.', "", 1);
         let positive = scale.parse::<f64>().is_ok_and(|s| s > 0.0 && s.is_finite());
@@ -409,7 +412,15 @@ fn command(kind: &EventKind) -> Option<String> {
         EventKind::Message { text } => {
             let text: String = text
                 .chars()
-                .map(|c| if c == '"' { '\'' } else if c.is_control() { ' ' } else { c })
+                .map(|c| {
+                    if c == '"' {
+                        '\''
+                    } else if c.is_control() {
+                        ' '
+                    } else {
+                        c
+                    }
+                })
                 .collect();
             format!("SEND\"{text}\"")
         }

@@ -422,8 +422,9 @@ pub struct PlotArgs {
     /// A source (compiled first with the options below) or a pvtc JSON program (.json).
     #[arg(value_name = "INPUT")]
     pub input: PathBuf,
-    /// The SVG file to write; `-` writes standard output.
-    #[arg(short, long, value_name = "FILE.svg")]
+    /// The file to write: FILE.svg (SVG) or FILE.png (PNG); `-` writes SVG on standard
+    /// output.
+    #[arg(short, long, value_name = "FILE.svg|FILE.png")]
     pub output: PathBuf,
     /// How to read and plan the input.
     #[command(flatten)]

@@ -76,8 +76,22 @@ fn pmac_settings_that_cannot_work_are_refused() {
         &["--pmac-axis", "#1->1000X"],
         &["--pmac-coord", "1", "--pmac-axis", "#1->X"],
         &["--pmac-coord", "1", "--pmac-axis", "#33->1000X"],
-        &["--pmac-coord", "1", "--pmac-axis", "#1->1000X", "--pmac-axis", "#2->1000X"],
-        &["--pmac-coord", "1", "--pmac-axis", "#1->1000X", "--pmac-axis", "#1->1000Y"],
+        &[
+            "--pmac-coord",
+            "1",
+            "--pmac-axis",
+            "#1->1000X",
+            "--pmac-axis",
+            "#2->1000X",
+        ],
+        &[
+            "--pmac-coord",
+            "1",
+            "--pmac-axis",
+            "#1->1000X",
+            "--pmac-axis",
+            "#1->1000Y",
+        ],
     ];
     for extra in usage {
         let mut args = vec!["compile", "samples/gcode/square.ngc"];
@@ -97,7 +111,10 @@ fn pmac_settings_that_cannot_work_are_refused() {
     ]);
     assert_eq!(o.status.code(), Some(1));
     let err = text(&o.stderr);
-    assert!(err.contains("pvtc::pmac::undefined_axis") && err.contains("moves Y"), "{err}");
+    assert!(
+        err.contains("pvtc::pmac::undefined_axis") && err.contains("moves Y"),
+        "{err}"
+    );
     assert!(o.stdout.is_empty());
 }
 
@@ -106,7 +123,10 @@ fn man_page_renders_and_names_every_subcommand_and_option() {
     let o = pvtc(&["man"]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     let page = text(&o.stdout);
-    assert!(page.starts_with(".ie") || page.contains(".TH pvtc 1"), "{page}");
+    assert!(
+        page.starts_with(".ie") || page.contains(".TH pvtc 1"),
+        "{page}"
+    );
     assert_eq!(page.as_bytes(), pvtc::man_page_text());
     for (name, longs) in subcommands() {
         assert!(
@@ -141,7 +161,10 @@ fn man_page_renders_and_names_every_subcommand_and_option() {
                     shown.push(c);
                 }
             }
-            assert!(shown.contains("PVTC COMPILE") && shown.contains("pmac"), "{shown}");
+            assert!(
+                shown.contains("PVTC COMPILE") && shown.contains("pmac"),
+                "{shown}"
+            );
         }
     }
     let _ = std::fs::remove_file(file);
@@ -162,11 +185,52 @@ fn completions_cover_every_subcommand_in_each_shell() {
         }
         if shell == "bash" {
             // The script parses in bash where bash is installed.
-            if let Ok(check) = Command::new("bash").arg("-n").arg("-c").arg(&script).output() {
+            if let Ok(check) = Command::new("bash")
+                .arg("-n")
+                .arg("-c")
+                .arg(&script)
+                .output()
+            {
                 assert!(check.status.success(), "{}", text(&check.stderr));
             }
         }
     }
     let o = pvtc(&["completions", "tcsh"]);
     assert_eq!(o.status.code(), Some(2));
+}
+
+/// `plot -o part.png` writes a PNG image (it used to be refused), `.svg` an SVG; the
+/// programmed path of a G-code file with arcs is drawn under the motion.
+#[test]
+fn plot_writes_png_for_png_and_svg_for_svg() {
+    let dir = std::env::temp_dir().join(format!("pvtc-plot-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("part.png");
+    let svg = dir.join("part.svg");
+    for out in [&png, &svg] {
+        let o = pvtc(&[
+            "plot",
+            "samples/gcode/grbl_r_arcs.ngc",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+    }
+    let bytes = std::fs::read(&png).unwrap();
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+    // IHDR: width and height, big-endian, at bytes 16..24.
+    let width = u32::from_be_bytes(bytes[16..20].try_into().unwrap());
+    let height = u32::from_be_bytes(bytes[20..24].try_into().unwrap());
+    assert_eq!((width, height), (1000, 1500));
+    let svg_text = std::fs::read_to_string(&svg).unwrap();
+    assert!(svg_text.starts_with("<svg"));
+    assert!(
+        svg_text.contains("stroke=\"#C8C8C8\" stroke-width=\"6\""),
+        "no programmed path"
+    );
+    assert!(
+        svg_text.contains("against time (the third axis)"),
+        "grbl_r_arcs moves Z"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }
