@@ -23,6 +23,9 @@ const ARC_STEP: f64 = std::f64::consts::PI / 180.0;
 /// Most points of the programmed path drawn.
 const MAX_PATH_POINTS: usize = 200_000;
 
+/// Points of a line drawn in the plane.
+type Polyline = Vec<(f64, f64)>;
+
 /// The two coordinates the path panel plots.
 #[derive(Clone, Copy)]
 enum Plane {
@@ -106,7 +109,7 @@ fn element_points(kind: &ElementKind, start: &Position, end: &Position) -> Vec<P
 
 /// The programmed path of the feed contours in the plane of the first two axes: one
 /// polyline a contour.
-fn programmed_path(ctx: &Ctx, geometry: &Toolpath) -> Vec<Vec<(f64, f64)>> {
+fn programmed_path(ctx: &Ctx, geometry: &Toolpath) -> Vec<Polyline> {
     let axes = &ctx.program.axes;
     let (i, j) = (axes[0].index(), axes[1].index());
     let mut out = Vec::new();
@@ -169,7 +172,7 @@ pub(super) fn path_panel<DB: DrawingBackend>(area: &Area<DB>, ctx: &Ctx) -> Resu
     let plane = Plane::of(ctx);
     let s = ctx.samples;
     let geometry = geometry_of(ctx, plane);
-    let (marks, drawn): (Vec<(f64, f64)>, Vec<Vec<(f64, f64)>>) = match geometry {
+    let (marks, drawn): (Vec<(f64, f64)>, Vec<Polyline>) = match geometry {
         Some(g) => (element_ends(ctx, g, MAX_MARKERS), programmed_path(ctx, g)),
         None => (
             programmed_points(ctx.program, MAX_MARKERS)
