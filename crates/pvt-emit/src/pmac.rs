@@ -91,9 +91,13 @@ impl AxisDefinition {
             .and_then(Axis::from_letter)
             .ok_or_else(bad)?;
         let scale = chars.as_str();
-        let digits = scale.replacen('.', "", 1);
+        let digits = |d: &str| !d.is_empty() && d.bytes().all(|b| b.is_ascii_digit());
+        let decimal = match scale.split_once('.') {
+            Some((whole, fraction)) => digits(whole) && digits(fraction),
+            None => digits(scale),
+        };
         let positive = scale.parse::<f64>().is_ok_and(|s| s > 0.0 && s.is_finite());
-        if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) || !positive {
+        if !decimal || !positive {
             return Err(format!(
                 "the scale of {text:?} must be a positive number of counts per unit, like 1000"
             ));

@@ -75,6 +75,9 @@ fn pmac_settings_that_cannot_work_are_refused() {
         &["--pmac-coord", "17"],
         &["--pmac-axis", "#1->1000X"],
         &["--pmac-coord", "1", "--pmac-axis", "#1->X"],
+        &["--pmac-coord", "1", "--pmac-axis", "#1->1000.X"],
+        &["--pmac-coord", "1", "--pmac-axis", "#1->0X"],
+        &["--pmac-coord", "1", "--pmac-axis", "1->1000X"],
         &["--pmac-coord", "1", "--pmac-axis", "#33->1000X"],
         &[
             "--pmac-coord",
