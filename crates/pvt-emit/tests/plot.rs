@@ -552,3 +552,58 @@ fn png_plots_are_images_with_the_path_and_the_text_drawn() {
         std::fs::write(std::path::Path::new(&dir).join("half_circle.png"), &png).unwrap();
     }
 }
+
+/// A path that crosses itself (two turns of a circle) is drawn solid in PNG: plotters
+/// fills a wide polyline as one polygon, whose overlapping turns would cancel.
+#[test]
+fn png_draws_a_path_that_crosses_itself_solid() {
+    use pvt_core::{Arc, ArcDirection, Contour, Element, ElementKind, Plane, Span, Toolpath};
+    let turns = Element {
+        kind: ElementKind::Arc(Arc {
+            plane: Plane::XY,
+            center: [0.0, 0.0],
+            direction: ArcDirection::CounterClockwise,
+            extra_turns: 1,
+        }),
+        start: at(10.0, 0.0, 0.0),
+        end: at(10.0, 0.0, 0.0),
+        feed: 600.0,
+        span: Span::default(),
+    };
+    let toolpath = Toolpath {
+        contours: vec![Contour {
+            motion: Motion::Feed,
+            elements: vec![turns],
+        }],
+        ..Toolpath::default()
+    };
+    let mut c = PvtContour::new(Motion::Feed, vec![10.0, 0.0]);
+    for k in 1..=16 {
+        let (s, co) = sin_cos_45(k);
+        c.push(&[10.0 * co, 10.0 * s], &[0.0, 0.0], 0.25, 1);
+    }
+    let p = program(vec![Axis::X, Axis::Y], Interpolation::Pvt, vec![c]);
+    let options = with_geometry(toolpath);
+    // The SVG has the same layout: the top of the programmed circle in pixels.
+    let svg = plot_svg(&p, &options).unwrap();
+    let circle = polyline_points(&svg, "#C8C8C8")
+        .into_iter()
+        .max_by_key(|l| l.len())
+        .unwrap();
+    let top = circle
+        .iter()
+        .copied()
+        .fold((0.0, f64::INFINITY), |a, q| if q.1 < a.1 { q } else { a });
+    let image = image::load_from_memory(&pvt_emit::plot::plot_png(&p, &options).unwrap())
+        .unwrap()
+        .to_rgb8();
+    let (x, y) = (top.0 as u32, top.1 as u32);
+    let inked = (x - 3..=x + 3)
+        .flat_map(|x| (y - 3..=y + 3).map(move |y| (x, y)))
+        .filter(|&(x, y)| image.get_pixel(x, y).0 == [200, 200, 200])
+        .count();
+    assert!(
+        inked >= 10,
+        "{inked} grey pixels around the top of the circle ({x}, {y})"
+    );
+}

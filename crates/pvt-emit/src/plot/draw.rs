@@ -24,6 +24,27 @@ pub(super) const X_LABELS: u32 = 46;
 pub(super) const Y_LABELS: u32 = 78;
 /// Colour of rapid motion.
 pub(super) const RAPID: RGBColor = RGBColor(150, 150, 150);
+/// Most points in one wide polyline drawn on a bitmap. Plotters fills a wide polyline as
+/// one polygon, and where the line crosses itself (the turns of a helix) the crossings
+/// cancel and leave holes; runs this short cannot cross themselves on a smooth path.
+const BITMAP_RUN: usize = 12;
+
+/// `points` as polylines of at most `max` points (2 at least), each starting where the
+/// last ended, so they join.
+pub(super) fn runs_of(points: Vec<(f64, f64)>, max: usize) -> Vec<Vec<(f64, f64)>> {
+    let max = max.max(2);
+    if points.len() <= max {
+        return vec![points];
+    }
+    let mut out = Vec::new();
+    let mut start = 0;
+    while start + 1 < points.len() {
+        let end = (start + max).min(points.len());
+        out.push(points[start..end].to_vec());
+        start = end - 1;
+    }
+    out
+}
 
 /// A drawing area of the document (SVG or bitmap).
 pub(super) type Area<DB> = DrawingArea<DB, Shift>;
@@ -51,6 +72,8 @@ pub(super) struct Ctx<'a> {
     pub runs: Vec<Run>,
     /// The programmed geometry, when known.
     pub geometry: Option<&'a pvt_core::Toolpath>,
+    /// Most points in one wide polyline of the path panel (see [`BITMAP_RUN`]).
+    pub longest_run: usize,
 }
 
 impl Ctx<'_> {
@@ -74,7 +97,7 @@ pub(super) fn render(
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, size(options)).into_drawing_area();
-        render_on(&root, program, samples, options)?;
+        render_on(&root, program, samples, options, usize::MAX)?;
     }
     Ok(svg)
 }
@@ -89,7 +112,7 @@ pub(super) fn render_png(
     let mut rgb = vec![0u8; w as usize * h as usize * 3];
     {
         let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
-        render_on(&root, program, samples, options)?;
+        render_on(&root, program, samples, options, BITMAP_RUN)?;
     }
     let image = image::RgbImage::from_raw(w, h, rgb)
         .ok_or_else(|| PlotError::Draw("bitmap size mismatch".into()))?;
@@ -111,6 +134,7 @@ fn render_on<DB: DrawingBackend>(
     program: &PvtProgram,
     samples: &Samples,
     options: &PlotOptions,
+    longest_run: usize,
 ) -> Result<(), PlotError> {
     super::fonts()?;
     let ctx = Ctx {
@@ -119,6 +143,7 @@ fn render_on<DB: DrawingBackend>(
         units: Units::of(program),
         runs: runs(samples),
         geometry: options.geometry.as_ref(),
+        longest_run,
     };
     root.fill(&WHITE).map_err(failed)?;
     let body = root

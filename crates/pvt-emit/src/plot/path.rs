@@ -6,7 +6,9 @@
 //! the markers of the programmed end points of elements and the legend. It must not
 //! sample the motion.
 
-use super::draw::{chart, failed, titled, Area, Ctx, FONT, MARGIN, RAPID, X_LABELS, Y_LABELS};
+use super::draw::{
+    chart, failed, runs_of, titled, Area, Ctx, FONT, MARGIN, RAPID, X_LABELS, Y_LABELS,
+};
 use super::scale::{bin, equal_aspect, extent, padded, ramp, tick, BINS};
 use super::PlotError;
 use plotters::prelude::*;
@@ -215,9 +217,11 @@ pub(super) fn path_panel<DB: DrawingBackend>(area: &Area<DB>, ctx: &Ctx) -> Resu
     };
     let mut chart = chart(&area, (x, y), (&names.0, &names.1))?;
     let programmed = PROGRAMMED.stroke_width(PROGRAMMED_WIDTH);
-    chart
-        .draw_series(drawn.into_iter().map(|l| PathElement::new(l, programmed)))
-        .map_err(failed)?;
+    let programmed_runs = drawn
+        .into_iter()
+        .flat_map(|l| runs_of(l, ctx.longest_run))
+        .map(|l| PathElement::new(l, programmed));
+    chart.draw_series(programmed_runs).map_err(failed)?;
     let scale = speed_scale(ctx)?;
     for run in &ctx.runs {
         let points: Vec<(f64, f64)> = run
@@ -227,7 +231,10 @@ pub(super) fn path_panel<DB: DrawingBackend>(area: &Area<DB>, ctx: &Ctx) -> Resu
             .collect();
         let paths = match run.motion {
             Motion::Rapid => vec![PathElement::new(points, RAPID.stroke_width(1))],
-            Motion::Feed => coloured(&points, &s.speed[run.range.clone()], scale),
+            Motion::Feed => {
+                let speed = &s.speed[run.range.clone()];
+                coloured(&points, speed, scale, ctx.longest_run)
+            }
         };
         chart.draw_series(paths).map_err(failed)?;
     }
@@ -262,6 +269,7 @@ fn coloured(
     points: &[(f64, f64)],
     speed: &[f64],
     scale: (f64, f64),
+    longest_run: usize,
 ) -> Vec<PathElement<(f64, f64)>> {
     let mut out = Vec::new();
     let mut start = 0;
@@ -270,7 +278,9 @@ fn coloured(
         let last = i + 2 == points.len();
         if last || colour_of(i + 1) != colour_of(start) {
             let style = ramp(colour_of(start)).stroke_width(2);
-            out.push(PathElement::new(points[start..i + 2].to_vec(), style));
+            for run in runs_of(points[start..i + 2].to_vec(), longest_run) {
+                out.push(PathElement::new(run, style));
+            }
             start = i + 1;
         }
     }
