@@ -3,7 +3,7 @@
 //! Owns the flags, their help text and their conversion into pipeline options (reading
 //! the `--offsets` file through [`crate::offsets`]). It must not compile anything.
 
-use crate::pipeline::{CompileOptions, DrawingOptions, Failure, InputKind};
+use crate::pipeline::{CompileOptions, DrawingOptions, Failure, InputKind, VelocitySource};
 use clap::{Parser, Subcommand, ValueEnum};
 use pvt_core::{AxisLimits, Planner, Rounding, Timing, Units};
 use pvt_emit::Format;
@@ -49,6 +49,8 @@ pub enum FormatArg {
     Movepvt,
     /// The pvtc JSON document, version 1.
     Json,
+    /// The interpreted elements and events as JSON lines, before planning (one input).
+    Toolpath,
 }
 
 impl From<FormatArg> for Format {
@@ -57,6 +59,8 @@ impl From<FormatArg> for Format {
             FormatArg::Pmac => Format::Pmac,
             FormatArg::Movepvt => Format::MovePvt,
             FormatArg::Json => Format::Json,
+            // `toolpath` stops before planning (crate::toolpath): no back end sees it.
+            FormatArg::Toolpath => Format::Json,
         }
     }
 }
@@ -81,6 +85,15 @@ pub enum UnitsArg {
     In,
 }
 
+/// Where a series' velocities come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum VelocitiesArg {
+    /// The series' velocity columns, as given.
+    File,
+    /// The planner's own method; velocity columns are ignored.
+    Plan,
+}
+
 /// How diagnostics are printed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum DiagnosticsArg {
@@ -97,8 +110,12 @@ pub struct PipelineArgs {
     #[arg(long = "input-format", value_enum)]
     pub input_format: Option<InputArg>,
     /// Planner: path (motion within --tolerance of the drawn geometry; default for G-code
-    /// and DXF), contour (bisector velocities through every point; default for CSV), pt,
-    /// chord, const-accel, spline or lspb.
+    /// and DXF), contour (bisector velocities at the feed, mid-segment speed = mean of end
+    /// speeds; default for CSV), pt (constant velocity between points), chord-forward
+    /// (velocity = outgoing chord / time, as the quad-circle MovePVT example; `chord` is an
+    /// alias), chord-back (velocity = incoming chord / time, as AN208), const-accel
+    /// (constant acceleration within each piece), spline (C2 cubic spline) or lspb (linear
+    /// segments with parabolic blends at --accel).
     #[arg(long, value_name = "NAME", value_parser = planner)]
     pub planner: Option<Planner>,
     /// Machine file (TOML) with per-axis velocity, acceleration and jerk limits that the
@@ -110,7 +127,7 @@ pub struct PipelineArgs {
     /// blend within the path tolerance with --machine, and stop without it].
     #[arg(long = "corner-tolerance", value_name = "T", value_parser = positive_number)]
     pub corner_tolerance: Option<f64>,
-    /// Fixed time per piece (seed 002) for pt/chord/const-accel/spline/lspb, e.g. 5ms;
+    /// Fixed time per piece for pt/chord-forward/chord-back/const-accel/spline/lspb, e.g. 5ms;
     /// default: time = distance / feed.
     #[arg(long = "time-slice", value_name = "T", value_parser = duration)]
     pub time_slice: Option<f64>,
@@ -167,7 +184,12 @@ pub struct PipelineArgs {
     /// G-code: relative arc radius tolerance (0.001 = 0.1 %) [default: 0.001].
     #[arg(long = "arc-rel-tolerance", value_name = "R", value_parser = positive_number)]
     pub arc_rel_tolerance: Option<f64>,
-    /// Fail when there is any warning.
+    /// CSV: where the velocities come from: `file` (the series' v<axis> columns, as given)
+    /// or `plan` (the planner's method; the columns are ignored) [default: file when the
+    /// series has velocity columns and the planner takes velocities].
+    #[arg(long, value_name = "file|plan", value_enum)]
+    pub velocities: Option<VelocitiesArg>,
+    /// Fail when there is any warning (notes never fail).
     #[arg(long = "deny-warnings")]
     pub deny_warnings: bool,
     /// How to print diagnostics.
@@ -189,8 +211,8 @@ impl PipelineArgs {
             }
             if matches!(planner, Planner::Path | Planner::Contour) {
                 return Err(Failure::Usage(format!(
-                    "--time-slice does nothing with the {name} planner: it times pt, chord, \
-                     const-accel, spline and lspb (--planner NAME)"
+                    "--time-slice does nothing with the {name} planner: it times pt, \
+                     chord-forward, chord-back, const-accel, spline and lspb (--planner NAME)"
                 )));
             }
         }
@@ -199,6 +221,11 @@ impl PipelineArgs {
                 "--accel does nothing with the {name} planner: it sets the blends of lspb \
                  (--planner lspb)"
             )));
+        }
+        if self.velocities.is_some() && input != InputKind::Csv {
+            return Err(Failure::Usage(
+                "--velocities does nothing here: it chooses the velocities of a CSV series".into(),
+            ));
         }
         if !self.layers.is_empty() && input != InputKind::Dxf {
             return Err(Failure::Usage(
@@ -257,6 +284,10 @@ impl PipelineArgs {
                     UnitsArg::In => Units::Inch,
                 }),
             },
+            velocities: self.velocities.map(|v| match v {
+                VelocitiesArg::File => VelocitySource::File,
+                VelocitiesArg::Plan => VelocitySource::Plan,
+            }),
             pmac: pvt_emit::PmacSettings::default(),
         })
     }
@@ -322,16 +353,19 @@ pub struct PmacArgs {
 impl PmacArgs {
     /// The settings asked for; a usage error when they are out of range or the output
     /// is not PMAC (where they would do nothing).
-    pub fn settings(&self, format: Format) -> Result<pvt_emit::PmacSettings, Failure> {
+    pub fn settings(&self, format: FormatArg) -> Result<pvt_emit::PmacSettings, Failure> {
         let given = self.program.is_some()
             || self.coord.is_some()
             || !self.axes.is_empty()
             || self.events.is_some();
-        if given && format != Format::Pmac {
+        if given && format != FormatArg::Pmac {
+            let name = format
+                .to_possible_value()
+                .map(|v| v.get_name().to_string())
+                .unwrap_or_default();
             return Err(Failure::Usage(format!(
                 "--pmac-program, --pmac-coord, --pmac-axis and --pmac-events do nothing with \
-                 --format {}: they set up PMAC output",
-                format.name()
+                 --format {name}: they set up PMAC output"
             )));
         }
         let settings = pvt_emit::PmacSettings {
@@ -356,9 +390,8 @@ impl CompileArgs {
                 "-j does nothing without --out-dir: it sets how many files compile at once".into(),
             ));
         }
-        let format = self.format.into();
-        let pmac = self.pmac.settings(format)?;
-        let mut options = self.pipeline.compile_options(name, format)?;
+        let pmac = self.pmac.settings(self.format)?;
+        let mut options = self.pipeline.compile_options(name, self.format.into())?;
         options.pmac = pmac;
         Ok(options)
     }

@@ -1,10 +1,11 @@
 //! pvtc: the command line, a small layer on top of the pipeline crates.
 //!
 //! Owns arguments ([`args`]), reading inputs and choosing a front end ([`front`],
-//! [`pipeline`]), batch runs ([`batch`]), writing outputs atomically ([`output`]), the
-//! check and plot commands' rendering ([`check`], [`plot`]), diagnostics ([`report`]),
-//! and the shell completions and manual page (`pvtc completions`, `pvtc man`, from the
-//! argument definitions by clap_complete and clap_mangen).
+//! [`pipeline`]), batch runs ([`batch`]), the unplanned toolpath route ([`toolpath`]),
+//! writing outputs atomically ([`output`]), the check and plot commands' rendering
+//! ([`check`], [`plot`]), diagnostics ([`report`]), and the shell completions and manual
+//! page (`pvtc completions`, `pvtc man`, from the argument definitions by clap_complete
+//! and clap_mangen).
 //! Architecture invariant: no geometry, planning or formatting happens here; a failed run
 //! never creates or changes an output file.
 
@@ -20,9 +21,12 @@ pub mod pipeline;
 pub mod plot;
 pub mod report;
 pub mod stream;
+pub mod toolpath;
 
 pub use args::{Cli, Command, CompileArgs};
-pub use pipeline::{compile, plan, CompileOptions, DrawingOptions, Failure, InputKind, Source};
+pub use pipeline::{
+    compile, plan, CompileOptions, DrawingOptions, Failure, InputKind, Source, VelocitySource,
+};
 
 use report::Reporter;
 use std::process::ExitCode;
@@ -129,7 +133,9 @@ fn compile_gcode(
 }
 
 /// For `-`, standard input copied into a temporary file (removed when dropped).
-fn stdin_file(input: &std::path::Path) -> Result<Option<tempfile::NamedTempFile>, Failure> {
+pub(crate) fn stdin_file(
+    input: &std::path::Path,
+) -> Result<Option<tempfile::NamedTempFile>, Failure> {
     if input != std::path::Path::new("-") {
         return Ok(None);
     }
@@ -144,6 +150,9 @@ fn stdin_file(input: &std::path::Path) -> Result<Option<tempfile::NamedTempFile>
 }
 
 fn compile_command(args: &CompileArgs) -> ExitCode {
+    if args.format == args::FormatArg::Toolpath {
+        return toolpath::run(args);
+    }
     if args.out_dir.is_some() || args.inputs.len() > 1 {
         return batch::run(args);
     }

@@ -156,8 +156,20 @@ pub struct CompileOptions {
     pub arc_rel_tolerance: f64,
     /// Options only drawings use.
     pub drawing: DrawingOptions,
+    /// Where a point-time series' velocities come from; `None`: the file's columns when
+    /// it has them and the planner takes velocities.
+    pub velocities: Option<VelocitySource>,
     /// PMAC output: program number, coordinate system, axis definitions, event commands.
     pub pmac: pvt_emit::PmacSettings,
+}
+
+/// Where the velocities of a point-time series come from (`--velocities`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum VelocitySource {
+    /// The series' `v<axis>` columns, used as given.
+    File,
+    /// The planner's own method; the columns are ignored.
+    Plan,
 }
 
 impl CompileOptions {
@@ -191,6 +203,7 @@ impl CompileOptions {
             arc_abs_tolerance_mm: 0.002,
             arc_rel_tolerance: 0.001,
             drawing: DrawingOptions::default(),
+            velocities: None,
             pmac: pvt_emit::PmacSettings::default(),
         }
     }
@@ -271,7 +284,10 @@ pub fn plan(
     source: &Source,
     options: &CompileOptions,
 ) -> Result<(Planned, Toolpath, Vec<Report>), Failure> {
-    let (input, mut warnings) = front::read(source, options)?;
+    let (mut input, mut warnings) = front::read(source, options)?;
+    if let Input::Series(series) = &mut input {
+        warnings.extend(choose_velocities(&mut series.points, options)?);
+    }
     let moved = match &input {
         Input::Toolpath(t) => t.moved_axes(),
         Input::Series(s) => s.axes.clone(),
@@ -300,6 +316,56 @@ pub fn plan(
     })?;
     warnings.extend(plan_notes(&planned.report, options));
     Ok((planned, toolpath, warnings))
+}
+
+/// Applies `--velocities` to a series: drops its velocity columns for `plan` (with a
+/// note), refuses `file` when it has none or the planner takes no velocities, and says
+/// which velocities a velocity method uses, and when a planner replaces the series' times.
+fn choose_velocities(
+    points: &mut pvt_core::TimedPoints,
+    options: &CompileOptions,
+) -> Result<Vec<Report>, Failure> {
+    let planner = options.planner;
+    let name = planner.name();
+    let given = points.velocities.is_some();
+    let mut notes = Vec::new();
+    match options.velocities {
+        Some(VelocitySource::Plan) if given => {
+            points.velocities = None;
+            notes.push(miette::miette!(
+                severity = Severity::Advice,
+                code = "pvtc::plan::velocity_columns_ignored",
+                "the series' velocity columns are ignored (--velocities plan): the {name} planner chooses the velocities"
+            ));
+        }
+        Some(VelocitySource::File) if !given => {
+            return Err(Failure::Usage(
+                "--velocities file: the series has no velocity columns (v<axis>, e.g. vx)".into(),
+            ));
+        }
+        Some(VelocitySource::File) if !planner.is_velocity_method() => {
+            return Err(Failure::Usage(format!(
+                "--velocities file does nothing with the {name} planner, which chooses its own \
+                 velocities: use chord-forward, chord-back, const-accel or spline"
+            )));
+        }
+        None if given && planner.is_velocity_method() => notes.push(miette::miette!(
+            severity = Severity::Advice,
+            code = "pvtc::plan::file_velocities",
+            help = format!("pass --velocities plan to use the {name} method's velocities instead"),
+            "the velocities are the series' velocity columns, as given, not the {name} method's"
+        )),
+        _ => {}
+    }
+    if matches!(planner, Planner::Contour | Planner::Path) {
+        notes.push(miette::miette!(
+            severity = Severity::Advice,
+            code = "pvtc::plan::times_replaced",
+            help = "pt, chord-forward, chord-back, const-accel and spline keep the series' times",
+            "the {name} planner chooses its own piece times: the series' times only set each segment's speed (chord / time)"
+        ));
+    }
+    Ok(notes)
 }
 
 /// What the path planner achieved, for standard error: pieces, the path error bound and
@@ -437,7 +503,7 @@ pub(crate) fn emit_failure(
         StreamError::Unsupported(interpolation) => Failure::Input(vec![miette::miette!(
             code = "pvtc::emit::unsupported_interpolation",
             help =
-                "PMAC PVT mode needs velocities: choose a PVT planner, or --format json or movepvt",
+                "PMAC PVT mode needs velocities: choose a PVT planner, or --format movepvt (MovePT arrays) or json",
             "the {} format cannot express {interpolation:?} motion",
             options.format.name()
         )]),
@@ -495,6 +561,7 @@ pub(crate) fn plan_notes(report: &PlanReport, options: &CompileOptions) -> Vec<R
         notes.push(miette::miette!(
             severity = Severity::Warning,
             code = "pvtc::plan::velocities_ignored",
+            help = "--velocities plan ignores the velocity columns without a warning",
             "the input gives velocities, which the {} planner does not use",
             options.planner.name()
         ));
@@ -599,15 +666,22 @@ fn rounding_words(rounding: Rounding) -> &'static str {
 fn planner_description(planner: Planner) -> &'static str {
     match planner {
         Planner::Contour => {
-            "contour (seed 000: bisector velocities, mid-segment speed = mean of end speeds)"
+            "contour (bisector velocities at the feed, mid-segment speed = mean of end speeds)"
         }
         Planner::Path => {
             "path (within the path tolerance of the true elements and the axis limits)"
         }
-        Planner::Pt => "pt (seed 001: constant velocity between points)",
-        Planner::Chord => "chord (seed 001/002: forward-difference velocities, last at rest)",
-        Planner::ConstAccel => "const-accel (seed 001: constant-acceleration velocity fit)",
+        Planner::Pt => "pt (position-time: constant velocity between points, AN208's PT)",
+        Planner::Chord => {
+            "chord-forward (velocity at a point = outgoing chord / its time, rest at both ends)"
+        }
+        Planner::ChordBack => {
+            "chord-back (velocity at a point = incoming chord / its time, AN208; rest at both ends)"
+        }
+        Planner::ConstAccel => {
+            "const-accel (each piece at constant acceleration from the previous velocity, AN208)"
+        }
         Planner::Spline => "spline (C2 cubic spline through the points, rest at both ends)",
-        Planner::Lspb => "lspb (seed 004: linear segments with parabolic blends)",
+        Planner::Lspb => "lspb (linear segments with parabolic blends at --accel)",
     }
 }

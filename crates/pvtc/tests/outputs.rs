@@ -69,6 +69,7 @@ fn pmac_settings_that_cannot_work_are_refused() {
     let usage = [
         &["--format", "json", "--pmac-program", "3"][..],
         &["--format", "movepvt", "--pmac-events", "commands"],
+        &["--format", "toolpath", "--pmac-coord", "1"],
         &["--pmac-program", "1001"],
         &["--pmac-program", "0"],
         &["--pmac-program", "40000"],
