@@ -165,6 +165,20 @@ fn every_readme_command_runs_and_shows_its_real_output() {
         }
     }
     assert!(ran >= 8 && compared >= 4, "ran {ran}, compared {compared}");
+    // The plots the README shows are what its plot commands draw now.
+    let mut plots = 0;
+    for entry in std::fs::read_dir(root().join("docs/plots")).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_str().unwrap().to_string();
+        let drawn = std::fs::read(scratch.0.join(&name))
+            .unwrap_or_else(|_| panic!("no README command draws docs/plots/{name}"));
+        assert!(
+            drawn == std::fs::read(&path).unwrap(),
+            "docs/plots/{name} is not what its README command draws now: redraw it"
+        );
+        plots += 1;
+    }
+    assert!(plots >= 4);
 }
 
 #[test]
