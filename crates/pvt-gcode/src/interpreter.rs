@@ -241,6 +241,7 @@ impl<'a> Interpreter<'a> {
                 .warnings
                 .into_sorted(|count, span| GcodeDiagnostic::MoreWarnings { count, span }),
             path_tolerance: self.path_tolerance,
+            naive_cam_tolerance: self.naive_cam_tolerance,
         })
     }
 

@@ -234,6 +234,11 @@ fn modes_accepted_as_state() {
         .filter(|e| matches!(e.kind, EventKind::SpindleSpeed { .. }))
         .collect();
     assert_eq!(rpm.len(), 1, "G96's S is a surface speed, not rpm");
+    let mut sink = EndX::default();
+    let source = "G20 G64 P0.01 Q0.001\nG1 X1 F10\n";
+    let summary = pvt_gcode::compile_into(source, &GcodeOptions::default(), &mut sink).unwrap();
+    assert_eq!(summary.naive_cam_tolerance, Some(0.001));
+    assert_eq!(summary.path_tolerance, Some(0.01));
     let c = ok("G21 G1 X1 F100 Q2 H1 L3 D1\n");
     let ignored = c
         .warnings
