@@ -314,6 +314,9 @@ impl<'a> Interpreter<'a> {
     /// A P word no code of the block uses is a warning.
     fn check_p_word(&mut self, request: &Request) {
         let Some(p) = request.p else { return };
+        if self.modal.motion == Some(MotionMode::Unsupported) {
+            return; // the unsupported code was reported; its words are not checked
+        }
         let used = matches!(
             request.non_modal,
             Some((NonModal::Dwell | NonModal::SetTable, _))

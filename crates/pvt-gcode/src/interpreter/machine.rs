@@ -251,6 +251,9 @@ impl Interpreter<'_> {
 
     /// Warnings for H, D, L and Q words no code of the block uses.
     pub(super) fn check_words(&mut self, request: &Request) {
+        if self.modal.motion == Some(MotionMode::Unsupported) {
+            return; // the unsupported code was reported; its words are not checked
+        }
         let cycle = matches!(self.modal.motion, Some(MotionMode::Cycle(_)));
         let h_used = matches!(
             request.tool_length,
