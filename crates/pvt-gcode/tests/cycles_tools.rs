@@ -164,6 +164,10 @@ fn cycle_errors_are_coded() {
     assert_eq!(e("G83 X1 Z-2 R1\n"), [("cycle", 3, 1)], "no Q");
     assert_eq!(e("G81 X1 Z-2 R1 L0\n"), [("cycle", 3, 1)], "L0");
     assert_eq!(e("G84 X1 Z-2 R1\n"), [("cycle", 3, 1)], "no spindle");
+    assert_eq!(e("M4\nG84 X1 Z-2 R1\n"), [("cycle", 4, 1)], "M4 tapping");
+    assert_eq!(e("G86 X1 Z-2 R1 P1\n"), [("cycle", 3, 1)], "G86 no spindle");
+    assert_eq!(e("G53 G81 X1 Z-2 R1\n"), [("cycle", 3, 5)], "G53");
+    assert_eq!(e("G81 X1 Z-2 R1 A1\n"), [("cycle", 3, 1)], "A word");
     assert_eq!(e("G93 G81 X1 Z-2 R1 F1\n"), [("cycle", 3, 5)], "G93");
 }
 

@@ -11,7 +11,7 @@ use pvt_core::{Motion, SpindleState, Units};
 
 use super::Interpreter;
 use crate::block::{cover, Block};
-use crate::codes::{Cycle, Distance, FeedMode};
+use crate::codes::{Cycle, Distance, FeedMode, NonModal};
 use crate::diagnostic::{span, GcodeDiagnostic};
 use crate::request::Request;
 use pvt_core::EventKind;
@@ -43,7 +43,7 @@ type Point = [f64; 3];
 impl Interpreter<'_> {
     /// Runs a cycle block: the cycle at each position of the block, L times.
     pub(super) fn cycle_move(&mut self, cycle: Cycle, request: &Request, block: &Block) {
-        match self.cycle_plan(cycle, request, block) {
+        match self.cycle_plan(cycle, request) {
             Ok(plan) => self.run_cycle(cycle, &plan, request, block),
             Err(detail) => {
                 let words = request
@@ -64,15 +64,12 @@ impl Interpreter<'_> {
     }
 
     /// The block's levels and positions, checked as LinuxCNC checks them.
-    fn cycle_plan(
-        &mut self,
-        cycle: Cycle,
-        request: &Request,
-        block: &Block,
-    ) -> Result<Plan, String> {
-        let _ = block;
+    fn cycle_plan(&mut self, cycle: Cycle, request: &Request) -> Result<Plan, String> {
         if self.modal.feed_mode == FeedMode::InverseTime {
             return Err("cannot run in inverse time feed mode (G93)".into());
+        }
+        if matches!(request.non_modal, Some((NonModal::MachineCoords, _))) {
+            return Err("G53 moves only with G0 or G1".into());
         }
         if let Some(w) = request.axes[3..].iter().flatten().next() {
             return Err(format!("{} cannot be given in a canned cycle", w.name()));
@@ -126,16 +123,13 @@ impl Interpreter<'_> {
         if matches!(cycle, Cycle::ChipBreak | Cycle::Peck) && q.is_none() {
             return Err("no Q word (the peck depth)".into());
         }
-        let spindle_needed = match cycle {
-            Cycle::Tap => Some(SpindleState::Clockwise),
-            Cycle::BoreStop | Cycle::BackBore | Cycle::BoreManual => None,
-            _ => Some(SpindleState::Off),
-        };
-        match spindle_needed {
-            Some(SpindleState::Clockwise) if self.spindle != SpindleState::Clockwise => {
+        match cycle {
+            Cycle::Tap if self.spindle != SpindleState::Clockwise => {
                 return Err("tapping needs the spindle turning clockwise (M3)".into())
             }
-            None if self.spindle == SpindleState::Off => {
+            Cycle::BoreStop | Cycle::BackBore | Cycle::BoreManual
+                if self.spindle == SpindleState::Off =>
+            {
                 return Err("needs the spindle turning (M3 or M4)".into())
             }
             _ => {}
