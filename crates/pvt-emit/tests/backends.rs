@@ -25,7 +25,7 @@ fn options() -> EmitOptions {
     EmitOptions {
         source: "corner.ngc".into(),
         settings: vec![("planner".into(), "contour".into())],
-        program_number: 1,
+        ..Default::default()
     }
 }
 

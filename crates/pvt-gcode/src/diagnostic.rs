@@ -27,11 +27,11 @@ pub enum GcodeDiagnostic {
         span: SourceSpan,
     },
 
-    /// A word whose letter pvtc does not know (`Q5`, `S1000`) or a code that is no G-code.
+    /// A word whose letter pvtc does not know (`E5`, `~`) or a code that is no G-code.
     #[error("unknown word `{word}`: {meaning}")]
     #[diagnostic(
         code(pvtc::gcode::unknown_word),
-        help("pvtc reads G, M, N, F, X, Y, Z, A, B, C, I, J, K and R words; remove this one")
+        help("pvtc reads G, M, N, F, S, T, P, Q, L, H, D, X, Y, Z, A, B, C, I, J, K and R words; remove this one")
     )]
     UnknownWord {
         /// The word as written.
@@ -497,6 +497,37 @@ pub enum GcodeDiagnostic {
         span: SourceSpan,
     },
 
+    /// A canned cycle (G73, G81…G89) that cannot run as written: no R or Z level, R
+    /// below the bottom, a bad Q or L, tapping without the spindle turning clockwise.
+    #[error("canned cycle {code}: {detail}")]
+    #[diagnostic(
+        code(pvtc::gcode::cycle),
+        help("give the cycle its R level, bottom and the words its code needs (LinuxCNC's rules)")
+    )]
+    Cycle {
+        /// The cycle's code, e.g. `G83`.
+        code: &'static str,
+        /// What is wrong.
+        detail: String,
+        /// The block's cycle words.
+        #[label("cannot run")]
+        span: SourceSpan,
+    },
+
+    /// G43/G43.2 H (or M6 T with G43) naming a tool the tool table does not have.
+    #[error("tool {tool} is not in the tool table")]
+    #[diagnostic(
+        code(pvtc::gcode::unknown_tool),
+        help("give its offsets in the --tool-table file (a line like `T{tool} P{tool} Z0.5`)")
+    )]
+    UnknownTool {
+        /// The tool number.
+        tool: u32,
+        /// The word naming it.
+        #[label("no such tool")]
+        span: SourceSpan,
+    },
+
     /// A program without any motion (empty, or only comments and modes).
     #[error("the program has no motion")]
     #[diagnostic(
@@ -548,6 +579,8 @@ impl GcodeDiagnostic {
             D::InverseTimeFeed { .. } => "pvtc::gcode::inverse_time_feed",
             D::BadValue { .. } => "pvtc::gcode::bad_value",
             D::IgnoredWord { .. } => "pvtc::gcode::ignored_word",
+            D::Cycle { .. } => "pvtc::gcode::cycle",
+            D::UnknownTool { .. } => "pvtc::gcode::unknown_tool",
         }
     }
 
@@ -604,7 +637,9 @@ impl GcodeDiagnostic {
             | D::MissingWord { span, .. }
             | D::InverseTimeFeed { span }
             | D::BadValue { span, .. }
-            | D::IgnoredWord { span, .. } => span,
+            | D::IgnoredWord { span, .. }
+            | D::Cycle { span, .. }
+            | D::UnknownTool { span, .. } => span,
         }
     }
 }

@@ -1,7 +1,8 @@
 //! Command-line arguments.
 //!
 //! Owns the flags, their help text and their conversion into pipeline options (reading
-//! the `--offsets` file through [`crate::offsets`]). It must not compile anything.
+//! the `--offsets` file through [`crate::offsets`], the `--tool-table` file through
+//! [`crate::tools`]). It must not compile anything.
 
 use crate::pipeline::{CompileOptions, DrawingOptions, Failure, InputKind, VelocitySource};
 use clap::{Parser, Subcommand, ValueEnum};
@@ -27,8 +28,17 @@ pub enum Command {
     /// Report what a program's motion will do: peaks, servo-sampled values, path error,
     /// speed against feed; exit 1 when a given limit is exceeded.
     Check(CheckArgs),
-    /// Plot a program's path, speed, velocities and accelerations as SVG.
+    /// Plot a program's path, speed, velocities and accelerations as SVG or PNG.
     Plot(PlotArgs),
+    /// Print a shell completion script (bash, zsh, fish, elvish or powershell) on standard
+    /// output, e.g. `pvtc completions bash > ~/.local/share/bash-completion/completions/pvtc`.
+    Completions {
+        /// The shell.
+        #[arg(value_enum)]
+        shell: clap_complete::Shell,
+    },
+    /// Print the manual page (roff) on standard output, e.g. `pvtc man | man -l -`.
+    Man,
 }
 
 /// Output format names on the command line.
@@ -168,6 +178,14 @@ pub struct PipelineArgs {
     /// millimetres and degrees) [default: all zero].
     #[arg(long, value_name = "FILE")]
     pub offsets: Option<PathBuf>,
+    /// G-code: the tool table G43 H reads, in LinuxCNC's `.tbl` format (lines like
+    /// `T1 P1 Z0.5 D6 ;comment`, millimetres and degrees) [default: no tools].
+    #[arg(long = "tool-table", value_name = "FILE")]
+    pub tool_table: Option<PathBuf>,
+    /// G-code: the units of the --tool-table file's lengths (LinuxCNC reads a table in
+    /// its machine units; the standalone `rs274` in inches) [default: mm].
+    #[arg(long = "tool-table-units", value_enum, value_name = "UNITS")]
+    pub tool_table_units: Option<UnitsArg>,
     /// G-code: a centre-format arc is refused when its start and end radii differ by
     /// more than this many mm and by more than --arc-rel-tolerance [default: 0.002].
     #[arg(long = "arc-abs-tolerance", value_name = "MM", value_parser = positive_number)]
@@ -213,6 +231,16 @@ impl PipelineArgs {
                  (--planner lspb)"
             )));
         }
+        if self.tool_table_units.is_some() && self.tool_table.is_none() {
+            return Err(Failure::Usage(
+                "--tool-table-units does nothing without --tool-table FILE".into(),
+            ));
+        }
+        if self.tool_table.is_some() && input != InputKind::Gcode {
+            return Err(Failure::Usage(
+                "--tool-table does nothing here: G43 H in a G-code program reads it".into(),
+            ));
+        }
         if self.velocities.is_some() && input != InputKind::Csv {
             return Err(Failure::Usage(
                 "--velocities does nothing here: it chooses the velocities of a CSV series".into(),
@@ -232,6 +260,16 @@ impl PipelineArgs {
         let work_offsets = match &self.offsets {
             Some(path) => crate::offsets::read(path)?,
             None => [[0.0; 6]; 9],
+        };
+        let tool_table = match &self.tool_table {
+            Some(path) => {
+                let mut table = crate::tools::read(path)?;
+                if self.tool_table_units == Some(UnitsArg::In) {
+                    table.scale_lengths(25.4);
+                }
+                table
+            }
+            None => pvt_gcode::ToolTable::default(),
         };
         let defaults = pvt_gcode::GcodeOptions::default();
         let input = match self.input_format {
@@ -260,6 +298,7 @@ impl PipelineArgs {
             quantize: self.quantize,
             quantize_rounding: self.quantize_rounding.unwrap_or_default(),
             work_offsets,
+            tool_table,
             arc_abs_tolerance_mm: self
                 .arc_abs_tolerance
                 .unwrap_or(defaults.arc_abs_tolerance_mm),
@@ -279,6 +318,7 @@ impl PipelineArgs {
                 VelocitiesArg::File => VelocitySource::File,
                 VelocitiesArg::Plan => VelocitySource::Plan,
             }),
+            pmac: pvt_emit::PmacSettings::default(),
         })
     }
 }
@@ -306,6 +346,70 @@ pub struct CompileArgs {
     /// How to read and plan the input.
     #[command(flatten)]
     pub pipeline: PipelineArgs,
+    /// PMAC program settings.
+    #[command(flatten)]
+    pub pmac: PmacArgs,
+}
+
+/// How PMAC events are written, on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum PmacEventsArg {
+    /// Comments (`; event spindle_cw from line 5`); G4 as DWELL.
+    Comments,
+    /// PMAC commands: M03/M04/M05, M07/M08/M09, M06 and M01 (calls of PROG 1001), T<n>
+    /// (PROG 1002), S<rpm>, STOP for M0, SEND"…" for a message, DWELL for G4.
+    Commands,
+}
+
+/// The PMAC program settings of `pvtc compile` (PMAC output only).
+#[derive(Debug, Clone, clap::Args)]
+pub struct PmacArgs {
+    /// PMAC: motion program number, OPEN PROG N (1–32767, not 1000–1003) [default: 1].
+    #[arg(long = "pmac-program", value_name = "N")]
+    pub program: Option<u32>,
+    /// PMAC: address coordinate system &N (1–16) before the program.
+    #[arg(long = "pmac-coord", value_name = "N")]
+    pub coord: Option<u32>,
+    /// PMAC: an axis definition written after &N, like '#1->1000X' (motor 1 is X at 1000
+    /// counts per unit); repeatable; every moved axis then needs one. Needs --pmac-coord.
+    #[arg(long = "pmac-axis", value_name = "#M->SA", requires = "coord", value_parser = pvt_emit::AxisDefinition::parse)]
+    pub axes: Vec<pvt_emit::AxisDefinition>,
+    /// PMAC: write events (spindle, coolant, tool, pause, message) as comments or as PMAC
+    /// commands [default: comments].
+    #[arg(long = "pmac-events", value_enum, value_name = "comments|commands")]
+    pub events: Option<PmacEventsArg>,
+}
+
+impl PmacArgs {
+    /// The settings asked for; a usage error when they are out of range or the output
+    /// is not PMAC (where they would do nothing).
+    pub fn settings(&self, format: FormatArg) -> Result<pvt_emit::PmacSettings, Failure> {
+        let given = self.program.is_some()
+            || self.coord.is_some()
+            || !self.axes.is_empty()
+            || self.events.is_some();
+        if given && format != FormatArg::Pmac {
+            let name = format
+                .to_possible_value()
+                .map(|v| v.get_name().to_string())
+                .unwrap_or_default();
+            return Err(Failure::Usage(format!(
+                "--pmac-program, --pmac-coord, --pmac-axis and --pmac-events do nothing with \
+                 --format {name}: they set up PMAC output"
+            )));
+        }
+        let settings = pvt_emit::PmacSettings {
+            program: self.program.unwrap_or(1),
+            coord: self.coord,
+            axes: self.axes.clone(),
+            events: match self.events {
+                Some(PmacEventsArg::Commands) => pvt_emit::PmacEvents::Commands,
+                Some(PmacEventsArg::Comments) | None => pvt_emit::PmacEvents::Comments,
+            },
+        };
+        settings.validate().map_err(Failure::Usage)?;
+        Ok(settings)
+    }
 }
 
 impl CompileArgs {
@@ -316,7 +420,10 @@ impl CompileArgs {
                 "-j does nothing without --out-dir: it sets how many files compile at once".into(),
             ));
         }
-        self.pipeline.compile_options(name, self.format.into())
+        let pmac = self.pmac.settings(self.format)?;
+        let mut options = self.pipeline.compile_options(name, self.format.into())?;
+        options.pmac = pmac;
+        Ok(options)
     }
 }
 
@@ -378,8 +485,9 @@ pub struct PlotArgs {
     /// A source (compiled first with the options below) or a pvtc JSON program (.json).
     #[arg(value_name = "INPUT")]
     pub input: PathBuf,
-    /// The SVG file to write; `-` writes standard output.
-    #[arg(short, long, value_name = "FILE.svg")]
+    /// The file to write: FILE.svg (SVG) or FILE.png (PNG); `-` writes SVG on standard
+    /// output.
+    #[arg(short, long, value_name = "FILE.svg|FILE.png")]
     pub output: PathBuf,
     /// How to read and plan the input.
     #[command(flatten)]

@@ -71,6 +71,7 @@ pub fn gcode_options(options: &CompileOptions) -> pvt_gcode::GcodeOptions {
         arc_rel_tolerance: options.arc_rel_tolerance,
         units: options.drawing.units,
         work_offsets: options.work_offsets,
+        tool_table: options.tool_table.clone(),
     }
 }
 

@@ -150,6 +150,8 @@ pub struct CompileOptions {
     pub quantize_rounding: Rounding,
     /// G-code work offsets, G54…G59.3 rows of X Y Z (mm) A B C (degrees).
     pub work_offsets: [[f64; 6]; 9],
+    /// G-code tool table (G43 H), millimetres and degrees.
+    pub tool_table: pvt_gcode::ToolTable,
     /// G-code arc check: absolute radius tolerance, mm.
     pub arc_abs_tolerance_mm: f64,
     /// G-code arc check: relative radius tolerance.
@@ -159,6 +161,8 @@ pub struct CompileOptions {
     /// Where a point-time series' velocities come from; `None`: the file's columns when
     /// it has them and the planner takes velocities.
     pub velocities: Option<VelocitySource>,
+    /// PMAC output: program number, coordinate system, axis definitions, event commands.
+    pub pmac: pvt_emit::PmacSettings,
 }
 
 /// Where the velocities of a point-time series come from (`--velocities`).
@@ -198,12 +202,37 @@ impl CompileOptions {
             quantize: None,
             quantize_rounding: Rounding::Up,
             work_offsets: [[0.0; 6]; 9],
+            tool_table: pvt_gcode::ToolTable::default(),
             arc_abs_tolerance_mm: 0.002,
             arc_rel_tolerance: 0.001,
             drawing: DrawingOptions::default(),
             velocities: None,
+            pmac: pvt_emit::PmacSettings::default(),
         }
     }
+}
+
+/// Refuses PMAC axis definitions that leave a moved axis undefined
+/// (`pvtc::pmac::undefined_axis`): the controller would not move it.
+pub(crate) fn check_pmac_axes(
+    options: &CompileOptions,
+    moved: &[pvt_core::Axis],
+) -> Result<(), Failure> {
+    if options.format != Format::Pmac {
+        return Ok(());
+    }
+    let missing = options.pmac.undefined_axes(moved);
+    if missing.is_empty() {
+        return Ok(());
+    }
+    let names: Vec<String> = missing.iter().map(|a| a.to_string()).collect();
+    Err(Failure::Input(vec![miette::miette!(
+        code = "pvtc::pmac::undefined_axis",
+        help = "add a definition like --pmac-axis '#3->1000Z' for each, or leave out --pmac-axis",
+        "the program moves {} but no --pmac-axis defines {}",
+        names.join(" "),
+        if names.len() == 1 { "it" } else { "them" },
+    )]))
 }
 
 /// A successful compilation.
@@ -405,13 +434,14 @@ pub fn plan_options(
 pub fn compile(source: &Source, options: &CompileOptions) -> Result<Compiled, Failure> {
     let (planned, toolpath, mut warnings) = plan(source, options)?;
     let header = settings(options, planned.program.units);
+    check_pmac_axes(options, &planned.program.axes)?;
     let program = fit_pieces(planned.program, options);
     let totals = totals_of(&program);
     warnings.extend(summary_note(&planned.report, &totals, program.units));
     let emit_options = EmitOptions {
         source: source.name.clone(),
         settings: header,
-        program_number: 1,
+        pmac: options.pmac.clone(),
     };
     let bytes = emit_to_vec(&program, options.format, &emit_options)
         .map_err(|e| emit_failure(e, options, Some(source)))?;
