@@ -22,6 +22,7 @@ use crate::block::{Block, Word};
 use crate::codes::{Distance, FeedMode, MotionMode, NonModal, PathMode};
 use crate::diagnostic::{span, GcodeDiagnostic};
 use crate::kept::Kept;
+use crate::params::machine::MachineView;
 use crate::request::{Request, Stop};
 use crate::{GcodeErrors, GcodeOptions, StreamSummary, ToolpathSink};
 
@@ -93,6 +94,12 @@ pub(crate) struct Interpreter<'a> {
     pending: Vec<GcodeDiagnostic>,
     /// The request of the block being executed, its storage reused from block to block.
     request: Option<Box<Request>>,
+    /// Set while a subroutine file runs: its diagnostics are shown at the call.
+    pub origin: Option<crate::oword::Origin>,
+    /// The S number, the tool selected by T and the one M6 put in the spindle.
+    rpm: f64,
+    selected_tool: u32,
+    current_tool: u32,
 }
 
 impl<'a> Interpreter<'a> {
@@ -116,6 +123,56 @@ impl<'a> Interpreter<'a> {
             quiet: false,
             pending: Vec::new(),
             request: None,
+            origin: None,
+            rpm: 0.0,
+            selected_tool: 0,
+            current_tool: 0,
+        }
+    }
+
+    /// The state machine parameters read (see [`crate::params::machine`]), in program
+    /// units, as it stands after the last block.
+    pub fn view(&self) -> MachineView {
+        let scale = self.scale();
+        let mut position = [0.0; AXIS_COUNT];
+        for axis in pvt_core::Axis::ALL {
+            let i = axis.index();
+            let relative = self.position[i] - self.offset(i);
+            position[i] = if axis.is_rotary() { relative } else { relative / scale };
+        }
+        let mm = self.output().mm_per_unit();
+        let g92 = std::array::from_fn(|i| match pvt_core::Axis::ALL.get(i) {
+            Some(axis) if !axis.is_rotary() => self.g92[i] * mm,
+            _ => self.g92[i],
+        });
+        let m = &self.modal;
+        MachineView {
+            position,
+            g92,
+            g92_active: self.g92.iter().any(|v| *v != 0.0),
+            coord_system: m.coord_system,
+            mm_per_unit: m.units.mm_per_unit(),
+            absolute: m.distance == Distance::Absolute,
+            inverse_time: m.feed_mode == FeedMode::InverseTime,
+            motion_tenths: match m.motion {
+                None => 0,
+                Some(MotionMode::Rapid) => 0,
+                Some(MotionMode::Linear) => 10,
+                Some(MotionMode::Arc(pvt_core::ArcDirection::Clockwise)) => 20,
+                Some(MotionMode::Arc(pvt_core::ArcDirection::CounterClockwise)) => 30,
+                Some(MotionMode::Cancel | MotionMode::Unsupported) => 800,
+            },
+            plane_tenths: match m.plane {
+                pvt_core::Plane::XY => 170,
+                pvt_core::Plane::ZX => 180,
+                pvt_core::Plane::YZ => 190,
+            },
+            feed: self.feed.map_or(0.0, |f| f.written),
+            rpm: self.rpm,
+            current_tool: f64::from(self.current_tool),
+            selected_tool: f64::from(self.selected_tool),
+            line: 0,
+            call_level: 0,
         }
     }
 
@@ -127,7 +184,16 @@ impl<'a> Interpreter<'a> {
     /// Records a warning.
     pub fn warn(&mut self, diagnostic: GcodeDiagnostic) {
         if !self.quiet {
+            let diagnostic = self.wrap(diagnostic);
             self.warnings.push(diagnostic);
+        }
+    }
+
+    /// `diagnostic` as shown from the main program.
+    fn wrap(&self, diagnostic: GcodeDiagnostic) -> GcodeDiagnostic {
+        match &self.origin {
+            Some(origin) => origin.wrap(diagnostic),
+            None => diagnostic,
         }
     }
 
@@ -206,6 +272,7 @@ impl<'a> Interpreter<'a> {
         if self.quiet {
             return;
         }
+        let diagnostic = self.wrap(diagnostic);
         if diagnostic.is_warning() {
             self.warnings.push(diagnostic);
         } else {
@@ -231,17 +298,24 @@ impl<'a> Interpreter<'a> {
     fn machine_events(&mut self, request: &Request, line: u32) {
         if let Some(s) = request.s {
             match s.value >= 0.0 {
-                true => self.event(EventKind::SpindleSpeed { rpm: s.value }, line),
+                true => {
+                    self.rpm = s.value;
+                    self.event(EventKind::SpindleSpeed { rpm: s.value }, line)
+                }
                 false => self.push(bad_value(s, "a spindle speed must not be negative")),
             }
         }
         if let Some(t) = request.t {
             match whole(t.value) {
-                Some(tool) => self.event(EventKind::ToolSelect { tool }, line),
+                Some(tool) => {
+                    self.selected_tool = tool;
+                    self.event(EventKind::ToolSelect { tool }, line)
+                }
                 None => self.push(bad_value(t, "a tool number must be a whole number ≥ 0")),
             }
         }
         if request.tool_change.is_some() {
+            self.current_tool = self.selected_tool;
             self.event(EventKind::ToolChange, line);
         }
         if let Some((state, _)) = request.spindle {

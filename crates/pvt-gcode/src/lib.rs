@@ -37,6 +37,7 @@ mod diagnostic;
 mod interpreter;
 mod kept;
 mod lines;
+mod oword;
 mod params;
 mod parser;
 mod prescan;
@@ -48,12 +49,50 @@ mod value;
 pub use diagnostic::{line_col, GcodeDiagnostic, GcodeErrors};
 pub use kept::MAX_KEPT_DIAGNOSTICS;
 pub use lines::MAX_LINE_BYTES;
+pub use oword::{SubroutineFile, SubroutineFiles};
 pub use prescan::{prescan, Prescan};
 pub use sink::{StreamSummary, ToolpathSink};
 pub use syntax::{check_syntax, SyntaxSummary};
 
 use interpreter::{Flow, Interpreter};
 use parser::{LineKind, SourceLine, SourceLines};
+
+/// How deep subroutine calls may nest, as in LinuxCNC (10 levels with the main program);
+/// one more is `pvtc::gcode::recursion_limit`.
+pub const MAX_CALL_DEPTH: usize = 9;
+
+/// How many times one loop may run each time it is entered; one more is
+/// `pvtc::gcode::loop_limit` (a loop that never ends is an error, never a hang).
+pub const MAX_LOOP_ITERATIONS: u64 = 1_000_000;
+
+/// How many bytes of text the bodies of subroutines and of the main program's loops
+/// held in memory may take together (the rest of a program streams); more is
+/// `pvtc::gcode::body_too_large`.
+pub const MAX_BUFFERED_BYTES: usize = 16 << 20;
+
+/// Where `o<name> call` finds subroutines the program does not define
+/// ([`SubroutineFiles`]); none by default.
+#[derive(Clone, Default)]
+pub struct Subroutines(pub Option<std::sync::Arc<dyn SubroutineFiles + Send + Sync>>);
+
+impl std::fmt::Debug for Subroutines {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match &self.0 {
+            Some(files) => write!(f, "Subroutines({})", files.describe()),
+            None => f.write_str("Subroutines(none)"),
+        }
+    }
+}
+
+impl PartialEq for Subroutines {
+    fn eq(&self, other: &Self) -> bool {
+        match (&self.0, &other.0) {
+            (Some(a), Some(b)) => std::sync::Arc::ptr_eq(a, b),
+            (None, None) => true,
+            _ => false,
+        }
+    }
+}
 
 /// The rapid rate when [`GcodeOptions::rapid`] is `None`, millimetres per minute.
 pub const DEFAULT_RAPID_MM_PER_MIN: f64 = 5000.0;
@@ -82,6 +121,8 @@ pub struct GcodeOptions {
     /// X Y Z in millimetres and A B C in degrees; zero by default. A position in the
     /// output is the program coordinate plus the active row plus any G92 offset.
     pub work_offsets: [[f64; 6]; 9],
+    /// Subroutine files for `o<name> call` (`--subroutine-path`).
+    pub subroutines: Subroutines,
 }
 
 impl Default for GcodeOptions {
@@ -93,6 +134,7 @@ impl Default for GcodeOptions {
             arc_rel_tolerance: 0.001,
             units: None,
             work_offsets: [[0.0; 6]; 9],
+            subroutines: Subroutines::default(),
         }
     }
 }
@@ -172,6 +214,8 @@ pub fn compile_read(
 /// The G-code front end fed one line at a time; [`compile_into`] and [`compile_read`]
 /// drive it.
 pub struct Reader<'a> {
+    options: &'a GcodeOptions,
+    flow: oword::Flow,
     interpreter: Interpreter<'a>,
     params: params::Parameters,
     block: block::Block,
@@ -184,9 +228,13 @@ pub struct Reader<'a> {
 impl<'a> Reader<'a> {
     /// A reader compiling into `sink`.
     pub fn new(options: &'a GcodeOptions, sink: &'a mut dyn ToolpathSink) -> Reader<'a> {
+        let mut params = params::Parameters::default();
+        params.stored.work_offsets = options.work_offsets;
         Reader {
+            options,
+            flow: oword::Flow::default(),
             interpreter: Interpreter::new(options, sink),
-            params: params::Parameters::default(),
+            params,
             block: block::Block::default(),
             percent_lines: 0,
             number: 0,
@@ -221,6 +269,18 @@ impl<'a> Reader<'a> {
         true
     }
 
+    /// Records a diagnostic, shown at the call when a subroutine file's line caused it.
+    pub(crate) fn report(&mut self, diagnostic: GcodeDiagnostic) {
+        self.interpreter.report(diagnostic);
+    }
+
+    /// Brings the machine parameters' view up to date for a line that reads parameters.
+    pub(crate) fn refresh_view(&mut self, line: u32) {
+        self.params.view = self.interpreter.view();
+        self.params.view.line = line;
+        self.params.view.call_level = self.params.call_level() as u32;
+    }
+
     fn source_line(&mut self, line: SourceLine<'_>) -> bool {
         if line.text.len() > MAX_LINE_BYTES {
             self.number = line.number.saturating_sub(1);
@@ -234,7 +294,27 @@ impl<'a> Reader<'a> {
             self.interpreter.warn(warning);
             return false;
         }
+        if let Some(more) = self.flow_line(line) {
+            return more;
+        }
+        self.run_line(line);
+        true
+    }
+
+    /// Parses and executes one line of G-code (not a control line); returns false once
+    /// the program has ended.
+    pub(crate) fn run_line(&mut self, line: SourceLine<'_>) -> bool {
+        if self.ended.is_some() {
+            return false;
+        }
+        if memchr::memchr(b'#', line.text.as_bytes()).is_some() {
+            self.refresh_view(line.number);
+        }
         let parsed = parser::parse_line(line, &mut self.block, &self.params);
+        if let Some(origin) = &self.interpreter.origin {
+            // Elements from a subroutine file carry the line of the call.
+            self.block.line = origin.call_line;
+        }
         // All assignments of a line take effect after the line is read.
         for assignment in &self.block.assignments {
             self.params.set(&assignment.param, assignment.value);
@@ -251,18 +331,19 @@ impl<'a> Reader<'a> {
             // The words read around the bad text still set modes, feed and position, but
             // whatever else they cause is not reported: the line has its error already.
             Err(diagnostic) => {
-                self.interpreter.report(diagnostic);
+                self.report(diagnostic);
                 match self.interpreter.execute_quietly(&self.block) {
                     Flow::Continue => None,
                     Flow::End(word) => Some(word.name()),
                 }
             }
         };
-        true
+        self.ended.is_none()
     }
 
     /// Ends the program: its summary, or every error met.
-    pub fn finish(self) -> Result<StreamSummary, GcodeErrors> {
+    pub fn finish(mut self) -> Result<StreamSummary, GcodeErrors> {
+        self.flow_finish();
         self.interpreter.finish()
     }
 }

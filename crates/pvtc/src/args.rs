@@ -155,6 +155,10 @@ pub struct PipelineArgs {
     /// millimetres and degrees) [default: all zero].
     #[arg(long, value_name = "FILE")]
     pub offsets: Option<PathBuf>,
+    /// G-code: folders where `o<name> call` finds `name.ngc` (repeatable, or a
+    /// `:`-separated list, like LinuxCNC's SUBROUTINE_PATH).
+    #[arg(long = "subroutine-path", value_name = "DIR")]
+    pub subroutine_path: Vec<String>,
     /// G-code: a centre-format arc is refused when its start and end radii differ by
     /// more than this many mm and by more than --arc-rel-tolerance [default: 0.002].
     #[arg(long = "arc-abs-tolerance", value_name = "MM", value_parser = positive_number)]
@@ -194,6 +198,11 @@ impl PipelineArgs {
                 "--accel does nothing with the {name} planner: it sets the blends of lspb \
                  (--planner lspb)"
             )));
+        }
+        if !self.subroutine_path.is_empty() && input != InputKind::Gcode {
+            return Err(Failure::Usage(
+                "--subroutine-path does nothing here: it finds G-code subroutines".into(),
+            ));
         }
         if !self.layers.is_empty() && input != InputKind::Dxf {
             return Err(Failure::Usage(
@@ -237,6 +246,7 @@ impl PipelineArgs {
             quantize: self.quantize,
             quantize_rounding: self.quantize_rounding.unwrap_or_default(),
             work_offsets,
+            subroutine_path: self.subroutine_path.clone(),
             arc_abs_tolerance_mm: self
                 .arc_abs_tolerance
                 .unwrap_or(defaults.arc_abs_tolerance_mm),

@@ -12,9 +12,11 @@
 //! zero-length straight moves, which pvtc drops with a warning.
 //!
 //! Sidecar files next to `NAME.ngc`: `NAME.tbl`, a tool table (rs274 `-t`, pvtc
-//! `--tool-table`); `NAME.ini`, an ini file for rs274 (`-i`); `NAME.args`, extra pvtc
-//! arguments, one per line. Without rs274 (Debian package linuxcnc-uspace) each test says
-//! SKIPPED; with `PVTC_REQUIRE_RS274=1` (set by `.ci/run`) it fails instead.
+//! `--tool-table`); `NAME.ini`, an ini file for rs274 (`-i`, rs274 then runs in the
+//! program's folder, so that a relative SUBROUTINE_PATH names a folder beside it);
+//! `NAME.args`, extra pvtc arguments, one per line (pvtc runs in the program's
+//! folder). Without rs274 (Debian package linuxcnc-uspace) each test says SKIPPED;
+//! with `PVTC_REQUIRE_RS274=1` (set by `.ci/run`) it fails instead.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -108,14 +110,18 @@ fn rs274_once(rs274: &str, program: &Path) -> Result<Result<Vec<Move>, String>, 
     if let Some(table) = sidecar(program, "tbl") {
         command.arg("-t").arg(table);
     }
+    // With an ini, rs274 runs in the program's folder: a relative SUBROUTINE_PATH
+    // there is relative to the folder (pvtc's `.args` too: pvtc runs there).
+    let mut cwd = dir.path().to_path_buf();
     if let Some(ini) = sidecar(program, "ini") {
         command.arg("-i").arg(ini);
+        cwd = program.parent().expect("a folder").to_path_buf();
     }
     let output = command
         .arg("-g")
         .arg(program)
         .arg(&out)
-        .current_dir(dir.path())
+        .current_dir(cwd)
         .stdin(Stdio::null())
         .output()
         .expect("rs274 runs");
@@ -299,6 +305,7 @@ fn pvtc_moves(program: &Path) -> Result<Vec<Move>, String> {
         .arg("compile")
         .arg(program)
         .args(["--format", "toolpath"])
+        .current_dir(program.parent().expect("a folder"))
         .env("NO_COLOR", "1");
     if let Some(table) = sidecar(program, "tbl") {
         command.arg("--tool-table").arg(table);
