@@ -340,7 +340,7 @@ pub enum GcodeDiagnostic {
     #[error("no subroutine {name}{}", searched_note(.searched))]
     #[diagnostic(
         code(pvtc::gcode::unknown_subroutine),
-        help("define `o{name} sub` … `o{name} endsub` before the call, or put it in a file `NAME.ngc` in a folder given with --subroutine-path")
+        help("define it before the call (`oN sub` … `oN endsub`), after the program for M98 (`O<n>` … `M99`), or in a file `NAME.ngc` in a folder given with --subroutine-path")
     )]
     UnknownSubroutine {
         /// The subroutine's label as written, e.g. `<bore>` or `100`.

@@ -94,6 +94,9 @@ pub(crate) struct Interpreter<'a> {
     pending: Vec<GcodeDiagnostic>,
     /// The request of the block being executed, its storage reused from block to block.
     request: Option<Box<Request>>,
+    /// Set while held lines run (a loop or subroutine body, which may run many times):
+    /// a diagnostic kept already is not kept again.
+    pub once: bool,
     /// Set while a subroutine file runs: its diagnostics are shown at the call.
     pub origin: Option<crate::oword::Origin>,
     /// The S number, the tool selected by T and the one M6 put in the spindle.
@@ -123,6 +126,7 @@ impl<'a> Interpreter<'a> {
             quiet: false,
             pending: Vec::new(),
             request: None,
+            once: false,
             origin: None,
             rpm: 0.0,
             selected_tool: 0,
@@ -185,7 +189,9 @@ impl<'a> Interpreter<'a> {
     pub fn warn(&mut self, diagnostic: GcodeDiagnostic) {
         if !self.quiet {
             let diagnostic = self.wrap(diagnostic);
-            self.warnings.push(diagnostic);
+            if !(self.once && self.warnings.contains(&diagnostic)) {
+                self.warnings.push(diagnostic);
+            }
         }
     }
 
@@ -273,6 +279,10 @@ impl<'a> Interpreter<'a> {
             return;
         }
         let diagnostic = self.wrap(diagnostic);
+        if self.once && (self.errors.contains(&diagnostic) || self.warnings.contains(&diagnostic))
+        {
+            return;
+        }
         if diagnostic.is_warning() {
             self.warnings.push(diagnostic);
         } else {

@@ -18,9 +18,22 @@
 //! M0 M1 M2 M30 M3 M4 M5 M6 M7 M8 M9, parameters (`#1`, `#<name>`) and expressions,
 //! `(MSG, …)`, `*nn` checksums. G40 and G49 are accepted as they select what pvtc always
 //! does. Every axis starts at 0. Lines with block delete (`/`) are executed (the switch
-//! is off). O-words, canned cycles, cutter and tool length compensation, G5.x, G38.x,
-//! G28/G30 and reads of machine-specific parameters are `unsupported`, one diagnostic
-//! per feature with the count of places, and the program fails.
+//! is off). A program number (`O1001`) names the program.
+//!
+//! O-words (`oword.rs`): `sub`/`endsub`/`return`/`call` with arguments `#1`–`#30` and
+//! local names, `if`/`elseif`/`else`/`endif`, `while`/`endwhile`, `do`/`while`,
+//! `repeat`/`endrepeat`, `break`, `continue`; `o<name> call` reads `name.ngc` through
+//! [`GcodeOptions::subroutines`] when the program does not define it. Calls nest at most
+//! [`MAX_CALL_DEPTH`] deep, a loop runs at most [`MAX_LOOP_ITERATIONS`] times, held
+//! bodies take at most [`MAX_BUFFERED_BYTES`]; each limit is a coded error. Fanuc-style
+//! `M98 P<n> L<count>` runs the block `O<n>` … `M99` of the same file (`subprogram.rs`).
+//!
+//! Parameters (`params.rs`, `params/machine.rs`): predefined names (`#<_x>`,
+//! `#<_metric>`, `#<_feed>`, `#<_value>`, …) and machine parameters (#5161–#5428: homes,
+//! G92, coordinate systems, tool, position) read the interpreter's state; probe results,
+//! M66 inputs, HAL pins and ini values are `unsupported`. Canned cycles, cutter and tool
+//! length compensation, G5.x, G38.x and G28/G30 are `unsupported`, one diagnostic per
+//! feature with the count of places, and the program fails.
 //!
 //! Contours: a rapid move is a contour of its own; feed moves run together until a
 //! rapid, an event or a stop. Every event (G4 dwell, M0/M1 pause, S, T, M6, M3/M4/M5,
@@ -43,6 +56,7 @@ mod parser;
 mod prescan;
 mod request;
 mod sink;
+mod subprogram;
 mod syntax;
 mod value;
 
@@ -216,6 +230,7 @@ pub fn compile_read(
 pub struct Reader<'a> {
     options: &'a GcodeOptions,
     flow: oword::Flow,
+    subprograms: subprogram::Subprograms,
     interpreter: Interpreter<'a>,
     params: params::Parameters,
     block: block::Block,
@@ -233,6 +248,7 @@ impl<'a> Reader<'a> {
         Reader {
             options,
             flow: oword::Flow::default(),
+            subprograms: subprogram::Subprograms::default(),
             interpreter: Interpreter::new(options, sink),
             params,
             block: block::Block::default(),
@@ -287,12 +303,18 @@ impl<'a> Reader<'a> {
             return self.too_long_line(line.start, line.text.len());
         }
         self.number = line.number;
+        if self.ended.is_some() && self.subprogram_after_end(line) {
+            return true;
+        }
         if let Some(end) = &self.ended {
             let Some(warning) = after_end(line, &mut self.block, &self.params, end) else {
                 return true;
             };
             self.interpreter.warn(warning);
             return false;
+        }
+        if let Some(more) = self.subprogram_line(line) {
+            return more;
         }
         if let Some(more) = self.flow_line(line) {
             return more;
@@ -319,6 +341,7 @@ impl<'a> Reader<'a> {
         for assignment in &self.block.assignments {
             self.params.set(&assignment.param, assignment.value);
         }
+        let call = self.take_subprogram_words();
         self.ended = match parsed {
             Ok(LineKind::Percent) => {
                 self.percent_lines += 1;
@@ -338,12 +361,16 @@ impl<'a> Reader<'a> {
                 }
             }
         };
+        if let (Some(call), None) = (call, &self.ended) {
+            self.subprogram_call(call);
+        }
         self.ended.is_none()
     }
 
     /// Ends the program: its summary, or every error met.
     pub fn finish(mut self) -> Result<StreamSummary, GcodeErrors> {
         self.flow_finish();
+        self.subprograms_finish();
         self.interpreter.finish()
     }
 }

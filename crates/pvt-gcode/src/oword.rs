@@ -167,7 +167,18 @@ impl StoredLine {
         })
     }
 
-    fn source(&self) -> SourceLine<'_> {
+    /// Holds `line` as it is; a control word that cannot be read is left for the
+    /// block path to report.
+    pub(crate) fn held(line: SourceLine<'_>) -> StoredLine {
+        StoredLine::new(line).unwrap_or_else(|_| StoredLine {
+            text: line.text.into(),
+            start: line.start,
+            number: line.number,
+            control: None,
+        })
+    }
+
+    pub(crate) fn source(&self) -> SourceLine<'_> {
         SourceLine {
             text: &self.text,
             start: self.start,
@@ -260,6 +271,8 @@ struct Recording {
     /// The keyword that ends it.
     close: Keyword,
     lines: Vec<StoredLine>,
+    /// The body went past the limit (reported): its lines are skipped to its end.
+    overflow: bool,
 }
 
 /// The control-flow state of a program run.
@@ -325,6 +338,7 @@ impl<'a> Reader<'a> {
                 opening: control,
                 close,
                 lines: Vec::new(),
+                overflow: false,
             });
             return Some(self.record(line));
         }
@@ -374,18 +388,24 @@ impl<'a> Reader<'a> {
         };
         let ends = stored.control.as_ref().is_some_and(|c| {
             c.label == recording.opening.label && c.keyword == recording.close
-        }) && !recording.lines.is_empty();
+        }) && (!recording.lines.is_empty() || recording.overflow);
+        if recording.overflow {
+            if ends {
+                self.flow.recording = None;
+            }
+            return true;
+        }
         self.flow.held += stored.text.len();
         if self.flow.held > MAX_BUFFERED_BYTES {
-            let recording = self.flow.recording.take();
-            if let Some(r) = recording {
-                self.report(GcodeDiagnostic::BodyTooLarge {
-                    limit: MAX_BUFFERED_BYTES,
-                    span: span(r.opening.span),
-                });
-            }
-            // Whatever follows is read as main program text: the error stands.
-            self.flow.held = 0;
+            let held: usize = recording.lines.iter().map(|l| l.text.len()).sum();
+            recording.lines = Vec::new();
+            recording.overflow = true;
+            let opening = recording.opening.span.clone();
+            self.flow.held -= held + stored.text.len();
+            self.report(GcodeDiagnostic::BodyTooLarge {
+                limit: MAX_BUFFERED_BYTES,
+                span: span(opening),
+            });
             return true;
         }
         recording.lines.push(stored);
@@ -431,8 +451,32 @@ impl<'a> Reader<'a> {
         }
     }
 
-    /// Runs lines `range` of `body`.
+    /// Runs lines `range` of `body`; a diagnostic a line gave on an earlier run is not
+    /// given again.
     fn run_body(&mut self, body: &Body, range: Range<usize>) -> Signal {
+        let once = std::mem::replace(&mut self.interpreter.once, true);
+        self.subprograms.in_body += 1;
+        let signal = self.run_lines(body, range);
+        self.subprograms.in_body -= 1;
+        self.interpreter.once = once;
+        signal
+    }
+
+    /// How many calls are in progress.
+    pub(crate) fn flow_depth(&self) -> usize {
+        self.flow.depth
+    }
+
+    /// Runs a subprogram (M98): a call without arguments or locals of its own, ended by
+    /// its `M99`; false when the program ended in it.
+    pub(crate) fn run_called(&mut self, body: &Body) -> bool {
+        self.flow.depth += 1;
+        let signal = self.run_body(body, 0..body.lines.len());
+        self.flow.depth -= 1;
+        signal != Signal::End
+    }
+
+    fn run_lines(&mut self, body: &Body, range: Range<usize>) -> Signal {
         let mut skip = Skip::No;
         let mut pc = range.start;
         while pc < range.end {
@@ -441,8 +485,13 @@ impl<'a> Reader<'a> {
             };
             pc += 1;
             let Some(control) = &line.control else {
-                if skip == Skip::No && !self.run_line(line.source()) {
-                    return Signal::End;
+                if skip == Skip::No {
+                    if !self.run_line(line.source()) {
+                        return Signal::End;
+                    }
+                    if std::mem::take(&mut self.subprograms.returned) {
+                        return Signal::Return(None);
+                    }
                 }
                 continue;
             };
