@@ -356,7 +356,9 @@ pub enum GcodeDiagnostic {
     #[error("subroutine calls nested more than {limit} deep")]
     #[diagnostic(
         code(pvtc::gcode::recursion_limit),
-        help("a recursive subroutine needs a condition that ends it; LinuxCNC allows the same depth")
+        help(
+            "a recursive subroutine needs a condition that ends it; LinuxCNC allows the same depth"
+        )
     )]
     RecursionLimit {
         /// The depth limit.
@@ -366,8 +368,9 @@ pub enum GcodeDiagnostic {
         span: SourceSpan,
     },
 
-    /// A loop that ran [`crate::MAX_LOOP_ITERATIONS`] times without ending.
-    #[error("loop ran {limit} times without ending")]
+    /// A loop that ran [`crate::MAX_LOOP_ITERATIONS`] times without ending, or loops that
+    /// ran [`crate::MAX_TOTAL_ITERATIONS`] times in all.
+    #[error("{}", loop_message(*limit, *all))]
     #[diagnostic(
         code(pvtc::gcode::loop_limit),
         help("check the loop's condition; pvtc stops a loop after this many iterations rather than hang")
@@ -375,6 +378,8 @@ pub enum GcodeDiagnostic {
     LoopLimit {
         /// The iteration limit.
         limit: u64,
+        /// The limit of all loops of the run together (not of this loop).
+        all: bool,
         /// The loop's O-word.
         #[label("this loop")]
         span: SourceSpan,
@@ -742,6 +747,14 @@ pub fn line_col(source: &str, byte_offset: usize) -> (usize, usize) {
     let text = &before[line_start..];
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     (line, 1 + text.chars().count())
+}
+
+fn loop_message(limit: u64, all: bool) -> String {
+    if all {
+        format!("loops ran {limit} times in all")
+    } else {
+        format!("loop ran {limit} times without ending")
+    }
 }
 
 fn searched_note(searched: &str) -> String {

@@ -142,7 +142,11 @@ impl<'a> Interpreter<'a> {
         for axis in pvt_core::Axis::ALL {
             let i = axis.index();
             let relative = self.position[i] - self.offset(i);
-            position[i] = if axis.is_rotary() { relative } else { relative / scale };
+            position[i] = if axis.is_rotary() {
+                relative
+            } else {
+                relative / scale
+            };
         }
         let mm = self.output().mm_per_unit();
         let g92 = std::array::from_fn(|i| match pvt_core::Axis::ALL.get(i) {
@@ -279,8 +283,7 @@ impl<'a> Interpreter<'a> {
             return;
         }
         let diagnostic = self.wrap(diagnostic);
-        if self.once && (self.errors.contains(&diagnostic) || self.warnings.contains(&diagnostic))
-        {
+        if self.once && (self.errors.contains(&diagnostic) || self.warnings.contains(&diagnostic)) {
             return;
         }
         if diagnostic.is_warning() {

@@ -24,9 +24,10 @@
 //! local names, `if`/`elseif`/`else`/`endif`, `while`/`endwhile`, `do`/`while`,
 //! `repeat`/`endrepeat`, `break`, `continue`; `o<name> call` reads `name.ngc` through
 //! [`GcodeOptions::subroutines`] when the program does not define it. Calls nest at most
-//! [`MAX_CALL_DEPTH`] deep, a loop runs at most [`MAX_LOOP_ITERATIONS`] times, held
-//! bodies take at most [`MAX_BUFFERED_BYTES`]; each limit is a coded error. Fanuc-style
-//! `M98 P<n> L<count>` runs the block `O<n>` … `M99` of the same file (`subprogram.rs`).
+//! [`MAX_CALL_DEPTH`] deep, a loop runs at most [`MAX_LOOP_ITERATIONS`] times (all loops
+//! together [`MAX_TOTAL_ITERATIONS`]), held bodies take at most [`MAX_BUFFERED_BYTES`];
+//! each limit is a coded error. Fanuc-style `M98 P<n> L<count>` runs the block `O<n>` …
+//! `M99` of the same file (`subprogram.rs`).
 //!
 //! Parameters (`params.rs`, `params/machine.rs`): predefined names (`#<_x>`,
 //! `#<_metric>`, `#<_feed>`, `#<_value>`, …) and machine parameters (#5161–#5428: homes,
@@ -78,6 +79,10 @@ pub const MAX_CALL_DEPTH: usize = 9;
 /// How many times one loop may run each time it is entered; one more is
 /// `pvtc::gcode::loop_limit` (a loop that never ends is an error, never a hang).
 pub const MAX_LOOP_ITERATIONS: u64 = 1_000_000;
+
+/// How many loop iterations a run may make in all (nested loops multiply); one more is
+/// `pvtc::gcode::loop_limit` too.
+pub const MAX_TOTAL_ITERATIONS: u64 = 100_000_000;
 
 /// How many bytes of text the bodies of subroutines and of the main program's loops
 /// held in memory may take together (the rest of a program streams); more is

@@ -4,9 +4,9 @@
 //!
 //! Owns the recognition of control lines, the bodies held in memory and the rules that
 //! bound them: [`crate::MAX_CALL_DEPTH`] nested calls, [`crate::MAX_LOOP_ITERATIONS`] per
-//! loop, [`crate::MAX_BUFFERED_BYTES`] of held text. The main program streams: only the
-//! bodies of subroutines and loops are held, a conditional skips lines as they come. It
-//! must not give words a meaning (lines go to [`crate::Reader`]'s block path) nor read
+//! loop and [`crate::MAX_TOTAL_ITERATIONS`] in all, [`crate::MAX_BUFFERED_BYTES`] of held
+//! text. The main program streams: only the bodies of subroutines and loops are held, a
+//! conditional skips lines as they come. It must not give words a meaning (lines go to [`crate::Reader`]'s block path) nor read
 //! files (subroutine files come through [`crate::SubroutineFiles`]).
 
 use std::collections::HashMap;
@@ -16,7 +16,9 @@ use std::rc::Rc;
 use crate::diagnostic::{span, GcodeDiagnostic};
 use crate::params::{ParamRef, Parameters};
 use crate::parser::SourceLine;
-use crate::{Reader, MAX_BUFFERED_BYTES, MAX_CALL_DEPTH, MAX_LOOP_ITERATIONS};
+use crate::{
+    Reader, MAX_BUFFERED_BYTES, MAX_CALL_DEPTH, MAX_LOOP_ITERATIONS, MAX_TOTAL_ITERATIONS,
+};
 
 /// The keyword after an O-word label.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -284,6 +286,8 @@ pub(crate) struct Flow {
     /// Bytes of text held (definitions and recordings), against the limit.
     held: usize,
     depth: usize,
+    /// Loop iterations of the run so far.
+    iterations: u64,
     /// Files that could not be found, reported once each.
     missing: Vec<String>,
 }
@@ -296,6 +300,7 @@ impl Default for Flow {
             skip: Skip::No,
             held: 0,
             depth: 0,
+            iterations: 0,
             missing: Vec::new(),
         }
     }
@@ -386,9 +391,10 @@ impl<'a> Reader<'a> {
         let Some(recording) = self.flow.recording.as_mut() else {
             return true;
         };
-        let ends = stored.control.as_ref().is_some_and(|c| {
-            c.label == recording.opening.label && c.keyword == recording.close
-        }) && (!recording.lines.is_empty() || recording.overflow);
+        let ends =
+            stored.control.as_ref().is_some_and(|c| {
+                c.label == recording.opening.label && c.keyword == recording.close
+            }) && (!recording.lines.is_empty() || recording.overflow);
         if recording.overflow {
             if ends {
                 self.flow.recording = None;
@@ -432,9 +438,10 @@ impl<'a> Reader<'a> {
             }
             _ => {
                 // Loops are not held after they ran.
-                self.flow.held = self.flow.held.saturating_sub(
-                    body.lines.iter().map(|l| l.text.len()).sum::<usize>(),
-                );
+                self.flow.held = self
+                    .flow
+                    .held
+                    .saturating_sub(body.lines.iter().map(|l| l.text.len()).sum::<usize>());
                 let signal = self.run_loop(&body, 0, end - 1);
                 match signal {
                     Signal::End | Signal::Next => true,
@@ -567,9 +574,20 @@ impl<'a> Reader<'a> {
                 _ => {}
             }
             count += 1;
-            if count > MAX_LOOP_ITERATIONS {
+            self.flow.iterations += 1;
+            let all = self.flow.iterations > MAX_TOTAL_ITERATIONS;
+            if all && self.flow.iterations > MAX_TOTAL_ITERATIONS + 1 {
+                // Reported once, by the loop that went past it; every loop stops now.
+                return Signal::Next;
+            }
+            if count > MAX_LOOP_ITERATIONS || all {
                 self.report(GcodeDiagnostic::LoopLimit {
-                    limit: MAX_LOOP_ITERATIONS,
+                    limit: if all {
+                        MAX_TOTAL_ITERATIONS
+                    } else {
+                        MAX_LOOP_ITERATIONS
+                    },
+                    all,
                     span: span(control.span.clone()),
                 });
                 return Signal::Next;
@@ -694,10 +712,8 @@ impl<'a> Reader<'a> {
             Signal::Return(value) => value,
             _ => None,
         };
-        self.params.set(
-            &ParamRef::Named("_value".to_owned()),
-            value.unwrap_or(0.0),
-        );
+        self.params
+            .set(&ParamRef::Named("_value".to_owned()), value.unwrap_or(0.0));
         self.params.set(
             &ParamRef::Named("_value_returned".to_owned()),
             if value.is_some() { 1.0 } else { 0.0 },
@@ -844,8 +860,11 @@ impl<'a> Reader<'a> {
             if values.len() == max {
                 let at = reader.absolute(reader.pos);
                 return Err(GcodeDiagnostic::Oword {
-                    detail: format!("o{} {:?} takes at most {max} values", control.label, control.keyword)
-                        .to_lowercase(),
+                    detail: format!(
+                        "o{} {:?} takes at most {max} values",
+                        control.label, control.keyword
+                    )
+                    .to_lowercase(),
                     span: span(at..at + crate::parser::token_len(rest)),
                 });
             }
@@ -913,7 +932,9 @@ mod tests {
 
     #[test]
     fn control_lines_are_recognized() {
-        let c = parse_control("  N10 O0100 While [#1 LT 3]", 5).unwrap().unwrap();
+        let c = parse_control("  N10 O0100 While [#1 LT 3]", 5)
+            .unwrap()
+            .unwrap();
         assert_eq!(c.label, "100");
         assert_eq!(c.keyword, Keyword::While);
         assert_eq!(c.span, 5 + 6..5 + 17);

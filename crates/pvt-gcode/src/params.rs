@@ -227,8 +227,14 @@ mod tests {
         p.view.position[0] = 4.0;
         p.set(&ParamRef::Numbered(5420), 3.0);
         assert_eq!(p.numbered(5420), Ok(4.0));
-        assert!(matches!(p.numbered(5061), Err(ReadProblem::MachineSpecific(_))));
-        assert!(matches!(p.numbered(9999), Err(ReadProblem::MachineSpecific(_))));
+        assert!(matches!(
+            p.numbered(5061),
+            Err(ReadProblem::MachineSpecific(_))
+        ));
+        assert!(matches!(
+            p.numbered(9999),
+            Err(ReadProblem::MachineSpecific(_))
+        ));
     }
 
     #[test]

@@ -192,8 +192,7 @@ impl<'a> Reader<'a> {
         if self.subprograms.in_body > 0 || self.subprograms.search.is_some() {
             self.report(GcodeDiagnostic::UnknownSubroutine {
                 name: format!("O{}", call.number),
-                searched: "a subprogram called from a body must come before the call"
-                    .to_owned(),
+                searched: "a subprogram called from a body must come before the call".to_owned(),
                 span: span(call.span),
             });
             return true;

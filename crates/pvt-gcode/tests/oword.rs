@@ -45,10 +45,10 @@ fn a_subroutine_body_runs_only_when_called() {
     let source = "o100 sub\nG1 X5 F100\no100 endsub\nG1 X1 F100\nM2\n";
     assert_eq!(xs(source), [1.0]);
     let called = "o100 sub\nG1 X[#1 + 5] F100\no100 endsub\nG1 X1 F100\no100 call [2]\nM2\n";
-    assert_eq!(ends(called, &GcodeOptions::default()), [
-        ([1.0, 0.0, 0.0], 4),
-        ([7.0, 0.0, 0.0], 2)
-    ]);
+    assert_eq!(
+        ends(called, &GcodeOptions::default()),
+        [([1.0, 0.0, 0.0], 4), ([7.0, 0.0, 0.0], 2)]
+    );
 }
 
 #[test]
@@ -76,7 +76,8 @@ fn an_endless_loop_is_an_error_at_its_o_word_not_a_hang() {
 
 #[test]
 fn runaway_recursion_is_an_error_at_the_call_that_goes_too_deep() {
-    let source = "G1 X1 F100\no<down> sub\no<down> call [#1 + 1]\no<down> endsub\no<down> call [1]\n";
+    let source =
+        "G1 X1 F100\no<down> sub\no<down> call [#1 + 1]\no<down> endsub\no<down> call [1]\n";
     assert_eq!(errors(source), [("recursion_limit", 3, 1)]);
     // LinuxCNC's depth: 9 nested calls run, a tenth is refused.
     let depth = |n: usize| {
@@ -153,7 +154,11 @@ fn machine_parameters_read_the_interpreters_state() {
 fn machine_only_parameters_are_one_unsupported_diagnostic_each() {
     let source = "G1 X1 F100\nG1 X#5061\nG1 Y#5062\nG1 Z#<_hal[probe]>\nG1 X#<_hal[x]>\n";
     let compiled = compile(source, &GcodeOptions::default()).unwrap_err();
-    let messages: Vec<_> = compiled.diagnostics.iter().map(ToString::to_string).collect();
+    let messages: Vec<_> = compiled
+        .diagnostics
+        .iter()
+        .map(ToString::to_string)
+        .collect();
     assert_eq!(
         messages,
         [
@@ -189,23 +194,35 @@ fn with_files(files: &[(&'static str, &'static str)]) -> GcodeOptions {
 #[test]
 fn named_subroutines_come_from_files_and_their_errors_name_file_line_and_call() {
     let options = with_files(&[
-        ("step", "(steps)\no<step> sub\nG91 G1 X#1 F100\nG90\no<step> endsub [#1 * 2]\n"),
-        ("bad", "o<bad> sub\nG1 X1\n  G1 X[SQRT[-1]]\no<bad> endsub\n"),
+        (
+            "step",
+            "(steps)\no<step> sub\nG91 G1 X#1 F100\nG90\no<step> endsub [#1 * 2]\n",
+        ),
+        (
+            "bad",
+            "o<bad> sub\nG1 X1\n  G1 X[SQRT[-1]]\no<bad> endsub\n",
+        ),
     ]);
     let source = "G1 X1 F100\no<step> call [2]\no<step> call [#<_value>]\nM2\n";
     // Elements from a file carry the line of the call.
-    assert_eq!(ends(source, &options), [
-        ([1.0, 0.0, 0.0], 1),
-        ([3.0, 0.0, 0.0], 2),
-        ([7.0, 0.0, 0.0], 3)
-    ]);
+    assert_eq!(
+        ends(source, &options),
+        [
+            ([1.0, 0.0, 0.0], 1),
+            ([3.0, 0.0, 0.0], 2),
+            ([7.0, 0.0, 0.0], 3)
+        ]
+    );
     let source = "G1 X1 F100\n  o<bad> call\n";
     let errors = compile(source, &options).unwrap_err();
     let d = &errors.diagnostics[0];
     assert_eq!(d.code(), "pvtc::gcode::in_subroutine_file");
     assert_eq!(line_col(source, d.span().start), (2, 3));
     let message = d.to_string();
-    assert!(message.starts_with("in lib/bad.ngc line 3 column 8"), "{message}");
+    assert!(
+        message.starts_with("in lib/bad.ngc line 3 column 8"),
+        "{message}"
+    );
     assert!(message.contains("SQRT"), "{message}");
     // A file without the definition, and no file at all.
     let options = with_files(&[("empty", "G1 X1\n")]);
@@ -225,13 +242,10 @@ fn a_streamed_loop_holds_only_its_body() {
     // The main program streams around a loop: compile_read gives what compile gives.
     let source = "G1 X1 F100\n#1 = 0\no1 while [#1 LT 3]\n#1 = [#1 + 1]\nG1 Y#1\no1 endwhile\nM2\n";
     let mut sink = Count(0);
-    let summary = pvt_gcode::compile_read(
-        &mut source.as_bytes(),
-        &GcodeOptions::default(),
-        &mut sink,
-    )
-    .unwrap()
-    .unwrap();
+    let summary =
+        pvt_gcode::compile_read(&mut source.as_bytes(), &GcodeOptions::default(), &mut sink)
+            .unwrap()
+            .unwrap();
     assert!(summary.warnings.is_empty());
     assert_eq!(sink.0, 4);
 }
@@ -252,17 +266,40 @@ fn fanuc_subprograms_after_the_end_are_called_with_m98_p_l() {
     let compiled = compile(source, &GcodeOptions::default()).unwrap();
     assert!(compiled.warnings.is_empty(), "{:?}", compiled.warnings);
     // The held line 5 runs after the call, with its own line number.
-    assert_eq!(ends(source, &GcodeOptions::default()), [
-        ([1.0, 0.0, 0.0], 3),
-        ([2.0, 0.0, 0.0], 9),
-        ([3.0, 0.0, 0.0], 9),
-        ([3.0, 5.0, 0.0], 5),
-        ([4.0, 5.0, 0.0], 9)
-    ]);
+    assert_eq!(
+        ends(source, &GcodeOptions::default()),
+        [
+            ([1.0, 0.0, 0.0], 3),
+            ([2.0, 0.0, 0.0], 9),
+            ([3.0, 0.0, 0.0], 9),
+            ([3.0, 5.0, 0.0], 5),
+            ([4.0, 5.0, 0.0], 9)
+        ]
+    );
     assert_eq!(
         errors("G1 X1 F100\nM98 P7\nG1 X2\nM30\n"),
         [("unknown_subroutine", 2, 1)]
     );
     assert_eq!(errors("G1 X1 F100\nM99\n"), [("oword", 2, 1)]);
     assert_eq!(errors("G1 X1 F100\nM98 L2\n"), [("missing_word", 2, 1)]);
+}
+
+#[test]
+fn nested_loops_stop_at_the_total_iteration_limit() {
+    // 10^6 × 10^3 iterations: each loop is within its own limit, together they are not
+    // (empty bodies, so that the test is quick).
+    let source = "G1 X1 F100\no1 repeat [1000000]\no2 repeat [1000]\no2 endrepeat\no1 endrepeat\n";
+    let compiled = compile(source, &GcodeOptions::default()).unwrap_err();
+    let messages: Vec<_> = compiled
+        .diagnostics
+        .iter()
+        .map(ToString::to_string)
+        .collect();
+    assert_eq!(
+        messages,
+        [format!(
+            "loops ran {} times in all",
+            pvt_gcode::MAX_TOTAL_ITERATIONS
+        )]
+    );
 }

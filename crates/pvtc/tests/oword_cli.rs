@@ -45,19 +45,39 @@ fn subroutine_path_finds_files_in_each_folder_given() {
     .unwrap();
     let out = dir.path().join("out.jsonl");
     let list = format!("{}:{}", a.display(), b.display());
-    for path in [vec!["--subroutine-path", &list], vec!["--subroutine-path", "a", "--subroutine-path", "b"]] {
-        let mut args = vec!["compile", "main.ngc", "--format", "toolpath", "-o", out.to_str().unwrap()];
+    for path in [
+        vec!["--subroutine-path", &list],
+        vec!["--subroutine-path", "a", "--subroutine-path", "b"],
+    ] {
+        let mut args = vec![
+            "compile",
+            "main.ngc",
+            "--format",
+            "toolpath",
+            "-o",
+            out.to_str().unwrap(),
+        ];
         args.extend(path);
         let o = pvtc(&args, dir.path());
         assert!(o.status.success(), "{}", stderr(&o));
         let text = std::fs::read_to_string(&out).unwrap();
-        let lines = text.lines().filter(|l| l.contains("\"kind\":\"line\"")).count();
+        let lines = text
+            .lines()
+            .filter(|l| l.contains("\"kind\":\"line\""))
+            .count();
         assert_eq!(lines, 5, "{text}");
     }
     // Without the path the call is a coded error, and nothing is written.
     std::fs::remove_file(&out).unwrap();
     let o = pvtc(
-        &["compile", "main.ngc", "--diagnostics", "json", "-o", out.to_str().unwrap()],
+        &[
+            "compile",
+            "main.ngc",
+            "--diagnostics",
+            "json",
+            "-o",
+            out.to_str().unwrap(),
+        ],
         dir.path(),
     );
     assert_eq!(o.status.code(), Some(1));
@@ -83,7 +103,14 @@ fn an_error_in_a_subroutine_file_names_the_file_its_line_and_the_call() {
     .unwrap();
     std::fs::write(dir.path().join("main.ngc"), "G0 X1\n\no<bad> call\n").unwrap();
     let o = pvtc(
-        &["compile", "main.ngc", "--subroutine-path", ".", "--diagnostics", "json"],
+        &[
+            "compile",
+            "main.ngc",
+            "--subroutine-path",
+            ".",
+            "--diagnostics",
+            "json",
+        ],
         dir.path(),
     );
     assert_eq!(o.status.code(), Some(1));

@@ -94,7 +94,12 @@ pub(crate) const INPUT_FEATURE: &str = "M66 input results (#5399)";
 /// The parameter `#index` as LinuxCNC defines it. `assigned` says whether the program
 /// wrote the parameter: a written offset or home reads back as written (as LinuxCNC's
 /// stored parameters do), while the position, tool and coordinate system are live.
-pub(crate) fn numbered(view: &MachineView, stored: &Stored, index: usize, assigned: bool) -> Answer {
+pub(crate) fn numbered(
+    view: &MachineView,
+    stored: &Stored,
+    index: usize,
+    assigned: bool,
+) -> Answer {
     let axis9 = |first: usize| index.checked_sub(first).filter(|i| *i < 9);
     // Live values: U V W (indices 6–8) are 0, pvtc has no such axes.
     if let Some(i) = axis9(5420) {
@@ -124,7 +129,10 @@ pub(crate) fn numbered(view: &MachineView, stored: &Stored, index: usize, assign
     if (5221..=5390).contains(&index) {
         let (system, field) = ((index - 5221) / 20, (index - 5221) % 20);
         // Fields 0–8 are X…W, 9 is the XY rotation (always 0 in pvtc).
-        let value = stored.work_offsets[system].get(field).copied().unwrap_or(0.0);
+        let value = stored.work_offsets[system]
+            .get(field)
+            .copied()
+            .unwrap_or(0.0);
         return Answer::Value(value);
     }
     Answer::NotMachine
@@ -221,7 +229,10 @@ mod tests {
         assert_eq!(numbered(&view, &s, 5428, false), Answer::Value(0.0));
         assert_eq!(numbered(&view, &s, 5220, false), Answer::Value(9.0));
         assert_eq!(numbered(&view, &s, 5400, false), Answer::Value(7.0));
-        assert_eq!(numbered(&view, &s, 5063, false), Answer::Machine(PROBE_FEATURE));
+        assert_eq!(
+            numbered(&view, &s, 5063, false),
+            Answer::Machine(PROBE_FEATURE)
+        );
         assert_eq!(numbered(&view, &s, 100, false), Answer::NotMachine);
         assert_eq!(named(&view, "_coord_system"), Answer::Value(593.0));
         assert_eq!(named(&view, "_c"), Answer::Value(6.0));
