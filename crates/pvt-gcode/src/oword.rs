@@ -367,6 +367,11 @@ impl<'a> Reader<'a> {
     }
 
     /// At the end of the input: a construct still being held never got its end.
+    /// True while a construct of the main program is being held.
+    pub(crate) fn flow_recording(&self) -> bool {
+        self.flow.recording.is_some()
+    }
+
     pub(crate) fn flow_finish(&mut self) {
         if let Some(recording) = self.flow.recording.take() {
             let close = recording.close;
@@ -427,13 +432,17 @@ impl<'a> Reader<'a> {
         match recording.opening.keyword {
             Keyword::Sub => {
                 // The body keeps its `endsub` line, which may return a value.
+                let label = recording.opening.label;
                 self.flow.subs.insert(
-                    recording.opening.label,
+                    label.clone(),
                     Body {
                         lines: body.lines[1..end].to_vec().into(),
                         file: None,
                     },
                 );
+                if self.subprograms.wants_oword(&label) {
+                    return self.found();
+                }
                 true
             }
             _ => {
@@ -677,29 +686,54 @@ impl<'a> Reader<'a> {
                 return Signal::Next;
             }
         };
+        self.invoke(&control.label, args, control.span.clone(), line.number)
+    }
+
+    /// Calls the subroutine `label` with `args` from the call at `at` (on line
+    /// `line_number`). An unknown one called from the main program is searched for in
+    /// the rest of the file, as rs274 does.
+    pub(crate) fn invoke(
+        &mut self,
+        label: &str,
+        args: Vec<f64>,
+        at: Range<usize>,
+        line_number: u32,
+    ) -> Signal {
         if self.flow.depth >= MAX_CALL_DEPTH {
             self.report(GcodeDiagnostic::RecursionLimit {
                 limit: MAX_CALL_DEPTH,
-                span: span(control.span.clone()),
+                span: span(at),
             });
             return Signal::End;
         }
-        let Some(body) = self.subroutine(control) else {
-            return Signal::Next;
+        let body = match self.subroutine(label, &at) {
+            Ok(body) => body,
+            Err(None) => return Signal::Next,
+            Err(Some(searched)) => {
+                if self.flow.depth == 0 && self.subprograms.can_search() {
+                    self.subprograms
+                        .search_oword(label, args, at, line_number, searched);
+                } else {
+                    self.unknown_subroutine(label, searched, at);
+                }
+                return Signal::Next;
+            }
         };
         let saved_origin = self.interpreter.origin.clone();
-        if let Some(file) = &body.file {
-            let (call, call_line) = match &saved_origin {
-                Some(outer) => (outer.call.clone(), outer.call_line),
-                None => (control.span.clone(), line.number),
-            };
-            self.interpreter.origin = Some(Origin {
-                file: file.clone(),
-                call,
-                call_line,
-            });
-        } else if saved_origin.is_some() && self.flow.depth == 0 {
-            self.interpreter.origin = None;
+        match &body.file {
+            Some(file) => {
+                let (call, call_line) = match &saved_origin {
+                    Some(outer) => (outer.call.clone(), outer.call_line),
+                    None => (at, line_number),
+                };
+                self.interpreter.origin = Some(Origin {
+                    file: file.clone(),
+                    call,
+                    call_line,
+                });
+            }
+            // A subroutine of the program's own file: its lines' spans are the program's.
+            None => self.interpreter.origin = None,
         }
         self.flow.depth += 1;
         self.params.enter_call(&args);
@@ -721,21 +755,28 @@ impl<'a> Reader<'a> {
         Signal::Next
     }
 
-    /// The body of the subroutine `control` calls: defined before, or read from a file.
-    fn subroutine(&mut self, control: &Control) -> Option<Body> {
-        if let Some(body) = self.flow.subs.get(&control.label) {
-            return Some(body.clone());
+    /// Reports the subroutine `label` as unknown (once per label).
+    pub(crate) fn unknown_subroutine(&mut self, label: &str, searched: String, at: Range<usize>) {
+        if !self.flow.missing.iter().any(|m| m == label) {
+            self.flow.missing.push(label.to_owned());
+            self.report(GcodeDiagnostic::UnknownSubroutine {
+                name: label.to_owned(),
+                searched,
+                span: span(at),
+            });
         }
-        let name = control
-            .label
-            .strip_prefix('<')
-            .and_then(|n| n.strip_suffix('>'));
+    }
+
+    /// The body of the subroutine `label`: defined before, or read from a file. `Err`
+    /// holds what was searched, or `None` when a file was found but is wrong (reported).
+    fn subroutine(&mut self, label: &str, at: &Range<usize>) -> Result<Body, Option<String>> {
+        if let Some(body) = self.flow.subs.get(label) {
+            return Ok(body.clone());
+        }
+        let name = label.strip_prefix('<').and_then(|n| n.strip_suffix('>'));
         let searched = match (name, self.options.subroutines.0.as_deref()) {
             (Some(name), Some(files)) => match files.read(name) {
-                Ok(Some(file)) => match self.load(control, name, file) {
-                    Some(body) => return Some(body),
-                    None => return None,
-                },
+                Ok(Some(file)) => return self.load(label, at, name, file).ok_or(None),
                 Ok(None) => format!("no {name}.ngc in {}", files.describe()),
                 Err(error) => error,
             },
@@ -744,19 +785,17 @@ impl<'a> Reader<'a> {
             }
             (None, _) => String::new(),
         };
-        if !self.flow.missing.contains(&control.label) {
-            self.flow.missing.push(control.label.clone());
-            self.report(GcodeDiagnostic::UnknownSubroutine {
-                name: control.label.clone(),
-                searched,
-                span: span(control.span.clone()),
-            });
-        }
-        None
+        Err(Some(searched))
     }
 
     /// Reads the definition of `name` from a subroutine file.
-    fn load(&mut self, control: &Control, name: &str, file: SubroutineFile) -> Option<Body> {
+    fn load(
+        &mut self,
+        called: &str,
+        at: &Range<usize>,
+        name: &str,
+        file: SubroutineFile,
+    ) -> Option<Body> {
         let label = format!("<{}>", crate::params::normalize(name));
         let file = Rc::new(FileText {
             name: file.name,
@@ -767,16 +806,16 @@ impl<'a> Reader<'a> {
         let mut found = false;
         for line in crate::parser::SourceLines::new(&file.text) {
             let control_here = parse_control(line.text, line.start).and_then(Result::ok);
-            let at = |k: Keyword| {
+            let is = |k: Keyword| {
                 control_here
                     .as_ref()
                     .is_some_and(|c| c.label == label && c.keyword == k)
             };
             if !inside {
-                inside = at(Keyword::Sub);
+                inside = is(Keyword::Sub);
                 continue;
             }
-            if at(Keyword::Endsub) {
+            if is(Keyword::Endsub) {
                 // The `endsub` line itself may return a value.
                 if let Ok(stored) = StoredLine::new(line) {
                     lines.push(stored);
@@ -788,7 +827,7 @@ impl<'a> Reader<'a> {
             if self.flow.held > MAX_BUFFERED_BYTES {
                 self.report(GcodeDiagnostic::BodyTooLarge {
                     limit: MAX_BUFFERED_BYTES,
-                    span: span(control.span.clone()),
+                    span: span(at.clone()),
                 });
                 return None;
             }
@@ -804,9 +843,9 @@ impl<'a> Reader<'a> {
         }
         if !found {
             self.report(GcodeDiagnostic::UnknownSubroutine {
-                name: control.label.clone(),
+                name: called.to_owned(),
                 searched: format!("{} has no o{label} sub … o{label} endsub", file.name),
-                span: span(control.span.clone()),
+                span: span(at.clone()),
             });
             return None;
         }
@@ -814,7 +853,7 @@ impl<'a> Reader<'a> {
             lines: lines.into(),
             file: Some(file),
         };
-        self.flow.subs.insert(control.label.clone(), body.clone());
+        self.flow.subs.insert(called.to_owned(), body.clone());
         Some(body)
     }
 

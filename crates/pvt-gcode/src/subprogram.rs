@@ -5,9 +5,10 @@
 //! subprogram definitions and the search: when `O<n>` is not known yet, the main
 //! program's following lines are held until `O<n>` … `M99` comes by, then the call runs
 //! and the held lines are read again. Held text counts against
-//! [`crate::MAX_BUFFERED_BYTES`]. A program number that starts the file, or one met when
-//! nothing is searched, names the program (rs274 runs its lines as main program code).
-//! It must not give other words a meaning nor read files.
+//! [`crate::MAX_BUFFERED_BYTES`]. The same search finds an `oN sub` that comes after
+//! its `oN call` in the main program. A program number that starts the file, or one met
+//! when nothing is searched, names the program (rs274 runs its lines as main program
+//! code). It must not give other words a meaning nor read files.
 
 use std::collections::HashMap;
 use std::ops::Range;
@@ -26,10 +27,35 @@ pub(crate) struct Call {
     span: Range<usize>,
 }
 
+/// A call whose subroutine comes later in the file.
+#[derive(Debug)]
+enum Pending {
+    /// `M98 P<n>`: the block `O<n>` … `M99`.
+    Fanuc(Call),
+    /// `oLABEL call`: `oLABEL sub` … `oLABEL endsub`, with the call's arguments.
+    Oword {
+        label: String,
+        args: Vec<f64>,
+        span: Range<usize>,
+        line: u32,
+        /// What was searched before the rest of the file (subroutine files).
+        searched: String,
+    },
+}
+
+impl Pending {
+    fn span(&self) -> Range<usize> {
+        match self {
+            Pending::Fanuc(call) => call.span.clone(),
+            Pending::Oword { span, .. } => span.clone(),
+        }
+    }
+}
+
 /// A call waiting for its subprogram, and the main program lines read meanwhile.
 #[derive(Debug)]
 struct Search {
-    call: Call,
+    call: Pending,
     held: Vec<StoredLine>,
     bytes: usize,
 }
@@ -47,6 +73,51 @@ pub(crate) struct Subprograms {
     pub in_body: u32,
     /// After the program end: a subprogram's lines are skipped without warnings.
     skipping_after_end: bool,
+}
+
+impl Subprograms {
+    /// True when a search may start: none is under way and no body is running.
+    pub fn can_search(&self) -> bool {
+        self.search.is_none() && self.in_body == 0
+    }
+
+    /// Starts searching the rest of the file for `oLABEL sub`.
+    pub fn search_oword(
+        &mut self,
+        label: &str,
+        args: Vec<f64>,
+        span: Range<usize>,
+        line: u32,
+        searched: String,
+    ) {
+        self.search = Some(Search {
+            call: Pending::Oword {
+                label: label.to_owned(),
+                args,
+                span,
+                line,
+                searched,
+            },
+            held: Vec::new(),
+            bytes: 0,
+        });
+    }
+
+    /// True when the search waits for the subroutine `label`.
+    pub fn wants_oword(&self, label: &str) -> bool {
+        matches!(&self.search, Some(Search { call: Pending::Oword { label: l, .. }, .. }) if l == label)
+    }
+
+    /// The Fanuc subprogram number searched for, if any.
+    fn wanted_number(&self) -> Option<u32> {
+        match &self.search {
+            Some(Search {
+                call: Pending::Fanuc(call),
+                ..
+            }) => Some(call.number),
+            _ => None,
+        }
+    }
 }
 
 /// `O<n>` alone on its line (a comment may follow): `n`.
@@ -104,23 +175,36 @@ impl<'a> Reader<'a> {
                         file: None,
                     },
                 );
-                if self.subprograms.search.as_ref().map(|s| s.call.number) == Some(number) {
+                if self.subprograms.wanted_number() == Some(number) {
                     return Some(self.found());
                 }
             }
             return Some(true);
         }
-        let search = self.subprograms.search.as_mut()?;
-        if program_number(line.text) == Some(search.call.number) {
-            self.subprograms.recording = Some((search.call.number, Vec::new()));
+        self.subprograms.search.as_ref()?;
+        if self.flow_recording() {
+            // The searched `oLABEL sub` is being defined: its lines are the flow's.
+            return None;
+        }
+        let wanted = self.subprograms.wanted_number();
+        if wanted.is_some() && program_number(line.text) == wanted {
+            self.subprograms.recording = wanted.map(|n| (n, Vec::new()));
             return Some(true);
         }
+        if let Some(Ok(control)) = crate::oword::parse_control(line.text, line.start) {
+            if control.keyword == crate::oword::Keyword::Sub
+                && self.subprograms.wants_oword(&control.label)
+            {
+                return None;
+            }
+        }
+        let search = self.subprograms.search.as_mut()?;
         search.bytes += line.text.len();
         if search.bytes > MAX_BUFFERED_BYTES {
             let search = self.subprograms.search.take()?;
             self.report(GcodeDiagnostic::BodyTooLarge {
                 limit: MAX_BUFFERED_BYTES,
-                span: span(search.call.span),
+                span: span(search.call.span()),
             });
             return Some(true);
         }
@@ -198,22 +282,33 @@ impl<'a> Reader<'a> {
             return true;
         }
         self.subprograms.search = Some(Search {
-            call,
+            call: Pending::Fanuc(call),
             held: Vec::new(),
             bytes: 0,
         });
         true
     }
 
-    /// The searched subprogram is defined: the call runs, then the held lines.
-    fn found(&mut self) -> bool {
+    /// The searched subprogram or subroutine is defined: the call runs, then the held
+    /// lines are read again.
+    pub(crate) fn found(&mut self) -> bool {
         let Some(search) = self.subprograms.search.take() else {
             return true;
         };
-        let Some(body) = self.subprograms.defined.get(&search.call.number).cloned() else {
-            return true;
+        let ran = match search.call {
+            Pending::Fanuc(call) => match self.subprograms.defined.get(&call.number).cloned() {
+                Some(body) => self.run_subprogram(&call, &body),
+                None => true,
+            },
+            Pending::Oword {
+                label,
+                args,
+                span,
+                line,
+                ..
+            } => self.invoke(&label, args, span, line) != crate::oword::Signal::End,
         };
-        if !self.run_subprogram(&search.call, &body) {
+        if !ran {
             return true;
         }
         for line in &search.held {
@@ -243,11 +338,25 @@ impl<'a> Reader<'a> {
     /// At the end of the input: a call whose subprogram never came.
     pub(crate) fn subprograms_finish(&mut self) {
         if let Some(search) = self.subprograms.search.take() {
-            self.report(GcodeDiagnostic::UnknownSubroutine {
-                name: format!("O{}", search.call.number),
-                searched: "no block O… ending with M99 in this file".to_owned(),
-                span: span(search.call.span),
-            });
+            match search.call {
+                Pending::Fanuc(call) => self.report(GcodeDiagnostic::UnknownSubroutine {
+                    name: format!("O{}", call.number),
+                    searched: "no block O… ending with M99 in this file".to_owned(),
+                    span: span(call.span),
+                }),
+                Pending::Oword {
+                    label,
+                    span,
+                    searched,
+                    ..
+                } => {
+                    let searched = match searched.is_empty() {
+                        true => "not defined in this file".to_owned(),
+                        false => format!("not defined in this file; {searched}"),
+                    };
+                    self.unknown_subroutine(&label, searched, span);
+                }
+            }
         }
         if let Some((number, lines)) = self.subprograms.recording.take() {
             let at = lines.first().map_or(0, |l| l.start);

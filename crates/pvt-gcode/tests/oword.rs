@@ -232,7 +232,7 @@ fn named_subroutines_come_from_files_and_their_errors_name_file_line_and_call() 
         messages,
         [
             "no subroutine <empty> (lib/empty.ngc has no o<empty> sub … o<empty> endsub)",
-            "no subroutine <none> (no none.ngc in lib)"
+            "no subroutine <none> (not defined in this file; no none.ngc in lib)"
         ]
     );
 }
@@ -302,4 +302,19 @@ fn nested_loops_stop_at_the_total_iteration_limit() {
             pvt_gcode::MAX_TOTAL_ITERATIONS
         )]
     );
+}
+
+#[test]
+fn a_subroutine_defined_after_its_call_is_found_further_on() {
+    // The lines between the call and the definition are held, then run after the call.
+    let source = "F100\no1 call [2]\nG1 Y1\nM2\no1 sub\nG1 X#1\no1 endsub\n";
+    let compiled = compile(source, &GcodeOptions::default()).unwrap();
+    assert!(compiled.warnings.is_empty(), "{:?}", compiled.warnings);
+    assert_eq!(
+        ends(source, &GcodeOptions::default()),
+        [([2.0, 0.0, 0.0], 6), ([2.0, 1.0, 0.0], 3)]
+    );
+    // Called from a loop, it must come first: a body cannot wait.
+    let in_loop = "F100\no2 repeat [2]\no1 call\no2 endrepeat\no1 sub\nG1 X1\no1 endsub\n";
+    assert_eq!(errors(in_loop), [("unknown_subroutine", 3, 1)]);
 }
