@@ -354,6 +354,43 @@ fn pmac_line_matches_grammar(line: &str) -> bool {
     if let Some(t) = line.strip_prefix("PVT") {
         return piece_time(t);
     }
+    let integer = |n: &str| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit());
+    // coord_line and axis_def_line: "&2", "#1->1000X".
+    if let Some(n) = line.strip_prefix('&') {
+        return integer(n);
+    }
+    if let Some((motor, def)) = line.strip_prefix('#').and_then(|r| r.split_once("->")) {
+        let Some((scale, axis)) = def.split_at_checked(def.len().saturating_sub(1)) else {
+            return false;
+        };
+        let scale_ok = scale
+            .split_once('.')
+            .map_or(integer(scale), |(i, f)| integer(i) && integer(f));
+        return integer(motor) && scale_ok && "XYZABC".contains(axis) && !axis.is_empty();
+    }
+    // event_line: a command, " ; ", the event's name and line.
+    if let Some((command, origin)) = line.split_once(" ; ") {
+        let origin_ok = origin.split_once(" from line ").is_some_and(|(name, n)| {
+            !name.is_empty()
+                && name.bytes().all(|b| b.is_ascii_lowercase() || b == b'_')
+                && integer(n)
+        });
+        let command_ok = [
+            "M01", "M03", "M04", "M05", "M06", "M07", "M08", "M09", "STOP",
+        ]
+        .contains(&command)
+            || command.strip_prefix('T').is_some_and(integer)
+            || command
+                .strip_prefix('S')
+                .is_some_and(|v| v.parse::<f64>().is_ok_and(|v| v >= 0.0) && !v.contains('e'))
+            || command
+                .strip_prefix("SEND\"")
+                .and_then(|t| t.strip_suffix('"'))
+                .is_some_and(|t| !t.contains('"'));
+        if origin_ok && command_ok {
+            return true;
+        }
+    }
     if let Some(rest) = line.strip_prefix("DWELL") {
         return rest.split_once(" ; G4 from line ").is_some_and(|(t, n)| {
             is_fixed(t, 4, false) && !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit())
@@ -411,8 +448,89 @@ fn golden_pmac_files_follow_the_pmac_grammar() {
         "TA4095.0001 X1.000000:0.000000",
         "PVT4096.0000",
         "X1.000000:0.000000 TA1.0000",
+        "&",
+        "#1->X",
+        "#1->1000Q",
+        "#1->-5X",
+        "M3 ; spindle_cw from line 3",
+        "SEND\"a\"b\" ; message from line 2",
+        "M03 ; spindle_cw",
     ] {
         assert!(!pmac_line_matches_grammar(bad), "{bad}");
+    }
+}
+
+/// PMAC program settings and event commands: every line follows grammars/pmac.ebnf,
+/// each event becomes its command, and a fresh `PVT` line follows each command before
+/// the next piece. Without the settings the output is the golden file, byte for byte.
+#[test]
+fn pmac_settings_and_event_commands_follow_the_pmac_grammar() {
+    let text = "G21 G90\nT2 M6\nS12000 M3\nM8\nG1 X10 F600\n(MSG, check \"it\")\nM0\nG4 P0.5\n\
+                G1 Y10 Z-1\nM1\nM5 M9\nM30\n";
+    let source = Source::from_text("events.ngc", text);
+    let mut options = CompileOptions::new(Format::Pmac);
+    options.pmac = pvt_emit::PmacSettings {
+        program: 12,
+        coord: Some(3),
+        axes: ["#1->1000X", "#2->1000.5Y", "#4->2000Z"]
+            .iter()
+            .map(|d| pvt_emit::AxisDefinition::parse(d).unwrap())
+            .collect(),
+        events: pvt_emit::PmacEvents::Commands,
+    };
+    let out = String::from_utf8(pvtc::compile(&source, &options).unwrap().bytes).unwrap();
+    for line in out.lines() {
+        assert!(pmac_line_matches_grammar(line), "{line:?} in\n{out}");
+    }
+    let body: Vec<&str> = out.lines().filter(|l| !l.starts_with(';')).collect();
+    let piece = |l: &&str| l.starts_with("TA");
+    let first_piece = body.iter().position(piece).unwrap();
+    assert_eq!(
+        body[..first_piece],
+        [
+            "&3",
+            "#1->1000X",
+            "#2->1000.5Y",
+            "#4->2000Z",
+            "OPEN PROG 12 CLEAR",
+            "ABS",
+            "T2 ; tool_select from line 2",
+            "M06 ; tool_change from line 2",
+            "S12000 ; spindle_speed from line 3",
+            "M03 ; spindle_cw from line 3",
+            "M08 ; coolant_flood from line 4",
+            "PVT1500.0000",
+        ],
+        "{out}"
+    );
+    let after: Vec<&str> = body[first_piece + 1..]
+        .iter()
+        .copied()
+        .filter(|l| !piece(l))
+        .collect();
+    assert_eq!(
+        after,
+        [
+            "SEND\"check 'it'\" ; message from line 6",
+            "STOP ; pause from line 7",
+            "DWELL500.0000 ; G4 from line 8",
+            "PVT1507.4813",
+            "M01 ; optional_pause from line 10",
+            "M05 ; spindle_off from line 11",
+            "M09 ; coolant_off from line 11",
+            "CLOSE",
+        ],
+        "{out}"
+    );
+    // The defaults are today's output: program 1, no &n, events as comments.
+    for sample in [
+        "samples/gcode/fanuc_post_dwell_checksum.ngc",
+        "samples/gcode/square.ngc",
+    ] {
+        let mut options = options_for(sample, Format::Pmac);
+        options.pmac = pvt_emit::PmacSettings::default();
+        let golden = std::fs::read(root().join(golden_name(sample, Format::Pmac))).unwrap();
+        assert_eq!(compile_file(sample, &options), golden, "{sample}");
     }
 }
 

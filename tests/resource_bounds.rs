@@ -151,7 +151,7 @@ fn an_unterminated_comment_to_the_end_of_a_1_gb_input() {
 
 #[test]
 fn an_error_on_each_of_200k_lines_keeps_a_thousand_and_counts_the_rest() {
-    let input = Generated::new("G21 F100\n", "G1 X1 Q7\n", 200_000, "");
+    let input = Generated::new("G21 F100\n", "G1 X1 E7\n", 200_000, "");
     let (errors, _, peak) = compile(input);
     assert_eq!(errors.len(), pvt_gcode::MAX_KEPT_DIAGNOSTICS + 1);
     assert!(errors[..1000]

@@ -22,6 +22,7 @@ pub mod validate;
 use pvt_core::PvtProgram;
 use std::io::Write;
 
+pub use pmac::{AxisDefinition, PmacEvents, PmacSettings};
 pub use stream::{Checked, Header, ProgramWriter, StreamError};
 pub use validate::{validate, InvalidProgram};
 
@@ -93,8 +94,8 @@ pub struct EmitOptions {
     pub source: String,
     /// The settings that shaped the program, as (name, value) pairs, in a fixed order.
     pub settings: Vec<(String, String)>,
-    /// PMAC motion program number for `OPEN PROG n`.
-    pub program_number: u32,
+    /// PMAC program number, coordinate system, axis definitions and event commands.
+    pub pmac: pmac::PmacSettings,
 }
 
 /// Validates the whole of `program`, then writes it in `format` to `out`.

@@ -27,11 +27,11 @@ pub enum GcodeDiagnostic {
         span: SourceSpan,
     },
 
-    /// A word whose letter pvtc does not know (`Q5`, `S1000`) or a code that is no G-code.
+    /// A word whose letter pvtc does not know (`E5`, `~`) or a code that is no G-code.
     #[error("unknown word `{word}`: {meaning}")]
     #[diagnostic(
         code(pvtc::gcode::unknown_word),
-        help("pvtc reads G, M, N, F, X, Y, Z, A, B, C, I, J, K and R words; remove this one")
+        help("pvtc reads G, M, N, F, S, T, P, Q, L, H, D, X, Y, Z, A, B, C, I, J, K and R words; remove this one")
     )]
     UnknownWord {
         /// The word as written.
@@ -421,6 +421,21 @@ pub enum GcodeDiagnostic {
         span: SourceSpan,
     },
 
+    /// Note: a rapid to the point the axes are already at, as CAM output writes to start
+    /// from a known point; nothing moves, so it is dropped. A note, not a warning:
+    /// `--deny-warnings` does not fail on it.
+    #[error("rapid to the current point; nothing moves")]
+    #[diagnostic(
+        code(pvtc::gcode::rapid_to_current_point),
+        severity(Advice),
+        help("ordinary in CAM output; nothing to do")
+    )]
+    RapidToCurrentPoint {
+        /// The block.
+        #[label("already here")]
+        span: SourceSpan,
+    },
+
     /// Warning: blocks after the program end (M2, M30, closing `%`) are ignored.
     #[error("blocks after {end} are ignored")]
     #[diagnostic(
@@ -583,6 +598,37 @@ pub enum GcodeDiagnostic {
         span: SourceSpan,
     },
 
+    /// A canned cycle (G73, G81…G89) that cannot run as written: no R or Z level, R
+    /// below the bottom, a bad Q or L, tapping without the spindle turning clockwise.
+    #[error("canned cycle {code}: {detail}")]
+    #[diagnostic(
+        code(pvtc::gcode::cycle),
+        help("give the cycle its R level, bottom and the words its code needs (LinuxCNC's rules)")
+    )]
+    Cycle {
+        /// The cycle's code, e.g. `G83`.
+        code: &'static str,
+        /// What is wrong.
+        detail: String,
+        /// The block's cycle words.
+        #[label("cannot run")]
+        span: SourceSpan,
+    },
+
+    /// G43/G43.2 H (or M6 T with G43) naming a tool the tool table does not have.
+    #[error("tool {tool} is not in the tool table")]
+    #[diagnostic(
+        code(pvtc::gcode::unknown_tool),
+        help("give its offsets in the --tool-table file (a line like `T{tool} P{tool} Z0.5`)")
+    )]
+    UnknownTool {
+        /// The tool number.
+        tool: u32,
+        /// The word naming it.
+        #[label("no such tool")]
+        span: SourceSpan,
+    },
+
     /// A program without any motion (empty, or only comments and modes).
     #[error("the program has no motion")]
     #[diagnostic(
@@ -621,6 +667,7 @@ impl GcodeDiagnostic {
             D::ZeroFeed { .. } => "pvtc::gcode::zero_feed",
             D::OutOfRange { .. } => "pvtc::gcode::out_of_range",
             D::ZeroLengthMove { .. } => "pvtc::gcode::zero_length_move",
+            D::RapidToCurrentPoint { .. } => "pvtc::gcode::rapid_to_current_point",
             D::AfterProgramEnd { .. } => "pvtc::gcode::after_program_end",
             D::NoMotion { .. } => "pvtc::gcode::no_motion",
             D::LineTooLong { .. } => "pvtc::gcode::line_too_long",
@@ -639,6 +686,8 @@ impl GcodeDiagnostic {
             D::LoopLimit { .. } => "pvtc::gcode::loop_limit",
             D::BodyTooLarge { .. } => "pvtc::gcode::body_too_large",
             D::InSubroutineFile { .. } => "pvtc::gcode::in_subroutine_file",
+            D::Cycle { .. } => "pvtc::gcode::cycle",
+            D::UnknownTool { .. } => "pvtc::gcode::unknown_tool",
         }
     }
 
@@ -648,7 +697,7 @@ impl GcodeDiagnostic {
         span.offset()..span.offset() + span.len()
     }
 
-    /// True for warnings (the program still compiles), false for errors.
+    /// True for warnings and notes (the program still compiles), false for errors.
     pub fn is_warning(&self) -> bool {
         if let Self::InSubroutineFile { inner, .. } = self {
             return inner.is_warning();
@@ -656,6 +705,7 @@ impl GcodeDiagnostic {
         matches!(
             self,
             Self::ZeroLengthMove { .. }
+                | Self::RapidToCurrentPoint { .. }
                 | Self::AfterProgramEnd { .. }
                 | Self::IgnoredWord { .. }
                 | Self::MoreWarnings { .. }
@@ -685,6 +735,7 @@ impl GcodeDiagnostic {
             | D::ZeroFeed { span, .. }
             | D::OutOfRange { span, .. }
             | D::ZeroLengthMove { span }
+            | D::RapidToCurrentPoint { span }
             | D::AfterProgramEnd { span, .. }
             | D::NoMotion { span }
             | D::LineTooLong { span, .. }
@@ -703,6 +754,7 @@ impl GcodeDiagnostic {
             | D::LoopLimit { span, .. }
             | D::BodyTooLarge { span, .. }
             | D::InSubroutineFile { span, .. } => span,
+            D::Cycle { span, .. } | D::UnknownTool { span, .. } => span,
         }
     }
 }

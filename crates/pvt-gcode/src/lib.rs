@@ -14,11 +14,20 @@
 //!
 //! Dialect (see `grammars/gcode.ebnf` and the issue 4 list): G0 G1 G2 G3 in G17/G18/G19
 //! (I/J/K under G90.1 or G91.1, R, P turns, helices), G4, G7/G8, G20/G21, G53, G54–G59.3,
-//! G61/G61.1/G64 (P), G80, G90/G91, G92/G92.1/G92.2/G92.3, G93/G94, F S T, X Y Z A B C,
+//! G61/G61.1/G64 (P, and Q recorded as LinuxCNC's naive-CAM tolerance, not applied),
+//! G80, G90/G91, G92/G92.1/G92.2/G92.3, G93/G94, F S T, X Y Z A B C, polar `@` `^`,
 //! M0 M1 M2 M30 M3 M4 M5 M6 M7 M8 M9, parameters (`#1`, `#<name>`) and expressions,
-//! `(MSG, …)`, `*nn` checksums. G40 and G49 are accepted as they select what pvtc always
+//! `(MSG, …)`, `(DEBUG, …)`, `(PRINT, …)`, `*nn` checksums. Issue 16, as LinuxCNC's
+//! `rs274` runs them: canned cycles G73 G81–G89 with G98/G99 and L ([`interpreter`]'s
+//! `cycles`), tools (T, M6, G43/G43.1/G43.2/G49 from [`GcodeOptions::tool_table`]),
+//! G10 L1/L2/L10/L11/L20, G52, G28/G30/G28.1/G30.1; G96/G97 and M48–M53 are kept as
+//! state, `(LOG…)` comments accepted. G40 is accepted as it selects what pvtc always
 //! does. Every axis starts at 0. Lines with block delete (`/`) are executed (the switch
-//! is off). A program number (`O1001`) names the program.
+//! is off). A program number (`O1001`) names the program. G76, cutter compensation,
+//! G5.x, G38.x, G33 and reads of machine-specific parameters are `unsupported`, one
+//! diagnostic per feature with the count of places, and the program fails. A block with
+//! an unknown G code runs nothing and the blocks after it in its motion mode are
+//! skipped, so nothing cascades.
 //!
 //! O-words (`oword.rs`): `sub`/`endsub`/`return`/`call` with arguments `#1`–`#30` and
 //! local names, `if`/`elseif`/`else`/`endif`, `while`/`endwhile`, `do`/`while`,
@@ -32,9 +41,7 @@
 //! Parameters (`params.rs`, `params/machine.rs`): predefined names (`#<_x>`,
 //! `#<_metric>`, `#<_feed>`, `#<_value>`, …) and machine parameters (#5161–#5428: homes,
 //! G92, coordinate systems, tool, position) read the interpreter's state; probe results,
-//! M66 inputs, HAL pins and ini values are `unsupported`. Canned cycles, cutter and tool
-//! length compensation, G5.x, G38.x and G28/G30 are `unsupported`, one diagnostic per
-//! feature with the count of places, and the program fails.
+//! M66 inputs, HAL pins and ini values are `unsupported`.
 //!
 //! Contours: a rapid move is a contour of its own; feed moves run together until a
 //! rapid, an event or a stop. Every event (G4 dwell, M0/M1 pause, S, T, M6, M3/M4/M5,
@@ -51,6 +58,7 @@ mod diagnostic;
 mod interpreter;
 mod kept;
 mod lines;
+mod messages;
 mod oword;
 mod params;
 mod parser;
@@ -59,6 +67,7 @@ mod request;
 mod sink;
 mod subprogram;
 mod syntax;
+mod tools;
 mod value;
 
 pub use diagnostic::{line_col, GcodeDiagnostic, GcodeErrors};
@@ -68,6 +77,7 @@ pub use oword::{SubroutineFile, SubroutineFiles};
 pub use prescan::{prescan, Prescan};
 pub use sink::{StreamSummary, ToolpathSink};
 pub use syntax::{check_syntax, SyntaxSummary};
+pub use tools::{Tool, ToolTable};
 
 use interpreter::{Flow, Interpreter};
 use parser::{LineKind, SourceLine, SourceLines};
@@ -140,6 +150,9 @@ pub struct GcodeOptions {
     /// X Y Z in millimetres and A B C in degrees; zero by default. A position in the
     /// output is the program coordinate plus the active row plus any G92 offset.
     pub work_offsets: [[f64; 6]; 9],
+    /// The tool table G43 and G43.2 read (LinuxCNC's `.tbl` format, millimetres); empty
+    /// by default, where only H0 (no offset) is known.
+    pub tool_table: ToolTable,
     /// Subroutine files for `o<name> call` (`--subroutine-path`).
     pub subroutines: Subroutines,
 }
@@ -153,6 +166,7 @@ impl Default for GcodeOptions {
             arc_rel_tolerance: 0.001,
             units: None,
             work_offsets: [[0.0; 6]; 9],
+            tool_table: ToolTable::default(),
             subroutines: Subroutines::default(),
         }
     }
@@ -248,8 +262,7 @@ pub struct Reader<'a> {
 impl<'a> Reader<'a> {
     /// A reader compiling into `sink`.
     pub fn new(options: &'a GcodeOptions, sink: &'a mut dyn ToolpathSink) -> Reader<'a> {
-        let mut params = params::Parameters::default();
-        params.stored.work_offsets = options.work_offsets;
+        let params = params::Parameters::default();
         Reader {
             options,
             flow: oword::Flow::default(),

@@ -54,10 +54,9 @@ pub(crate) struct Parameters {
     named: HashMap<String, f64>,
     /// One per subroutine call in progress, innermost last.
     frames: Vec<Frame>,
-    /// The interpreter's state, for machine parameters (updated after every block).
+    /// The interpreter's state, for machine parameters (brought up to date before a
+    /// line that reads parameters).
     pub view: machine::MachineView,
-    /// Offsets and homes the machine parameters read.
-    pub stored: machine::Stored,
 }
 
 impl Default for Parameters {
@@ -68,10 +67,6 @@ impl Default for Parameters {
             named: HashMap::new(),
             frames: Vec::new(),
             view: machine::MachineView::default(),
-            stored: machine::Stored {
-                work_offsets: [[0.0; 6]; 9],
-                homes: [[0.0; 6]; 2],
-            },
         }
     }
 }
@@ -108,7 +103,7 @@ impl Parameters {
         if index < 5000 {
             return Ok(v);
         }
-        match machine::numbered(&self.view, &self.stored, index, assigned) {
+        match machine::numbered(&self.view, index, assigned) {
             machine::Answer::Value(value) => Ok(value),
             machine::Answer::Machine(feature) => Err(ReadProblem::MachineSpecific(feature)),
             machine::Answer::NotMachine => Ok(v),

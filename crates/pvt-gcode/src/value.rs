@@ -120,6 +120,11 @@ impl<'a> Reader<'a> {
         }
     }
 
+    /// The parameters values are read from.
+    pub fn params(&self) -> &'a Parameters {
+        self.params
+    }
+
     /// A real value: `[sign] (number | [expr] | #param | FUNCTION[expr])`.
     pub fn real_value(&mut self) -> Result<f64> {
         self.skip_blanks();

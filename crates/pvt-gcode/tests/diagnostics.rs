@@ -31,7 +31,7 @@ fn a_bad_word_on_line_3_names_line_3() {
 
 #[test]
 fn every_bad_line_is_reported() {
-    let got = after_head("G1 X--1\nG1 X2\nG1 Y.\nQ5\nG1 X(\n");
+    let got = after_head("G1 X--1\nG1 X2\nG1 Y.\nE5\nG1 X(\n");
     assert_eq!(
         got,
         [
@@ -45,18 +45,21 @@ fn every_bad_line_is_reported() {
 
 #[test]
 fn unknown_words() {
-    assert_eq!(after_head("G1 X1 Q5\n"), [("unknown_word", 3, 7)]);
-    assert_eq!(after_head("G1 X1 @\n"), [("unknown_word", 3, 7)]);
+    assert_eq!(after_head("G1 X1 E5\n"), [("unknown_word", 3, 7)]);
+    assert_eq!(after_head("G1 X1 ~\n"), [("unknown_word", 3, 7)]);
     assert_eq!(after_head("G1.5 X1\n"), [("unknown_word", 3, 1)]);
     assert_eq!(after_head("M1000\n"), [("unknown_word", 3, 1)]);
 }
 
 #[test]
 fn unsupported_features_are_named() {
-    let source = format!("{HEAD}G81 X1 Y1 Z-1 R1\n");
+    let source = format!("{HEAD}G76 X1 Z-1\n");
     let errors = compile(&source, &GcodeOptions::default()).unwrap_err();
     let messages: Vec<_> = errors.diagnostics.iter().map(ToString::to_string).collect();
-    assert_eq!(messages, ["G81 (canned cycles) is not supported by pvtc"]);
+    assert_eq!(
+        messages,
+        ["G76 (lathe threading cycles) is not supported by pvtc"]
+    );
     assert_eq!(after_head("G41 X1\n"), [("unsupported", 3, 1)]);
     assert_eq!(after_head("G1 X1 M60\n"), [("unsupported", 3, 7)]);
     assert_eq!(
@@ -174,8 +177,33 @@ fn warnings_do_not_fail() {
     assert_eq!(
         codes,
         [
-            ("pvtc::gcode::zero_length_move", true),
+            ("pvtc::gcode::rapid_to_current_point", true),
             ("pvtc::gcode::after_program_end", true)
+        ]
+    );
+}
+
+#[test]
+fn a_rapid_to_the_current_point_is_a_note_and_a_feed_move_a_warning() {
+    use miette::{Diagnostic, Severity};
+    let compiled = common::ok("G0 X0 Y0\nG1 X1 F100\nG1 X1\nG0 X1\n");
+    let found: Vec<_> = compiled
+        .warnings
+        .iter()
+        .map(|w| (w.code(), w.severity()))
+        .collect();
+    assert_eq!(
+        found,
+        [
+            (
+                "pvtc::gcode::rapid_to_current_point",
+                Some(Severity::Advice)
+            ),
+            ("pvtc::gcode::zero_length_move", Some(Severity::Warning)),
+            (
+                "pvtc::gcode::rapid_to_current_point",
+                Some(Severity::Advice)
+            ),
         ]
     );
 }
@@ -219,16 +247,19 @@ fn issue_4_codes_name_line_and_column() {
     assert_eq!(after_head("G4 P-1\n"), [("bad_value", 3, 4)]);
     assert_eq!(after_head("G2 X0 Y0 I5 P0\n"), [("bad_value", 3, 13)]);
     assert_eq!(after_head("G1 X#0\n"), [("out_of_range", 3, 5)]);
-    assert_eq!(after_head("G28\n"), [("unsupported", 3, 1)]);
+    assert_eq!(after_head("G10 L2 P1 R45\n"), [("unsupported", 3, 11)]);
+    assert_eq!(after_head("G10 L1 P1 Z1\n"), [("unknown_tool", 3, 8)]);
+    assert_eq!(after_head("G10 P1 X1\n"), [("missing_word", 3, 1)]);
     assert_eq!(after_head("o100 sub\n"), [("oword", 3, 1)]);
     assert_eq!(after_head("o100 jump\n"), [("oword", 3, 1)]);
     assert_eq!(after_head("o100 call\n"), [("unknown_subroutine", 3, 1)]);
-    assert_eq!(after_head("G43 H1\n")[0], ("unsupported", 3, 1));
+    assert_eq!(after_head("G43 H1\n"), [("unknown_tool", 3, 5)]);
+    assert_eq!(after_head("G81 X1 Z-1\n"), [("cycle", 3, 1)]);
 }
 
 #[test]
 fn unsupported_features_are_reported_once_with_their_count() {
-    let source = format!("{HEAD}G81 X1 Y1 Z-1 R1\nG83 X2 Q1\nG38.2 Z-1\nG82 X3\n");
+    let source = format!("{HEAD}G76 X1 Z-1\nG76 X2 Z-1\nG38.2 Z-1\nG76 X3 Z-1\n");
     let errors = compile(&source, &GcodeOptions::default()).unwrap_err();
     let messages: Vec<_> = errors
         .diagnostics
@@ -239,7 +270,7 @@ fn unsupported_features_are_reported_once_with_their_count() {
     assert_eq!(
         messages,
         [
-            "G81 (canned cycles) is not supported by pvtc (3 places; the first is shown)",
+            "G76 (lathe threading cycles) is not supported by pvtc (3 places; the first is shown)",
             "G38.2 (probing) is not supported by pvtc"
         ]
     );

@@ -94,7 +94,7 @@ fn runaway_recursion_is_an_error_at_the_call_that_goes_too_deep() {
 
 #[test]
 fn errors_in_a_body_name_the_bodys_line() {
-    let source = "G1 X1 F100\no1 sub\n  G1 X[1/0]\no1 endsub\no1 call\n#1 = 0\no2 while [#1 LT 2]\n#1 = [#1 + 1]\nG1 Q1\no2 endwhile\n";
+    let source = "G1 X1 F100\no1 sub\n  G1 X[1/0]\no1 endsub\no1 call\n#1 = 0\no2 while [#1 LT 2]\n#1 = [#1 + 1]\nG1 E1\no2 endwhile\n";
     let found = errors(source);
     // Each once, though the loop runs the bad line twice.
     assert_eq!(found, [("math_error", 3, 9), ("unknown_word", 9, 4)]);

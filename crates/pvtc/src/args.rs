@@ -1,9 +1,10 @@
 //! Command-line arguments.
 //!
 //! Owns the flags, their help text and their conversion into pipeline options (reading
-//! the `--offsets` file through [`crate::offsets`]). It must not compile anything.
+//! the `--offsets` file through [`crate::offsets`], the `--tool-table` file through
+//! [`crate::tools`]). It must not compile anything.
 
-use crate::pipeline::{CompileOptions, DrawingOptions, Failure, InputKind};
+use crate::pipeline::{CompileOptions, DrawingOptions, Failure, InputKind, VelocitySource};
 use clap::{Parser, Subcommand, ValueEnum};
 use pvt_core::{AxisLimits, Planner, Rounding, Timing, Units};
 use pvt_emit::Format;
@@ -27,8 +28,17 @@ pub enum Command {
     /// Report what a program's motion will do: peaks, servo-sampled values, path error,
     /// speed against feed; exit 1 when a given limit is exceeded.
     Check(CheckArgs),
-    /// Plot a program's path, speed, velocities and accelerations as SVG.
+    /// Plot a program's path, speed, velocities and accelerations as SVG or PNG.
     Plot(PlotArgs),
+    /// Print a shell completion script (bash, zsh, fish, elvish or powershell) on standard
+    /// output, e.g. `pvtc completions bash > ~/.local/share/bash-completion/completions/pvtc`.
+    Completions {
+        /// The shell.
+        #[arg(value_enum)]
+        shell: clap_complete::Shell,
+    },
+    /// Print the manual page (roff) on standard output, e.g. `pvtc man | man -l -`.
+    Man,
 }
 
 /// Output format names on the command line.
@@ -76,6 +86,15 @@ pub enum UnitsArg {
     In,
 }
 
+/// Where a series' velocities come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum VelocitiesArg {
+    /// The series' velocity columns, as given.
+    File,
+    /// The planner's own method; velocity columns are ignored.
+    Plan,
+}
+
 /// How diagnostics are printed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum DiagnosticsArg {
@@ -92,8 +111,12 @@ pub struct PipelineArgs {
     #[arg(long = "input-format", value_enum)]
     pub input_format: Option<InputArg>,
     /// Planner: path (motion within --tolerance of the drawn geometry; default for G-code
-    /// and DXF), contour (bisector velocities through every point; default for CSV), pt,
-    /// chord, const-accel, spline or lspb.
+    /// and DXF), contour (bisector velocities at the feed, mid-segment speed = mean of end
+    /// speeds; default for CSV), pt (constant velocity between points), chord-forward
+    /// (velocity = outgoing chord / time, as the quad-circle MovePVT example; `chord` is an
+    /// alias), chord-back (velocity = incoming chord / time, as AN208), const-accel
+    /// (constant acceleration within each piece), spline (C2 cubic spline) or lspb (linear
+    /// segments with parabolic blends at --accel).
     #[arg(long, value_name = "NAME", value_parser = planner)]
     pub planner: Option<Planner>,
     /// Machine file (TOML) with per-axis velocity, acceleration and jerk limits that the
@@ -105,7 +128,7 @@ pub struct PipelineArgs {
     /// blend within the path tolerance with --machine, and stop without it].
     #[arg(long = "corner-tolerance", value_name = "T", value_parser = positive_number)]
     pub corner_tolerance: Option<f64>,
-    /// Fixed time per piece (seed 002) for pt/chord/const-accel/spline/lspb, e.g. 5ms;
+    /// Fixed time per piece for pt/chord-forward/chord-back/const-accel/spline/lspb, e.g. 5ms;
     /// default: time = distance / feed.
     #[arg(long = "time-slice", value_name = "T", value_parser = duration)]
     pub time_slice: Option<f64>,
@@ -159,6 +182,14 @@ pub struct PipelineArgs {
     /// `:`-separated list, like LinuxCNC's SUBROUTINE_PATH).
     #[arg(long = "subroutine-path", value_name = "DIR")]
     pub subroutine_path: Vec<String>,
+    /// G-code: the tool table G43 H reads, in LinuxCNC's `.tbl` format (lines like
+    /// `T1 P1 Z0.5 D6 ;comment`, millimetres and degrees) [default: no tools].
+    #[arg(long = "tool-table", value_name = "FILE")]
+    pub tool_table: Option<PathBuf>,
+    /// G-code: the units of the --tool-table file's lengths (LinuxCNC reads a table in
+    /// its machine units; the standalone `rs274` in inches) [default: mm].
+    #[arg(long = "tool-table-units", value_enum, value_name = "UNITS")]
+    pub tool_table_units: Option<UnitsArg>,
     /// G-code: a centre-format arc is refused when its start and end radii differ by
     /// more than this many mm and by more than --arc-rel-tolerance [default: 0.002].
     #[arg(long = "arc-abs-tolerance", value_name = "MM", value_parser = positive_number)]
@@ -166,7 +197,12 @@ pub struct PipelineArgs {
     /// G-code: relative arc radius tolerance (0.001 = 0.1 %) [default: 0.001].
     #[arg(long = "arc-rel-tolerance", value_name = "R", value_parser = positive_number)]
     pub arc_rel_tolerance: Option<f64>,
-    /// Fail when there is any warning.
+    /// CSV: where the velocities come from: `file` (the series' v<axis> columns, as given)
+    /// or `plan` (the planner's method; the columns are ignored) [default: file when the
+    /// series has velocity columns and the planner takes velocities].
+    #[arg(long, value_name = "file|plan", value_enum)]
+    pub velocities: Option<VelocitiesArg>,
+    /// Fail when there is any warning (notes never fail).
     #[arg(long = "deny-warnings")]
     pub deny_warnings: bool,
     /// How to print diagnostics.
@@ -188,8 +224,8 @@ impl PipelineArgs {
             }
             if matches!(planner, Planner::Path | Planner::Contour) {
                 return Err(Failure::Usage(format!(
-                    "--time-slice does nothing with the {name} planner: it times pt, chord, \
-                     const-accel, spline and lspb (--planner NAME)"
+                    "--time-slice does nothing with the {name} planner: it times pt, \
+                     chord-forward, chord-back, const-accel, spline and lspb (--planner NAME)"
                 )));
             }
         }
@@ -202,6 +238,21 @@ impl PipelineArgs {
         if !self.subroutine_path.is_empty() && input != InputKind::Gcode {
             return Err(Failure::Usage(
                 "--subroutine-path does nothing here: it finds G-code subroutines".into(),
+            ));
+        }
+        if self.tool_table_units.is_some() && self.tool_table.is_none() {
+            return Err(Failure::Usage(
+                "--tool-table-units does nothing without --tool-table FILE".into(),
+            ));
+        }
+        if self.tool_table.is_some() && input != InputKind::Gcode {
+            return Err(Failure::Usage(
+                "--tool-table does nothing here: G43 H in a G-code program reads it".into(),
+            ));
+        }
+        if self.velocities.is_some() && input != InputKind::Csv {
+            return Err(Failure::Usage(
+                "--velocities does nothing here: it chooses the velocities of a CSV series".into(),
             ));
         }
         if !self.layers.is_empty() && input != InputKind::Dxf {
@@ -218,6 +269,16 @@ impl PipelineArgs {
         let work_offsets = match &self.offsets {
             Some(path) => crate::offsets::read(path)?,
             None => [[0.0; 6]; 9],
+        };
+        let tool_table = match &self.tool_table {
+            Some(path) => {
+                let mut table = crate::tools::read(path)?;
+                if self.tool_table_units == Some(UnitsArg::In) {
+                    table.scale_lengths(25.4);
+                }
+                table
+            }
+            None => pvt_gcode::ToolTable::default(),
         };
         let defaults = pvt_gcode::GcodeOptions::default();
         let input = match self.input_format {
@@ -247,6 +308,7 @@ impl PipelineArgs {
             quantize_rounding: self.quantize_rounding.unwrap_or_default(),
             work_offsets,
             subroutine_path: self.subroutine_path.clone(),
+            tool_table,
             arc_abs_tolerance_mm: self
                 .arc_abs_tolerance
                 .unwrap_or(defaults.arc_abs_tolerance_mm),
@@ -262,6 +324,11 @@ impl PipelineArgs {
                     UnitsArg::In => Units::Inch,
                 }),
             },
+            velocities: self.velocities.map(|v| match v {
+                VelocitiesArg::File => VelocitySource::File,
+                VelocitiesArg::Plan => VelocitySource::Plan,
+            }),
+            pmac: pvt_emit::PmacSettings::default(),
         })
     }
 }
@@ -289,6 +356,70 @@ pub struct CompileArgs {
     /// How to read and plan the input.
     #[command(flatten)]
     pub pipeline: PipelineArgs,
+    /// PMAC program settings.
+    #[command(flatten)]
+    pub pmac: PmacArgs,
+}
+
+/// How PMAC events are written, on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum PmacEventsArg {
+    /// Comments (`; event spindle_cw from line 5`); G4 as DWELL.
+    Comments,
+    /// PMAC commands: M03/M04/M05, M07/M08/M09, M06 and M01 (calls of PROG 1001), T<n>
+    /// (PROG 1002), S<rpm>, STOP for M0, SEND"…" for a message, DWELL for G4.
+    Commands,
+}
+
+/// The PMAC program settings of `pvtc compile` (PMAC output only).
+#[derive(Debug, Clone, clap::Args)]
+pub struct PmacArgs {
+    /// PMAC: motion program number, OPEN PROG N (1–32767, not 1000–1003) [default: 1].
+    #[arg(long = "pmac-program", value_name = "N")]
+    pub program: Option<u32>,
+    /// PMAC: address coordinate system &N (1–16) before the program.
+    #[arg(long = "pmac-coord", value_name = "N")]
+    pub coord: Option<u32>,
+    /// PMAC: an axis definition written after &N, like '#1->1000X' (motor 1 is X at 1000
+    /// counts per unit); repeatable; every moved axis then needs one. Needs --pmac-coord.
+    #[arg(long = "pmac-axis", value_name = "#M->SA", requires = "coord", value_parser = pvt_emit::AxisDefinition::parse)]
+    pub axes: Vec<pvt_emit::AxisDefinition>,
+    /// PMAC: write events (spindle, coolant, tool, pause, message) as comments or as PMAC
+    /// commands [default: comments].
+    #[arg(long = "pmac-events", value_enum, value_name = "comments|commands")]
+    pub events: Option<PmacEventsArg>,
+}
+
+impl PmacArgs {
+    /// The settings asked for; a usage error when they are out of range or the output
+    /// is not PMAC (where they would do nothing).
+    pub fn settings(&self, format: FormatArg) -> Result<pvt_emit::PmacSettings, Failure> {
+        let given = self.program.is_some()
+            || self.coord.is_some()
+            || !self.axes.is_empty()
+            || self.events.is_some();
+        if given && format != FormatArg::Pmac {
+            let name = format
+                .to_possible_value()
+                .map(|v| v.get_name().to_string())
+                .unwrap_or_default();
+            return Err(Failure::Usage(format!(
+                "--pmac-program, --pmac-coord, --pmac-axis and --pmac-events do nothing with \
+                 --format {name}: they set up PMAC output"
+            )));
+        }
+        let settings = pvt_emit::PmacSettings {
+            program: self.program.unwrap_or(1),
+            coord: self.coord,
+            axes: self.axes.clone(),
+            events: match self.events {
+                Some(PmacEventsArg::Commands) => pvt_emit::PmacEvents::Commands,
+                Some(PmacEventsArg::Comments) | None => pvt_emit::PmacEvents::Comments,
+            },
+        };
+        settings.validate().map_err(Failure::Usage)?;
+        Ok(settings)
+    }
 }
 
 impl CompileArgs {
@@ -299,7 +430,10 @@ impl CompileArgs {
                 "-j does nothing without --out-dir: it sets how many files compile at once".into(),
             ));
         }
-        self.pipeline.compile_options(name, self.format.into())
+        let pmac = self.pmac.settings(self.format)?;
+        let mut options = self.pipeline.compile_options(name, self.format.into())?;
+        options.pmac = pmac;
+        Ok(options)
     }
 }
 
@@ -361,8 +495,9 @@ pub struct PlotArgs {
     /// A source (compiled first with the options below) or a pvtc JSON program (.json).
     #[arg(value_name = "INPUT")]
     pub input: PathBuf,
-    /// The SVG file to write; `-` writes standard output.
-    #[arg(short, long, value_name = "FILE.svg")]
+    /// The file to write: FILE.svg (SVG) or FILE.png (PNG); `-` writes SVG on standard
+    /// output.
+    #[arg(short, long, value_name = "FILE.svg|FILE.png")]
     pub output: PathBuf,
     /// How to read and plan the input.
     #[command(flatten)]

@@ -77,6 +77,7 @@ pub fn gcode_options(options: &CompileOptions) -> pvt_gcode::GcodeOptions {
                 crate::subroutines::SubroutinePath::from_args(&options.subroutine_path),
             )),
         }),
+        tool_table: options.tool_table.clone(),
     }
 }
 

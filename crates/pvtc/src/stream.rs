@@ -376,11 +376,12 @@ fn write_pass(
     out: &mut Target<'_>,
 ) -> Result<Pass, crate::Failure> {
     let plan_options = crate::pipeline::plan_options(options, layout.units, &layout.axes)?;
+    crate::pipeline::check_pmac_axes(options, &layout.axes)?;
     let interpolation = plan_options.interpolation();
     let emit_options = pvt_emit::EmitOptions {
         source: name.to_owned(),
         settings: crate::pipeline::settings(options, layout.units),
-        program_number: 1,
+        pmac: options.pmac.clone(),
     };
     let buffered = std::io::BufWriter::with_capacity(1 << 16, out);
     let mut writer = Checked::new(options.format.writer(buffered));

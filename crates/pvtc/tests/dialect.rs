@@ -85,6 +85,7 @@ fn sidecar(program: &Path, extension: &str) -> Option<PathBuf> {
 fn rs274_moves(rs274: &str, program: &Path) -> Result<Vec<Move>, String> {
     static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
     let _turn = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let _machine_turn = MachineTurn::take();
     let mut tries = 0;
     loop {
         let run = rs274_once(rs274, program);
@@ -100,7 +101,42 @@ fn rs274_moves(rs274: &str, program: &Path) -> Result<Vec<Move>, String> {
     }
 }
 
-/// An rs274 run that a signal ended.
+/// A turn among every process on this machine that runs rs274 (other test binaries,
+/// other checkouts): rs274 keeps its tool table in shared memory, so a run beside another
+/// can find the other's table ("Requested tool 1 not found"). The turn is a directory
+/// created atomically; one older than 30 s is taken as left behind by a killed process.
+struct MachineTurn(Option<PathBuf>);
+
+impl MachineTurn {
+    fn take() -> MachineTurn {
+        let path = std::env::temp_dir().join("pvtc-rs274-turn");
+        for _ in 0..1200 {
+            if std::fs::create_dir(&path).is_ok() {
+                return MachineTurn(Some(path));
+            }
+            let age = std::fs::metadata(&path)
+                .and_then(|m| m.modified())
+                .map(|t| t.elapsed().unwrap_or_default());
+            if age.is_ok_and(|age| age > std::time::Duration::from_secs(30)) {
+                let _ = std::fs::remove_dir(&path);
+                continue;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(25));
+        }
+        // Waited 30 s: run without the turn (a failure then says what rs274 said).
+        MachineTurn(None)
+    }
+}
+
+impl Drop for MachineTurn {
+    fn drop(&mut self) {
+        if let Some(path) = &self.0 {
+            let _ = std::fs::remove_dir(path);
+        }
+    }
+}
+
+/// An rs274 run that a signal ended, or that lost its tool table to another run.
 struct Killed(String);
 
 fn rs274_once(rs274: &str, program: &Path) -> Result<Result<Vec<Move>, String>, Killed> {
@@ -133,6 +169,12 @@ fn rs274_once(rs274: &str, program: &Path) -> Result<Result<Vec<Move>, String>, 
         String::from_utf8_lossy(&output.stderr)
     );
     if output.status.code().is_none() {
+        return Err(Killed(failure));
+    }
+    let lost_table = String::from_utf8_lossy(&output.stderr)
+        .contains("not found in the tool table")
+        || String::from_utf8_lossy(&output.stdout).contains("not found in the tool table");
+    if !output.status.success() && lost_table && sidecar(program, "tbl").is_some() {
         return Err(Killed(failure));
     }
     if !output.status.success() {
@@ -591,6 +633,22 @@ mod generated {
         Feed(f64),
         Dwell(f64),
         Offset([f64; 2]),
+        /// A canned cycle then G80: the code (G73 G81 G82 G83 G85 G89), G99, the hole
+        /// (absolute, or the step under G91), R from the start, the depth, Q, L.
+        Cycle {
+            code: usize,
+            to_r: bool,
+            hole: [f64; 2],
+            r: f64,
+            depth: f64,
+            q: f64,
+            repeats: u32,
+        },
+        /// A G1 to polar `@` radius, `^` angle (degrees), in G17.
+        Polar {
+            radius: f64,
+            angle: f64,
+        },
     }
 
     fn step() -> impl Strategy<Value = Step> {
@@ -614,6 +672,21 @@ mod generated {
             1 => (1u32..3000).prop_map(|f| Step::Feed(f64::from(f))),
             1 => (1u32..20).prop_map(|p| Step::Dwell(f64::from(p) / 4.0)),
             1 => [coordinate(), coordinate()].prop_map(Step::Offset),
+            2 => (0usize..6, any::<bool>(), [coordinate(), coordinate()], 0u32..150, 1u32..200, 5u32..80, 1u32..4)
+                .prop_map(|(code, to_r, hole, r, depth, q, repeats)| Step::Cycle {
+                    code,
+                    to_r,
+                    hole,
+                    // Never 0: R must not round onto the start level.
+                    r: f64::from(r) / 10.0 - 4.95,
+                    depth: f64::from(depth) / 10.0,
+                    q: f64::from(q) / 10.0,
+                    repeats,
+                }),
+            1 => (1u32..500, -360i32..360).prop_map(|(r, a)| Step::Polar {
+                radius: f64::from(r) / 10.0,
+                angle: f64::from(a),
+            }),
         ]
     }
 
@@ -693,6 +766,56 @@ mod generated {
                     text.push_str(&format!("G92 X{x:.4} Y{y:.4}\n"));
                     at[0] = *x;
                     at[1] = *y;
+                }
+                Step::Cycle {
+                    code,
+                    to_r,
+                    hole,
+                    r,
+                    depth,
+                    q,
+                    repeats,
+                } => {
+                    // Drilling along the plane's normal: Z in G17, Y in G18, X in G19.
+                    let (a, b, n) = [(0, 1, 2), (2, 0, 1), (1, 2, 0)][plane];
+                    let name = ["G73", "G81", "G82", "G83", "G85", "G89"][*code];
+                    let retract = if *to_r { "G99" } else { "G98" };
+                    let level = at[n] + r;
+                    let (first, second, r_word, bottom_word, count) = if incremental {
+                        (hole[0], hole[1], *r, -depth, *repeats)
+                    } else {
+                        (hole[0], hole[1], level, level - depth, 1)
+                    };
+                    text.push_str(&format!(
+                        "{retract} {name} {}{first:.4} {}{second:.4} {}{bottom_word:.4} R{r_word:.4}",
+                        words[a], words[b], words[n]
+                    ));
+                    match name {
+                        "G73" | "G83" => text.push_str(&format!(" Q{q:.4}")),
+                        "G82" | "G89" => text.push_str(" P0.25"),
+                        _ => {}
+                    }
+                    if incremental {
+                        text.push_str(&format!(" L{count}"));
+                    }
+                    text.push_str("\nG80\n");
+                    if incremental {
+                        at[a] += first * f64::from(count);
+                        at[b] += second * f64::from(count);
+                    } else {
+                        at[a] = first;
+                        at[b] = second;
+                    }
+                    // G98 ends at the start level, or R when the start is below it.
+                    at[n] = if *to_r { level } else { at[n].max(level) };
+                }
+                Step::Polar { radius, angle } => {
+                    if plane == 0 && !incremental {
+                        text.push_str(&format!("G1 @{radius:.4} ^{angle:.4}\n"));
+                        let rad = angle.to_radians();
+                        at[0] = radius * libm::cos(rad);
+                        at[1] = radius * libm::sin(rad);
+                    }
                 }
             }
         }

@@ -35,9 +35,17 @@ pub(crate) struct MachineView {
     pub feed: f64,
     /// The S number in force.
     pub rpm: f64,
-    /// The tool in the spindle (after M6) and the one selected by T.
+    /// The tool in the spindle (after M6, #5400) and the one selected by T.
     pub current_tool: f64,
     pub selected_tool: f64,
+    /// The tool length offset in effect (#5401–#5406), millimetres.
+    pub tool_offset: [f64; 6],
+    /// The loaded tool's diameter (#5410), millimetres.
+    pub tool_diameter: f64,
+    /// Work offsets G54…G59.3 as G10 left them, millimetres.
+    pub work_offsets: [[f64; 6]; 9],
+    /// G28 and G30 home positions, millimetres.
+    pub homes: [[f64; 6]; 2],
     /// The line being read (file line number).
     pub line: u32,
     /// Subroutine call depth (0 in the main program).
@@ -60,19 +68,14 @@ impl Default for MachineView {
             rpm: 0.0,
             current_tool: 0.0,
             selected_tool: 0.0,
+            tool_offset: [0.0; 6],
+            tool_diameter: 0.0,
+            work_offsets: [[0.0; 6]; 9],
+            homes: [[0.0; 6]; 2],
             line: 0,
             call_level: 0,
         }
     }
-}
-
-/// Stored values the view needs besides the interpreter's state.
-#[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Stored {
-    /// Work offsets G54…G59.3, millimetres (degrees for A B C).
-    pub work_offsets: [[f64; 6]; 9],
-    /// G28 and G30 home positions, millimetres (degrees for A B C).
-    pub homes: [[f64; 6]; 2],
 }
 
 /// How a machine parameter reads.
@@ -94,12 +97,7 @@ pub(crate) const INPUT_FEATURE: &str = "M66 input results (#5399)";
 /// The parameter `#index` as LinuxCNC defines it. `assigned` says whether the program
 /// wrote the parameter: a written offset or home reads back as written (as LinuxCNC's
 /// stored parameters do), while the position, tool and coordinate system are live.
-pub(crate) fn numbered(
-    view: &MachineView,
-    stored: &Stored,
-    index: usize,
-    assigned: bool,
-) -> Answer {
+pub(crate) fn numbered(view: &MachineView, index: usize, assigned: bool) -> Answer {
     let axis9 = |first: usize| index.checked_sub(first).filter(|i| *i < 9);
     // Live values: U V W (indices 6–8) are 0, pvtc has no such axes.
     if let Some(i) = axis9(5420) {
@@ -110,8 +108,10 @@ pub(crate) fn numbered(
         5399 => return Answer::Machine(INPUT_FEATURE),
         5220 => return Answer::Value((view.coord_system + 1) as f64),
         5400 => return Answer::Value(view.current_tool),
-        // Tool offsets and diameter: pvtc has no tool table (0 as LinuxCNC without one).
-        5401..=5413 => return Answer::Value(0.0),
+        5401..=5406 => return Answer::Value(view.tool_offset[index - 5401]),
+        5410 => return Answer::Value(view.tool_diameter),
+        // U V W offsets, front and back angles, orientation: 0 in pvtc.
+        5407..=5409 | 5411..=5413 => return Answer::Value(0.0),
         5210 => return Answer::Value(if view.g92_active { 1.0 } else { 0.0 }),
         _ => {}
     }
@@ -123,16 +123,13 @@ pub(crate) fn numbered(
     }
     for (row, first) in [(0, 5161), (1, 5181)] {
         if let Some(i) = axis9(first) {
-            return Answer::Value(stored.homes[row].get(i).copied().unwrap_or(0.0));
+            return Answer::Value(view.homes[row].get(i).copied().unwrap_or(0.0));
         }
     }
     if (5221..=5390).contains(&index) {
         let (system, field) = ((index - 5221) / 20, (index - 5221) % 20);
         // Fields 0–8 are X…W, 9 is the XY rotation (always 0 in pvtc).
-        let value = stored.work_offsets[system]
-            .get(field)
-            .copied()
-            .unwrap_or(0.0);
+        let value = view.work_offsets[system].get(field).copied().unwrap_or(0.0);
         return Answer::Value(value);
     }
     Answer::NotMachine
@@ -188,12 +185,13 @@ fn coord_system_code(system: usize) -> f64 {
 mod tests {
     use super::*;
 
-    fn stored() -> Stored {
+    fn stored() -> MachineView {
         let mut work_offsets = [[0.0; 6]; 9];
         work_offsets[1] = [25.4, 50.8, -254.0, 90.0, 0.0, 0.0];
-        Stored {
+        MachineView {
             work_offsets,
             homes: [[1.0, 2.0, 3.0, 4.0, 5.0, 6.0], [0.0; 6]],
+            ..MachineView::default()
         }
     }
 
@@ -201,18 +199,17 @@ mod tests {
     fn offsets_read_in_millimetres_whatever_the_program_units() {
         let view = MachineView {
             mm_per_unit: 25.4,
-            ..MachineView::default()
+            ..stored()
         };
-        let s = stored();
         // G55 is the second row: #5241 X, #5242 Y, #5243 Z, #5244 A.
-        assert_eq!(numbered(&view, &s, 5241, false), Answer::Value(25.4));
-        assert_eq!(numbered(&view, &s, 5242, false), Answer::Value(50.8));
-        assert_eq!(numbered(&view, &s, 5243, false), Answer::Value(-254.0));
-        assert_eq!(numbered(&view, &s, 5244, false), Answer::Value(90.0));
-        assert_eq!(numbered(&view, &s, 5250, false), Answer::Value(0.0));
-        assert_eq!(numbered(&view, &s, 5164, false), Answer::Value(4.0));
+        assert_eq!(numbered(&view, 5241, false), Answer::Value(25.4));
+        assert_eq!(numbered(&view, 5242, false), Answer::Value(50.8));
+        assert_eq!(numbered(&view, 5243, false), Answer::Value(-254.0));
+        assert_eq!(numbered(&view, 5244, false), Answer::Value(90.0));
+        assert_eq!(numbered(&view, 5250, false), Answer::Value(0.0));
+        assert_eq!(numbered(&view, 5164, false), Answer::Value(4.0));
         // Written by the program: the store answers.
-        assert_eq!(numbered(&view, &s, 5241, true), Answer::NotMachine);
+        assert_eq!(numbered(&view, 5241, true), Answer::NotMachine);
     }
 
     #[test]
@@ -221,19 +218,17 @@ mod tests {
             position: [1.0, 2.0, 3.0, 4.0, 5.0, 6.0],
             coord_system: 8,
             current_tool: 7.0,
-            ..MachineView::default()
+            tool_offset: [0.0, 0.0, 1.5, 0.0, 0.0, 0.0],
+            ..stored()
         };
-        let s = stored();
-        assert_eq!(numbered(&view, &s, 5420, true), Answer::Value(1.0));
-        assert_eq!(numbered(&view, &s, 5425, false), Answer::Value(6.0));
-        assert_eq!(numbered(&view, &s, 5428, false), Answer::Value(0.0));
-        assert_eq!(numbered(&view, &s, 5220, false), Answer::Value(9.0));
-        assert_eq!(numbered(&view, &s, 5400, false), Answer::Value(7.0));
-        assert_eq!(
-            numbered(&view, &s, 5063, false),
-            Answer::Machine(PROBE_FEATURE)
-        );
-        assert_eq!(numbered(&view, &s, 100, false), Answer::NotMachine);
+        assert_eq!(numbered(&view, 5420, true), Answer::Value(1.0));
+        assert_eq!(numbered(&view, 5425, false), Answer::Value(6.0));
+        assert_eq!(numbered(&view, 5428, false), Answer::Value(0.0));
+        assert_eq!(numbered(&view, 5220, false), Answer::Value(9.0));
+        assert_eq!(numbered(&view, 5400, false), Answer::Value(7.0));
+        assert_eq!(numbered(&view, 5403, false), Answer::Value(1.5));
+        assert_eq!(numbered(&view, 5063, false), Answer::Machine(PROBE_FEATURE));
+        assert_eq!(numbered(&view, 100, false), Answer::NotMachine);
         assert_eq!(named(&view, "_coord_system"), Answer::Value(593.0));
         assert_eq!(named(&view, "_c"), Answer::Value(6.0));
         assert!(matches!(named(&view, "_hal[x]"), Answer::Machine(_)));

@@ -183,7 +183,8 @@ fn malformed_text_is_located() {
     assert_eq!(error("G1 X"), ("pvtc::gcode::syntax", 3..4));
     assert_eq!(error("G1 X1e3"), ("pvtc::gcode::syntax", 5..7));
     assert_eq!(error("G1 (open"), ("pvtc::gcode::syntax", 3..8));
-    assert_eq!(error("G1 @"), ("pvtc::gcode::unknown_word", 3..4));
+    assert_eq!(error("G1 ~"), ("pvtc::gcode::unknown_word", 3..4));
+    assert_eq!(error("G1 @"), ("pvtc::gcode::syntax", 3..4));
     assert_eq!(error("G1 é"), ("pvtc::gcode::unknown_word", 3..5));
     assert_eq!(
         error("G1 X#<nope>"),
