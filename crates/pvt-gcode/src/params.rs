@@ -76,6 +76,17 @@ pub(crate) fn is_global_name(normalized: &str) -> bool {
     normalized.starts_with('_')
 }
 
+/// True when `name` (normalized) is a predefined parameter a program may not assign:
+/// one the interpreter's state answers, `_value` and `_value_returned`, HAL pins and ini
+/// values (LinuxCNC refuses these assignments too).
+pub(crate) fn is_read_only(normalized: &str) -> bool {
+    matches!(normalized, "_value" | "_value_returned")
+        || !matches!(
+            machine::named(&machine::MachineView::default(), normalized),
+            machine::Answer::NotMachine
+        )
+}
+
 /// `name` lower-cased with blanks removed, borrowed when it already is.
 pub(crate) fn normalize(name: &str) -> std::borrow::Cow<'_, str> {
     if name

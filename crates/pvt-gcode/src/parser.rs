@@ -368,6 +368,15 @@ fn read_assignment(reader: &mut Reader<'_>, block: &mut Block) -> Result<(), Gco
     }
     reader.pos += 1;
     let value = reader.real_value()?;
+    if let ParamRef::Named(name) = &param {
+        if crate::params::is_read_only(name) {
+            return Err(GcodeDiagnostic::BadValue {
+                word: reader.text_between(hash, target_end).to_owned(),
+                expected: "a predefined parameter is read-only (the interpreter sets it)",
+                span: span(reader.absolute(hash)..reader.absolute(target_end)),
+            });
+        }
+    }
     block.assignments.push(Assignment { param, value });
     Ok(())
 }

@@ -318,3 +318,14 @@ fn a_subroutine_defined_after_its_call_is_found_further_on() {
     let in_loop = "F100\no2 repeat [2]\no1 call\no2 endrepeat\no1 sub\nG1 X1\no1 endsub\n";
     assert_eq!(errors(in_loop), [("unknown_subroutine", 3, 1)]);
 }
+
+#[test]
+fn predefined_parameters_are_read_only() {
+    assert_eq!(errors("G1 X1 F100\n#<_x> = 5\n"), [("bad_value", 2, 1)]);
+    assert_eq!(
+        errors("G1 X1 F100\n  #<_value> = 5\n"),
+        [("bad_value", 2, 3)]
+    );
+    // A global of the program's own may be assigned.
+    assert_eq!(xs("#<_mine> = 5\nG1 X#<_mine> F100\n"), [5.0]);
+}
