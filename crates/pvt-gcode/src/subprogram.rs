@@ -73,12 +73,22 @@ pub(crate) struct Subprograms {
     pub in_body: u32,
     /// After the program end: a subprogram's lines are skipped without warnings.
     skipping_after_end: bool,
+    /// How many searches' held lines are being read again (one inside another when a
+    /// call in held lines searches in turn), and their bytes.
+    replaying: u32,
+    replayed_bytes: usize,
 }
 
+/// How deep searches may nest (a call in held lines whose definition is further on in
+/// the held lines); deeper, the call is `unknown_subroutine`. Bounds the stack and, with
+/// the bytes of every nested search counted together, the memory.
+const MAX_SEARCH_DEPTH: u32 = 16;
+
 impl Subprograms {
-    /// True when a search may start: none is under way and no body is running.
+    /// True when a search may start: none is under way, no body is running and searches
+    /// do not nest too deep.
     pub fn can_search(&self) -> bool {
-        self.search.is_none() && self.in_body == 0
+        self.search.is_none() && self.in_body == 0 && self.replaying < MAX_SEARCH_DEPTH
     }
 
     /// Starts searching the rest of the file for `oLABEL sub`.
@@ -198,9 +208,10 @@ impl<'a> Reader<'a> {
                 return None;
             }
         }
+        let outer = self.subprograms.replayed_bytes;
         let search = self.subprograms.search.as_mut()?;
         search.bytes += line.text.len();
-        if search.bytes > MAX_BUFFERED_BYTES {
+        if outer + search.bytes > MAX_BUFFERED_BYTES {
             let search = self.subprograms.search.take()?;
             self.report(GcodeDiagnostic::BodyTooLarge {
                 limit: MAX_BUFFERED_BYTES,
@@ -273,7 +284,7 @@ impl<'a> Reader<'a> {
         if let Some(body) = self.subprograms.defined.get(&call.number).cloned() {
             return self.run_subprogram(&call, &body);
         }
-        if self.subprograms.in_body > 0 || self.subprograms.search.is_some() {
+        if !self.subprograms.can_search() {
             self.report(GcodeDiagnostic::UnknownSubroutine {
                 name: format!("O{}", call.number),
                 searched: "a subprogram called from a body must come before the call".to_owned(),
@@ -311,11 +322,15 @@ impl<'a> Reader<'a> {
         if !ran {
             return true;
         }
+        self.subprograms.replaying += 1;
+        self.subprograms.replayed_bytes += search.bytes;
         for line in &search.held {
             if !self.source_line(line.source()) {
                 break;
             }
         }
+        self.subprograms.replaying -= 1;
+        self.subprograms.replayed_bytes -= search.bytes;
         true
     }
 

@@ -329,3 +329,25 @@ fn predefined_parameters_are_read_only() {
     // A global of the program's own may be assigned.
     assert_eq!(xs("#<_mine> = 5\nG1 X#<_mine> F100\n"), [5.0]);
 }
+
+#[test]
+fn calls_before_definitions_nest_in_bounded_depth() {
+    // o1 call, o2 call, …, o40 call, then the definitions from o40 down to o1: each
+    // search finds its definition inside the lines an outer search held.
+    let n = 40;
+    let mut source = String::from("G1 X1 F100\n");
+    for i in 1..=n {
+        source.push_str(&format!("o{i} call\n"));
+    }
+    for i in (1..=n).rev() {
+        source.push_str(&format!("o{i} sub\nG1 X{i}\no{i} endsub\n"));
+    }
+    let found = errors(&source);
+    assert!(!found.is_empty());
+    assert!(
+        found
+            .iter()
+            .all(|(code, _, _)| *code == "unknown_subroutine"),
+        "{found:?}"
+    );
+}
