@@ -6,8 +6,10 @@
 //! bound them: [`crate::MAX_CALL_DEPTH`] nested calls, [`crate::MAX_LOOP_ITERATIONS`] per
 //! loop and [`crate::MAX_TOTAL_ITERATIONS`] in all, [`crate::MAX_BUFFERED_BYTES`] of held
 //! text. The main program streams: only the bodies of subroutines and loops are held, a
-//! conditional skips lines as they come. It must not give words a meaning (lines go to [`crate::Reader`]'s block path) nor read
-//! files (subroutine files come through [`crate::SubroutineFiles`]).
+//! conditional skips lines as they come. A call of a subroutine defined further on
+//! waits for it through [`crate::subprogram`]'s search. It must not give words a
+//! meaning (lines go to [`crate::Reader`]'s block path) nor read files (subroutine files
+//! come through [`crate::SubroutineFiles`]).
 
 use std::collections::HashMap;
 use std::ops::Range;
@@ -348,7 +350,7 @@ impl<'a> Reader<'a> {
             return Some(self.record(line));
         }
         let mut skip = std::mem::replace(&mut self.flow.skip, Skip::No);
-        let signal = self.control(&control, line, None, &mut skip);
+        let signal = self.control(&control, line, &mut skip);
         self.flow.skip = skip;
         Some(match signal {
             Signal::End | Signal::Next => true,
@@ -530,7 +532,7 @@ impl<'a> Reader<'a> {
                 pc = end + 1;
                 continue;
             }
-            match self.control(control, line.source(), Some(body), &mut skip) {
+            match self.control(control, line.source(), &mut skip) {
                 Signal::Next => {}
                 other => return other,
             }
@@ -622,16 +624,9 @@ impl<'a> Reader<'a> {
     }
 
     /// A control line other than a construct's opening: conditionals, calls, returns,
-    /// `break`, `continue`, stray ends. `body` is the body it is in (`None`: the main
-    /// program).
-    fn control(
-        &mut self,
-        control: &Control,
-        line: SourceLine<'_>,
-        body: Option<&Body>,
-        skip: &mut Skip,
-    ) -> Signal {
-        let _ = body;
+    /// `break`, `continue`, stray ends; `skip` is the conditional state of the lines it
+    /// is among.
+    fn control(&mut self, control: &Control, line: SourceLine<'_>, skip: &mut Skip) -> Signal {
         match control.keyword {
             Keyword::If | Keyword::Elseif => {
                 if control.keyword == Keyword::Elseif && *skip == Skip::No {
