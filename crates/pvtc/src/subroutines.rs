@@ -2,7 +2,8 @@
 //! SUBROUTINE_PATH.
 //!
 //! Owns the search (folders in the order given, the name lower-cased first, then as
-//! written) and the reading of a subroutine file; it must not interpret G-code (the
+//! written; a name with a path separator or a leading dot is found nowhere) and the
+//! reading of a subroutine file; it must not interpret G-code (the
 //! front end reads the file's text through [`pvt_gcode::SubroutineFiles`]).
 
 use std::path::PathBuf;
@@ -27,6 +28,10 @@ impl SubroutinePath {
 
 impl pvt_gcode::SubroutineFiles for SubroutinePath {
     fn read(&self, name: &str) -> Result<Option<pvt_gcode::SubroutineFile>, String> {
+        // A name is a file name in one of the folders, never a path out of them.
+        if name.contains(['/', '\\']) || name.trim_start().starts_with('.') {
+            return Ok(None);
+        }
         let lower: String = name
             .chars()
             .filter(|c| !c.is_whitespace())
@@ -76,5 +81,11 @@ mod tests {
         std::fs::write(first.path().join("bore.ngc"), "first").unwrap();
         assert_eq!(path.read("bore").unwrap().unwrap().text, "first");
         assert_eq!(path.read("other").unwrap(), None);
+        std::fs::write(first.path().join("up.ngc"), "outside").unwrap();
+        let inner = first.path().join("inner");
+        std::fs::create_dir(&inner).unwrap();
+        let path = SubroutinePath(vec![inner]);
+        assert_eq!(path.read("../up").unwrap(), None);
+        assert_eq!(path.read("..").unwrap(), None);
     }
 }
