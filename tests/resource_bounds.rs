@@ -177,3 +177,20 @@ fn warnings_past_a_thousand_are_counted_as_more_warnings() {
     assert!(more.is_warning());
     assert!(more.to_string().starts_with("100 more warnings"), "{more}");
 }
+
+#[test]
+fn loops_and_calls_around_a_streamed_program_hold_only_their_bodies() {
+    // A subroutine and a loop are held; the 200k lines around them stream.
+    let head = "G21 F100\no<step> sub\nG91 G1 X#1\nG90\no<step> endsub\n#1 = 0\n\
+                o1 while [#1 LT 1000]\n#1 = [#1 + 1]\no<step> call [0.001]\no1 endwhile\n";
+    let input = Generated::new(
+        head,
+        "o<step> call [0.5]\nG1 Y[#<_y> + 1]\n",
+        100_000,
+        "M2\n",
+    );
+    let (errors, elements, peak) = compile(input);
+    assert!(errors.is_empty(), "{errors:?}");
+    assert_eq!(elements, 1000 + 200_000);
+    assert!(peak < MIB, "peak {peak} bytes");
+}

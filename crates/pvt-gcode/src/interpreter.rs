@@ -24,6 +24,7 @@ use crate::block::{Block, Word};
 use crate::codes::{Distance, FeedMode, MotionMode, NonModal, PathMode};
 use crate::diagnostic::{span, GcodeDiagnostic};
 use crate::kept::Kept;
+use crate::params::machine::MachineView;
 use crate::request::{Request, Stop};
 use crate::{GcodeErrors, GcodeOptions, StreamSummary, ToolpathSink};
 
@@ -112,6 +113,13 @@ pub(crate) struct Interpreter<'a> {
     pub(crate) surface_speed: bool,
     /// G64 Q: LinuxCNC's naive-CAM tolerance, output units; recorded, not applied.
     pub(crate) naive_cam_tolerance: Option<f64>,
+    /// Set while held lines run (a loop or subroutine body, which may run many times):
+    /// a diagnostic kept already is not kept again.
+    pub once: bool,
+    /// Set while a subroutine file runs: its diagnostics are shown at the call.
+    pub origin: Option<crate::oword::Origin>,
+    /// The last S number (`#<_rpm>`).
+    rpm: f64,
 }
 
 impl<'a> Interpreter<'a> {
@@ -146,6 +154,66 @@ impl<'a> Interpreter<'a> {
             spindle: SpindleState::Off,
             surface_speed: false,
             naive_cam_tolerance: None,
+            once: false,
+            origin: None,
+            rpm: 0.0,
+        }
+    }
+
+    /// The state machine parameters read (see [`crate::params::machine`]), in program
+    /// units, as it stands after the last block; stored offsets, homes and tool offsets in
+    /// millimetres (degrees for A B C).
+    pub fn view(&self) -> MachineView {
+        let scale = self.scale();
+        let mm = self.output().mm_per_unit();
+        let linear = |i: usize| !pvt_core::Axis::ALL.get(i).is_some_and(|a| a.is_rotary());
+        let mut position = [0.0; AXIS_COUNT];
+        for (i, p) in position.iter_mut().enumerate() {
+            let relative = self.position[i] - self.offset(i);
+            *p = if linear(i) {
+                relative / scale
+            } else {
+                relative
+            };
+        }
+        let to_mm = |v: &Position| -> Position {
+            std::array::from_fn(|i| if linear(i) { v[i] * mm } else { v[i] })
+        };
+        let m = &self.modal;
+        MachineView {
+            position,
+            g92: to_mm(&self.g92),
+            g92_active: self.g92.iter().any(|v| *v != 0.0),
+            coord_system: m.coord_system,
+            mm_per_unit: m.units.mm_per_unit(),
+            absolute: m.distance == Distance::Absolute,
+            inverse_time: m.feed_mode == FeedMode::InverseTime,
+            motion_tenths: match m.motion {
+                None => 0,
+                Some(MotionMode::Rapid) => 0,
+                Some(MotionMode::Linear) => 10,
+                Some(MotionMode::Arc(pvt_core::ArcDirection::Clockwise)) => 20,
+                Some(MotionMode::Arc(pvt_core::ArcDirection::CounterClockwise)) => 30,
+                Some(_) => 800,
+            },
+            plane_tenths: match m.plane {
+                pvt_core::Plane::XY => 170,
+                pvt_core::Plane::ZX => 180,
+                pvt_core::Plane::YZ => 190,
+            },
+            feed: self.feed.map_or(0.0, |f| f.written),
+            rpm: self.rpm,
+            current_tool: f64::from(self.tool.current),
+            selected_tool: self.tool.selected.map_or(0.0, f64::from),
+            tool_offset: to_mm(&self.tool.offset),
+            tool_diameter: self
+                .tools
+                .get(self.tool.current)
+                .map_or(0.0, |t| t.diameter),
+            work_offsets: self.work_offsets,
+            homes: [to_mm(&self.homes[0]), to_mm(&self.homes[1])],
+            line: 0,
+            call_level: 0,
         }
     }
 
@@ -157,7 +225,18 @@ impl<'a> Interpreter<'a> {
     /// Records a warning.
     pub fn warn(&mut self, diagnostic: GcodeDiagnostic) {
         if !self.quiet {
-            self.warnings.push(diagnostic);
+            let diagnostic = self.wrap(diagnostic);
+            if !(self.once && self.warnings.contains(&diagnostic)) {
+                self.warnings.push(diagnostic);
+            }
+        }
+    }
+
+    /// `diagnostic` as shown from the main program.
+    fn wrap(&self, diagnostic: GcodeDiagnostic) -> GcodeDiagnostic {
+        match &self.origin {
+            Some(origin) => origin.wrap(diagnostic),
+            None => diagnostic,
         }
     }
 
@@ -249,6 +328,10 @@ impl<'a> Interpreter<'a> {
         if self.quiet {
             return;
         }
+        let diagnostic = self.wrap(diagnostic);
+        if self.once && (self.errors.contains(&diagnostic) || self.warnings.contains(&diagnostic)) {
+            return;
+        }
         if diagnostic.is_warning() {
             self.warnings.push(diagnostic);
         } else {
@@ -277,7 +360,10 @@ impl<'a> Interpreter<'a> {
             .map_or(self.surface_speed, |(css, _)| css);
         if let Some(s) = request.s.filter(|_| !css) {
             match s.value >= 0.0 {
-                true => self.event(EventKind::SpindleSpeed { rpm: s.value }, line),
+                true => {
+                    self.rpm = s.value;
+                    self.event(EventKind::SpindleSpeed { rpm: s.value }, line)
+                }
                 false => self.push(bad_value(s, "a spindle speed must not be negative")),
             }
         }

@@ -23,10 +23,25 @@
 //! G10 L1/L2/L10/L11/L20, G52, G28/G30/G28.1/G30.1; G96/G97 and M48–M53 are kept as
 //! state, `(LOG…)` comments accepted. G40 is accepted as it selects what pvtc always
 //! does. Every axis starts at 0. Lines with block delete (`/`) are executed (the switch
-//! is off). O-words, G76, cutter compensation, G5.x, G38.x, G33 and reads of
-//! machine-specific parameters are `unsupported`, one diagnostic per feature with the
-//! count of places, and the program fails. A block with an unknown G code runs nothing
-//! and the blocks after it in its motion mode are skipped, so nothing cascades.
+//! is off). A program number (`O1001`) names the program. G76, cutter compensation,
+//! G5.x, G38.x, G33 and reads of machine-specific parameters are `unsupported`, one
+//! diagnostic per feature with the count of places, and the program fails. A block with
+//! an unknown G code runs nothing and the blocks after it in its motion mode are
+//! skipped, so nothing cascades.
+//!
+//! O-words (`oword.rs`): `sub`/`endsub`/`return`/`call` with arguments `#1`–`#30` and
+//! local names, `if`/`elseif`/`else`/`endif`, `while`/`endwhile`, `do`/`while`,
+//! `repeat`/`endrepeat`, `break`, `continue`; `o<name> call` reads `name.ngc` through
+//! [`GcodeOptions::subroutines`] when the program does not define it. Calls nest at most
+//! [`MAX_CALL_DEPTH`] deep, a loop runs at most [`MAX_LOOP_ITERATIONS`] times (all loops
+//! together [`MAX_TOTAL_ITERATIONS`]), held bodies take at most [`MAX_BUFFERED_BYTES`];
+//! each limit is a coded error. Fanuc-style `M98 P<n> L<count>` runs the block `O<n>` …
+//! `M99` of the same file (`subprogram.rs`).
+//!
+//! Parameters (`params.rs`, `params/machine.rs`): predefined names (`#<_x>`,
+//! `#<_metric>`, `#<_feed>`, `#<_value>`, …) and machine parameters (#5161–#5428: homes,
+//! G92, coordinate systems, tool, position) read the interpreter's state; probe results,
+//! M66 inputs, HAL pins and ini values are `unsupported`.
 //!
 //! Contours: a rapid move is a contour of its own; feed moves run together until a
 //! rapid, an event or a stop. Every event (G4 dwell, M0/M1 pause, S, T, M6, M3/M4/M5,
@@ -44,11 +59,13 @@ mod interpreter;
 mod kept;
 mod lines;
 mod messages;
+mod oword;
 mod params;
 mod parser;
 mod prescan;
 mod request;
 mod sink;
+mod subprogram;
 mod syntax;
 mod tools;
 mod value;
@@ -56,6 +73,7 @@ mod value;
 pub use diagnostic::{line_col, GcodeDiagnostic, GcodeErrors};
 pub use kept::MAX_KEPT_DIAGNOSTICS;
 pub use lines::MAX_LINE_BYTES;
+pub use oword::{SubroutineFile, SubroutineFiles};
 pub use prescan::{prescan, Prescan};
 pub use sink::{StreamSummary, ToolpathSink};
 pub use syntax::{check_syntax, SyntaxSummary};
@@ -63,6 +81,47 @@ pub use tools::{Tool, ToolTable};
 
 use interpreter::{Flow, Interpreter};
 use parser::{LineKind, SourceLine, SourceLines};
+
+/// How deep subroutine calls may nest, as in LinuxCNC (10 levels with the main program);
+/// one more is `pvtc::gcode::recursion_limit`.
+pub const MAX_CALL_DEPTH: usize = 9;
+
+/// How many times one loop may run each time it is entered; one more is
+/// `pvtc::gcode::loop_limit` (a loop that never ends is an error, never a hang).
+pub const MAX_LOOP_ITERATIONS: u64 = 1_000_000;
+
+/// How many loop iterations a run may make in all (nested loops multiply); one more is
+/// `pvtc::gcode::loop_limit` too.
+pub const MAX_TOTAL_ITERATIONS: u64 = 100_000_000;
+
+/// How many bytes of text the bodies of subroutines and of the main program's loops
+/// held in memory may take together (the rest of a program streams); more is
+/// `pvtc::gcode::body_too_large`.
+pub const MAX_BUFFERED_BYTES: usize = 16 << 20;
+
+/// Where `o<name> call` finds subroutines the program does not define
+/// ([`SubroutineFiles`]); none by default.
+#[derive(Clone, Default)]
+pub struct Subroutines(pub Option<std::sync::Arc<dyn SubroutineFiles + Send + Sync>>);
+
+impl std::fmt::Debug for Subroutines {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match &self.0 {
+            Some(files) => write!(f, "Subroutines({})", files.describe()),
+            None => f.write_str("Subroutines(none)"),
+        }
+    }
+}
+
+impl PartialEq for Subroutines {
+    fn eq(&self, other: &Self) -> bool {
+        match (&self.0, &other.0) {
+            (Some(a), Some(b)) => std::sync::Arc::ptr_eq(a, b),
+            (None, None) => true,
+            _ => false,
+        }
+    }
+}
 
 /// The rapid rate when [`GcodeOptions::rapid`] is `None`, millimetres per minute.
 pub const DEFAULT_RAPID_MM_PER_MIN: f64 = 5000.0;
@@ -94,6 +153,8 @@ pub struct GcodeOptions {
     /// The tool table G43 and G43.2 read (LinuxCNC's `.tbl` format, millimetres); empty
     /// by default, where only H0 (no offset) is known.
     pub tool_table: ToolTable,
+    /// Subroutine files for `o<name> call` (`--subroutine-path`).
+    pub subroutines: Subroutines,
 }
 
 impl Default for GcodeOptions {
@@ -106,6 +167,7 @@ impl Default for GcodeOptions {
             units: None,
             work_offsets: [[0.0; 6]; 9],
             tool_table: ToolTable::default(),
+            subroutines: Subroutines::default(),
         }
     }
 }
@@ -185,6 +247,9 @@ pub fn compile_read(
 /// The G-code front end fed one line at a time; [`compile_into`] and [`compile_read`]
 /// drive it.
 pub struct Reader<'a> {
+    options: &'a GcodeOptions,
+    flow: oword::Flow,
+    subprograms: subprogram::Subprograms,
     interpreter: Interpreter<'a>,
     params: params::Parameters,
     block: block::Block,
@@ -197,9 +262,13 @@ pub struct Reader<'a> {
 impl<'a> Reader<'a> {
     /// A reader compiling into `sink`.
     pub fn new(options: &'a GcodeOptions, sink: &'a mut dyn ToolpathSink) -> Reader<'a> {
+        let params = params::Parameters::default();
         Reader {
+            options,
+            flow: oword::Flow::default(),
+            subprograms: subprogram::Subprograms::default(),
             interpreter: Interpreter::new(options, sink),
-            params: params::Parameters::default(),
+            params,
             block: block::Block::default(),
             percent_lines: 0,
             number: 0,
@@ -234,12 +303,27 @@ impl<'a> Reader<'a> {
         true
     }
 
+    /// Records a diagnostic, shown at the call when a subroutine file's line caused it.
+    pub(crate) fn report(&mut self, diagnostic: GcodeDiagnostic) {
+        self.interpreter.report(diagnostic);
+    }
+
+    /// Brings the machine parameters' view up to date for a line that reads parameters.
+    pub(crate) fn refresh_view(&mut self, line: u32) {
+        self.params.view = self.interpreter.view();
+        self.params.view.line = line;
+        self.params.view.call_level = self.params.call_level() as u32;
+    }
+
     fn source_line(&mut self, line: SourceLine<'_>) -> bool {
         if line.text.len() > MAX_LINE_BYTES {
             self.number = line.number.saturating_sub(1);
             return self.too_long_line(line.start, line.text.len());
         }
         self.number = line.number;
+        if self.ended.is_some() && self.subprogram_after_end(line) {
+            return true;
+        }
         if let Some(end) = &self.ended {
             let Some(warning) = after_end(line, &mut self.block, &self.params, end) else {
                 return true;
@@ -247,11 +331,35 @@ impl<'a> Reader<'a> {
             self.interpreter.warn(warning);
             return false;
         }
+        if let Some(more) = self.subprogram_line(line) {
+            return more;
+        }
+        if let Some(more) = self.flow_line(line) {
+            return more;
+        }
+        self.run_line(line);
+        true
+    }
+
+    /// Parses and executes one line of G-code (not a control line); returns false once
+    /// the program has ended.
+    pub(crate) fn run_line(&mut self, line: SourceLine<'_>) -> bool {
+        if self.ended.is_some() {
+            return false;
+        }
+        if memchr::memchr(b'#', line.text.as_bytes()).is_some() {
+            self.refresh_view(line.number);
+        }
         let parsed = parser::parse_line(line, &mut self.block, &self.params);
+        if let Some(origin) = &self.interpreter.origin {
+            // Elements from a subroutine file carry the line of the call.
+            self.block.line = origin.call_line;
+        }
         // All assignments of a line take effect after the line is read.
         for assignment in &self.block.assignments {
             self.params.set(&assignment.param, assignment.value);
         }
+        let call = self.take_subprogram_words();
         self.ended = match parsed {
             Ok(LineKind::Percent) => {
                 self.percent_lines += 1;
@@ -264,18 +372,23 @@ impl<'a> Reader<'a> {
             // The words read around the bad text still set modes, feed and position, but
             // whatever else they cause is not reported: the line has its error already.
             Err(diagnostic) => {
-                self.interpreter.report(diagnostic);
+                self.report(diagnostic);
                 match self.interpreter.execute_quietly(&self.block) {
                     Flow::Continue => None,
                     Flow::End(word) => Some(word.name()),
                 }
             }
         };
-        true
+        if let (Some(call), None) = (call, &self.ended) {
+            self.subprogram_call(call);
+        }
+        self.ended.is_none()
     }
 
     /// Ends the program: its summary, or every error met.
-    pub fn finish(self) -> Result<StreamSummary, GcodeErrors> {
+    pub fn finish(mut self) -> Result<StreamSummary, GcodeErrors> {
+        self.flow_finish();
+        self.subprograms_finish();
         self.interpreter.finish()
     }
 }

@@ -368,6 +368,15 @@ fn read_assignment(reader: &mut Reader<'_>, block: &mut Block) -> Result<(), Gco
     }
     reader.pos += 1;
     let value = reader.real_value()?;
+    if let ParamRef::Named(name) = &param {
+        if crate::params::is_read_only(name) {
+            return Err(GcodeDiagnostic::BadValue {
+                word: reader.text_between(hash, target_end).to_owned(),
+                expected: "a predefined parameter is read-only (the interpreter sets it)",
+                span: span(reader.absolute(hash)..reader.absolute(target_end)),
+            });
+        }
+    }
     block.assignments.push(Assignment { param, value });
     Ok(())
 }
@@ -397,8 +406,9 @@ fn read_checksum(reader: &mut Reader<'_>, text: &str) -> Result<(), GcodeDiagnos
     Ok(())
 }
 
-/// An `O` word: a program number alone on its line (Fanuc style) is kept as a word the
-/// interpreter warns about; anything else is subroutines or control flow, unsupported.
+/// An `O` word: a program number alone on its line (Fanuc style) is kept as a word that
+/// names the program; an O-word with a keyword reaches the parser only when it does
+/// not start its line ([`crate::oword`] reads control lines), which is an error.
 fn read_o_word(reader: &mut Reader<'_>, block: &mut Block) -> Result<(), GcodeDiagnostic> {
     let at = reader.pos;
     let rest = reader.rest();
@@ -418,10 +428,10 @@ fn read_o_word(reader: &mut Reader<'_>, block: &mut Block) -> Result<(), GcodeDi
     let len = rest.trim_end().len().max(1);
     reader.pos += len;
     let shown: String = rest.trim_end().chars().take(40).collect();
-    Err(GcodeDiagnostic::Unsupported {
-        code: shown,
-        feature: "O-word subroutines and control flow",
-        places: 1,
+    Err(GcodeDiagnostic::Oword {
+        detail: format!(
+            "`{shown}`: an O-word is a line of its own, `oN keyword [values]`, or a program number alone"
+        ),
         span: span(reader.absolute(at)..reader.absolute(at + len)),
     })
 }

@@ -105,7 +105,8 @@ impl Request {
                     word,
                     "spindle selection ($) is not part of a toolpath",
                 )),
-                b'O' => errors.push(ignored(word, "a program number names the program only")),
+                // A program number (`O1000` alone on its line) names the program only.
+                b'O' => {}
                 letter => errors.push(GcodeDiagnostic::UnknownWord {
                     word: word.name(),
                     meaning: codes::letter_meaning(letter),

@@ -475,7 +475,7 @@ impl<'a> Reader<'a> {
         let rounded = value.round();
         if (value - rounded).abs() > 1e-6 || !(1.0..=MAX_NUMBERED as f64).contains(&rounded) {
             return Err(GcodeDiagnostic::OutOfRange {
-                what: "parameter number (1 to 5399)",
+                what: "parameter number (1 to 5602)",
                 value,
                 span: span(self.range(start.saturating_sub(1), self.pos)),
             });
@@ -508,9 +508,9 @@ impl<'a> Reader<'a> {
                 name: written.to_owned(),
                 span: at,
             },
-            ReadProblem::MachineSpecific => GcodeDiagnostic::Unsupported {
+            ReadProblem::MachineSpecific(feature) => GcodeDiagnostic::Unsupported {
                 code: normalize(written).into_owned(),
-                feature: "machine-specific parameters",
+                feature,
                 places: 1,
                 span: at,
             },

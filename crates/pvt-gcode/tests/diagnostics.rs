@@ -62,7 +62,11 @@ fn unsupported_features_are_named() {
     );
     assert_eq!(after_head("G41 X1\n"), [("unsupported", 3, 1)]);
     assert_eq!(after_head("G1 X1 M60\n"), [("unsupported", 3, 7)]);
-    assert_eq!(after_head("G1 X#<_x>\n"), [("unsupported", 3, 5)]);
+    assert_eq!(
+        after_head("G1 X#<_hal[motion.probe-input]>\n"),
+        [("unsupported", 3, 5)]
+    );
+    assert_eq!(after_head("G1 X#5063\n"), [("unsupported", 3, 5)]);
     assert_eq!(after_head("G38.2 Z-5\n"), [("unsupported", 3, 1)]);
 }
 
@@ -246,7 +250,9 @@ fn issue_4_codes_name_line_and_column() {
     assert_eq!(after_head("G10 L2 P1 R45\n"), [("unsupported", 3, 11)]);
     assert_eq!(after_head("G10 L1 P1 Z1\n"), [("unknown_tool", 3, 8)]);
     assert_eq!(after_head("G10 P1 X1\n"), [("missing_word", 3, 1)]);
-    assert_eq!(after_head("o100 sub\n"), [("unsupported", 3, 1)]);
+    assert_eq!(after_head("o100 sub\n"), [("oword", 3, 1)]);
+    assert_eq!(after_head("o100 jump\n"), [("oword", 3, 1)]);
+    assert_eq!(after_head("o100 call\n"), [("unknown_subroutine", 3, 1)]);
     assert_eq!(after_head("G43 H1\n"), [("unknown_tool", 3, 5)]);
     assert_eq!(after_head("G81 X1 Z-1\n"), [("cycle", 3, 1)]);
 }
@@ -272,6 +278,7 @@ fn unsupported_features_are_reported_once_with_their_count() {
 
 #[test]
 fn ignored_words_are_warnings() {
+    // A program number is a name, not a warning.
     let source = "O10\nG21 G1 X1 F100 P2 $1\n";
     let compiled = compile(source, &GcodeOptions::default()).unwrap();
     let warnings: Vec<_> = compiled
@@ -282,7 +289,6 @@ fn ignored_words_are_warnings() {
     assert_eq!(
         warnings,
         [
-            ("pvtc::gcode::ignored_word", (1, 1)),
             ("pvtc::gcode::ignored_word", (2, 16)),
             ("pvtc::gcode::ignored_word", (2, 19))
         ]

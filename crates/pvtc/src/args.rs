@@ -178,6 +178,10 @@ pub struct PipelineArgs {
     /// millimetres and degrees) [default: all zero].
     #[arg(long, value_name = "FILE")]
     pub offsets: Option<PathBuf>,
+    /// G-code: folders where `o<name> call` finds `name.ngc` (repeatable, or a
+    /// `:`-separated list, like LinuxCNC's SUBROUTINE_PATH).
+    #[arg(long = "subroutine-path", value_name = "DIR")]
+    pub subroutine_path: Vec<String>,
     /// G-code: the tool table G43 H reads, in LinuxCNC's `.tbl` format (lines like
     /// `T1 P1 Z0.5 D6 ;comment`, millimetres and degrees) [default: no tools].
     #[arg(long = "tool-table", value_name = "FILE")]
@@ -230,6 +234,11 @@ impl PipelineArgs {
                 "--accel does nothing with the {name} planner: it sets the blends of lspb \
                  (--planner lspb)"
             )));
+        }
+        if !self.subroutine_path.is_empty() && input != InputKind::Gcode {
+            return Err(Failure::Usage(
+                "--subroutine-path does nothing here: it finds G-code subroutines".into(),
+            ));
         }
         if self.tool_table_units.is_some() && self.tool_table.is_none() {
             return Err(Failure::Usage(
@@ -298,6 +307,7 @@ impl PipelineArgs {
             quantize: self.quantize,
             quantize_rounding: self.quantize_rounding.unwrap_or_default(),
             work_offsets,
+            subroutine_path: self.subroutine_path.clone(),
             tool_table,
             arc_abs_tolerance_mm: self
                 .arc_abs_tolerance

@@ -21,6 +21,7 @@ pub mod pipeline;
 pub mod plot;
 pub mod report;
 pub mod stream;
+pub mod subroutines;
 pub mod toolpath;
 pub mod tools;
 
