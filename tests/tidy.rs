@@ -147,3 +147,43 @@ fn a_test_that_returns_early_says_it_skipped() {
         "tests that return early without saying SKIPPED: {silent:?}"
     );
 }
+
+/// Every `.rs` file under each member crate's `src/`, with its path from the root.
+fn crate_sources() -> Vec<(String, String)> {
+    member_crates()
+        .iter()
+        .flat_map(|c| rust_files(&root().join("crates").join(c).join("src")))
+        .map(|f| {
+            let name = f.strip_prefix(root()).unwrap().display().to_string();
+            (name, std::fs::read_to_string(&f).unwrap())
+        })
+        .collect()
+}
+
+#[test]
+fn line_and_column_are_computed_in_one_place() {
+    // What a function turning offsets into lines (or lines into offsets) is called or does.
+    const SIGNS: [&str; 6] = [
+        "fn line_col(",
+        "fn line_of(",
+        "fn line_range(",
+        "fn line_column(",
+        "b'\\n').count()",
+        "matches('\\n').count()",
+    ];
+    let mut found = Vec::new();
+    for (name, text) in crate_sources() {
+        if name == "crates/pvt-core/src/text.rs" {
+            continue;
+        }
+        for sign in SIGNS {
+            if text.contains(sign) {
+                found.push(format!("{name}: {sign}"));
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "line/column arithmetic outside pvt-core's text.rs (call pvt_core::text): {found:?}"
+    );
+}

@@ -45,10 +45,11 @@ mod sink;
 mod syntax;
 mod value;
 
-pub use diagnostic::{line_col, GcodeDiagnostic, GcodeErrors};
+pub use diagnostic::{GcodeDiagnostic, GcodeErrors};
 pub use kept::MAX_KEPT_DIAGNOSTICS;
 pub use lines::MAX_LINE_BYTES;
 pub use prescan::{prescan, Prescan};
+pub use pvt_core::text::line_col;
 pub use sink::{StreamSummary, ToolpathSink};
 pub use syntax::{check_syntax, SyntaxSummary};
 

@@ -477,21 +477,10 @@ pub(crate) fn plan_notes(report: &PlanReport, options: &CompileOptions) -> Vec<R
 
 /// A diagnostic labelling the whole of 1-based `line` of the source.
 pub(crate) fn at_line(code: &str, message: &str, line: u32, source: &Source) -> Report {
-    let text = &source.bytes;
-    let mut start = 0;
-    for _ in 1..line.max(1) {
-        match text[start..].iter().position(|&b| b == b'\n') {
-            Some(i) => start += i + 1,
-            None => break,
-        }
-    }
-    let end = text[start..]
-        .iter()
-        .position(|&b| b == b'\n')
-        .map_or(text.len(), |i| start + i);
+    let range = pvt_core::text::line_range(&source.bytes, line as usize);
     miette::miette!(
         code = code.to_string(),
-        labels = vec![LabeledSpan::at(start..end, "this line")],
+        labels = vec![LabeledSpan::at(range, "this line")],
         "{message}"
     )
 }
