@@ -187,3 +187,45 @@ fn line_and_column_are_computed_in_one_place() {
         "line/column arithmetic outside pvt-core's text.rs (call pvt_core::text): {found:?}"
     );
 }
+
+/// The part of a source file that is not test code: nothing from its `#[cfg(test)]` on,
+/// and nothing of a file that is a test module (`tests.rs`, `*_tests.rs`).
+fn non_test_code<'a>(name: &str, text: &'a str) -> &'a str {
+    if name.ends_with("/tests.rs") || name.ends_with("_tests.rs") {
+        return "";
+    }
+    text.split("#[cfg(test)]").next().unwrap_or("")
+}
+
+#[test]
+fn every_default_is_defined_once_in_pvt_core() {
+    const HOME: &str = "crates/pvt-core/src/defaults.rs";
+    let mut rapid = Vec::new();
+    let mut elsewhere = Vec::new();
+    for (name, text) in crate_sources() {
+        let code = non_test_code(&name, &text);
+        for (i, line) in code.lines().enumerate() {
+            if line.contains("5000.0") || line.contains("5_000.0") {
+                rapid.push(format!("{name}:{}", i + 1));
+            }
+            // A default given its own number (not a name from pvt_core::defaults).
+            let t = line.trim_start();
+            let defines = (t.starts_with("pub const DEFAULT") || t.starts_with("const DEFAULT"))
+                && t.split('=').nth(1).is_some_and(|v| {
+                    v.trim_start()
+                        .starts_with(|c: char| c.is_ascii_digit() || c == '-')
+                });
+            if defines && name != HOME {
+                elsewhere.push(format!("{name}:{}", i + 1));
+            }
+        }
+    }
+    assert!(
+        rapid.len() == 1 && rapid[0].starts_with(HOME),
+        "the 5000 mm/min rapid default is written once, in {HOME}: {rapid:?}"
+    );
+    assert!(
+        elsewhere.is_empty(),
+        "defaults defined outside {HOME}: {elsewhere:?}"
+    );
+}

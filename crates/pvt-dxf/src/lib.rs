@@ -58,14 +58,12 @@ use crate::entities::{is_imperial, mm_per_unit, Reader};
 use crate::geom::Affine;
 use crate::source::SourceMap;
 
-/// Default rapid rate, millimetres per minute.
-pub const DEFAULT_RAPID_MM_PER_MIN: f64 = 5000.0;
-/// Default [`DxfOptions::max_points`]. A drawing is read in memory, at roughly 400 bytes
-/// per point from file to output (10 million points took 4.2 GB), so this bounds the
-/// memory of a compile near 1 GB.
-pub const DEFAULT_MAX_POINTS: usize = 2_000_000;
+/// Default [`DxfOptions::max_points`] ([`pvt_core::defaults::DXF_MAX_POINTS`]).
+pub use pvt_core::defaults::DXF_MAX_POINTS as DEFAULT_MAX_POINTS;
 /// Default join tolerance, millimetres (raised to the chord tolerance if that is larger).
-pub const DEFAULT_JOIN_MM: f64 = 0.01;
+pub use pvt_core::defaults::JOIN_TOLERANCE_MM as DEFAULT_JOIN_MM;
+/// Default rapid rate, millimetres per minute.
+pub use pvt_core::defaults::RAPID_MM_PER_MIN as DEFAULT_RAPID_MM_PER_MIN;
 
 /// How to read a drawing.
 #[derive(Debug, Clone, PartialEq)]

@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// Default rapid rate, mm/min.
-pub const DEFAULT_RAPID_MM_PER_MIN: f64 = 5000.0;
+pub use pvt_core::defaults::RAPID_MM_PER_MIN as DEFAULT_RAPID_MM_PER_MIN;
 
 /// An input, read whole.
 #[derive(Debug, Clone)]
@@ -309,11 +309,8 @@ pub fn plan_options(
     units: Units,
     moved: &[pvt_core::Axis],
 ) -> Result<PlanOptions, Failure> {
-    let tolerance = options
-        .tolerance
-        .unwrap_or(units.from_mm(ChordTolerance::DEFAULT_MM));
-    let tolerance =
-        ChordTolerance::new(tolerance).expect("the CLI accepts only positive tolerances");
+    let tolerance = ChordTolerance::new(resolved_tolerance(options, units))
+        .expect("the CLI accepts only positive tolerances");
     let limits = match &options.machine {
         Some(m) => m
             .limits_in(units, moved)
@@ -485,21 +482,37 @@ pub(crate) fn at_line(code: &str, message: &str, line: u32, source: &Source) -> 
     )
 }
 
+/// The tolerance of a program in `units`: `--tolerance`, or pvt-core's default converted.
+/// The one place it is resolved: planning and the header both read it.
+pub(crate) fn resolved_tolerance(options: &CompileOptions, units: Units) -> f64 {
+    options
+        .tolerance
+        .unwrap_or_else(|| units.from_mm(pvt_core::defaults::TOLERANCE_MM))
+}
+
+/// The rapid rate of a program in `units`, per minute: `--rapid`, or pvt-core's default
+/// converted (as the G-code and DXF front ends resolve a rapid they are not given).
+pub(crate) fn resolved_rapid(options: &CompileOptions, units: Units) -> f64 {
+    options
+        .rapid
+        .unwrap_or_else(|| units.from_mm(DEFAULT_RAPID_MM_PER_MIN))
+}
+
 /// The settings every output header names, in a fixed order.
 pub(crate) fn settings(options: &CompileOptions, units: Units) -> Vec<(String, String)> {
     let u = units.name();
     let tolerance = match options.tolerance {
         Some(t) => t,
-        None => significant(units.from_mm(ChordTolerance::DEFAULT_MM)),
+        None => significant(resolved_tolerance(options, units)),
     };
     let rapid = match options.rapid {
         Some(r) => format!("{r} {u}/min"),
         None if units == Units::Millimetre => {
-            format!("{DEFAULT_RAPID_MM_PER_MIN} {u}/min (default)")
+            format!("{} {u}/min (default)", resolved_rapid(options, units))
         }
         None => format!(
-            "{} {u}/min (default 5000 mm/min)",
-            significant(units.from_mm(DEFAULT_RAPID_MM_PER_MIN))
+            "{} {u}/min (default {DEFAULT_RAPID_MM_PER_MIN} mm/min)",
+            significant(resolved_rapid(options, units))
         ),
     };
     let feed = match options.feed {
