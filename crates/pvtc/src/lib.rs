@@ -1,7 +1,7 @@
 //! pvtc: the command line, a small layer on top of the pipeline crates.
 //!
-//! Owns arguments ([`args`]), reading inputs and choosing a front end ([`front`],
-//! [`pipeline`]), batch runs ([`batch`]), writing outputs atomically ([`output`]), the
+//! Owns arguments ([`args`]), the data a compile shares ([`options`]), reading inputs
+//! and choosing a front end ([`front`], [`pipeline`]), batch runs ([`batch`]), writing outputs atomically ([`output`]), the
 //! check and plot commands' rendering ([`check`], [`plot`]) and diagnostics ([`report`]).
 //! Architecture invariant: no geometry, planning or formatting happens here; a failed run
 //! never creates or changes an output file.
@@ -13,6 +13,7 @@ pub mod excerpt;
 pub mod front;
 pub mod machine;
 pub mod offsets;
+pub mod options;
 pub mod output;
 pub mod pipeline;
 pub mod plot;
