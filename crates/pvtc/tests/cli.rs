@@ -1,28 +1,10 @@
 //! The `pvtc` binary end to end: exit codes, diagnostics, stdin/stdout, no partial output.
 
-use std::io::Write;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::path::Path;
+use std::process::{Command, Output};
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn pvtc(args: &[&str], stdin: Option<&str>) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_pvtc"))
-        .args(args)
-        .current_dir(root())
-        .env("NO_COLOR", "1")
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("pvtc runs");
-    let mut pipe = child.stdin.take().unwrap();
-    pipe.write_all(stdin.unwrap_or("").as_bytes()).unwrap();
-    drop(pipe);
-    child.wait_with_output().unwrap()
-}
+mod common;
+use common::{pvtc, pvtc_into, root};
 
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
@@ -111,19 +93,6 @@ fn output_file_is_written_whole_and_matches_stdout() {
     assert!(String::from_utf8(stdout)
         .unwrap()
         .contains("OPEN PROG 1 CLEAR"));
-}
-
-/// Runs pvtc with standard output redirected to `file` (as `>` or `>>` does).
-fn pvtc_into(args: &[&str], file: std::fs::File) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pvtc"))
-        .args(args)
-        .current_dir(root())
-        .env("NO_COLOR", "1")
-        .stdin(Stdio::null())
-        .stdout(Stdio::from(file))
-        .stderr(Stdio::piped())
-        .output()
-        .expect("pvtc runs")
 }
 
 /// Standard output redirected to a file is written in one pass, starting over when the
