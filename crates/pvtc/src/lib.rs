@@ -12,7 +12,6 @@ pub mod check;
 pub mod excerpt;
 pub mod front;
 pub mod machine;
-pub mod offsets;
 pub mod options;
 pub mod output;
 pub mod pipeline;
@@ -36,9 +35,18 @@ pub fn run(cli: Cli) -> ExitCode {
     report::install_panic_hook();
     output::remove_partial_outputs_on_interrupt();
     match cli.command {
-        Command::Compile(args) => compile_command(&args),
-        Command::Check(args) => check::run(&args),
-        Command::Plot(args) => plot::run(&args),
+        Command::Compile(mut args) => match args.pipeline.read_files() {
+            Ok(()) => compile_command(&args),
+            Err(failure) => Reporter::new(&args.pipeline).fail(&failure),
+        },
+        Command::Check(mut args) => match args.pipeline.read_files() {
+            Ok(()) => check::run(&args),
+            Err(failure) => Reporter::new(&args.pipeline).fail(&failure),
+        },
+        Command::Plot(mut args) => match args.pipeline.read_files() {
+            Ok(()) => plot::run(&args),
+            Err(failure) => Reporter::new(&args.pipeline).fail(&failure),
+        },
     }
 }
 

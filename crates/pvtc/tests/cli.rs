@@ -979,6 +979,42 @@ fn offsets_file_and_units_conversion_apply_to_gcode() {
     );
 }
 
+/// A batch reads the offsets table once for the run: a bad one is one diagnostic with
+/// its line, not one per job, and no output is written.
+#[test]
+fn a_batch_reads_the_offsets_file_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let offsets = dir.path().join("offsets.txt");
+    std::fs::write(&offsets, "G54 X1\nG60 X2\n").unwrap();
+    let out = dir.path().join("out");
+    let mut args = vec!["compile"];
+    let inputs: Vec<String> = (0..3)
+        .map(|i| {
+            let p = dir.path().join(format!("p{i}.ngc"));
+            std::fs::write(&p, "G21 G90 G55\nG1 X10 Y0 F600\n").unwrap();
+            p.display().to_string()
+        })
+        .collect();
+    args.extend(inputs.iter().map(String::as_str));
+    args.extend(["--out-dir", out.to_str().unwrap()]);
+    args.extend([
+        "--offsets",
+        offsets.to_str().unwrap(),
+        "--diagnostics",
+        "json",
+    ]);
+    let o = pvtc(&args, None);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let errors: Vec<serde_json::Value> = stderr(&o)
+        .lines()
+        .filter_map(|l| serde_json::from_str(l).ok())
+        .collect();
+    assert_eq!(errors.len(), 1, "{}", stderr(&o));
+    assert_eq!(errors[0]["code"], "pvtc::offsets::syntax");
+    assert_eq!(errors[0]["line"], 2);
+    assert!(!out.exists() || std::fs::read_dir(&out).unwrap().next().is_none());
+}
+
 #[test]
 fn a_dxf_the_dxf_crate_panics_on_is_a_clean_read_error() {
     let o = pvtc(
