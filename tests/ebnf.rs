@@ -149,9 +149,10 @@ impl Parser {
     }
 
     fn except(&mut self) -> Result<Expr, String> {
-        let term = self.term()?;
-        if self.eat('-') {
-            return Ok(Expr::Except(Box::new(term), Box::new(self.term()?)));
+        let mut term = self.term()?;
+        // `a - b - c`: what a matches, unless b or c matches it.
+        while self.eat('-') {
+            term = Expr::Except(Box::new(term), Box::new(self.term()?));
         }
         Ok(term)
     }
@@ -323,7 +324,7 @@ mod tests {
     fn reads_and_matches_each_form() {
         let g = Grammar::parse(
             r#"(* a comment *)
-            line = word , { " " , word } , [ ";" , { ? any character ? - nl } ] , nl ;
+            line = word , { " " , word } , [ ";" , { ? any character ? - nl - "!" } ] , nl ;
             word = letter , 2 * digit | "-" ;
             letter = "A" | "B" ;
             digit = "0" | "1" ;
@@ -337,6 +338,7 @@ mod tests {
         assert!(!g.matches("line", "C01\n"));
         assert!(!g.matches("line", "A01"));
         assert!(!g.matches("line", "A01;a\nb\n"));
+        assert!(!g.matches("line", "A01;a!\n"));
         assert!(Grammar::parse("a = b ;").is_err());
         assert!(Grammar::parse("a = \"x\" ").is_err());
     }

@@ -324,13 +324,14 @@ fn pmac_values_in_range(line: &str) -> bool {
         .strip_prefix("PVT")
         .or_else(|| line.strip_prefix("TA").and_then(|r| r.split(' ').next()));
     let time_ok = time.is_none_or(|t| t.parse().is_ok_and(|ms: f64| ms > 0.0 && ms <= 4095.0));
-    let negative_zero = line
-        .split([' ', ':'])
-        .filter_map(|w| {
-            w.trim_start_matches(|c: char| c.is_ascii_uppercase())
-                .strip_prefix('-')
-        })
-        .any(|digits| digits.bytes().all(|b| b == b'0' || b == b'.'));
+    let negative_zero = line.starts_with("TA")
+        && line
+            .split([' ', ':'])
+            .filter_map(|w| {
+                w.trim_start_matches(|c: char| c.is_ascii_uppercase())
+                    .strip_prefix('-')
+            })
+            .any(|digits| digits.bytes().all(|b| b == b'0' || b == b'.'));
     time_ok && !negative_zero
 }
 
@@ -391,6 +392,13 @@ fn golden_pmac_files_follow_the_pmac_grammar() {
         "TA1.0000 W1.000000:0.000000",
         "DWELL1.0000",
         "OPEN PROG CLEAR",
+        "&",
+        "#1->X",
+        "#1->1000Q",
+        "#1->-5X",
+        "M3 ; spindle_cw from line 3",
+        "SEND\"a\"b\" ; message from line 2",
+        "M03 ; spindle_cw",
     ] {
         assert!(!pmac_line_matches_grammar(&grammar, &lines, bad), "{bad}");
     }
@@ -403,6 +411,85 @@ fn golden_pmac_files_follow_the_pmac_grammar() {
     // A program out of order is not one.
     assert!(!grammar.matches("program", "ABS\nOPEN PROG 1 CLEAR\nPVT1.0000\nCLOSE\n"));
     assert!(grammar.matches("program", "OPEN PROG 1 CLEAR\nABS\nPVT1.0000\nCLOSE\n"));
+}
+
+/// PMAC program settings and event commands: every line follows grammars/pmac.ebnf,
+/// each event becomes its command, and a fresh `PVT` line follows each command before
+/// the next piece. Without the settings the output is the golden file, byte for byte.
+#[test]
+fn pmac_settings_and_event_commands_follow_the_pmac_grammar() {
+    let text = "G21 G90\nT2 M6\nS12000 M3\nM8\nG1 X10 F600\n(MSG, check \"it\")\nM0\nG4 P0.5\n\
+                G1 Y10 Z-1\nM1\nM5 M9\nM30\n";
+    let source = Source::from_text("events.ngc", text);
+    let mut options = CompileOptions::new(Format::Pmac);
+    options.pmac = pvt_emit::PmacSettings {
+        program: 12,
+        coord: Some(3),
+        axes: ["#1->1000X", "#2->1000.5Y", "#4->2000Z"]
+            .iter()
+            .map(|d| pvt_emit::AxisDefinition::parse(d).unwrap())
+            .collect(),
+        events: pvt_emit::PmacEvents::Commands,
+    };
+    let out = String::from_utf8(pvtc::compile(&source, &options).unwrap().bytes).unwrap();
+    let (grammar, lines) = pmac_grammar();
+    for line in out.lines() {
+        assert!(
+            pmac_line_matches_grammar(&grammar, &lines, line),
+            "{line:?} in\n{out}"
+        );
+    }
+    assert!(grammar.matches("program", &out), "not a `program`:\n{out}");
+    let body: Vec<&str> = out.lines().filter(|l| !l.starts_with(';')).collect();
+    let piece = |l: &&str| l.starts_with("TA");
+    let first_piece = body.iter().position(piece).unwrap();
+    assert_eq!(
+        body[..first_piece],
+        [
+            "&3",
+            "#1->1000X",
+            "#2->1000.5Y",
+            "#4->2000Z",
+            "OPEN PROG 12 CLEAR",
+            "ABS",
+            "T2 ; tool_select from line 2",
+            "M06 ; tool_change from line 2",
+            "S12000 ; spindle_speed from line 3",
+            "M03 ; spindle_cw from line 3",
+            "M08 ; coolant_flood from line 4",
+            "PVT1500.0000",
+        ],
+        "{out}"
+    );
+    let after: Vec<&str> = body[first_piece + 1..]
+        .iter()
+        .copied()
+        .filter(|l| !piece(l))
+        .collect();
+    assert_eq!(
+        after,
+        [
+            "SEND\"check 'it'\" ; message from line 6",
+            "STOP ; pause from line 7",
+            "DWELL500.0000 ; G4 from line 8",
+            "PVT1507.4813",
+            "M01 ; optional_pause from line 10",
+            "M05 ; spindle_off from line 11",
+            "M09 ; coolant_off from line 11",
+            "CLOSE",
+        ],
+        "{out}"
+    );
+    // The defaults are today's output: program 1, no &n, events as comments.
+    for sample in [
+        "samples/gcode/fanuc_post_dwell_checksum.ngc",
+        "samples/gcode/square.ngc",
+    ] {
+        let mut options = options_for(sample, Format::Pmac);
+        options.pmac = pvt_emit::PmacSettings::default();
+        let golden = std::fs::read(root().join(golden_name(sample, Format::Pmac))).unwrap();
+        assert_eq!(compile_file(sample, &options), golden, "{sample}");
+    }
 }
 
 /// Every planner on the AN208 series and the quad circle: JSON golden files, and the

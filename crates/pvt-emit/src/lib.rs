@@ -1,8 +1,9 @@
 //! pvt-emit: the back ends that turn PVT motion into what a controller takes.
 //!
 //! Owns the output formats: PMAC PVT motion program text ([`pmac`]), MovePVT arrays as C
-//! source ([`movepvt`]) and the versioned pvtc JSON document ([`json`]). Each back end is
-//! a [`ProgramWriter`] fed one piece at a time ([`stream`]), so output of any length goes
+//! source ([`movepvt`]) and the versioned pvtc JSON document ([`json`]), and the
+//! interpreted toolpath before planning as JSON lines ([`toolpath`]). Each back end of
+//! motion is a [`ProgramWriter`] fed one piece at a time ([`stream`]), so output of any length goes
 //! out in constant memory; [`Checked`] validates every value before a back end sees it,
 //! so a NaN, an infinity or a non-positive piece time never reaches an output.
 //!
@@ -15,11 +16,13 @@ mod number;
 pub mod plot;
 pub mod pmac;
 pub mod stream;
+pub mod toolpath;
 pub mod validate;
 
 use pvt_core::PvtProgram;
 use std::io::Write;
 
+pub use pmac::{AxisDefinition, PmacEvents, PmacSettings};
 pub use stream::{Checked, Header, ProgramWriter, StreamError};
 pub use validate::{validate, InvalidProgram};
 
@@ -91,8 +94,8 @@ pub struct EmitOptions {
     pub source: String,
     /// The settings that shaped the program, as (name, value) pairs, in a fixed order.
     pub settings: Vec<(String, String)>,
-    /// PMAC motion program number for `OPEN PROG n`.
-    pub program_number: u32,
+    /// PMAC program number, coordinate system, axis definitions and event commands.
+    pub pmac: pmac::PmacSettings,
 }
 
 /// Validates the whole of `program`, then writes it in `format` to `out`.

@@ -22,14 +22,172 @@
 //!   (`pvt_core::split`) and [`crate::Checked`] refuses any that reaches this writer.
 //!
 //! Every contour starts and ends at rest; consecutive contours chain, so the whole program
-//! is one `OPEN PROG n CLEAR … CLOSE` block. The grammar of what is written is
+//! is one `OPEN PROG n CLEAR … CLOSE` block ([`PmacSettings::program`], 1 by default).
+//! With [`PmacSettings::coord`] the block is preceded by the on-line commands that address
+//! the coordinate system (`&1`) and define its axes (`#1->1000X`).
+//!
+//! Events: by default comments (a `DWELL` for G4). With [`PmacEvents::Commands`] they are
+//! PMAC's machine-tool-style commands: M-codes as `M03` (a call of PROG 1001 at N3000,
+//! which the machine's integrator writes), tools as `T5` (PROG 1002), the spindle speed
+//! as `S12000`, M0 as `STOP`, a message as `SEND"…"`; each is followed by a fresh
+//! `PVT` line, because a called routine may change the move mode. The grammar of what is written is
 //! `grammars/pmac.ebnf`. PMAC has no PT move of this kind, so PT programs are refused.
 //! It must not plan or round times.
 
 use crate::number::push_fixed;
 use crate::stream::{Header, ProgramWriter, Totals};
-use pvt_core::{Axis, EventKind, Motion, ProgramEvent, SegmentRef};
+use pvt_core::{Axis, CoolantState, EventKind, Motion, ProgramEvent, SegmentRef, SpindleState};
 use std::io::{self, Write};
+
+/// Largest PMAC motion program number.
+pub const MAX_PROGRAM: u32 = 32767;
+/// The programs PMAC calls for G, M, T and D codes (1000–1003): not for a part program.
+pub const RESERVED_PROGRAMS: std::ops::RangeInclusive<u32> = 1000..=1003;
+/// Largest coordinate system number (Turbo PMAC has 16).
+pub const MAX_COORD: u32 = 16;
+/// Largest motor number (Turbo PMAC has 32).
+pub const MAX_MOTOR: u32 = 32;
+
+/// How events (spindle, coolant, tool, pause, message) are written.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PmacEvents {
+    /// As comments (`; event spindle_cw from line 5`); G4 as `DWELL`.
+    #[default]
+    Comments,
+    /// As PMAC commands: `M03`, `T5`, `S12000`, `STOP`, `SEND"…"`, `DWELL`.
+    Commands,
+}
+
+/// One axis definition statement, `#{motor}->{scale}{axis}`: motor `motor` is axis `axis`
+/// at `scale` counts per program unit.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct AxisDefinition {
+    /// Motor number, 1 to [`MAX_MOTOR`].
+    pub motor: u32,
+    /// Counts per unit, as written (a positive decimal number).
+    pub scale: String,
+    /// The axis.
+    pub axis: Axis,
+}
+
+impl AxisDefinition {
+    /// Reads `#1->1000X` (motor 1 is X at 1000 counts per unit).
+    pub fn parse(text: &str) -> Result<AxisDefinition, String> {
+        let bad = || {
+            format!(
+                "expected an axis definition like #1->1000X (motor 1 is X at 1000 counts per \
+                 unit), not {text:?}"
+            )
+        };
+        let rest = text.trim().strip_prefix('#').ok_or_else(bad)?;
+        let (motor, def) = rest.split_once("->").ok_or_else(bad)?;
+        let motor: u32 = motor.parse().map_err(|_| bad())?;
+        if !(1..=MAX_MOTOR).contains(&motor) {
+            return Err(format!("motor #{motor} is out of range: 1 to {MAX_MOTOR}"));
+        }
+        let mut chars = def.chars();
+        let axis = chars
+            .next_back()
+            .and_then(Axis::from_letter)
+            .ok_or_else(bad)?;
+        let scale = chars.as_str();
+        let digits = |d: &str| !d.is_empty() && d.bytes().all(|b| b.is_ascii_digit());
+        let decimal = match scale.split_once('.') {
+            Some((whole, fraction)) => digits(whole) && digits(fraction),
+            None => digits(scale),
+        };
+        let positive = scale.parse::<f64>().is_ok_and(|s| s > 0.0 && s.is_finite());
+        if !decimal || !positive {
+            return Err(format!(
+                "the scale of {text:?} must be a positive number of counts per unit, like 1000"
+            ));
+        }
+        Ok(AxisDefinition {
+            motor,
+            scale: scale.to_string(),
+            axis,
+        })
+    }
+}
+
+impl std::fmt::Display for AxisDefinition {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "#{}->{}{}", self.motor, self.scale, self.axis)
+    }
+}
+
+/// What a PMAC program is set up with besides its motion.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PmacSettings {
+    /// Motion program number, `OPEN PROG n`.
+    pub program: u32,
+    /// Coordinate system addressed (`&n`) before the program, if any.
+    pub coord: Option<u32>,
+    /// Axis definitions written after `&n`.
+    pub axes: Vec<AxisDefinition>,
+    /// How events are written.
+    pub events: PmacEvents,
+}
+
+impl Default for PmacSettings {
+    fn default() -> PmacSettings {
+        PmacSettings {
+            program: 1,
+            coord: None,
+            axes: Vec::new(),
+            events: PmacEvents::Comments,
+        }
+    }
+}
+
+impl PmacSettings {
+    /// Checks the numbers and that no motor or axis is defined twice.
+    pub fn validate(&self) -> Result<(), String> {
+        if self.program == 0 || self.program > MAX_PROGRAM {
+            return Err(format!(
+                "PMAC program {} is out of range: 1 to {MAX_PROGRAM}",
+                self.program
+            ));
+        }
+        if RESERVED_PROGRAMS.contains(&self.program) {
+            return Err(format!(
+                "PMAC program {} is one PMAC calls for G, M, T and D codes (1000 to 1003): \
+                 choose another number",
+                self.program
+            ));
+        }
+        if let Some(cs) = self.coord {
+            if cs == 0 || cs > MAX_COORD {
+                return Err(format!(
+                    "coordinate system &{cs} is out of range: 1 to {MAX_COORD}"
+                ));
+            }
+        }
+        for (i, a) in self.axes.iter().enumerate() {
+            for b in &self.axes[..i] {
+                if a.motor == b.motor {
+                    return Err(format!("motor #{} is defined twice ({b} and {a})", a.motor));
+                }
+                if a.axis == b.axis {
+                    return Err(format!("axis {} is defined twice ({b} and {a})", a.axis));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The moved axes no definition names, when definitions are given.
+    pub fn undefined_axes(&self, moved: &[Axis]) -> Vec<Axis> {
+        if self.axes.is_empty() {
+            return Vec::new();
+        }
+        moved
+            .iter()
+            .copied()
+            .filter(|m| !self.axes.iter().any(|d| d.axis == *m))
+            .collect()
+    }
+}
 
 /// Decimals of positions and velocities.
 pub const POSITION_DECIMALS: usize = 6;
@@ -48,6 +206,9 @@ pub struct PmacWriter<W> {
     axes: Vec<Axis>,
     line: Vec<u8>,
     totals: Totals,
+    events: PmacEvents,
+    /// A command event was written since the last piece: the next piece restates `PVT`.
+    reenter_pvt: bool,
 }
 
 impl<W: Write> PmacWriter<W> {
@@ -58,6 +219,8 @@ impl<W: Write> PmacWriter<W> {
             axes: Vec::new(),
             line: Vec::with_capacity(LINE_BATCH + 1024),
             totals: Totals::default(),
+            events: PmacEvents::Comments,
+            reenter_pvt: false,
         }
     }
 
@@ -111,7 +274,20 @@ impl<W: Write> ProgramWriter for PmacWriter<W> {
         t.extend_from_slice(
             b"; Turbo PMAC: requires I42=1, so that TA times PVT pieces (under I42=0 it does not)\n",
         );
-        writeln!(t, "OPEN PROG {} CLEAR\nABS", header.options.program_number)?;
+        let pmac = &header.options.pmac;
+        self.events = pmac.events;
+        if pmac.events == PmacEvents::Commands {
+            t.extend_from_slice(
+                b"; events: PMAC commands; M-codes call PROG 1001, T-codes PROG 1002 (machine-specific)\n",
+            );
+        }
+        if let Some(cs) = pmac.coord {
+            writeln!(t, "&{cs}")?;
+            for def in &pmac.axes {
+                writeln!(t, "{def}")?;
+            }
+        }
+        writeln!(t, "OPEN PROG {} CLEAR\nABS", pmac.program)?;
         self.flush_line()
     }
 
@@ -135,7 +311,8 @@ impl<W: Write> ProgramWriter for PmacWriter<W> {
 
     fn segment(&mut self, seg: &SegmentRef<'_>) -> io::Result<()> {
         let ms = seg.duration * 1000.0;
-        if self.totals.segments == 0 {
+        if self.totals.segments == 0 || self.reenter_pvt {
+            self.reenter_pvt = false;
             self.line.extend_from_slice(b"PVT");
             push_fixed::<TIME_DECIMALS>(&mut self.line, ms);
             self.line.push(b'\n');
@@ -155,6 +332,18 @@ impl<W: Write> ProgramWriter for PmacWriter<W> {
     }
 
     fn event(&mut self, event: &ProgramEvent) -> io::Result<()> {
+        if self.events == PmacEvents::Commands {
+            if let Some(command) = command(&event.kind) {
+                writeln!(
+                    self.line,
+                    "{command} ; {} from line {}",
+                    event.kind.name(),
+                    event.line
+                )?;
+                self.reenter_pvt = true;
+                return self.flush_line();
+            }
+        }
         let t = &mut self.line;
         match &event.kind {
             EventKind::Dwell { seconds } => {
@@ -200,4 +389,44 @@ impl<W: Write> ProgramWriter for PmacWriter<W> {
         self.write_gathered()?;
         self.out.flush()
     }
+}
+
+/// The PMAC command an event is written as under [`PmacEvents::Commands`]; none for a
+/// dwell, which is always `DWELL`.
+fn command(kind: &EventKind) -> Option<String> {
+    Some(match kind {
+        EventKind::Dwell { .. } => return None,
+        EventKind::Pause { optional: false } => "STOP".to_string(),
+        EventKind::Pause { optional: true } => "M01".to_string(),
+        EventKind::Spindle { state } => match state {
+            SpindleState::Clockwise => "M03",
+            SpindleState::CounterClockwise => "M04",
+            SpindleState::Off => "M05",
+        }
+        .to_string(),
+        EventKind::SpindleSpeed { rpm } => format!("S{rpm}"),
+        EventKind::Coolant { state } => match state {
+            CoolantState::Mist => "M07",
+            CoolantState::Flood => "M08",
+            CoolantState::Off => "M09",
+        }
+        .to_string(),
+        EventKind::ToolSelect { tool } => format!("T{tool}"),
+        EventKind::ToolChange => "M06".to_string(),
+        EventKind::Message { text } => {
+            let text: String = text
+                .chars()
+                .map(|c| {
+                    if c == '"' {
+                        '\''
+                    } else if c.is_control() {
+                        ' '
+                    } else {
+                        c
+                    }
+                })
+                .collect();
+            format!("SEND\"{text}\"")
+        }
+    })
 }

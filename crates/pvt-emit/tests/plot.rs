@@ -254,7 +254,8 @@ fn the_octagon_plot_has_its_panels_labels_and_units() {
         "velocity (mm/s)",
         "acceleration (mm/s²)",
         "speed scale",
-        "programmed point",
+        "element end",
+        "programmed path",
     ] {
         assert!(t.iter().any(|x| x == label), "no text {label:?} in {t:?}");
     }
@@ -380,4 +381,229 @@ fn empty_and_invalid_programs_are_refused() {
         plot_svg(&bad, &PlotOptions::default()),
         Err(PlotError::Invalid(_))
     ));
+}
+
+/// Position of X, Y (and Z) in a six-axis position.
+fn at(x: f64, y: f64, z: f64) -> pvt_core::Position {
+    [x, y, z, 0.0, 0.0, 0.0]
+}
+
+/// A half circle of radius 10 about the origin from (10, 0) to (-10, 0), counter-clockwise,
+/// then a line to (-10, -5): the programmed geometry, and a program that runs the half
+/// circle as four chords (45° each, at rest at every point, so each piece is its chord).
+fn half_circle() -> (PvtProgram, pvt_core::Toolpath) {
+    use pvt_core::{Arc, ArcDirection, Contour, Element, ElementKind, Plane, Span, Toolpath};
+    let arc = Element {
+        kind: ElementKind::Arc(Arc {
+            plane: Plane::XY,
+            center: [0.0, 0.0],
+            direction: ArcDirection::CounterClockwise,
+            extra_turns: 0,
+        }),
+        start: at(10.0, 0.0, 0.0),
+        end: at(-10.0, 0.0, 0.0),
+        feed: 600.0,
+        span: Span::default(),
+    };
+    let line = Element {
+        kind: ElementKind::Line,
+        start: at(-10.0, 0.0, 0.0),
+        end: at(-10.0, -5.0, 0.0),
+        feed: 600.0,
+        span: Span::default(),
+    };
+    let toolpath = Toolpath {
+        contours: vec![Contour {
+            motion: Motion::Feed,
+            elements: vec![arc, line],
+        }],
+        ..Toolpath::default()
+    };
+    let mut c = PvtContour::new(Motion::Feed, vec![10.0, 0.0]);
+    for k in 1..=4 {
+        let (s, co) = sin_cos_45(k);
+        c.push(&[10.0 * co, 10.0 * s], &[0.0, 0.0], 0.5, 1);
+    }
+    c.push(&[-10.0, -5.0], &[0.0, 0.0], 0.5, 2);
+    let p = program(vec![Axis::X, Axis::Y], Interpolation::Pvt, vec![c]);
+    (p, toolpath)
+}
+
+fn with_geometry(toolpath: pvt_core::Toolpath) -> PlotOptions {
+    PlotOptions {
+        geometry: Some(toolpath),
+        ..options("half circle")
+    }
+}
+
+/// Pixel points of the polylines drawn with `stroke`.
+fn polyline_points(svg: &str, stroke: &str) -> Vec<Vec<(f64, f64)>> {
+    let strokes = attributes(svg, "polyline", "stroke");
+    let points = attributes(svg, "polyline", "points");
+    strokes
+        .iter()
+        .zip(&points)
+        .filter(|(s, _)| s.as_str() == stroke)
+        .map(|(_, p)| {
+            p.split_whitespace()
+                .map(|xy| {
+                    let (x, y) = xy.split_once(',').unwrap();
+                    (x.parse().unwrap(), y.parse().unwrap())
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// The programmed path is drawn as the true arc (every point at the radius, one a
+/// degree), not as the chords the motion takes; only the elements' end points are
+/// marked, not every piece end.
+#[test]
+fn the_programmed_path_is_the_true_arc_and_only_element_ends_are_marked() {
+    let (p, toolpath) = half_circle();
+    let svg = plot_svg(&p, &with_geometry(toolpath)).unwrap();
+    well_formed(&svg);
+    // The contour's polyline, and the legend's two-point key line.
+    let programmed = polyline_points(&svg, "#C8C8C8");
+    assert_eq!(programmed.len(), 2, "one contour, one key");
+    let line = &programmed[0];
+    // The ends of the half circle: (10, 0) first; (-10, 0) where the line turns down.
+    let start = line[0];
+    let turn = line
+        .iter()
+        .position(|q| q.0 == line.last().unwrap().0)
+        .unwrap();
+    let end = line[turn];
+    let centre = ((start.0 + end.0) / 2.0, (start.1 + end.1) / 2.0);
+    let r = (start.0 - end.0).abs() / 2.0;
+    assert!(r > 100.0, "a readable circle: radius {r} px");
+    let dist = |q: &(f64, f64)| ((q.0 - centre.0).powi(2) + (q.1 - centre.1).powi(2)).sqrt();
+    for q in &line[..=turn] {
+        assert!(
+            (dist(q) - r).abs() <= 1.5,
+            "{q:?} is off the circle of {r} px"
+        );
+    }
+    assert!(turn >= 170, "one point a degree: {turn}");
+    // The motion runs the chords: their middles are inside the circle by r(1 - cos 22.5°).
+    let motion: Vec<(f64, f64)> = attributes(&svg, "polyline", "points")
+        .iter()
+        .flat_map(|p| p.split_whitespace().map(str::to_string).collect::<Vec<_>>())
+        .map(|xy| {
+            let (x, y) = xy.split_once(',').unwrap();
+            (x.parse().unwrap(), y.parse().unwrap())
+        })
+        .collect();
+    let inside = motion.iter().map(dist).fold(f64::INFINITY, f64::min);
+    assert!(inside < r * 0.95, "the chords dip to {inside} of {r}");
+    // Markers: the three element ends and the legend's, not the six piece ends.
+    let cx = attributes(&svg, "circle", "cx");
+    assert_eq!(cx.len(), 3 + 1, "{cx:?}");
+    // Without the geometry every piece end is marked, as before.
+    let plain = plot_svg(&p, &options("plain")).unwrap();
+    assert_eq!(attributes(&plain, "circle", "cx").len(), 6 + 1);
+    assert_eq!(polyline_points(&plain, "#C8C8C8").len(), 1, "the key only");
+}
+
+/// A program whose third axis moves gets a panel of it against time; one in a plane does not.
+#[test]
+fn a_moving_third_axis_gets_its_own_panel() {
+    let mut c = PvtContour::new(Motion::Feed, vec![0.0, 0.0, 0.0]);
+    c.push(&[10.0, 0.0, -2.0], &[0.0, 0.0, 0.0], 1.0, 1);
+    c.push(&[10.0, 10.0, -2.0], &[0.0, 0.0, 0.0], 1.0, 2);
+    let xyz = program(vec![Axis::X, Axis::Y, Axis::Z], Interpolation::Pvt, vec![c]);
+    let svg = plot_svg(&xyz, &options("xyz")).unwrap();
+    assert!(
+        svg.contains("Z against time (the third axis)"),
+        "no Z panel"
+    );
+    assert!(svg.contains("Z (mm)"), "no Z axis label");
+    let flat = plot_svg(&octagon(Interpolation::Pvt), &options("flat")).unwrap();
+    assert!(!flat.contains("third axis"));
+    // A third axis that stays put gets no panel.
+    let mut c = PvtContour::new(Motion::Feed, vec![0.0, 0.0, 1.0]);
+    c.push(&[10.0, 0.0, 1.0], &[0.0, 0.0, 0.0], 1.0, 1);
+    let still = program(vec![Axis::X, Axis::Y, Axis::Z], Interpolation::Pvt, vec![c]);
+    assert!(!plot_svg(&still, &options("still"))
+        .unwrap()
+        .contains("third axis"));
+}
+
+/// PNG: a real image of the asked size, with the programmed path's grey and the title's
+/// text drawn in it (the built-in font), the same bytes every time.
+#[test]
+fn png_plots_are_images_with_the_path_and_the_text_drawn() {
+    let (p, toolpath) = half_circle();
+    let options = with_geometry(toolpath);
+    let png = pvt_emit::plot::plot_png(&p, &options).unwrap();
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    assert_eq!(png, pvt_emit::plot::plot_png(&p, &options).unwrap());
+    let image = image::load_from_memory(&png).unwrap().to_rgb8();
+    assert_eq!(image.dimensions(), (1000, 1500));
+    let grey = image.pixels().filter(|px| px.0 == [200, 200, 200]).count();
+    assert!(grey > 500, "programmed path pixels: {grey}");
+    // The title is drawn: dark pixels in the top 30 rows.
+    let dark = (0..1000)
+        .flat_map(|x| (0..30).map(move |y| (x, y)))
+        .filter(|&(x, y)| image.get_pixel(x, y).0.iter().all(|&c| c < 100))
+        .count();
+    assert!(dark > 50, "title pixels: {dark}");
+    if let Some(dir) = std::env::var_os("PVT_PLOT_DIR") {
+        std::fs::write(std::path::Path::new(&dir).join("half_circle.png"), &png).unwrap();
+    }
+}
+
+/// A path that crosses itself (two turns of a circle) is drawn solid in PNG: plotters
+/// fills a wide polyline as one polygon, whose overlapping turns would cancel.
+#[test]
+fn png_draws_a_path_that_crosses_itself_solid() {
+    use pvt_core::{Arc, ArcDirection, Contour, Element, ElementKind, Plane, Span, Toolpath};
+    let turns = Element {
+        kind: ElementKind::Arc(Arc {
+            plane: Plane::XY,
+            center: [0.0, 0.0],
+            direction: ArcDirection::CounterClockwise,
+            extra_turns: 1,
+        }),
+        start: at(10.0, 0.0, 0.0),
+        end: at(10.0, 0.0, 0.0),
+        feed: 600.0,
+        span: Span::default(),
+    };
+    let toolpath = Toolpath {
+        contours: vec![Contour {
+            motion: Motion::Feed,
+            elements: vec![turns],
+        }],
+        ..Toolpath::default()
+    };
+    let mut c = PvtContour::new(Motion::Feed, vec![10.0, 0.0]);
+    for k in 1..=16 {
+        let (s, co) = sin_cos_45(k);
+        c.push(&[10.0 * co, 10.0 * s], &[0.0, 0.0], 0.25, 1);
+    }
+    let p = program(vec![Axis::X, Axis::Y], Interpolation::Pvt, vec![c]);
+    let options = with_geometry(toolpath);
+    // The SVG has the same layout: the top of the programmed circle in pixels.
+    let svg = plot_svg(&p, &options).unwrap();
+    let circle = polyline_points(&svg, "#C8C8C8")
+        .into_iter()
+        .max_by_key(|l| l.len())
+        .unwrap();
+    let top = circle
+        .iter()
+        .copied()
+        .fold((0.0, f64::INFINITY), |a, q| if q.1 < a.1 { q } else { a });
+    let image = image::load_from_memory(&pvt_emit::plot::plot_png(&p, &options).unwrap())
+        .unwrap()
+        .to_rgb8();
+    let (x, y) = (top.0 as u32, top.1 as u32);
+    let inked = (x - 3..=x + 3)
+        .flat_map(|x| (y - 3..=y + 3).map(move |y| (x, y)))
+        .filter(|&(x, y)| image.get_pixel(x, y).0 == [200, 200, 200])
+        .count();
+    assert!(
+        inked >= 10,
+        "{inked} grey pixels around the top of the circle ({x}, {y})"
+    );
 }

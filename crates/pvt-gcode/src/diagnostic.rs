@@ -320,6 +320,21 @@ pub enum GcodeDiagnostic {
         span: SourceSpan,
     },
 
+    /// Note: a rapid to the point the axes are already at, as CAM output writes to start
+    /// from a known point; nothing moves, so it is dropped. A note, not a warning:
+    /// `--deny-warnings` does not fail on it.
+    #[error("rapid to the current point; nothing moves")]
+    #[diagnostic(
+        code(pvtc::gcode::rapid_to_current_point),
+        severity(Advice),
+        help("ordinary in CAM output; nothing to do")
+    )]
+    RapidToCurrentPoint {
+        /// The block.
+        #[label("already here")]
+        span: SourceSpan,
+    },
+
     /// Warning: blocks after the program end (M2, M30, closing `%`) are ignored.
     #[error("blocks after {end} are ignored")]
     #[diagnostic(
@@ -520,6 +535,7 @@ impl GcodeDiagnostic {
             D::ZeroFeed { .. } => "pvtc::gcode::zero_feed",
             D::OutOfRange { .. } => "pvtc::gcode::out_of_range",
             D::ZeroLengthMove { .. } => "pvtc::gcode::zero_length_move",
+            D::RapidToCurrentPoint { .. } => "pvtc::gcode::rapid_to_current_point",
             D::AfterProgramEnd { .. } => "pvtc::gcode::after_program_end",
             D::NoMotion { .. } => "pvtc::gcode::no_motion",
             D::LineTooLong { .. } => "pvtc::gcode::line_too_long",
@@ -541,11 +557,12 @@ impl GcodeDiagnostic {
         span.offset()..span.offset() + span.len()
     }
 
-    /// True for warnings (the program still compiles), false for errors.
+    /// True for warnings and notes (the program still compiles), false for errors.
     pub fn is_warning(&self) -> bool {
         matches!(
             self,
             Self::ZeroLengthMove { .. }
+                | Self::RapidToCurrentPoint { .. }
                 | Self::AfterProgramEnd { .. }
                 | Self::IgnoredWord { .. }
                 | Self::MoreWarnings { .. }
@@ -575,6 +592,7 @@ impl GcodeDiagnostic {
             | D::ZeroFeed { span, .. }
             | D::OutOfRange { span, .. }
             | D::ZeroLengthMove { span }
+            | D::RapidToCurrentPoint { span }
             | D::AfterProgramEnd { span, .. }
             | D::NoMotion { span }
             | D::LineTooLong { span, .. }

@@ -60,11 +60,11 @@ impl Default for ArcCenters {
     }
 }
 
-/// The feed in effect: as written, and in output units per minute.
+/// The feed in effect, as written: a number of the program units in force at each move
+/// per minute.
 #[derive(Debug, Clone, Copy)]
 struct Feed {
     written: f64,
-    per_minute: f64,
 }
 
 /// Executes blocks one at a time, streaming the toolpath into a sink.

@@ -170,8 +170,33 @@ fn warnings_do_not_fail() {
     assert_eq!(
         codes,
         [
-            ("pvtc::gcode::zero_length_move", true),
+            ("pvtc::gcode::rapid_to_current_point", true),
             ("pvtc::gcode::after_program_end", true)
+        ]
+    );
+}
+
+#[test]
+fn a_rapid_to_the_current_point_is_a_note_and_a_feed_move_a_warning() {
+    use miette::{Diagnostic, Severity};
+    let compiled = common::ok("G0 X0 Y0\nG1 X1 F100\nG1 X1\nG0 X1\n");
+    let found: Vec<_> = compiled
+        .warnings
+        .iter()
+        .map(|w| (w.code(), w.severity()))
+        .collect();
+    assert_eq!(
+        found,
+        [
+            (
+                "pvtc::gcode::rapid_to_current_point",
+                Some(Severity::Advice)
+            ),
+            ("pvtc::gcode::zero_length_move", Some(Severity::Warning)),
+            (
+                "pvtc::gcode::rapid_to_current_point",
+                Some(Severity::Advice)
+            ),
         ]
     );
 }

@@ -4,7 +4,7 @@
 //! the `--offsets` file once per run, [`PipelineArgs::read_files`], parsed by
 //! [`pvt_gcode::offsets`]). It must not compile anything.
 
-use crate::pipeline::{CompileOptions, DrawingOptions, Failure, InputKind};
+use crate::pipeline::{CompileOptions, DrawingOptions, Failure, InputKind, VelocitySource};
 use clap::{Parser, Subcommand, ValueEnum};
 use pvt_core::{AxisLimits, Planner, Rounding, Timing, Units};
 use pvt_emit::Format;
@@ -28,8 +28,17 @@ pub enum Command {
     /// Report what a program's motion will do: peaks, servo-sampled values, path error,
     /// speed against feed; exit 1 when a given limit is exceeded.
     Check(CheckArgs),
-    /// Plot a program's path, speed, velocities and accelerations as SVG.
+    /// Plot a program's path, speed, velocities and accelerations as SVG or PNG.
     Plot(PlotArgs),
+    /// Print a shell completion script (bash, zsh, fish, elvish or powershell) on standard
+    /// output, e.g. `pvtc completions bash > ~/.local/share/bash-completion/completions/pvtc`.
+    Completions {
+        /// The shell.
+        #[arg(value_enum)]
+        shell: clap_complete::Shell,
+    },
+    /// Print the manual page (roff) on standard output, e.g. `pvtc man | man -l -`.
+    Man,
 }
 
 /// Output format names on the command line.
@@ -41,6 +50,8 @@ pub enum FormatArg {
     Movepvt,
     /// The pvtc JSON document, version 1.
     Json,
+    /// The interpreted elements and events as JSON lines, before planning (one input).
+    Toolpath,
 }
 
 impl From<FormatArg> for Format {
@@ -49,6 +60,8 @@ impl From<FormatArg> for Format {
             FormatArg::Pmac => Format::Pmac,
             FormatArg::Movepvt => Format::MovePvt,
             FormatArg::Json => Format::Json,
+            // `toolpath` stops before planning (crate::toolpath): no back end sees it.
+            FormatArg::Toolpath => Format::Json,
         }
     }
 }
@@ -73,6 +86,15 @@ pub enum UnitsArg {
     In,
 }
 
+/// Where a series' velocities come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum VelocitiesArg {
+    /// The series' velocity columns, as given.
+    File,
+    /// The planner's own method; velocity columns are ignored.
+    Plan,
+}
+
 /// How diagnostics are printed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum DiagnosticsArg {
@@ -89,8 +111,12 @@ pub struct PipelineArgs {
     #[arg(long = "input-format", value_enum)]
     pub input_format: Option<InputArg>,
     /// Planner: path (motion within --tolerance of the drawn geometry; default for G-code
-    /// and DXF), contour (bisector velocities through every point; default for CSV), pt,
-    /// chord, const-accel, spline or lspb.
+    /// and DXF), contour (bisector velocities at the feed, mid-segment speed = mean of end
+    /// speeds; default for CSV), pt (constant velocity between points), chord-forward
+    /// (velocity = outgoing chord / time, as the quad-circle MovePVT example; `chord` is an
+    /// alias), chord-back (velocity = incoming chord / time, as AN208), const-accel
+    /// (constant acceleration within each piece), spline (C2 cubic spline) or lspb (linear
+    /// segments with parabolic blends at --accel).
     #[arg(long, value_name = "NAME", value_parser = planner)]
     pub planner: Option<Planner>,
     /// Machine file (TOML) with per-axis velocity, acceleration and jerk limits that the
@@ -102,7 +128,7 @@ pub struct PipelineArgs {
     /// blend within the path tolerance with --machine, and stop without it].
     #[arg(long = "corner-tolerance", value_name = "T", value_parser = positive_number)]
     pub corner_tolerance: Option<f64>,
-    /// Fixed time per piece (seed 002) for pt/chord/const-accel/spline/lspb, e.g. 5ms;
+    /// Fixed time per piece for pt/chord-forward/chord-back/const-accel/spline/lspb, e.g. 5ms;
     /// default: time = distance / feed.
     #[arg(long = "time-slice", value_name = "T", value_parser = duration)]
     pub time_slice: Option<f64>,
@@ -162,7 +188,12 @@ pub struct PipelineArgs {
     /// G-code: relative arc radius tolerance (0.001 = 0.1 %) [default: 0.001].
     #[arg(long = "arc-rel-tolerance", value_name = "R", value_parser = positive_number)]
     pub arc_rel_tolerance: Option<f64>,
-    /// Fail when there is any warning.
+    /// CSV: where the velocities come from: `file` (the series' v<axis> columns, as given)
+    /// or `plan` (the planner's method; the columns are ignored) [default: file when the
+    /// series has velocity columns and the planner takes velocities].
+    #[arg(long, value_name = "file|plan", value_enum)]
+    pub velocities: Option<VelocitiesArg>,
+    /// Fail when there is any warning (notes never fail).
     #[arg(long = "deny-warnings")]
     pub deny_warnings: bool,
     /// How to print diagnostics.
@@ -184,8 +215,8 @@ impl PipelineArgs {
             }
             if matches!(planner, Planner::Path | Planner::Contour) {
                 return Err(Failure::Usage(format!(
-                    "--time-slice does nothing with the {name} planner: it times pt, chord, \
-                     const-accel, spline and lspb (--planner NAME)"
+                    "--time-slice does nothing with the {name} planner: it times pt, \
+                     chord-forward, chord-back, const-accel, spline and lspb (--planner NAME)"
                 )));
             }
         }
@@ -194,6 +225,11 @@ impl PipelineArgs {
                 "--accel does nothing with the {name} planner: it sets the blends of lspb \
                  (--planner lspb)"
             )));
+        }
+        if self.velocities.is_some() && input != InputKind::Csv {
+            return Err(Failure::Usage(
+                "--velocities does nothing here: it chooses the velocities of a CSV series".into(),
+            ));
         }
         if !self.layers.is_empty() && input != InputKind::Dxf {
             return Err(Failure::Usage(
@@ -263,6 +299,11 @@ impl PipelineArgs {
                     UnitsArg::In => Units::Inch,
                 }),
             },
+            velocities: self.velocities.map(|v| match v {
+                VelocitiesArg::File => VelocitySource::File,
+                VelocitiesArg::Plan => VelocitySource::Plan,
+            }),
+            pmac: pvt_emit::PmacSettings::default(),
         })
     }
 }
@@ -290,6 +331,70 @@ pub struct CompileArgs {
     /// How to read and plan the input.
     #[command(flatten)]
     pub pipeline: PipelineArgs,
+    /// PMAC program settings.
+    #[command(flatten)]
+    pub pmac: PmacArgs,
+}
+
+/// How PMAC events are written, on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum PmacEventsArg {
+    /// Comments (`; event spindle_cw from line 5`); G4 as DWELL.
+    Comments,
+    /// PMAC commands: M03/M04/M05, M07/M08/M09, M06 and M01 (calls of PROG 1001), T<n>
+    /// (PROG 1002), S<rpm>, STOP for M0, SEND"…" for a message, DWELL for G4.
+    Commands,
+}
+
+/// The PMAC program settings of `pvtc compile` (PMAC output only).
+#[derive(Debug, Clone, clap::Args)]
+pub struct PmacArgs {
+    /// PMAC: motion program number, OPEN PROG N (1–32767, not 1000–1003) [default: 1].
+    #[arg(long = "pmac-program", value_name = "N")]
+    pub program: Option<u32>,
+    /// PMAC: address coordinate system &N (1–16) before the program.
+    #[arg(long = "pmac-coord", value_name = "N")]
+    pub coord: Option<u32>,
+    /// PMAC: an axis definition written after &N, like '#1->1000X' (motor 1 is X at 1000
+    /// counts per unit); repeatable; every moved axis then needs one. Needs --pmac-coord.
+    #[arg(long = "pmac-axis", value_name = "#M->SA", requires = "coord", value_parser = pvt_emit::AxisDefinition::parse)]
+    pub axes: Vec<pvt_emit::AxisDefinition>,
+    /// PMAC: write events (spindle, coolant, tool, pause, message) as comments or as PMAC
+    /// commands [default: comments].
+    #[arg(long = "pmac-events", value_enum, value_name = "comments|commands")]
+    pub events: Option<PmacEventsArg>,
+}
+
+impl PmacArgs {
+    /// The settings asked for; a usage error when they are out of range or the output
+    /// is not PMAC (where they would do nothing).
+    pub fn settings(&self, format: FormatArg) -> Result<pvt_emit::PmacSettings, Failure> {
+        let given = self.program.is_some()
+            || self.coord.is_some()
+            || !self.axes.is_empty()
+            || self.events.is_some();
+        if given && format != FormatArg::Pmac {
+            let name = format
+                .to_possible_value()
+                .map(|v| v.get_name().to_string())
+                .unwrap_or_default();
+            return Err(Failure::Usage(format!(
+                "--pmac-program, --pmac-coord, --pmac-axis and --pmac-events do nothing with \
+                 --format {name}: they set up PMAC output"
+            )));
+        }
+        let settings = pvt_emit::PmacSettings {
+            program: self.program.unwrap_or(1),
+            coord: self.coord,
+            axes: self.axes.clone(),
+            events: match self.events {
+                Some(PmacEventsArg::Commands) => pvt_emit::PmacEvents::Commands,
+                Some(PmacEventsArg::Comments) | None => pvt_emit::PmacEvents::Comments,
+            },
+        };
+        settings.validate().map_err(Failure::Usage)?;
+        Ok(settings)
+    }
 }
 
 impl CompileArgs {
@@ -300,7 +405,10 @@ impl CompileArgs {
                 "-j does nothing without --out-dir: it sets how many files compile at once".into(),
             ));
         }
-        self.pipeline.compile_options(name, self.format.into())
+        let pmac = self.pmac.settings(self.format)?;
+        let mut options = self.pipeline.compile_options(name, self.format.into())?;
+        options.pmac = pmac;
+        Ok(options)
     }
 }
 
@@ -375,8 +483,9 @@ pub struct PlotArgs {
     /// A source (compiled first with the options below) or a pvtc JSON program (.json).
     #[arg(value_name = "INPUT")]
     pub input: PathBuf,
-    /// The SVG file to write; `-` writes standard output.
-    #[arg(short, long, value_name = "FILE.svg")]
+    /// The file to write: FILE.svg (SVG) or FILE.png (PNG); `-` writes SVG on standard
+    /// output.
+    #[arg(short, long, value_name = "FILE.svg|FILE.png")]
     pub output: PathBuf,
     /// How to read and plan the input.
     #[command(flatten)]

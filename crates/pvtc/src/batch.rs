@@ -2,7 +2,8 @@
 //!
 //! Owns expanding inputs (files, directories, globs) into jobs, naming outputs (a
 //! directory's tree is mirrored under the output directory), running
-//! the jobs on a rayon pool with a progress bar (drawn only on a terminal) and the
+//! the jobs on a rayon pool with a progress bar (drawn only on a terminal), each file's
+//! diagnostics (errors, warnings and notes, under the file's name, in input order) and the
 //! summary. Every job is the single-file pipeline unchanged, so a batch output is
 //! byte-identical to compiling that file alone; a failing file never stops the others and
 //! never leaves a partial output. It must not compile anything itself.
@@ -35,6 +36,9 @@ pub struct Outcome {
     pub job: Job,
     /// `None` on success, else the first diagnostic in one line and their count.
     pub failure: Option<(String, usize)>,
+    /// Every diagnostic of the file: its errors when it failed, else its warnings and
+    /// notes.
+    pub diagnostics: Vec<miette::Report>,
 }
 
 /// Runs `pvtc compile` with several inputs or `--out-dir`.
@@ -64,7 +68,11 @@ pub fn run(args: &CompileArgs) -> ExitCode {
         },
         None => run_jobs(&jobs, args),
     };
-    summarize(&outcomes)
+    let reporter = crate::report::Reporter::new(&args.pipeline);
+    for outcome in &outcomes {
+        reporter.print_for_input(&outcome.job.input, &outcome.diagnostics);
+    }
+    summarize(&outcomes, &reporter)
 }
 
 /// Creates `out_dir` and every folder a job writes into, so the input tree is mirrored
@@ -111,11 +119,7 @@ fn run_job(job: &Job, args: &CompileArgs) -> Outcome {
             let deny = args.pipeline.deny_warnings;
             crate::stream::compile_streaming(&job.input, &name, &options, deny, out)
         });
-        let failure = result.err().map(|f| first_diagnostic(&f));
-        return Outcome {
-            job: job.clone(),
-            failure,
-        };
+        return outcome(job, result);
     }
     let result = Source::read(&job.input).and_then(|source| {
         let compiled = compile(&source, &args.compile_options(&source.name)?)?;
@@ -126,12 +130,41 @@ fn run_job(job: &Job, args: &CompileArgs) -> Outcome {
         if args.pipeline.deny_warnings && warned {
             return Err(Failure::Input(compiled.warnings));
         }
-        output::write_file(&job.output, &compiled.bytes)
+        output::write_file(&job.output, &compiled.bytes).map(|()| compiled.warnings)
     });
-    let failure = result.err().map(|f| first_diagnostic(&f));
-    Outcome {
-        job: job.clone(),
-        failure,
+    outcome(job, result)
+}
+
+/// The outcome of `job` from its result: the warnings written, or the failure.
+fn outcome(job: &Job, result: Result<Vec<miette::Report>, Failure>) -> Outcome {
+    match result {
+        Ok(diagnostics) => Outcome {
+            job: job.clone(),
+            failure: None,
+            diagnostics,
+        },
+        Err(failure) => Outcome {
+            job: job.clone(),
+            failure: Some(first_diagnostic(&failure)),
+            diagnostics: failure_reports(failure),
+        },
+    }
+}
+
+/// A failure's diagnostics as reports (an I/O or usage failure is one report).
+fn failure_reports(failure: Failure) -> Vec<miette::Report> {
+    match failure {
+        Failure::Input(reports) => reports,
+        Failure::Io {
+            path,
+            action,
+            error,
+        } => vec![miette::miette!(
+            code = "pvtc::io",
+            "cannot {action} {}: {error}",
+            path.display()
+        )],
+        Failure::Usage(message) => vec![miette::miette!(code = "pvtc::usage", "{message}")],
     }
 }
 
@@ -167,7 +200,7 @@ fn first_diagnostic(failure: &Failure) -> (String, usize) {
     }
 }
 
-fn summarize(outcomes: &[Outcome]) -> ExitCode {
+fn summarize(outcomes: &[Outcome], reporter: &crate::report::Reporter) -> ExitCode {
     let failed: Vec<&Outcome> = outcomes.iter().filter(|o| o.failure.is_some()).collect();
     for o in &failed {
         let (first, count) = o.failure.as_ref().expect("failed");
@@ -178,11 +211,13 @@ fn summarize(outcomes: &[Outcome]) -> ExitCode {
         };
         eprintln!("failed: {}: {first}{more}", o.job.input.display());
     }
-    eprintln!(
-        "{} files compiled, {} failed",
-        outcomes.len() - failed.len(),
-        failed.len()
-    );
+    let warnings = outcomes
+        .iter()
+        .filter(|o| o.failure.is_none())
+        .flat_map(|o| &o.diagnostics)
+        .filter(|r| r.severity() == Some(miette::Severity::Warning))
+        .count();
+    reporter.batch_summary(outcomes.len() - failed.len(), failed.len(), warnings);
     if failed.is_empty() {
         ExitCode::SUCCESS
     } else {

@@ -1,8 +1,11 @@
 //! pvtc: the command line, a small layer on top of the pipeline crates.
 //!
 //! Owns arguments ([`args`]), the data a compile shares ([`options`]), reading inputs
-//! and choosing a front end ([`front`], [`pipeline`]), batch runs ([`batch`]), writing outputs atomically ([`output`]), the
-//! check and plot commands' rendering ([`check`], [`plot`]) and diagnostics ([`report`]).
+//! and choosing a front end ([`front`], [`pipeline`]), batch runs ([`batch`]), the
+//! unplanned toolpath route ([`toolpath`]), writing outputs atomically ([`output`]), the
+//! check and plot commands' rendering ([`check`], [`plot`]), diagnostics ([`report`]),
+//! and the shell completions and manual page (`pvtc completions`, `pvtc man`, from the
+//! argument definitions by clap_complete and clap_mangen).
 //! Architecture invariant: no geometry, planning or formatting happens here; a failed run
 //! never creates or changes an output file.
 
@@ -18,9 +21,12 @@ pub mod pipeline;
 pub mod plot;
 pub mod report;
 pub mod stream;
+pub mod toolpath;
 
 pub use args::{Cli, Command, CompileArgs};
-pub use pipeline::{compile, plan, CompileOptions, DrawingOptions, Failure, InputKind, Source};
+pub use pipeline::{
+    compile, plan, CompileOptions, DrawingOptions, Failure, InputKind, Source, VelocitySource,
+};
 
 use report::Reporter;
 use std::process::ExitCode;
@@ -47,6 +53,64 @@ pub fn run(cli: Cli) -> ExitCode {
             Ok(()) => plot::run(&args),
             Err(failure) => Reporter::new(&args.pipeline).fail(&failure),
         },
+        Command::Completions { shell } => completions(shell),
+        Command::Man => man_page(),
+    }
+}
+
+/// `pvtc completions SHELL`: the completion script on standard output.
+fn completions(shell: clap_complete::Shell) -> ExitCode {
+    let mut command = <Cli as clap::CommandFactory>::command();
+    let mut script = Vec::new();
+    clap_complete::generate(shell, &mut command, "pvtc", &mut script);
+    write_stdout(&script)
+}
+
+/// The manual page of pvtc (roff): name, synopsis, description and the list of
+/// subcommands, then for each subcommand (`pvtc compile`, …) its synopsis and options.
+pub fn man_page_text() -> Vec<u8> {
+    let command = <Cli as clap::CommandFactory>::command();
+    let mut page = Vec::new();
+    // Rendering into memory cannot fail: the results are io::Results of a Vec's writes.
+    let _ = clap_mangen::Man::new(command.clone()).render(&mut page);
+    for sub in command.get_subcommands() {
+        let name = format!("pvtc {}", sub.get_name());
+        let about = sub.get_about().map(|a| a.to_string()).unwrap_or_default();
+        let heading = format!(".SH \"{}\"\n{}\n", name.to_uppercase(), roff_text(&about));
+        page.extend_from_slice(heading.as_bytes());
+        let man = clap_mangen::Man::new(sub.clone().bin_name(name));
+        let _ = man.render_synopsis_section(&mut page);
+        let _ = man.render_options_section(&mut page);
+    }
+    page
+}
+
+/// Plain text as a roff text line: a leading `.` or `'` would read as a request.
+fn roff_text(text: &str) -> String {
+    let text = text.replace('\\', "\\e");
+    if text.starts_with(['.', '\'']) {
+        format!("\\&{text}")
+    } else {
+        text
+    }
+}
+
+/// `pvtc man`: the manual page on standard output.
+fn man_page() -> ExitCode {
+    write_stdout(&man_page_text())
+}
+
+/// Writes `bytes` to standard output; a closed pipe is not an error worth a report.
+fn write_stdout(bytes: &[u8]) -> ExitCode {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(bytes).and_then(|()| out.flush()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: cannot write standard output: {e}");
+            ExitCode::from(EXIT_INPUT_ERROR)
+        }
     }
 }
 
@@ -78,7 +142,9 @@ fn compile_gcode(
 }
 
 /// For `-`, standard input copied into a temporary file (removed when dropped).
-fn stdin_file(input: &std::path::Path) -> Result<Option<tempfile::NamedTempFile>, Failure> {
+pub(crate) fn stdin_file(
+    input: &std::path::Path,
+) -> Result<Option<tempfile::NamedTempFile>, Failure> {
     if input != std::path::Path::new("-") {
         return Ok(None);
     }
@@ -93,6 +159,9 @@ fn stdin_file(input: &std::path::Path) -> Result<Option<tempfile::NamedTempFile>
 }
 
 fn compile_command(args: &CompileArgs) -> ExitCode {
+    if args.format == args::FormatArg::Toolpath {
+        return toolpath::run(args);
+    }
     if args.out_dir.is_some() || args.inputs.len() > 1 {
         return batch::run(args);
     }

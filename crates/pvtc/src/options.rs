@@ -155,6 +155,20 @@ pub struct CompileOptions {
     pub arc_rel_tolerance: f64,
     /// Options only drawings use.
     pub drawing: DrawingOptions,
+    /// Where a point-time series' velocities come from; `None`: the file's columns when
+    /// it has them and the planner takes velocities.
+    pub velocities: Option<VelocitySource>,
+    /// PMAC output: program number, coordinate system, axis definitions, event commands.
+    pub pmac: pvt_emit::PmacSettings,
+}
+
+/// Where the velocities of a point-time series come from (`--velocities`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum VelocitySource {
+    /// The series' `v<axis>` columns, used as given.
+    File,
+    /// The planner's own method; the columns are ignored.
+    Plan,
 }
 
 impl CompileOptions {
@@ -188,6 +202,8 @@ impl CompileOptions {
             arc_abs_tolerance_mm: pvt_core::defaults::ARC_ABS_TOLERANCE_MM,
             arc_rel_tolerance: pvt_core::defaults::ARC_REL_TOLERANCE,
             drawing: DrawingOptions::default(),
+            velocities: None,
+            pmac: pvt_emit::PmacSettings::default(),
         }
     }
 }

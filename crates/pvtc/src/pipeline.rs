@@ -6,7 +6,8 @@
 use crate::front::{self, Input};
 pub(crate) use crate::options::at_line;
 pub use crate::options::{
-    CompileOptions, DrawingOptions, Failure, InputKind, Source, DEFAULT_RAPID_MM_PER_MIN,
+    CompileOptions, DrawingOptions, Failure, InputKind, Source, VelocitySource,
+    DEFAULT_RAPID_MM_PER_MIN,
 };
 use miette::{Report, Severity};
 use pvt_core::{
@@ -16,6 +17,29 @@ use pvt_core::{
 use pvt_emit::stream::Totals;
 use pvt_emit::{emit_to_vec, EmitOptions, Format, StreamError};
 use std::path::PathBuf;
+
+/// Refuses PMAC axis definitions that leave a moved axis undefined
+/// (`pvtc::pmac::undefined_axis`): the controller would not move it.
+pub(crate) fn check_pmac_axes(
+    options: &CompileOptions,
+    moved: &[pvt_core::Axis],
+) -> Result<(), Failure> {
+    if options.format != Format::Pmac {
+        return Ok(());
+    }
+    let missing = options.pmac.undefined_axes(moved);
+    if missing.is_empty() {
+        return Ok(());
+    }
+    let names: Vec<String> = missing.iter().map(|a| a.to_string()).collect();
+    Err(Failure::Input(vec![miette::miette!(
+        code = "pvtc::pmac::undefined_axis",
+        help = "add a definition like --pmac-axis '#3->1000Z' for each, or leave out --pmac-axis",
+        "the program moves {} but no --pmac-axis defines {}",
+        names.join(" "),
+        if names.len() == 1 { "it" } else { "them" },
+    )]))
+}
 
 /// A successful compilation.
 #[derive(Debug)]
@@ -37,7 +61,10 @@ pub fn plan(
     source: &Source,
     options: &CompileOptions,
 ) -> Result<(Planned, Toolpath, Vec<Report>), Failure> {
-    let (input, mut warnings) = front::read(source, options)?;
+    let (mut input, mut warnings) = front::read(source, options)?;
+    if let Input::Series(series) = &mut input {
+        warnings.extend(choose_velocities(&mut series.points, options)?);
+    }
     let moved = match &input {
         Input::Toolpath(t) => t.moved_axes(),
         Input::Series(s) => s.axes.clone(),
@@ -66,6 +93,56 @@ pub fn plan(
     })?;
     warnings.extend(plan_notes(&planned.report, options));
     Ok((planned, toolpath, warnings))
+}
+
+/// Applies `--velocities` to a series: drops its velocity columns for `plan` (with a
+/// note), refuses `file` when it has none or the planner takes no velocities, and says
+/// which velocities a velocity method uses, and when a planner replaces the series' times.
+fn choose_velocities(
+    points: &mut pvt_core::TimedPoints,
+    options: &CompileOptions,
+) -> Result<Vec<Report>, Failure> {
+    let planner = options.planner;
+    let name = planner.name();
+    let given = points.velocities.is_some();
+    let mut notes = Vec::new();
+    match options.velocities {
+        Some(VelocitySource::Plan) if given => {
+            points.velocities = None;
+            notes.push(miette::miette!(
+                severity = Severity::Advice,
+                code = "pvtc::plan::velocity_columns_ignored",
+                "the series' velocity columns are ignored (--velocities plan): the {name} planner chooses the velocities"
+            ));
+        }
+        Some(VelocitySource::File) if !given => {
+            return Err(Failure::Usage(
+                "--velocities file: the series has no velocity columns (v<axis>, e.g. vx)".into(),
+            ));
+        }
+        Some(VelocitySource::File) if !planner.is_velocity_method() => {
+            return Err(Failure::Usage(format!(
+                "--velocities file does nothing with the {name} planner, which chooses its own \
+                 velocities: use chord-forward, chord-back, const-accel or spline"
+            )));
+        }
+        None if given && planner.is_velocity_method() => notes.push(miette::miette!(
+            severity = Severity::Advice,
+            code = "pvtc::plan::file_velocities",
+            help = format!("pass --velocities plan to use the {name} method's velocities instead"),
+            "the velocities are the series' velocity columns, as given, not the {name} method's"
+        )),
+        _ => {}
+    }
+    if matches!(planner, Planner::Contour | Planner::Path) {
+        notes.push(miette::miette!(
+            severity = Severity::Advice,
+            code = "pvtc::plan::times_replaced",
+            help = "pt, chord-forward, chord-back, const-accel and spline keep the series' times",
+            "the {name} planner chooses its own piece times: the series' times only set each segment's speed (chord / time)"
+        ));
+    }
+    Ok(notes)
 }
 
 /// What the path planner achieved, for standard error: pieces, the path error bound and
@@ -128,13 +205,14 @@ pub fn plan_options(
 pub fn compile(source: &Source, options: &CompileOptions) -> Result<Compiled, Failure> {
     let (planned, toolpath, mut warnings) = plan(source, options)?;
     let header = settings(options, planned.program.units);
+    check_pmac_axes(options, &planned.program.axes)?;
     let program = fit_pieces(planned.program, options);
     let totals = totals_of(&program);
     warnings.extend(summary_note(&planned.report, &totals, program.units));
     let emit_options = EmitOptions {
         source: source.name.clone(),
         settings: header,
-        program_number: 1,
+        pmac: options.pmac.clone(),
     };
     let bytes = emit_to_vec(&program, options.format, &emit_options)
         .map_err(|e| emit_failure(e, options, Some(source)))?;
@@ -199,7 +277,7 @@ pub(crate) fn emit_failure(
         StreamError::Unsupported(interpolation) => Failure::Input(vec![miette::miette!(
             code = "pvtc::emit::unsupported_interpolation",
             help =
-                "PMAC PVT mode needs velocities: choose a PVT planner, or --format json or movepvt",
+                "PMAC PVT mode needs velocities: choose a PVT planner, or --format movepvt (MovePT arrays) or json",
             "the {} format cannot express {interpolation:?} motion",
             options.format.name()
         )]),
@@ -257,6 +335,7 @@ pub(crate) fn plan_notes(report: &PlanReport, options: &CompileOptions) -> Vec<R
         notes.push(miette::miette!(
             severity = Severity::Warning,
             code = "pvtc::plan::velocities_ignored",
+            help = "--velocities plan ignores the velocity columns without a warning",
             "the input gives velocities, which the {} planner does not use",
             options.planner.name()
         ));
@@ -356,15 +435,22 @@ fn rounding_words(rounding: Rounding) -> &'static str {
 fn planner_description(planner: Planner) -> &'static str {
     match planner {
         Planner::Contour => {
-            "contour (seed 000: bisector velocities, mid-segment speed = mean of end speeds)"
+            "contour (bisector velocities at the feed, mid-segment speed = mean of end speeds)"
         }
         Planner::Path => {
             "path (within the path tolerance of the true elements and the axis limits)"
         }
-        Planner::Pt => "pt (seed 001: constant velocity between points)",
-        Planner::Chord => "chord (seed 001/002: forward-difference velocities, last at rest)",
-        Planner::ConstAccel => "const-accel (seed 001: constant-acceleration velocity fit)",
+        Planner::Pt => "pt (position-time: constant velocity between points, AN208's PT)",
+        Planner::Chord => {
+            "chord-forward (velocity at a point = outgoing chord / its time, rest at both ends)"
+        }
+        Planner::ChordBack => {
+            "chord-back (velocity at a point = incoming chord / its time, AN208; rest at both ends)"
+        }
+        Planner::ConstAccel => {
+            "const-accel (each piece at constant acceleration from the previous velocity, AN208)"
+        }
         Planner::Spline => "spline (C2 cubic spline through the points, rest at both ends)",
-        Planner::Lspb => "lspb (seed 004: linear segments with parabolic blends)",
+        Planner::Lspb => "lspb (linear segments with parabolic blends at --accel)",
     }
 }

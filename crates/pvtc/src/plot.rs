@@ -1,7 +1,8 @@
-//! `pvtc plot`: compiles (or reads) a program and writes its SVG plot.
+//! `pvtc plot`: compiles (or reads) a program and writes its plot, SVG or PNG.
 //!
-//! Owns loading the program and writing the file (named `.svg`, or `-`); the drawing is pvt-emit's `plot`
-//! back end. It must not draw anything itself.
+//! Owns loading the program, choosing the format from the output's name (`.svg` or `-`:
+//! SVG; `.png`: PNG) and writing the file; the drawing is pvt-emit's `plot` back end. It
+//! must not draw anything itself.
 
 use crate::args::PlotArgs;
 use crate::output;
@@ -14,14 +15,16 @@ use std::process::ExitCode;
 /// Runs `pvtc plot`.
 pub fn run(args: &PlotArgs) -> ExitCode {
     let reporter = Reporter::new(&args.pipeline);
-    if let Err(failure) = check_extension(&args.output) {
-        return reporter.fail(&failure);
-    }
+    let format = match format_of(&args.output) {
+        Ok(format) => format,
+        Err(failure) => return reporter.fail(&failure),
+    };
     let loaded = match crate::check::load(&args.input, &args.pipeline, &reporter) {
         Ok(loaded) => loaded,
         Err(code) => return code,
     };
     let program = loaded.program;
+    let geometry = loaded.toolpath;
     let limits = match &loaded.options.machine {
         Some(m) => match m.limits_in(program.units, &program.axes) {
             Ok(limits) => limits,
@@ -36,33 +39,51 @@ pub fn run(args: &PlotArgs) -> ExitCode {
             loaded.options.planner.name()
         ),
         limits,
+        geometry,
         ..Default::default()
     };
-    let svg = match pvt_emit::plot::plot_svg(&program, &options) {
-        Ok(svg) => svg,
+    let drawn = match format {
+        PlotFormat::Svg => pvt_emit::plot::plot_svg(&program, &options).map(String::into_bytes),
+        PlotFormat::Png => pvt_emit::plot::plot_png(&program, &options),
+    };
+    let bytes = match drawn {
+        Ok(bytes) => bytes,
         Err(e) => {
             eprintln!("error: cannot plot: {e}");
             return ExitCode::from(EXIT_INPUT_ERROR);
         }
     };
-    match output::write(Some(&args.output), svg.as_bytes()) {
+    match output::write(Some(&args.output), &bytes) {
         Ok(()) => ExitCode::SUCCESS,
         Err(failure) => reporter.fail(&failure),
     }
 }
 
-/// Refuses an output named for another format (`-o part.png` would hold SVG): the file
-/// must end in `.svg`, or be `-` for standard output.
-fn check_extension(output: &Path) -> Result<(), Failure> {
-    let svg = output
-        .extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("svg"));
-    if svg || output == Path::new("-") {
-        return Ok(());
+/// The image formats `pvtc plot` writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum PlotFormat {
+    /// SVG text.
+    Svg,
+    /// A PNG image.
+    Png,
+}
+
+/// The format the output's name asks for: `.svg` (or `-`, standard output) is SVG,
+/// `.png` is PNG; any other name is a usage error rather than a file of the wrong kind.
+fn format_of(output: &Path) -> Result<PlotFormat, Failure> {
+    if output == Path::new("-") {
+        return Ok(PlotFormat::Svg);
     }
-    Err(Failure::Usage(format!(
-        "plot writes SVG only: name the output FILE.svg (or - for standard output), not {}",
-        output.display()
-    )))
+    let extension = output.extension().and_then(|e| e.to_str()).unwrap_or("");
+    if extension.eq_ignore_ascii_case("svg") {
+        Ok(PlotFormat::Svg)
+    } else if extension.eq_ignore_ascii_case("png") {
+        Ok(PlotFormat::Png)
+    } else {
+        Err(Failure::Usage(format!(
+            "plot writes SVG or PNG: name the output FILE.svg or FILE.png (or - for SVG on \
+             standard output), not {}",
+            output.display()
+        )))
+    }
 }

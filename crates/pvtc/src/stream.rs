@@ -174,7 +174,7 @@ fn read_failure(path: &std::path::Path, error: std::io::Error) -> crate::Failure
 }
 
 /// One pass of the G-code front end over the file into `sink`; its errors as reports.
-fn compile_read(
+pub(crate) fn compile_read(
     path: &std::path::Path,
     name: &str,
     gcode: &pvt_gcode::GcodeOptions,
@@ -187,7 +187,7 @@ fn compile_read(
 
 /// Diagnostics as reports, each with the lines of the file around it (read again, a
 /// few lines kept per diagnostic, so memory stays flat however long the file).
-fn reports(
+pub(crate) fn reports(
     path: &std::path::Path,
     name: &str,
     diagnostics: Vec<pvt_gcode::GcodeDiagnostic>,
@@ -376,11 +376,12 @@ fn write_pass(
     out: &mut Target<'_>,
 ) -> Result<Pass, crate::Failure> {
     let plan_options = crate::pipeline::plan_options(options, layout.units, &layout.axes)?;
+    crate::pipeline::check_pmac_axes(options, &layout.axes)?;
     let interpolation = plan_options.interpolation();
     let emit_options = pvt_emit::EmitOptions {
         source: name.to_owned(),
         settings: crate::pipeline::settings(options, layout.units),
-        program_number: 1,
+        pmac: options.pmac.clone(),
     };
     let buffered = std::io::BufWriter::with_capacity(1 << 16, out);
     let mut writer = Checked::new(options.format.writer(buffered));

@@ -905,7 +905,7 @@ fn plot_writes_an_svg() {
 #[test]
 fn plot_refuses_an_output_named_for_another_format() {
     let dir = tempfile::tempdir().unwrap();
-    for name in ["part.png", "part"] {
+    for name in ["part.jpg", "part"] {
         let png = dir.path().join(name);
         let o = pvtc(
             &[

@@ -4,6 +4,7 @@
 //! option checks, quantization of the result and the [`PlanReport`] of what the planning
 //! changed. It must not implement a planner itself.
 
+use super::chord::{chord_back_velocities, chord_velocities};
 use super::const_accel::const_accel_velocities;
 use super::lspb::plan_lspb;
 use super::plan_path;
@@ -11,7 +12,7 @@ use super::pt::plan_pt;
 use super::quantize::{mid_speed_change, quantize_time, retime, Quantum};
 use super::spline::spline_velocities;
 use super::timed::{contour_from_velocities, runs_from_polyline, TimedPoints};
-use super::{chord::chord_velocities, plan_contour, PlanError, PlanOptions, Planner, Timing};
+use super::{plan_contour, PlanError, PlanOptions, Planner, Timing};
 use crate::axis::{Axis, Units};
 use crate::discretize::flatten_contour;
 use crate::polyline::Polyline;
@@ -242,7 +243,9 @@ fn plan_run(
             report.quantize_speed_change = report.quantize_speed_change.max(plan.speed_change);
             Ok(plan.contour)
         }
-        Planner::Chord | Planner::ConstAccel | Planner::Spline if run.velocities.is_some() => {
+        Planner::Chord | Planner::ChordBack | Planner::ConstAccel | Planner::Spline
+            if run.velocities.is_some() =>
+        {
             let given = run.velocities.as_deref().unwrap_or_default();
             Ok(quantize_whole(
                 contour_from_velocities(run, given, motion),
@@ -250,7 +253,11 @@ fn plan_run(
                 report,
             ))
         }
-        Planner::Pt | Planner::Chord | Planner::ConstAccel | Planner::Spline => {
+        Planner::Pt
+        | Planner::Chord
+        | Planner::ChordBack
+        | Planner::ConstAccel
+        | Planner::Spline => {
             let planned = plan_with_times(run, planner, motion);
             let Some(q) = options.quantize else {
                 return Ok(planned);
@@ -321,6 +328,7 @@ fn plan_with_times(run: &TimedPoints, planner: Planner, motion: Motion) -> PvtCo
         Planner::Pt => return plan_pt(run, motion),
         Planner::ConstAccel => const_accel_velocities(run),
         Planner::Spline => spline_velocities(run),
+        Planner::ChordBack => chord_back_velocities(run),
         _ => chord_velocities(run),
     };
     contour_from_velocities(run, &velocities, motion)

@@ -16,8 +16,13 @@ pub enum Planner {
     Path,
     /// Seed 001 PT: constant velocity between points.
     Pt,
-    /// Seed 002 forward difference: the velocity at a point is its outgoing chord's.
+    /// Forward difference (the quad-circle MovePVT example): the velocity at a point is
+    /// its outgoing chord over that chord's time. Named `chord-forward`; `chord` is an
+    /// alias.
     Chord,
+    /// Backward difference (application note AN208): the velocity at a point is its
+    /// incoming chord over that chord's time. Named `chord-back`.
+    ChordBack,
     /// Seed 001 method 2: constant-acceleration fit from rest.
     ConstAccel,
     /// C2 cubic spline through the points with zero end velocities.
@@ -28,11 +33,12 @@ pub enum Planner {
 
 impl Planner {
     /// Every planner, in the order the documentation lists them.
-    pub const ALL: [Planner; 7] = [
+    pub const ALL: [Planner; 8] = [
         Planner::Contour,
         Planner::Path,
         Planner::Pt,
         Planner::Chord,
+        Planner::ChordBack,
         Planner::ConstAccel,
         Planner::Spline,
         Planner::Lspb,
@@ -44,7 +50,8 @@ impl Planner {
             Planner::Contour => "contour",
             Planner::Path => "path",
             Planner::Pt => "pt",
-            Planner::Chord => "chord",
+            Planner::Chord => "chord-forward",
+            Planner::ChordBack => "chord-back",
             Planner::ConstAccel => "const-accel",
             Planner::Spline => "spline",
             Planner::Lspb => "lspb",
@@ -53,7 +60,10 @@ impl Planner {
 
     /// True for the planners that take given times and choose only velocities.
     pub fn is_velocity_method(self) -> bool {
-        matches!(self, Planner::Chord | Planner::ConstAccel | Planner::Spline)
+        matches!(
+            self,
+            Planner::Chord | Planner::ChordBack | Planner::ConstAccel | Planner::Spline
+        )
     }
 }
 
@@ -63,10 +73,14 @@ impl fmt::Display for Planner {
     }
 }
 
+/// The name `chord`, kept as an alias of `chord-forward` (what it named before the
+/// backward difference had its own name).
+pub const CHORD_ALIAS: &str = "chord";
+
 /// A planner name that names no planner.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error(
-    "unknown planner `{0}`; expected one of contour, path, pt, chord, const-accel, spline, lspb"
+    "unknown planner `{0}`; expected one of contour, path, pt, chord-forward (or chord), chord-back, const-accel, spline, lspb"
 )]
 pub struct UnknownPlanner(pub String);
 
@@ -74,6 +88,9 @@ impl FromStr for Planner {
     type Err = UnknownPlanner;
 
     fn from_str(s: &str) -> Result<Planner, UnknownPlanner> {
+        if s.trim().eq_ignore_ascii_case(CHORD_ALIAS) {
+            return Ok(Planner::Chord);
+        }
         Planner::ALL
             .into_iter()
             .find(|p| p.name().eq_ignore_ascii_case(s.trim()))
@@ -101,6 +118,8 @@ mod tests {
             assert_eq!(p.name().parse::<Planner>(), Ok(p));
         }
         assert_eq!("CONST-ACCEL".parse::<Planner>(), Ok(Planner::ConstAccel));
+        assert_eq!("chord".parse::<Planner>(), Ok(Planner::Chord));
+        assert_eq!("chord-back".parse::<Planner>(), Ok(Planner::ChordBack));
         assert!("cubic".parse::<Planner>().is_err());
     }
 }

@@ -59,6 +59,61 @@ fn chord_reproduces_the_quad_circle_arrays() {
     assert_eq!(&vel[vel.len() - 2..], &[0.0, 0.0]);
 }
 
+/// AN208's method 1 as its text states it, computed here from the formula:
+/// `V(n+1) = (X(n+1) − X(n)) / T(n)`, `V(0) = 0`, and the last velocity set to zero.
+fn an208_backward(dim: usize, points: &[f64], dt: f64) -> Vec<f64> {
+    let n = points.len() / dim;
+    let mut v = vec![0.0; points.len()];
+    for p in 0..n - 1 {
+        for k in 0..dim {
+            v[(p + 1) * dim + k] = (points[(p + 1) * dim + k] - points[p * dim + k]) / dt;
+        }
+    }
+    v[(n - 1) * dim..].iter_mut().for_each(|x| *x = 0.0);
+    v[dim..].to_vec()
+}
+
+#[test]
+fn chord_back_is_an208_backward_difference_on_its_step_table() {
+    // AN208 table 1: the step, points every 500 samples of 500 µs = 0.25 s.
+    let step = [0.0, 0.0, 0.0, 0.0, 5000.0, 5000.0, 5000.0, 5000.0];
+    let back = plan(
+        &series(1, &step, 0.25),
+        &[Axis::X],
+        &options(Planner::ChordBack),
+    );
+    let c = &back.program.contours[0];
+    assert_eq!(c.velocities, an208_backward(1, &step, 0.25));
+    // The chord behind the point at 2000 samples (5000 counts in 0.25 s): 20000 counts/s
+    // there, where the forward difference puts it on the point before.
+    assert_eq!(c.velocities, vec![0.0, 0.0, 0.0, 20000.0, 0.0, 0.0, 0.0]);
+    let forward = plan(
+        &series(1, &step, 0.25),
+        &[Axis::X],
+        &options(Planner::Chord),
+    );
+    assert_eq!(
+        forward.program.contours[0].velocities,
+        vec![0.0, 0.0, 20000.0, 0.0, 0.0, 0.0, 0.0]
+    );
+}
+
+#[test]
+fn chord_back_gives_an208_zigzag_velocity_at_its_second_point() {
+    // AN208's zigzag table: 5000,0 at 500 samples has Vx, Vy = 20000, 0: the chord behind
+    // it (5000 counts in 0.25 s). The forward difference gives the chord ahead instead.
+    let zigzag = [0.0, 0.0, 5000.0, 0.0, 0.0, 10000.0, 5000.0, 1000.0];
+    let back = plan(&series(2, &zigzag, 0.25), &XY, &options(Planner::ChordBack));
+    let c = &back.program.contours[0];
+    assert_eq!(c.velocities, an208_backward(2, &zigzag, 0.25));
+    assert_eq!(&c.velocities[..2], &[20000.0, 0.0]);
+    let forward = plan(&series(2, &zigzag, 0.25), &XY, &options(Planner::Chord));
+    assert_eq!(
+        &forward.program.contours[0].velocities[..2],
+        &[-20000.0, 40000.0]
+    );
+}
+
 #[test]
 fn chord_on_an_arc_with_a_time_slice_matches_seed_002() {
     let arc = Arc {

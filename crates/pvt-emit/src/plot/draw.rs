@@ -1,7 +1,8 @@
-//! The panels of the plot, drawn with plotters into one SVG document.
+//! The panels of the plot, drawn with plotters into one SVG document or PNG image.
 //!
 //! Owns the layout (title, path panel with its colour scale, then speed, axis velocity
-//! and axis acceleration against time) and the styles. It must not sample the motion:
+//! and axis acceleration against time, and the third axis against time when it moves),
+//! the styles, and the choice of backend (SVG text, or a bitmap encoded as PNG). It must not sample the motion:
 //! it draws the [`Samples`] it is given, in their order, so the output is deterministic.
 
 use super::sample::Samples;
@@ -23,12 +24,32 @@ pub(super) const X_LABELS: u32 = 46;
 pub(super) const Y_LABELS: u32 = 78;
 /// Colour of rapid motion.
 pub(super) const RAPID: RGBColor = RGBColor(150, 150, 150);
+/// Most points in one wide polyline drawn on a bitmap. Plotters fills a wide polyline as
+/// one polygon, and where the line crosses itself (the turns of a helix) the crossings
+/// cancel and leave holes; runs this short cannot cross themselves on a smooth path.
+const BITMAP_RUN: usize = 12;
 
-/// A drawing area of the SVG document.
-pub(super) type Area<'b> = DrawingArea<SVGBackend<'b>, Shift>;
-/// A chart with numeric axes on an SVG area.
-pub(super) type Chart<'a, 'b> =
-    ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+/// `points` as polylines of at most `max` points (2 at least), each starting where the
+/// last ended, so they join.
+pub(super) fn runs_of(points: Vec<(f64, f64)>, max: usize) -> Vec<Vec<(f64, f64)>> {
+    let max = max.max(2);
+    if points.len() <= max {
+        return vec![points];
+    }
+    let mut out = Vec::new();
+    let mut start = 0;
+    while start + 1 < points.len() {
+        let end = (start + max).min(points.len());
+        out.push(points[start..end].to_vec());
+        start = end - 1;
+    }
+    out
+}
+
+/// A drawing area of the document (SVG or bitmap).
+pub(super) type Area<DB> = DrawingArea<DB, Shift>;
+/// A chart with numeric axes on an area.
+pub(super) type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
 /// A stretch of samples of one kind of motion; it also holds the next stretch's first
 /// sample, so consecutive stretches join.
@@ -49,6 +70,10 @@ pub(super) struct Ctx<'a> {
     pub units: Units,
     /// Stretches of feed and rapid motion, in time order.
     pub runs: Vec<Run>,
+    /// The programmed geometry, when known.
+    pub geometry: Option<&'a pvt_core::Toolpath>,
+    /// Most points in one wide polyline of the path panel (see [`BITMAP_RUN`]).
+    pub longest_run: usize,
 }
 
 impl Ctx<'_> {
@@ -63,41 +88,128 @@ pub(super) fn failed<E: std::fmt::Display>(e: E) -> PlotError {
     PlotError::Draw(e.to_string())
 }
 
-/// The whole document.
+/// The whole document as SVG text.
 pub(super) fn render(
     program: &PvtProgram,
     samples: &Samples,
     options: &PlotOptions,
 ) -> Result<String, PlotError> {
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, size(options)).into_drawing_area();
+        render_on(&root, program, samples, options, usize::MAX)?;
+    }
+    Ok(svg)
+}
+
+/// The whole document as a PNG file's bytes.
+pub(super) fn render_png(
+    program: &PvtProgram,
+    samples: &Samples,
+    options: &PlotOptions,
+) -> Result<Vec<u8>, PlotError> {
+    let (w, h) = size(options);
+    let mut rgb = vec![0u8; w as usize * h as usize * 3];
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
+        render_on(&root, program, samples, options, BITMAP_RUN)?;
+    }
+    let image = image::RgbImage::from_raw(w, h, rgb)
+        .ok_or_else(|| PlotError::Draw("bitmap size mismatch".into()))?;
+    let mut png = Vec::new();
+    image
+        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+        .map_err(failed)?;
+    Ok(png)
+}
+
+/// Pixel size of the document.
+fn size(options: &PlotOptions) -> (u32, u32) {
+    (options.width.max(400), options.height.max(600))
+}
+
+/// Draws every panel on `root`.
+fn render_on<DB: DrawingBackend>(
+    root: &Area<DB>,
+    program: &PvtProgram,
+    samples: &Samples,
+    options: &PlotOptions,
+    longest_run: usize,
+) -> Result<(), PlotError> {
+    super::fonts()?;
     let ctx = Ctx {
         program,
         samples,
         units: Units::of(program),
         runs: runs(samples),
+        geometry: options.geometry.as_ref(),
+        longest_run,
     };
-    let mut svg = String::new();
-    {
-        let size = (options.width.max(400), options.height.max(600));
-        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
-        root.fill(&WHITE).map_err(failed)?;
-        let body = root
-            .titled(
-                &options.title,
-                (FONT, 26).into_font().style(FontStyle::Bold),
-            )
-            .map_err(failed)?;
-        let (w, h) = body.dim_in_pixel();
-        let (top, bottom) = body.split_vertically(h * 42 / 100);
-        let (path, legend) = top.split_horizontally(w.saturating_sub(170));
-        super::path::path_panel(&path, &ctx)?;
-        super::path::legend_panel(&legend, &ctx)?;
-        let rows = bottom.split_evenly((3, 1));
-        speed_panel(&rows[0], &ctx)?;
-        axes_panel(&rows[1], &ctx, Quantity::Velocity, options)?;
-        axes_panel(&rows[2], &ctx, Quantity::Acceleration, options)?;
-        root.present().map_err(failed)?;
+    root.fill(&WHITE).map_err(failed)?;
+    let body = root
+        .titled(
+            &options.title,
+            (FONT, 26).into_font().style(FontStyle::Bold),
+        )
+        .map_err(failed)?;
+    let (w, h) = body.dim_in_pixel();
+    let (top, bottom) = body.split_vertically(h * 42 / 100);
+    let (path, legend) = top.split_horizontally(w.saturating_sub(170));
+    super::path::path_panel(&path, &ctx)?;
+    super::path::legend_panel(&legend, &ctx)?;
+    let third = third_axis(&ctx);
+    let rows = bottom.split_evenly((if third.is_some() { 4 } else { 3 }, 1));
+    speed_panel(&rows[0], &ctx)?;
+    axes_panel(&rows[1], &ctx, Quantity::Velocity, options)?;
+    axes_panel(&rows[2], &ctx, Quantity::Acceleration, options)?;
+    if let Some(axis) = third {
+        position_panel(&rows[3], &ctx, axis)?;
     }
-    Ok(svg)
+    root.present().map_err(failed)?;
+    Ok(())
+}
+
+/// The column of the third axis (Z in an XYZ program) when it moves.
+fn third_axis(ctx: &Ctx) -> Option<usize> {
+    let s = ctx.samples;
+    if s.dim < 3 || s.is_empty() {
+        return None;
+    }
+    let column = (0..s.len()).map(|i| s.position(i)[2]);
+    let (lo, hi) = column.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+        (lo.min(v), hi.max(v))
+    });
+    (hi > lo).then_some(2)
+}
+
+/// The third axis' position against time: feed dark, rapid grey.
+fn position_panel<DB: DrawingBackend>(
+    area: &Area<DB>,
+    ctx: &Ctx,
+    axis: usize,
+) -> Result<(), PlotError> {
+    let s = ctx.samples;
+    let name = ctx.axis_name(axis);
+    let (lo, hi) = extent((0..s.len()).map(|i| s.position(i)[axis]))?;
+    let caption = format!("{name} against time (the third axis)");
+    let unit = format!("{name} ({})", ctx.units.axis[axis]);
+    let area = titled(area, &caption)?;
+    let mut chart = chart(
+        &area,
+        (time_range(ctx), padded((lo, hi))),
+        ("time (s)", &unit),
+    )?;
+    for run in &ctx.runs {
+        let style = match run.motion {
+            Motion::Feed => axis_colour(axis).stroke_width(2),
+            Motion::Rapid => RAPID.stroke_width(1),
+        };
+        let points = run.range.clone().map(|i| (s.time[i], s.position(i)[axis]));
+        chart
+            .draw_series(LineSeries::new(points, style))
+            .map_err(failed)?;
+    }
+    Ok(())
 }
 
 /// Splits the samples where the motion changes between feed and rapid.
@@ -123,16 +235,19 @@ fn runs(samples: &Samples) -> Vec<Run> {
 }
 
 /// `area` below a panel title `caption`.
-pub(super) fn titled<'b>(area: &Area<'b>, caption: &str) -> Result<Area<'b>, PlotError> {
+pub(super) fn titled<DB: DrawingBackend>(
+    area: &Area<DB>,
+    caption: &str,
+) -> Result<Area<DB>, PlotError> {
     area.titled(caption, (FONT, 18)).map_err(failed)
 }
 
 /// A chart filling `area` with ranges `x`, `y` and labelled axes.
-pub(super) fn chart<'a, 'b>(
-    area: &'a Area<'b>,
+pub(super) fn chart<'a, DB: DrawingBackend>(
+    area: &'a Area<DB>,
     (x, y): ((f64, f64), (f64, f64)),
     (x_desc, y_desc): (&str, &str),
-) -> Result<Chart<'a, 'b>, PlotError> {
+) -> Result<Chart<'a, DB>, PlotError> {
     let mut chart = ChartBuilder::on(area)
         .margin(MARGIN)
         .x_label_area_size(X_LABELS)
@@ -163,7 +278,7 @@ fn time_range(ctx: &Ctx) -> (f64, f64) {
 }
 
 /// Vector speed against time: feed dark blue, rapid grey.
-fn speed_panel(area: &Area, ctx: &Ctx) -> Result<(), PlotError> {
+fn speed_panel<DB: DrawingBackend>(area: &Area<DB>, ctx: &Ctx) -> Result<(), PlotError> {
     let (_, hi) = extent(ctx.samples.speed.iter().copied())?;
     let y = padded((0.0, hi));
     let unit = format!("speed ({}/s)", ctx.units.speed);
@@ -247,7 +362,12 @@ fn limits_of(ctx: &Ctx, q: Quantity, options: &PlotOptions) -> Vec<Option<f64>> 
 
 /// Each axis' velocity or acceleration against time, one colour an axis, with its
 /// limits (if given) as dashed lines at ± the limit.
-fn axes_panel(area: &Area, ctx: &Ctx, q: Quantity, options: &PlotOptions) -> Result<(), PlotError> {
+fn axes_panel<DB: DrawingBackend>(
+    area: &Area<DB>,
+    ctx: &Ctx,
+    q: Quantity,
+    options: &PlotOptions,
+) -> Result<(), PlotError> {
     let s = ctx.samples;
     let values = match q {
         Quantity::Velocity => &s.velocity,

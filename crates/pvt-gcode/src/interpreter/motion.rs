@@ -24,13 +24,11 @@ impl Interpreter<'_> {
         if self.modal.feed_mode == FeedMode::InverseTime {
             return;
         }
-        let per_minute = word.value * self.scale();
-        if !per_minute.is_finite() {
-            return self.push(out_of_range("feed", per_minute, word.span()));
+        if !word.value.is_finite() {
+            return self.push(out_of_range("feed", word.value, word.span()));
         }
         self.feed = Some(Feed {
             written: word.value,
-            per_minute,
         });
         self.feed_reported = false;
     }
@@ -127,8 +125,10 @@ impl Interpreter<'_> {
         if self.modal.feed_mode == FeedMode::InverseTime {
             return self.inverse_time_rate(request, block, length());
         }
+        // The F number is read in the units in force when the move runs, as rs274 reads
+        // it: `G20 F20` then `G21 G1 X100` feeds at 20 mm/min.
         let per_minute = match (self.feed, self.options.default_feed) {
-            (Some(feed), _) => feed.per_minute,
+            (Some(feed), _) => feed.written * self.scale(),
             (None, Some(default)) => default,
             (None, None) => {
                 if !self.feed_reported {
@@ -203,8 +203,10 @@ impl Interpreter<'_> {
         self.position = end;
         let Some(feed) = feed else { return };
         if end == start {
-            return self.warn(GcodeDiagnostic::ZeroLengthMove {
-                span: span(block.span()),
+            let span = span(block.span());
+            return self.warn(match motion {
+                Motion::Rapid => GcodeDiagnostic::RapidToCurrentPoint { span },
+                Motion::Feed => GcodeDiagnostic::ZeroLengthMove { span },
             });
         }
         let element = Element {

@@ -94,7 +94,11 @@ pub fn render_compiled(source: &str, compiled: &Compiled) -> String {
         writeln!(out, "G64 P tolerance {}", num(p)).unwrap();
     }
     for w in &compiled.warnings {
-        writeln!(out, "warning {}", diagnostic_line(source, w)).unwrap();
+        let kind = match miette::Diagnostic::severity(w) {
+            Some(miette::Severity::Advice) => "note",
+            _ => "warning",
+        };
+        writeln!(out, "{kind} {}", diagnostic_line(source, w)).unwrap();
     }
     out
 }

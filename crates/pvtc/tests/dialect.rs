@@ -1,0 +1,746 @@
+//! Differential tests of the G-code dialect against LinuxCNC's own interpreter, `rs274`.
+//!
+//! Every program in `tests/dialect/*.ngc` runs through `rs274 -g` and through
+//! `pvtc compile --format toolpath`; the two must give the same motion: every element's
+//! kind (rapid, feed, arc), end point, arc centre, plane and turn direction, and feed,
+//! and every dwell, within 1e-4 mm. Random programs from a generator over the dialect
+//! are compared the same way.
+//!
+//! rs274 prints program coordinates with the offsets as separate calls; this file turns
+//! them into machine coordinates as LinuxCNC's canonical layer does (G92 offset, XY
+//! rotation, work offset, tool length offset), in millimetres. It drops rs274's
+//! zero-length straight moves, which pvtc drops with a warning.
+//!
+//! Sidecar files next to `NAME.ngc`: `NAME.tbl`, a tool table (rs274 `-t`, pvtc
+//! `--tool-table`); `NAME.ini`, an ini file for rs274 (`-i`); `NAME.args`, extra pvtc
+//! arguments, one per line. Without rs274 (Debian package linuxcnc-uspace) each test says
+//! SKIPPED; with `PVTC_REQUIRE_RS274=1` (set by `.ci/run`) it fails instead.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+/// How close the two readings must be, in the program's units: rs274 prints four
+/// decimals of the units in force.
+const TOLERANCE: f64 = 1e-4;
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// One motion the two interpreters agree on, in machine coordinates, millimetres.
+#[derive(Debug, Clone, PartialEq)]
+enum Move {
+    Straight {
+        rapid: bool,
+        end: [f64; 6],
+        feed: f64,
+        /// Millimetres per unit of the program at this move (0 where unknown).
+        unit: f64,
+    },
+    Arc {
+        plane: &'static str,
+        end: [f64; 6],
+        center: [f64; 2],
+        /// Signed as rs274 prints it: +n counter-clockwise, −n clockwise, n − 1 extra turns.
+        rotation: i64,
+        feed: f64,
+        /// Millimetres per unit of the program at this move (0 where unknown).
+        unit: f64,
+    },
+    Dwell(f64),
+}
+
+/// Where rs274 is, or why the tests cannot run.
+fn rs274() -> Result<&'static str, String> {
+    let found = Command::new("rs274")
+        .arg("-h")
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .is_ok();
+    if found {
+        return Ok("rs274");
+    }
+    let why = "rs274 is not installed (apt-get install linuxcnc-uspace)".to_string();
+    if std::env::var_os("PVTC_REQUIRE_RS274").is_some() {
+        panic!("{why}, and PVTC_REQUIRE_RS274 is set");
+    }
+    Err(why)
+}
+
+/// A sidecar of `program` with another extension, if it exists.
+fn sidecar(program: &Path, extension: &str) -> Option<PathBuf> {
+    let path = program.with_extension(extension);
+    path.exists().then_some(path)
+}
+
+/// rs274's canonical motion for `program`, or its error message.
+///
+/// Two rs274 processes at once can kill each other with SIGBUS (they share memory), so
+/// this test's runs take turns, and a run killed by a signal (another test process's
+/// rs274, say) is tried again.
+fn rs274_moves(rs274: &str, program: &Path) -> Result<Vec<Move>, String> {
+    static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let _turn = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let mut tries = 0;
+    loop {
+        let run = rs274_once(rs274, program);
+        tries += 1;
+        match run {
+            Err(Killed(why)) if tries < 8 => {
+                eprintln!("rs274 was killed ({why}); trying again");
+                std::thread::sleep(std::time::Duration::from_millis(50 * tries));
+            }
+            Err(Killed(why)) => return Err(why),
+            Ok(moves) => return moves,
+        }
+    }
+}
+
+/// An rs274 run that a signal ended.
+struct Killed(String);
+
+fn rs274_once(rs274: &str, program: &Path) -> Result<Result<Vec<Move>, String>, Killed> {
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let out = dir.path().join("canon.txt");
+    let mut command = Command::new(rs274);
+    if let Some(table) = sidecar(program, "tbl") {
+        command.arg("-t").arg(table);
+    }
+    if let Some(ini) = sidecar(program, "ini") {
+        command.arg("-i").arg(ini);
+    }
+    let output = command
+        .arg("-g")
+        .arg(program)
+        .arg(&out)
+        .current_dir(dir.path())
+        .stdin(Stdio::null())
+        .output()
+        .expect("rs274 runs");
+    let failure = format!(
+        "rs274 failed ({}) on {}: {}{}",
+        output.status,
+        program.display(),
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
+    );
+    if output.status.code().is_none() {
+        return Err(Killed(failure));
+    }
+    if !output.status.success() {
+        return Ok(Err(failure));
+    }
+    let text = std::fs::read_to_string(&out).expect("rs274 wrote its output");
+    Ok(Ok(Canon::default().read(&text)))
+}
+
+/// The state of LinuxCNC's canonical layer that turns program into machine coordinates.
+#[derive(Default)]
+struct Canon {
+    /// Millimetres per program unit (0 before USE_LENGTH_UNITS means 1).
+    mm: f64,
+    g5x: [f64; 6],
+    g92: [f64; 6],
+    tool: [f64; 6],
+    rotation_deg: f64,
+    plane: &'static str,
+    /// The feed number, program units per minute.
+    feed: f64,
+    /// The last machine position, millimetres.
+    at: [f64; 6],
+    /// Millimetres per unit of the work, G92 and tool offsets when last printed.
+    offset_unit: [f64; 3],
+}
+
+impl Canon {
+    fn read(mut self, text: &str) -> Vec<Move> {
+        self.mm = 1.0;
+        self.plane = "XY";
+        let mut moves = Vec::new();
+        for line in text.lines() {
+            let Some((name, args)) = call(line) else {
+                continue;
+            };
+            let numbers = numbers(args);
+            match name {
+                "USE_LENGTH_UNITS" => {
+                    self.mm = if args.contains("INCH") { 25.4 } else { 1.0 };
+                }
+                "SET_G5X_OFFSET" => {
+                    self.g5x = self.lengths(&numbers[1..]);
+                    self.offset_unit[0] = self.mm;
+                }
+                "SET_G92_OFFSET" => {
+                    self.g92 = self.lengths(&numbers);
+                    self.offset_unit[1] = self.mm;
+                }
+                "SET_XY_ROTATION" => self.rotation_deg = numbers[0],
+                "USE_TOOL_LENGTH_OFFSET" => {
+                    self.tool = self.lengths(&numbers);
+                    self.offset_unit[2] = self.mm;
+                }
+                "SELECT_PLANE" => {
+                    self.plane = match args {
+                        a if a.contains("XZ") => "ZX",
+                        a if a.contains("YZ") => "YZ",
+                        _ => "XY",
+                    }
+                }
+                // The number is read in the units in force at each move.
+                "SET_FEED_RATE" => self.feed = numbers[0],
+                "DWELL" => moves.push(Move::Dwell(numbers[0])),
+                "STRAIGHT_TRAVERSE" | "STRAIGHT_FEED" => {
+                    let end = self.machine(&numbers[..6]);
+                    let moved = end.iter().zip(&self.at).any(|(a, b)| (a - b).abs() > 1e-9);
+                    self.at = end;
+                    if moved {
+                        moves.push(Move::Straight {
+                            rapid: name == "STRAIGHT_TRAVERSE",
+                            end,
+                            feed: self.feed * self.mm,
+                            unit: self.unit(),
+                        });
+                    }
+                }
+                "ARC_FEED" => moves.push(self.arc(&numbers)),
+                _ => {}
+            }
+        }
+        moves
+    }
+
+    /// Millimetres per unit of the coarsest number in a move's machine position.
+    fn unit(&self) -> f64 {
+        self.offset_unit.iter().fold(self.mm, |a, b| a.max(*b))
+    }
+
+    /// Program lengths to millimetres (rotary axes stay degrees).
+    fn lengths(&self, values: &[f64]) -> [f64; 6] {
+        let mut out = [0.0; 6];
+        for (i, v) in values.iter().take(6).enumerate() {
+            out[i] = if i < 3 { v * self.mm } else { *v };
+        }
+        out
+    }
+
+    /// A program position as LinuxCNC's canon makes it a machine position: plus the G92
+    /// offset, rotated about the work origin, plus the work and tool offsets.
+    fn machine(&self, program: &[f64]) -> [f64; 6] {
+        let mut p = self.lengths(program);
+        for (v, g92) in p.iter_mut().zip(&self.g92) {
+            *v += g92;
+        }
+        let (sin, cos) = libm::sincos(self.rotation_deg.to_radians());
+        let (x, y) = (p[0], p[1]);
+        p[0] = x * cos - y * sin;
+        p[1] = x * sin + y * cos;
+        for ((v, g5x), tool) in p.iter_mut().zip(&self.g5x).zip(&self.tool) {
+            *v += g5x + tool;
+        }
+        p
+    }
+
+    /// ARC_FEED(first_end, second_end, first_centre, second_centre, rotation,
+    /// normal_end, a, b, c), the plane's axes in G17/G18/G19 order.
+    fn arc(&mut self, n: &[f64]) -> Move {
+        let (first, second, normal) = plane_axes(self.plane);
+        let mut end = [0.0; 6];
+        end[first] = n[0];
+        end[second] = n[1];
+        end[normal] = n[5];
+        end[3..6].copy_from_slice(&n[6..9]);
+        let mut centre = end;
+        centre[first] = n[2];
+        centre[second] = n[3];
+        let end = self.machine(&end);
+        let centre = self.machine(&centre);
+        self.at = end;
+        Move::Arc {
+            plane: self.plane,
+            end,
+            center: [centre[first], centre[second]],
+            rotation: n[4] as i64,
+            feed: self.feed * self.mm,
+            unit: self.unit(),
+        }
+    }
+}
+
+fn plane_axes(plane: &str) -> (usize, usize, usize) {
+    match plane {
+        "ZX" => (2, 0, 1),
+        "YZ" => (1, 2, 0),
+        _ => (0, 1, 2),
+    }
+}
+
+/// `   12 N..... NAME(ARGS)` (or `N102  ` where the block has an N word) as (NAME, ARGS).
+fn call(line: &str) -> Option<(&str, &str)> {
+    let (_, rest) = line.trim_start().split_once(' ')?;
+    let (_, rest) = rest.trim_start().split_once(' ')?;
+    let (name, args) = rest.split_once('(')?;
+    let args = &args[..args.rfind(')')?];
+    Some((name.trim(), args))
+}
+
+/// Every number in a canonical call's arguments, in order.
+fn numbers(args: &str) -> Vec<f64> {
+    args.split([',', ' '])
+        .filter_map(|w| w.trim().parse::<f64>().ok())
+        .collect()
+}
+
+/// pvtc's reading of `program` as moves, or its diagnostics.
+fn pvtc_moves(program: &Path) -> Result<Vec<Move>, String> {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_pvtc"));
+    command
+        .arg("compile")
+        .arg(program)
+        .args(["--format", "toolpath"])
+        .env("NO_COLOR", "1");
+    if let Some(table) = sidecar(program, "tbl") {
+        command.arg("--tool-table").arg(table);
+    }
+    if let Some(args) = sidecar(program, "args") {
+        let text = std::fs::read_to_string(args).expect("args file");
+        command.args(text.lines().map(str::trim).filter(|l| !l.is_empty()));
+    }
+    let output = command.output().expect("pvtc runs");
+    if !output.status.success() {
+        return Err(format!(
+            "pvtc failed on {}:\n{}",
+            program.display(),
+            String::from_utf8_lossy(&output.stderr)
+        ));
+    }
+    Ok(toolpath_moves(&String::from_utf8_lossy(&output.stdout)))
+}
+
+/// The `--format toolpath` lines as moves, in millimetres.
+fn toolpath_moves(text: &str) -> Vec<Move> {
+    let lines: Vec<serde_json::Value> = text
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("a JSON object per line"))
+        .collect();
+    let end = lines.last().expect("an end line");
+    assert_eq!(end["kind"], "end", "the toolpath output is complete");
+    let mm = if end["units"] == "in" { 25.4 } else { 1.0 };
+    let position = |v: &serde_json::Value| -> [f64; 6] {
+        let mut p = [0.0; 6];
+        for (i, x) in p.iter_mut().enumerate() {
+            let value = v[i].as_f64().expect("a number");
+            *x = if i < 3 { value * mm } else { value };
+        }
+        p
+    };
+    let mut moves = Vec::new();
+    for line in &lines {
+        let feed = line["feed"].as_f64().unwrap_or(0.0) * mm;
+        match line["kind"].as_str() {
+            Some("line") => moves.push(Move::Straight {
+                rapid: line["motion"] == "rapid",
+                end: position(&line["end"]),
+                feed,
+                unit: 0.0,
+            }),
+            Some("arc") => {
+                let turns = line["turns"].as_i64().expect("turns") + 1;
+                moves.push(Move::Arc {
+                    plane: match line["plane"].as_str() {
+                        Some("ZX") => "ZX",
+                        Some("YZ") => "YZ",
+                        _ => "XY",
+                    },
+                    end: position(&line["end"]),
+                    center: [
+                        line["center"][0].as_f64().expect("centre") * mm,
+                        line["center"][1].as_f64().expect("centre") * mm,
+                    ],
+                    rotation: if line["direction"] == "cw" {
+                        -turns
+                    } else {
+                        turns
+                    },
+                    feed,
+                    unit: 0.0,
+                })
+            }
+            Some("event") if line["event"] == "dwell" => {
+                moves.push(Move::Dwell(line["seconds"].as_f64().expect("seconds")))
+            }
+            _ => {}
+        }
+    }
+    moves
+}
+
+fn close(a: &[f64], b: &[f64], unit: f64) -> bool {
+    let tolerance = TOLERANCE * unit.max(1.0);
+    a.iter().zip(b).all(|(x, y)| (x - y).abs() <= tolerance)
+}
+
+/// Whether two moves agree; a rapid's feed is the machine's, not the program's.
+fn same(ours: &Move, theirs: &Move) -> bool {
+    match (ours, theirs) {
+        (
+            Move::Straight {
+                rapid, end, feed, ..
+            },
+            Move::Straight {
+                rapid: r,
+                end: e,
+                feed: f,
+                unit,
+            },
+        ) => rapid == r && close(end, e, *unit) && (*rapid || close(&[*feed], &[*f], *unit)),
+        (
+            Move::Arc {
+                plane,
+                end,
+                center,
+                rotation,
+                feed,
+                ..
+            },
+            Move::Arc {
+                plane: p,
+                end: e,
+                center: c,
+                rotation: r,
+                feed: f,
+                unit,
+            },
+        ) => {
+            plane == p
+                && rotation == r
+                && close(end, e, *unit)
+                && close(center, c, *unit)
+                && close(&[*feed], &[*f], *unit)
+        }
+        (Move::Dwell(a), Move::Dwell(b)) => (a - b).abs() <= 1e-6,
+        _ => false,
+    }
+}
+
+/// The first difference between the two readings, described, or `None`.
+fn difference(ours: &[Move], theirs: &[Move]) -> Option<String> {
+    for (i, (o, t)) in ours.iter().zip(theirs).enumerate() {
+        if !same(o, t) {
+            return Some(format!("move {i}:\n  pvtc:  {o:?}\n  rs274: {t:?}"));
+        }
+    }
+    (ours.len() != theirs.len()).then(|| {
+        format!(
+            "pvtc has {} moves, rs274 {}; the first extra: {:?}",
+            ours.len(),
+            theirs.len(),
+            ours.get(theirs.len()).or(theirs.get(ours.len()))
+        )
+    })
+}
+
+/// Compares one program; the failure, described.
+fn compare(rs274: &str, program: &Path) -> Result<usize, String> {
+    let theirs = rs274_moves(rs274, program)?;
+    let ours = pvtc_moves(program)?;
+    match difference(&ours, &theirs) {
+        None => Ok(ours.len()),
+        Some(d) => Err(format!("{}: {d}", program.display())),
+    }
+}
+
+fn dialect_programs() -> Vec<PathBuf> {
+    let dir = root().join("tests/dialect");
+    let mut programs: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|e| e.expect("directory entry").path())
+        .filter(|p| p.extension().is_some_and(|e| e == "ngc"))
+        .collect();
+    programs.sort();
+    programs
+}
+
+#[test]
+fn every_dialect_program_moves_as_rs274_moves() {
+    let rs274 = match rs274() {
+        Ok(rs274) => rs274,
+        Err(why) => {
+            eprintln!("SKIPPED: {why}");
+            return;
+        }
+    };
+    let programs = dialect_programs();
+    assert!(programs.len() >= 10, "the dialect programs are there");
+    let mut failures = Vec::new();
+    let mut compared = 0;
+    for program in &programs {
+        match compare(rs274, program) {
+            Ok(moves) => compared += moves,
+            Err(failure) => failures.push(failure),
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{} of {} programs differ from rs274:\n{}",
+        failures.len(),
+        programs.len(),
+        failures.join("\n\n")
+    );
+    eprintln!(
+        "{} programs, {compared} moves agree with rs274",
+        programs.len()
+    );
+}
+
+/// The comparison itself finds a difference: a program read differently must fail.
+#[test]
+fn the_comparison_sees_a_moved_end_point_a_turn_and_a_feed() {
+    let rapid = Move::Straight {
+        rapid: false,
+        end: [1.0, 2.0, 0.0, 0.0, 0.0, 0.0],
+        feed: 100.0,
+        unit: 1.0,
+    };
+    let mut moved = rapid.clone();
+    if let Move::Straight { end, .. } = &mut moved {
+        end[1] += 2e-4;
+    }
+    assert!(difference(std::slice::from_ref(&rapid), &[moved]).is_some());
+    let mut slower = rapid.clone();
+    if let Move::Straight { feed, .. } = &mut slower {
+        *feed = 99.0;
+    }
+    assert!(difference(std::slice::from_ref(&rapid), &[slower]).is_some());
+    assert!(difference(std::slice::from_ref(&rapid), &[]).is_some());
+    let arc = |rotation| Move::Arc {
+        plane: "XY",
+        end: [0.0; 6],
+        center: [1.0, 0.0],
+        rotation,
+        feed: 1.0,
+        unit: 1.0,
+    };
+    assert!(difference(&[arc(1)], &[arc(-1)]).is_some());
+    assert!(difference(&[arc(2)], &[arc(2)]).is_none());
+}
+
+#[test]
+fn canonical_calls_become_machine_moves() {
+    let text = "\
+    1 N..... USE_LENGTH_UNITS(CANON_UNITS_INCHES)
+    2 N..... SET_G5X_OFFSET(2, 1.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+    3 N..... SET_FEED_RATE(10.0000)
+    4 N..... STRAIGHT_FEED(1.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+    5 N..... SELECT_PLANE(CANON_PLANE_XZ)
+    6 N..... ARC_FEED(0.0000, 3.0000, 0.5000, 2.0000, -2, 0.2500, 0.0000, 0.0000, 0.0000)
+    7 N..... DWELL(1.5000)";
+    let moves = Canon::default().read(text);
+    let expected = vec![
+        Move::Straight {
+            rapid: false,
+            end: [50.8, 0.0, 0.0, 0.0, 0.0, 0.0],
+            feed: 254.0,
+            unit: 25.4,
+        },
+        Move::Arc {
+            plane: "ZX",
+            end: [101.6, 6.35, 0.0, 0.0, 0.0, 0.0],
+            center: [12.7, 76.2],
+            rotation: -2,
+            feed: 254.0,
+            unit: 25.4,
+        },
+        Move::Dwell(1.5),
+    ];
+    assert_eq!(difference(&moves, &expected), None, "{moves:?}");
+}
+
+/// Random programs over the dialect both interpreters run: lines and rapids, arcs in
+/// every plane by centre with helical motion and extra turns, absolute and incremental
+/// distances, unit switches, feeds, dwells and G92 offsets.
+mod generated {
+    use super::*;
+    use proptest::prelude::*;
+
+    #[derive(Debug, Clone)]
+    enum Step {
+        Straight {
+            rapid: bool,
+            to: [f64; 3],
+        },
+        Arc {
+            clockwise: bool,
+            radius: f64,
+            from: f64,
+            sweep: f64,
+            rise: f64,
+            turns: u32,
+        },
+        Plane(usize),
+        Incremental(bool),
+        Inches(bool),
+        Feed(f64),
+        Dwell(f64),
+        Offset([f64; 2]),
+    }
+
+    fn step() -> impl Strategy<Value = Step> {
+        let coordinate = || (-500i32..500).prop_map(|v| f64::from(v) / 10.0);
+        prop_oneof![
+            6 => (any::<bool>(), [coordinate(), coordinate(), coordinate()])
+                .prop_map(|(rapid, to)| Step::Straight { rapid, to }),
+            4 => (any::<bool>(), 1u32..400, 0u32..360, 1u32..359, -50i32..50, 0u32..2).prop_map(
+                |(clockwise, r, from, sweep, rise, turns)| Step::Arc {
+                    clockwise,
+                    radius: f64::from(r) / 10.0,
+                    from: f64::from(from),
+                    sweep: f64::from(sweep),
+                    rise: f64::from(rise) / 10.0,
+                    turns,
+                }
+            ),
+            1 => (0usize..3).prop_map(Step::Plane),
+            1 => any::<bool>().prop_map(Step::Incremental),
+            1 => any::<bool>().prop_map(Step::Inches),
+            1 => (1u32..3000).prop_map(|f| Step::Feed(f64::from(f))),
+            1 => (1u32..20).prop_map(|p| Step::Dwell(f64::from(p) / 4.0)),
+            1 => [coordinate(), coordinate()].prop_map(Step::Offset),
+        ]
+    }
+
+    /// The program text; the position is tracked in program units to place arcs.
+    fn program(steps: &[Step]) -> String {
+        // A first move, so that every program has motion.
+        let mut text = String::from("G21 G90 G17 G94 F500\nG1 X1 Y2 Z3\n");
+        let mut at = [1.0f64, 2.0, 3.0];
+        let (mut plane, mut incremental, mut inches) = (0usize, false, false);
+        let words = ["X", "Y", "Z"];
+        for step in steps {
+            match step {
+                Step::Straight { rapid, to } => {
+                    let code = if *rapid { "G0" } else { "G1" };
+                    text.push_str(code);
+                    for (i, v) in to.iter().enumerate() {
+                        let written = if incremental { v - at[i] } else { *v };
+                        text.push_str(&format!(" {}{written:.4}", words[i]));
+                    }
+                    text.push('\n');
+                    at = *to;
+                }
+                Step::Arc {
+                    clockwise,
+                    radius,
+                    from,
+                    sweep,
+                    rise,
+                    turns,
+                } => {
+                    let (a, b, n) = [(0, 1, 2), (2, 0, 1), (1, 2, 0)][plane];
+                    let from = from.to_radians();
+                    let sweep = if *clockwise { -sweep } else { *sweep }.to_radians();
+                    let centre = [
+                        at[a] - radius * libm::cos(from),
+                        at[b] - radius * libm::sin(from),
+                    ];
+                    let mut end = at;
+                    end[a] = centre[0] + radius * libm::cos(from + sweep);
+                    end[b] = centre[1] + radius * libm::sin(from + sweep);
+                    end[n] += rise;
+                    let end = end.map(|v| (v * 1e4).round() / 1e4);
+                    let code = if *clockwise { "G2" } else { "G3" };
+                    text.push_str(code);
+                    for (i, v) in end.iter().enumerate() {
+                        let written = if incremental { v - at[i] } else { *v };
+                        text.push_str(&format!(" {}{written:.4}", words[i]));
+                    }
+                    let centre_words = ["I", "J", "K"];
+                    text.push_str(&format!(" {}{:.6}", centre_words[a], centre[0] - at[a]));
+                    text.push_str(&format!(" {}{:.6}", centre_words[b], centre[1] - at[b]));
+                    if *turns > 0 {
+                        text.push_str(&format!(" P{}", turns + 1));
+                    }
+                    text.push('\n');
+                    at = end;
+                }
+                Step::Plane(p) => {
+                    plane = *p;
+                    text.push_str(["G17\n", "G18\n", "G19\n"][plane]);
+                }
+                Step::Incremental(on) => {
+                    incremental = *on;
+                    text.push_str(if *on { "G91\n" } else { "G90\n" });
+                }
+                Step::Inches(on) => {
+                    if *on != inches {
+                        let scale = if *on { 1.0 / 25.4 } else { 25.4 };
+                        at = at.map(|v| v * scale);
+                    }
+                    inches = *on;
+                    text.push_str(if *on { "G20\n" } else { "G21\n" });
+                }
+                Step::Feed(f) => text.push_str(&format!("F{f}\n")),
+                Step::Dwell(p) => text.push_str(&format!("G4 P{p}\n")),
+                Step::Offset([x, y]) => {
+                    text.push_str(&format!("G92 X{x:.4} Y{y:.4}\n"));
+                    at[0] = *x;
+                    at[1] = *y;
+                }
+            }
+        }
+        text.push_str("M2\n");
+        text
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+        #[test]
+        fn random_programs_move_as_rs274_moves(steps in prop::collection::vec(step(), 1..24)) {
+            let rs274 = match rs274() {
+                Ok(rs274) => rs274,
+                Err(why) => {
+                    eprintln!("SKIPPED: {why}");
+                    return Ok(());
+                }
+            };
+            let dir = tempfile::tempdir().expect("temporary directory");
+            let path = dir.path().join("random.ngc");
+            let text = program(&steps);
+            std::fs::write(&path, &text).expect("written");
+            let compared = compare(rs274, &path);
+            prop_assert!(compared.is_ok(), "{}\n{}", text, compared.unwrap_err());
+        }
+    }
+}
+
+/// LinuxCNC's own sample programs (`../shared/corpus/linuxcnc`, see its README) that
+/// rs274 runs to the end move as rs274 moves them.
+#[test]
+fn corpus_programs_move_as_rs274_moves() {
+    let rs274 = match rs274() {
+        Ok(rs274) => rs274,
+        Err(why) => {
+            eprintln!("SKIPPED: {why}");
+            return;
+        }
+    };
+    let dir = root().join("../shared/corpus/linuxcnc");
+    if !dir.is_dir() {
+        eprintln!("SKIPPED: the corpus folder {} is absent", dir.display());
+        return;
+    }
+    let runs = [
+        "3D_Chips.ngc",
+        "3dtest.ngc",
+        "arcspiral.ngc",
+        "lathe_pawn.ngc",
+        "tort.ngc",
+    ];
+    let failures: Vec<String> = runs
+        .iter()
+        .filter_map(|name| compare(rs274, &dir.join(name)).err())
+        .collect();
+    assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+}

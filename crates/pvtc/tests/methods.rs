@@ -1,0 +1,276 @@
+//! The planners' names and what they say about themselves: headers and `--help` name the
+//! methods in words, each chord method by its own name, PT into MovePT arrays, and which
+//! velocities a CSV series is planned with.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn pvtc(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_pvtc"))
+        .args(args)
+        .current_dir(root())
+        .env("NO_COLOR", "1")
+        .output()
+        .expect("pvtc runs")
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+const PLANNERS: [&str; 8] = [
+    "path",
+    "contour",
+    "pt",
+    "chord-forward",
+    "chord-back",
+    "const-accel",
+    "spline",
+    "lspb",
+];
+
+#[test]
+fn headers_and_help_name_the_methods_in_words_not_seed_numbers() {
+    let help = text(&pvtc(&["compile", "--help"]).stdout);
+    assert!(!help.to_lowercase().contains("seed"), "{help}");
+    for name in PLANNERS {
+        assert!(help.contains(name), "--help does not name {name}");
+    }
+    assert!(help.contains("incoming chord") && help.contains("outgoing chord"));
+    for planner in PLANNERS {
+        for format in ["pmac", "movepvt", "json"] {
+            let mut args = vec![
+                "compile",
+                "samples/csv/an208_zigzag.csv",
+                "--planner",
+                planner,
+                "--format",
+                format,
+            ];
+            if planner == "lspb" {
+                args.extend(["--accel", "1e6"]);
+            }
+            let o = pvtc(&args);
+            let out = text(&o.stdout);
+            if (planner, format) == ("pt", "pmac") {
+                // PMAC's PVT mode needs velocities: refused, with a hint.
+                assert_eq!(o.status.code(), Some(1));
+                continue;
+            }
+            assert!(
+                o.status.success(),
+                "{planner} {format}: {}",
+                text(&o.stderr)
+            );
+            let planner_line = out
+                .lines()
+                .find(|l| l.contains("planner"))
+                .unwrap_or_else(|| panic!("{planner} {format}: no planner line\n{out}"));
+            assert!(
+                !planner_line.to_lowercase().contains("seed"),
+                "{planner} {format}: {planner_line}"
+            );
+            assert!(
+                planner_line.contains(&format!("{planner} (")),
+                "{planner} {format}: {planner_line}"
+            );
+        }
+    }
+}
+
+#[test]
+fn chord_is_an_alias_of_chord_forward_and_chord_back_differs() {
+    let run = |planner: &str| {
+        let o = pvtc(&[
+            "compile",
+            "samples/csv/an208_step.csv",
+            "--planner",
+            planner,
+            "--velocities",
+            "plan",
+            "--format",
+            "json",
+        ]);
+        assert!(o.status.success(), "{planner}: {}", text(&o.stderr));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        v["contours"][0]["segments"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|s| s["v"][0].as_f64().unwrap())
+            .collect::<Vec<f64>>()
+    };
+    let forward = run("chord-forward");
+    assert_eq!(run("chord"), forward);
+    // AN208 table 1, 5000 counts in 0.25 s: the forward difference puts 20000 counts/s
+    // on the point before the step, the backward difference on the point after it.
+    assert_eq!(forward, vec![0.0, 0.0, 20000.0, 0.0, 0.0, 0.0, 0.0]);
+    assert_eq!(
+        run("chord-back"),
+        vec![0.0, 0.0, 0.0, 20000.0, 0.0, 0.0, 0.0]
+    );
+}
+
+fn codes(o: &Output) -> Vec<String> {
+    text(&o.stderr)
+        .lines()
+        .filter(|l| l.starts_with('{'))
+        .map(|l| {
+            let v: serde_json::Value = serde_json::from_str(l).unwrap();
+            format!(
+                "{} {}",
+                v["severity"].as_str().unwrap(),
+                v["code"].as_str().unwrap()
+            )
+        })
+        .collect()
+}
+
+fn compile_csv(sample: &str, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "compile",
+        sample,
+        "--format",
+        "json",
+        "--diagnostics",
+        "json",
+    ];
+    args.extend(extra);
+    pvtc(&args)
+}
+
+#[test]
+fn velocity_columns_are_used_or_ignored_as_asked_and_never_silently() {
+    let zigzag = "samples/csv/an208_zigzag.csv";
+    // Default: the columns are used by every velocity method, and a note says so.
+    let by_file: Vec<Vec<u8>> = ["chord-forward", "chord-back", "const-accel", "spline"]
+        .iter()
+        .map(|planner| {
+            let o = compile_csv(zigzag, &["--planner", planner, "--deny-warnings"]);
+            assert!(o.status.success(), "{planner}: {}", text(&o.stderr));
+            assert_eq!(codes(&o)[0], "advice pvtc::plan::file_velocities");
+            let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+            serde_json::to_vec(&v["contours"]).unwrap()
+        })
+        .collect();
+    assert!(by_file.windows(2).all(|w| w[0] == w[1]));
+    // --velocities plan: each method's own velocities, all different.
+    let planned: Vec<Vec<u8>> = ["chord-forward", "chord-back", "const-accel", "spline"]
+        .iter()
+        .map(|planner| {
+            let o = compile_csv(zigzag, &["--planner", planner, "--velocities", "plan"]);
+            assert!(o.status.success(), "{planner}: {}", text(&o.stderr));
+            assert_eq!(codes(&o)[0], "advice pvtc::plan::velocity_columns_ignored");
+            let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+            serde_json::to_vec(&v["contours"]).unwrap()
+        })
+        .collect();
+    for i in 0..planned.len() {
+        for j in i + 1..planned.len() {
+            assert_ne!(planned[i], planned[j], "methods {i} and {j} agree");
+        }
+    }
+    // A planner that takes no velocities ignores the columns with a warning.
+    let o = compile_csv(zigzag, &["--planner", "pt"]);
+    assert!(codes(&o).contains(&"warning pvtc::plan::velocities_ignored".to_string()));
+    // --velocities file where it cannot apply is a usage error.
+    for extra in [
+        &["--planner", "pt", "--velocities", "file"][..],
+        &["--planner", "chord-back", "--velocities", "file"][..],
+    ] {
+        let sample = if extra[1] == "pt" {
+            zigzag
+        } else {
+            "samples/csv/an208_octagon.csv"
+        };
+        let o = compile_csv(sample, extra);
+        assert_eq!(o.status.code(), Some(2), "{extra:?}: {}", text(&o.stderr));
+        assert!(o.stdout.is_empty());
+    }
+    let o = pvtc(&[
+        "compile",
+        "samples/gcode/an208_zigzag.ngc",
+        "--velocities",
+        "plan",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+}
+
+#[test]
+fn the_contour_planner_on_a_series_says_it_replaces_the_times() {
+    let o = compile_csv("samples/csv/an208_octagon.csv", &["--deny-warnings"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(codes(&o).contains(&"advice pvtc::plan::times_replaced".to_string()));
+    let o = compile_csv(
+        "samples/csv/an208_octagon.csv",
+        &["--planner", "chord-back"],
+    );
+    assert!(!codes(&o).iter().any(|c| c.ends_with("times_replaced")));
+}
+
+#[test]
+fn pt_into_movepvt_is_movept_arrays_that_compile_and_pmac_points_there() {
+    let pmac = pvtc(&[
+        "compile",
+        "samples/gcode/an208_zigzag.ngc",
+        "--planner",
+        "pt",
+        "--diagnostics",
+        "json",
+    ]);
+    assert_eq!(pmac.status.code(), Some(1));
+    let hint: serde_json::Value =
+        serde_json::from_str(text(&pmac.stderr).lines().next().unwrap()).unwrap();
+    assert_eq!(hint["code"], "pvtc::emit::unsupported_interpolation");
+    assert!(hint["help"]
+        .as_str()
+        .unwrap()
+        .contains("--format movepvt (MovePT arrays)"));
+    let dir = tempfile::tempdir().unwrap();
+    let c_file = dir.path().join("zigzag_pt.c");
+    let o = pvtc(&[
+        "compile",
+        "samples/gcode/an208_zigzag.ngc",
+        "--planner",
+        "pt",
+        "--format",
+        "movepvt",
+        "-o",
+        c_file.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let c = std::fs::read_to_string(&c_file).unwrap();
+    assert!(c.contains("MovePT(pvtc_cN_position, pvtc_cN_time") && !c.contains("_velocity[]"));
+    // The positions are the program's points: the zigzag's corners.
+    assert!(
+        c.contains("    5000.0, 0.0,\n    0.0, 10000.0,\n    5000.0, 1000.0,\n"),
+        "{c}"
+    );
+    let cc = std::env::var("CC").unwrap_or_else(|_| "cc".into());
+    if Command::new(&cc).arg("--version").output().is_err() {
+        eprintln!("SKIPPED: compiling, no C compiler `{cc}` on this machine");
+        return;
+    }
+    let user = dir.path().join("user.c");
+    std::fs::write(
+        &user,
+        "#include \"zigzag_pt.c\"\n\
+         double first(void);\n\
+         double first(void) { return pvtc_c1_position[0] + pvtc_c1_time[0] \
+         + (double)PVTC_C1_POINTS + (double)pvtc_contours[0].count; }\n",
+    )
+    .unwrap();
+    for file in [&c_file, &user] {
+        let o = Command::new(&cc)
+            .args(["-std=c99", "-Wall", "-Wextra", "-Werror", "-c", "-o"])
+            .arg(dir.path().join("out.o"))
+            .arg(file)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", text(&o.stderr));
+    }
+}
