@@ -151,7 +151,7 @@ fn an_unterminated_comment_to_the_end_of_a_1_gb_input() {
 
 #[test]
 fn an_error_on_each_of_200k_lines_keeps_a_thousand_and_counts_the_rest() {
-    let input = Generated::new("G21 F100\n", "G1 X1 Q7\n", 200_000, "");
+    let input = Generated::new("G21 F100\n", "G1 X1 E7\n", 200_000, "");
     let (errors, _, peak) = compile(input);
     assert_eq!(errors.len(), pvt_gcode::MAX_KEPT_DIAGNOSTICS + 1);
     assert!(errors[..1000]
@@ -176,4 +176,21 @@ fn warnings_past_a_thousand_are_counted_as_more_warnings() {
     assert_eq!(more.code(), "pvtc::gcode::more_warnings");
     assert!(more.is_warning());
     assert!(more.to_string().starts_with("100 more warnings"), "{more}");
+}
+
+#[test]
+fn loops_and_calls_around_a_streamed_program_hold_only_their_bodies() {
+    // A subroutine and a loop are held; the 200k lines around them stream.
+    let head = "G21 F100\no<step> sub\nG91 G1 X#1\nG90\no<step> endsub\n#1 = 0\n\
+                o1 while [#1 LT 1000]\n#1 = [#1 + 1]\no<step> call [0.001]\no1 endwhile\n";
+    let input = Generated::new(
+        head,
+        "o<step> call [0.5]\nG1 Y[#<_y> + 1]\n",
+        100_000,
+        "M2\n",
+    );
+    let (errors, elements, peak) = compile(input);
+    assert!(errors.is_empty(), "{errors:?}");
+    assert_eq!(elements, 1000 + 200_000);
+    assert!(peak < MIB, "peak {peak} bytes");
 }

@@ -17,7 +17,9 @@ pub(crate) enum MotionMode {
     Arc(ArcDirection),
     /// G80: motion cancelled; axis words are an error until the next motion code.
     Cancel,
-    /// A motion code pvtc does not execute (canned cycles, probing, splines…);
+    /// G73, G81…G89: a canned cycle, expanded by [`crate::cycles`].
+    Cycle(Cycle),
+    /// A motion code pvtc does not execute (probing, splines…);
     /// blocks in this mode are skipped (the code itself was reported).
     Unsupported,
 }
@@ -31,9 +33,66 @@ impl MotionMode {
             MotionMode::Arc(ArcDirection::Clockwise) => "G2",
             MotionMode::Arc(ArcDirection::CounterClockwise) => "G3",
             MotionMode::Cancel => "G80",
+            MotionMode::Cycle(cycle) => cycle.name(),
             MotionMode::Unsupported => "an unsupported cycle",
         }
     }
+}
+
+/// A canned cycle (G73, G81…G89).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Cycle {
+    /// G73: peck drilling with chip breaking (Q).
+    ChipBreak,
+    /// G81: drilling.
+    Drill,
+    /// G82: drilling with a dwell (P) at the bottom.
+    DrillDwell,
+    /// G83: peck drilling (Q), retracting to R between pecks.
+    Peck,
+    /// G84: right-hand tapping.
+    Tap,
+    /// G85: boring, feed out.
+    Bore,
+    /// G86: boring, spindle stop, rapid out.
+    BoreStop,
+    /// G87: back boring (I, J, K).
+    BackBore,
+    /// G88: boring, spindle stop, manual out.
+    BoreManual,
+    /// G89: boring with a dwell, feed out.
+    BoreDwell,
+}
+
+impl Cycle {
+    /// The code as a machinist writes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Cycle::ChipBreak => "G73",
+            Cycle::Drill => "G81",
+            Cycle::DrillDwell => "G82",
+            Cycle::Peck => "G83",
+            Cycle::Tap => "G84",
+            Cycle::Bore => "G85",
+            Cycle::BoreStop => "G86",
+            Cycle::BackBore => "G87",
+            Cycle::BoreManual => "G88",
+            Cycle::BoreDwell => "G89",
+        }
+    }
+}
+
+/// Tool length offset mode (modal group 8).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum ToolLength {
+    /// G43: the offsets of the tool table entry H (the current tool without H).
+    Table,
+    /// G43.1: the offsets given by the block's axis words.
+    Dynamic,
+    /// G43.2: add the offsets of entry H (or the axis words) to those in effect.
+    Add,
+    /// G49: no tool length offset.
+    Cancel,
 }
 
 /// Distance mode (G90/G91).
@@ -82,6 +141,14 @@ pub(crate) enum NonModal {
     },
     /// G92.3: restore offsets cleared by G92.2.
     RestoreOffset,
+    /// G28 (0) or G30 (1): rapid through the axis words to the stored home position.
+    Home(usize),
+    /// G28.1 (0) or G30.1 (1): store the current position as that home position.
+    SetHome(usize),
+    /// G10: write a coordinate system (L2, L20) or a tool table entry (L1, L10, L11).
+    SetTable,
+    /// G52: a local offset, kept where G92 keeps its offset (as LinuxCNC does).
+    LocalOffset,
 }
 
 /// An RS274NGC feature beyond what pvtc compiles.
@@ -116,7 +183,13 @@ pub(crate) enum GCode {
     CoordSystem(usize),
     /// Modal group 0: G4, G53, G92 and friends.
     NonModal(NonModal),
-    /// A code that cancels or selects a state pvtc is always in (G40, G49).
+    /// G43, G43.1, G43.2, G49.
+    ToolLength(ToolLength),
+    /// G98 (`false`: back to the start level) or G99 (`true`: back to R) after a cycle.
+    Retract(bool),
+    /// G96 (`true`, constant surface speed) or G97 (spindle speed in rpm).
+    SurfaceSpeed(bool),
+    /// A code that cancels or selects a state pvtc is always in (G40).
     NoOp(&'static str),
     /// A known code pvtc does not execute.
     Unsupported(Feature),
@@ -169,8 +242,31 @@ pub(crate) fn g_code(tenths: u32) -> Option<GCode> {
         922 => NonModal(self::NonModal::ClearOffset { keep: true }),
         923 => NonModal(self::NonModal::RestoreOffset),
         400 => NoOp("cutter radius compensation off"),
-        490 => NoOp("tool length compensation off"),
-        50..=53 | 330 | 331 | 382..=385 | 730 | 760 | 810..=890 => Motion(MotionMode::Unsupported),
+        490 => ToolLength(self::ToolLength::Cancel),
+        430 => ToolLength(self::ToolLength::Table),
+        431 => ToolLength(self::ToolLength::Dynamic),
+        432 => ToolLength(self::ToolLength::Add),
+        980 => Retract(false),
+        990 => Retract(true),
+        960 => SurfaceSpeed(true),
+        970 => SurfaceSpeed(false),
+        280 => NonModal(self::NonModal::Home(0)),
+        300 => NonModal(self::NonModal::Home(1)),
+        281 => NonModal(self::NonModal::SetHome(0)),
+        100 => NonModal(self::NonModal::SetTable),
+        520 => NonModal(self::NonModal::LocalOffset),
+        301 => NonModal(self::NonModal::SetHome(1)),
+        730 => Motion(MotionMode::Cycle(self::Cycle::ChipBreak)),
+        810 => Motion(MotionMode::Cycle(self::Cycle::Drill)),
+        820 => Motion(MotionMode::Cycle(self::Cycle::DrillDwell)),
+        830 => Motion(MotionMode::Cycle(self::Cycle::Peck)),
+        840 => Motion(MotionMode::Cycle(self::Cycle::Tap)),
+        850 => Motion(MotionMode::Cycle(self::Cycle::Bore)),
+        860 => Motion(MotionMode::Cycle(self::Cycle::BoreStop)),
+        870 => Motion(MotionMode::Cycle(self::Cycle::BackBore)),
+        880 => Motion(MotionMode::Cycle(self::Cycle::BoreManual)),
+        890 => Motion(MotionMode::Cycle(self::Cycle::BoreDwell)),
+        50..=53 | 330 | 331 | 382..=385 | 760 => Motion(MotionMode::Unsupported),
         _ => return unsupported_g(tenths).map(Unsupported),
     })
 }
@@ -178,19 +274,10 @@ pub(crate) fn g_code(tenths: u32) -> Option<GCode> {
 /// The feature of a G code pvtc knows but does not execute (motion group excluded).
 fn unsupported_g(tenths: u32) -> Option<Feature> {
     Some(match tenths {
-        100 => feature("setting offset tables", true),
         171 | 181 | 191 => feature("UVW planes", false),
-        280 | 281 | 300 | 301 => feature(
-            "moves to stored home positions; pvtc has no stored positions",
-            true,
-        ),
         410 | 411 | 420 | 421 => feature("cutter radius compensation", false),
-        430..=432 => feature("tool length compensation", false),
-        520 => feature("local coordinate offsets", true),
         700 | 710 | 720 => feature("lathe cycles", true),
         950 => feature("feed per revolution", false),
-        960 | 970 => feature("spindle speed modes", false),
-        980 | 990 => feature("canned cycle return levels", false),
         _ => return None,
     })
 }
@@ -201,7 +288,8 @@ pub(crate) fn motion_feature(tenths: u32) -> &'static str {
         50..=53 => "splines and NURBS",
         330 | 331 => "spindle-synchronized motion",
         382..=385 => "probing",
-        _ => "canned cycles",
+        760 => "lathe threading cycles",
+        _ => "motion modes",
     }
 }
 
@@ -218,6 +306,8 @@ pub(crate) enum MCode {
     ToolChange,
     /// M2/M30: program end; nothing after it is read.
     End,
+    /// M48…M53: override switches, accepted as state (pvtc plans at 100 %).
+    Override,
     /// A known code pvtc does not execute.
     Unsupported(&'static str),
 }
@@ -237,7 +327,7 @@ pub(crate) fn m_code(tenths: u32) -> Option<MCode> {
         80 => Coolant(CoolantState::Flood),
         90 => Coolant(CoolantState::Off),
         190 => Unsupported("spindle orientation"),
-        480..=530 if tenths % 10 == 0 => Unsupported("feed and speed overrides"),
+        480..=530 if tenths % 10 == 0 => Override,
         600 => Unsupported("pallet change"),
         610 => Unsupported("setting the current tool"),
         620..=680 if tenths % 10 == 0 => Unsupported("digital and analog outputs"),
@@ -250,12 +340,8 @@ pub(crate) fn m_code(tenths: u32) -> Option<MCode> {
 /// What a letter pvtc does not read means in RS274NGC (for `unknown_word`).
 pub(crate) fn letter_meaning(letter: u8) -> &'static str {
     match letter {
-        b'D' => "D selects a cutter compensation offset, which pvtc does not use",
         b'E' => "E is not an RS274NGC word (extruder or thread lead in other dialects)",
-        b'H' => "H selects a tool length offset, which pvtc does not use",
-        b'L' => "L is a loop count or G10 selector, which pvtc does not use",
         b'O' => "O words (subroutines, program numbers) are not read by pvtc",
-        b'Q' => "Q is a canned-cycle peck increment, which pvtc does not use",
         b'U' | b'V' | b'W' => "U, V and W are secondary axes, which pvtc does not drive",
         _ => "pvtc does not know this letter",
     }
@@ -278,13 +364,19 @@ mod tests {
     #[test]
     fn tables_classify_codes() {
         assert_eq!(g_code(10), Some(GCode::Motion(MotionMode::Linear)));
-        assert_eq!(g_code(810), Some(GCode::Motion(MotionMode::Unsupported)));
+        assert_eq!(
+            g_code(810),
+            Some(GCode::Motion(MotionMode::Cycle(Cycle::Drill)))
+        );
+        assert_eq!(g_code(382), Some(GCode::Motion(MotionMode::Unsupported)));
+        assert_eq!(g_code(430), Some(GCode::ToolLength(ToolLength::Table)));
         assert!(
             matches!(g_code(410), Some(GCode::Unsupported(f)) if f.name == "cutter radius compensation")
         );
         assert_eq!(g_code(7000), None);
         assert_eq!(m_code(60), Some(MCode::ToolChange));
         assert_eq!(m_code(600), Some(MCode::Unsupported("pallet change")));
+        assert_eq!(m_code(500), Some(MCode::Override));
         assert_eq!(m_code(300), Some(MCode::End));
         assert_eq!(m_code(485), None);
         assert_eq!(m_code(15), None);

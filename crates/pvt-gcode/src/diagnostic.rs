@@ -27,11 +27,11 @@ pub enum GcodeDiagnostic {
         span: SourceSpan,
     },
 
-    /// A word whose letter pvtc does not know (`Q5`, `S1000`) or a code that is no G-code.
+    /// A word whose letter pvtc does not know (`E5`, `~`) or a code that is no G-code.
     #[error("unknown word `{word}`: {meaning}")]
     #[diagnostic(
         code(pvtc::gcode::unknown_word),
-        help("pvtc reads G, M, N, F, X, Y, Z, A, B, C, I, J, K and R words; remove this one")
+        help("pvtc reads G, M, N, F, S, T, P, Q, L, H, D, X, Y, Z, A, B, C, I, J, K and R words; remove this one")
     )]
     UnknownWord {
         /// The word as written.
@@ -320,6 +320,107 @@ pub enum GcodeDiagnostic {
         span: SourceSpan,
     },
 
+    /// O-word control flow that cannot run: an unknown keyword, a construct without its
+    /// end, `break` outside a loop, a malformed condition or argument list.
+    #[error("O-word error: {detail}")]
+    #[diagnostic(
+        code(pvtc::gcode::oword),
+        help("O-words are `oN sub`/`endsub`/`return`/`call`, `if`/`elseif`/`else`/`endif`, `while`/`endwhile`, `do`/`while`, `repeat`/`endrepeat`, `break`, `continue`, with one label per construct")
+    )]
+    Oword {
+        /// What is wrong.
+        detail: String,
+        /// The O-word.
+        #[label("here")]
+        span: SourceSpan,
+    },
+
+    /// A call of a subroutine defined neither earlier in the program nor in a file
+    /// `name.ngc` on the subroutine path.
+    #[error("no subroutine {name}{}", searched_note(.searched))]
+    #[diagnostic(
+        code(pvtc::gcode::unknown_subroutine),
+        help("define it before the call (`oN sub` … `oN endsub`), after the program for M98 (`O<n>` … `M99`), or in a file `NAME.ngc` in a folder given with --subroutine-path")
+    )]
+    UnknownSubroutine {
+        /// The subroutine's label as written, e.g. `<bore>` or `100`.
+        name: String,
+        /// What was searched (folders, or why a file could not be read).
+        searched: String,
+        /// The call.
+        #[label("called here")]
+        span: SourceSpan,
+    },
+
+    /// Calls nested deeper than [`crate::MAX_CALL_DEPTH`] (runaway recursion).
+    #[error("subroutine calls nested more than {limit} deep")]
+    #[diagnostic(
+        code(pvtc::gcode::recursion_limit),
+        help(
+            "a recursive subroutine needs a condition that ends it; LinuxCNC allows the same depth"
+        )
+    )]
+    RecursionLimit {
+        /// The depth limit.
+        limit: usize,
+        /// The call that went too deep.
+        #[label("one call too many")]
+        span: SourceSpan,
+    },
+
+    /// A loop that ran [`crate::MAX_LOOP_ITERATIONS`] times without ending, or loops that
+    /// ran [`crate::MAX_TOTAL_ITERATIONS`] times in all.
+    #[error("{}", loop_message(*limit, *all))]
+    #[diagnostic(
+        code(pvtc::gcode::loop_limit),
+        help("check the loop's condition; pvtc stops a loop after this many iterations rather than hang")
+    )]
+    LoopLimit {
+        /// The iteration limit.
+        limit: u64,
+        /// The limit of all loops of the run together (not of this loop).
+        all: bool,
+        /// The loop's O-word.
+        #[label("this loop")]
+        span: SourceSpan,
+    },
+
+    /// Subroutine and loop bodies held in memory went past [`crate::MAX_BUFFERED_BYTES`].
+    #[error("subroutine and loop bodies exceed {limit} bytes")]
+    #[diagnostic(
+        code(pvtc::gcode::body_too_large),
+        help("pvtc holds the bodies of subroutines and loops in memory (the rest of a program streams); split the body")
+    )]
+    BodyTooLarge {
+        /// The limit, bytes.
+        limit: usize,
+        /// The construct whose body went past it.
+        #[label("this body")]
+        span: SourceSpan,
+    },
+
+    /// A diagnostic in a subroutine file, shown at the call in the main program.
+    #[error("in {file} line {line} column {column} (called here): {inner}")]
+    #[diagnostic(
+        code(pvtc::gcode::in_subroutine_file),
+        help("the error in the subroutine file is {inner_code}")
+    )]
+    InSubroutineFile {
+        /// The subroutine file.
+        file: String,
+        /// Line and column of the diagnostic in that file.
+        line: usize,
+        /// Column (characters, from 1).
+        column: usize,
+        /// The diagnostic itself, with its span in that file.
+        inner: Box<GcodeDiagnostic>,
+        /// Its code.
+        inner_code: &'static str,
+        /// The call in the main program.
+        #[label("called here")]
+        span: SourceSpan,
+    },
+
     /// Note: a rapid to the point the axes are already at, as CAM output writes to start
     /// from a known point; nothing moves, so it is dropped. A note, not a warning:
     /// `--deny-warnings` does not fail on it.
@@ -497,6 +598,37 @@ pub enum GcodeDiagnostic {
         span: SourceSpan,
     },
 
+    /// A canned cycle (G73, G81…G89) that cannot run as written: no R or Z level, R
+    /// below the bottom, a bad Q or L, tapping without the spindle turning clockwise.
+    #[error("canned cycle {code}: {detail}")]
+    #[diagnostic(
+        code(pvtc::gcode::cycle),
+        help("give the cycle its R level, bottom and the words its code needs (LinuxCNC's rules)")
+    )]
+    Cycle {
+        /// The cycle's code, e.g. `G83`.
+        code: &'static str,
+        /// What is wrong.
+        detail: String,
+        /// The block's cycle words.
+        #[label("cannot run")]
+        span: SourceSpan,
+    },
+
+    /// G43/G43.2 H (or M6 T with G43) naming a tool the tool table does not have.
+    #[error("tool {tool} is not in the tool table")]
+    #[diagnostic(
+        code(pvtc::gcode::unknown_tool),
+        help("give its offsets in the --tool-table file (a line like `T{tool} P{tool} Z0.5`)")
+    )]
+    UnknownTool {
+        /// The tool number.
+        tool: u32,
+        /// The word naming it.
+        #[label("no such tool")]
+        span: SourceSpan,
+    },
+
     /// A program without any motion (empty, or only comments and modes).
     #[error("the program has no motion")]
     #[diagnostic(
@@ -548,6 +680,14 @@ impl GcodeDiagnostic {
             D::InverseTimeFeed { .. } => "pvtc::gcode::inverse_time_feed",
             D::BadValue { .. } => "pvtc::gcode::bad_value",
             D::IgnoredWord { .. } => "pvtc::gcode::ignored_word",
+            D::Oword { .. } => "pvtc::gcode::oword",
+            D::UnknownSubroutine { .. } => "pvtc::gcode::unknown_subroutine",
+            D::RecursionLimit { .. } => "pvtc::gcode::recursion_limit",
+            D::LoopLimit { .. } => "pvtc::gcode::loop_limit",
+            D::BodyTooLarge { .. } => "pvtc::gcode::body_too_large",
+            D::InSubroutineFile { .. } => "pvtc::gcode::in_subroutine_file",
+            D::Cycle { .. } => "pvtc::gcode::cycle",
+            D::UnknownTool { .. } => "pvtc::gcode::unknown_tool",
         }
     }
 
@@ -559,6 +699,9 @@ impl GcodeDiagnostic {
 
     /// True for warnings and notes (the program still compiles), false for errors.
     pub fn is_warning(&self) -> bool {
+        if let Self::InSubroutineFile { inner, .. } = self {
+            return inner.is_warning();
+        }
         matches!(
             self,
             Self::ZeroLengthMove { .. }
@@ -604,7 +747,14 @@ impl GcodeDiagnostic {
             | D::MissingWord { span, .. }
             | D::InverseTimeFeed { span }
             | D::BadValue { span, .. }
-            | D::IgnoredWord { span, .. } => span,
+            | D::IgnoredWord { span, .. }
+            | D::Oword { span, .. }
+            | D::UnknownSubroutine { span, .. }
+            | D::RecursionLimit { span, .. }
+            | D::LoopLimit { span, .. }
+            | D::BodyTooLarge { span, .. }
+            | D::InSubroutineFile { span, .. } => span,
+            D::Cycle { span, .. } | D::UnknownTool { span, .. } => span,
         }
     }
 }
@@ -632,6 +782,22 @@ fn count_errors(n: usize) -> String {
     match n {
         1 => "the G-code program has 1 error".to_owned(),
         n => format!("the G-code program has {n} errors"),
+    }
+}
+
+fn loop_message(limit: u64, all: bool) -> String {
+    if all {
+        format!("loops ran {limit} times in all")
+    } else {
+        format!("loop ran {limit} times without ending")
+    }
+}
+
+fn searched_note(searched: &str) -> String {
+    if searched.is_empty() {
+        String::new()
+    } else {
+        format!(" ({searched})")
     }
 }
 

@@ -14,14 +14,17 @@
 //! active work offset (G54…G59.3, from [`GcodeOptions::work_offsets`]) plus the G92
 //! offset. Rotary axes are degrees and never converted. Every axis starts at 0.
 
+mod cycles;
+mod machine;
 mod motion;
 
-use pvt_core::{EventKind, Position, Units, AXIS_COUNT};
+use pvt_core::{EventKind, Position, SpindleState, Units, AXIS_COUNT};
 
 use crate::block::{Block, Word};
 use crate::codes::{Distance, FeedMode, MotionMode, NonModal, PathMode};
 use crate::diagnostic::{span, GcodeDiagnostic};
 use crate::kept::Kept;
+use crate::params::machine::MachineView;
 use crate::request::{Request, Stop};
 use crate::{GcodeErrors, GcodeOptions, StreamSummary, ToolpathSink};
 
@@ -93,6 +96,30 @@ pub(crate) struct Interpreter<'a> {
     pending: Vec<GcodeDiagnostic>,
     /// The request of the block being executed, its storage reused from block to block.
     request: Option<Box<Request>>,
+    /// Work offsets G54…G59.3 (rows; X Y Z millimetres, A B C degrees), from
+    /// [`GcodeOptions::work_offsets`] and changed by G10 L2/L20.
+    pub(crate) work_offsets: [[f64; AXIS_COUNT]; 9],
+    /// The tool table, from [`GcodeOptions::tool_table`] and changed by G10 L1/L10/L11.
+    pub(crate) tools: crate::ToolTable,
+    /// Tool selected and loaded, and the tool length offset in effect.
+    pub(crate) tool: machine::ToolState,
+    /// G28 and G30 home positions (#5161…, #5181…): machine positions, output units.
+    pub(crate) homes: [Position; 2],
+    /// Canned cycle levels kept between blocks, and the G98/G99 mode.
+    pub(crate) cycle: cycles::CycleMemory,
+    /// The spindle as the last M3/M4/M5 (or a cycle) left it.
+    pub(crate) spindle: SpindleState,
+    /// G96 (constant surface speed) is in effect: S is a surface speed, not rpm.
+    pub(crate) surface_speed: bool,
+    /// G64 Q: LinuxCNC's naive-CAM tolerance, output units; recorded, not applied.
+    pub(crate) naive_cam_tolerance: Option<f64>,
+    /// Set while held lines run (a loop or subroutine body, which may run many times):
+    /// a diagnostic kept already is not kept again.
+    pub once: bool,
+    /// Set while a subroutine file runs: its diagnostics are shown at the call.
+    pub origin: Option<crate::oword::Origin>,
+    /// The last S number (`#<_rpm>`).
+    rpm: f64,
 }
 
 impl<'a> Interpreter<'a> {
@@ -116,6 +143,77 @@ impl<'a> Interpreter<'a> {
             quiet: false,
             pending: Vec::new(),
             request: None,
+            work_offsets: options.work_offsets,
+            tools: options.tool_table.clone(),
+            tool: machine::ToolState::default(),
+            homes: [[0.0; AXIS_COUNT]; 2],
+            cycle: cycles::CycleMemory {
+                to_r: true,
+                ..cycles::CycleMemory::default()
+            },
+            spindle: SpindleState::Off,
+            surface_speed: false,
+            naive_cam_tolerance: None,
+            once: false,
+            origin: None,
+            rpm: 0.0,
+        }
+    }
+
+    /// The state machine parameters read (see [`crate::params::machine`]), in program
+    /// units, as it stands after the last block; stored offsets, homes and tool offsets in
+    /// millimetres (degrees for A B C).
+    pub fn view(&self) -> MachineView {
+        let scale = self.scale();
+        let mm = self.output().mm_per_unit();
+        let linear = |i: usize| !pvt_core::Axis::ALL.get(i).is_some_and(|a| a.is_rotary());
+        let mut position = [0.0; AXIS_COUNT];
+        for (i, p) in position.iter_mut().enumerate() {
+            let relative = self.position[i] - self.offset(i);
+            *p = if linear(i) {
+                relative / scale
+            } else {
+                relative
+            };
+        }
+        let to_mm = |v: &Position| -> Position {
+            std::array::from_fn(|i| if linear(i) { v[i] * mm } else { v[i] })
+        };
+        let m = &self.modal;
+        MachineView {
+            position,
+            g92: to_mm(&self.g92),
+            g92_active: self.g92.iter().any(|v| *v != 0.0),
+            coord_system: m.coord_system,
+            mm_per_unit: m.units.mm_per_unit(),
+            absolute: m.distance == Distance::Absolute,
+            inverse_time: m.feed_mode == FeedMode::InverseTime,
+            motion_tenths: match m.motion {
+                None => 0,
+                Some(MotionMode::Rapid) => 0,
+                Some(MotionMode::Linear) => 10,
+                Some(MotionMode::Arc(pvt_core::ArcDirection::Clockwise)) => 20,
+                Some(MotionMode::Arc(pvt_core::ArcDirection::CounterClockwise)) => 30,
+                Some(_) => 800,
+            },
+            plane_tenths: match m.plane {
+                pvt_core::Plane::XY => 170,
+                pvt_core::Plane::ZX => 180,
+                pvt_core::Plane::YZ => 190,
+            },
+            feed: self.feed.map_or(0.0, |f| f.written),
+            rpm: self.rpm,
+            current_tool: f64::from(self.tool.current),
+            selected_tool: self.tool.selected.map_or(0.0, f64::from),
+            tool_offset: to_mm(&self.tool.offset),
+            tool_diameter: self
+                .tools
+                .get(self.tool.current)
+                .map_or(0.0, |t| t.diameter),
+            work_offsets: self.work_offsets,
+            homes: [to_mm(&self.homes[0]), to_mm(&self.homes[1])],
+            line: 0,
+            call_level: 0,
         }
     }
 
@@ -127,7 +225,18 @@ impl<'a> Interpreter<'a> {
     /// Records a warning.
     pub fn warn(&mut self, diagnostic: GcodeDiagnostic) {
         if !self.quiet {
-            self.warnings.push(diagnostic);
+            let diagnostic = self.wrap(diagnostic);
+            if !(self.once && self.warnings.contains(&diagnostic)) {
+                self.warnings.push(diagnostic);
+            }
+        }
+    }
+
+    /// `diagnostic` as shown from the main program.
+    fn wrap(&self, diagnostic: GcodeDiagnostic) -> GcodeDiagnostic {
+        match &self.origin {
+            Some(origin) => origin.wrap(diagnostic),
+            None => diagnostic,
         }
     }
 
@@ -148,6 +257,12 @@ impl<'a> Interpreter<'a> {
             }
             self.pending = pending;
         }
+        if request.unknown_g {
+            // What the unknown code would do is unknown: nothing of the block runs, and
+            // blocks in its motion mode are skipped without further errors.
+            self.modal.motion = Some(crate::codes::MotionMode::Unsupported);
+            return Flow::Continue;
+        }
         if let Some(text) = &block.message {
             self.event(EventKind::Message { text: text.clone() }, block.line);
         }
@@ -157,10 +272,16 @@ impl<'a> Interpreter<'a> {
         self.machine_events(request, block.line);
         self.dwell(request, block.line);
         self.set_modes(request);
+        // M6 loads its tool before G43 of the same block reads it.
+        self.machine_state(request);
+        self.set_tool_length(request);
         // F after the units of its block, so `G21 F254` is 254 mm/min.
         self.set_feed(request);
         self.set_offsets(request);
+        self.set_tables(request);
+        self.home(request, block);
         self.check_p_word(request);
+        self.check_words(request);
         self.run_motion(request, block);
         match request.stop {
             Some((Stop::Pause(optional), _)) => {
@@ -199,11 +320,16 @@ impl<'a> Interpreter<'a> {
                 .warnings
                 .into_sorted(|count, span| GcodeDiagnostic::MoreWarnings { count, span }),
             path_tolerance: self.path_tolerance,
+            naive_cam_tolerance: self.naive_cam_tolerance,
         })
     }
 
     fn push(&mut self, diagnostic: GcodeDiagnostic) {
         if self.quiet {
+            return;
+        }
+        let diagnostic = self.wrap(diagnostic);
+        if self.once && (self.errors.contains(&diagnostic) || self.warnings.contains(&diagnostic)) {
             return;
         }
         if diagnostic.is_warning() {
@@ -229,9 +355,15 @@ impl<'a> Interpreter<'a> {
 
     /// S, T, M6, M3/M4/M5 and M7/M8/M9, in that order.
     fn machine_events(&mut self, request: &Request, line: u32) {
-        if let Some(s) = request.s {
+        let css = request
+            .surface_speed
+            .map_or(self.surface_speed, |(css, _)| css);
+        if let Some(s) = request.s.filter(|_| !css) {
             match s.value >= 0.0 {
-                true => self.event(EventKind::SpindleSpeed { rpm: s.value }, line),
+                true => {
+                    self.rpm = s.value;
+                    self.event(EventKind::SpindleSpeed { rpm: s.value }, line)
+                }
                 false => self.push(bad_value(s, "a spindle speed must not be negative")),
             }
         }
@@ -245,6 +377,7 @@ impl<'a> Interpreter<'a> {
             self.event(EventKind::ToolChange, line);
         }
         if let Some((state, _)) = request.spindle {
+            self.spindle = state;
             self.event(EventKind::Spindle { state }, line);
         }
         if let Some((state, _)) = request.coolant {
@@ -267,9 +400,18 @@ impl<'a> Interpreter<'a> {
     /// A P word no code of the block uses is a warning.
     fn check_p_word(&mut self, request: &Request) {
         let Some(p) = request.p else { return };
-        let used = matches!(request.non_modal, Some((NonModal::Dwell, _)))
-            || matches!(request.path_mode, Some((PathMode::Continuous, _)))
-            || matches!(self.modal.motion, Some(MotionMode::Arc(_)));
+        if self.modal.motion == Some(MotionMode::Unsupported) {
+            return; // the unsupported code was reported; its words are not checked
+        }
+        let used = matches!(
+            request.non_modal,
+            Some((NonModal::Dwell | NonModal::SetTable, _))
+        ) || matches!(request.path_mode, Some((PathMode::Continuous, _)))
+            || request.overrides.is_some()
+            || matches!(
+                self.modal.motion,
+                Some(MotionMode::Arc(_) | MotionMode::Cycle(_))
+            );
         if !used {
             self.push(GcodeDiagnostic::IgnoredWord {
                 word: p.name(),
@@ -315,6 +457,13 @@ impl<'a> Interpreter<'a> {
         }
         if let Some((mode, _)) = request.motion {
             m.motion = Some(mode);
+            if !matches!(mode, MotionMode::Cycle(_)) {
+                self.cycle.code = None;
+                self.cycle.initial_level = None;
+            }
+        }
+        if let Some((to_r, _)) = request.retract {
+            self.cycle.to_r = to_r;
         }
         if let (Some((PathMode::Continuous, _)), Some(p)) = (request.path_mode, request.p) {
             let tolerance = p.value.abs() * self.scale();
@@ -323,10 +472,9 @@ impl<'a> Interpreter<'a> {
         }
     }
 
-    /// The work plus G92 offset of axis `i`, output units (degrees for rotary axes).
+    /// The work plus G92 plus tool length offset of axis `i`, output units (degrees for rotary axes).
     fn offset(&self, i: usize) -> f64 {
         let work = self
-            .options
             .work_offsets
             .get(self.modal.coord_system)
             .map_or(0.0, |w| w[i]);
@@ -334,7 +482,7 @@ impl<'a> Interpreter<'a> {
             Some(axis) if axis.is_rotary() => work,
             _ => self.output().from_mm(work),
         };
-        work + self.g92[i]
+        work + self.g92[i] + self.tool.offset[i]
     }
 
     /// G92, G92.1, G92.2, G92.3.
@@ -361,7 +509,12 @@ impl<'a> Interpreter<'a> {
                 self.g92 = [0.0; AXIS_COUNT];
             }
             NonModal::RestoreOffset => self.g92 = self.g92_kept,
-            NonModal::Dwell | NonModal::MachineCoords => {}
+            NonModal::Dwell
+            | NonModal::MachineCoords
+            | NonModal::Home(_)
+            | NonModal::SetHome(_)
+            | NonModal::SetTable
+            | NonModal::LocalOffset => {}
         }
     }
 

@@ -46,6 +46,11 @@ impl Kept {
         self.list.push(diagnostic);
     }
 
+    /// True when `diagnostic` is kept already (the same code, text and place).
+    pub fn contains(&self, diagnostic: &GcodeDiagnostic) -> bool {
+        self.list.contains(diagnostic)
+    }
+
     /// True when nothing was pushed.
     pub fn is_empty(&self) -> bool {
         self.list.is_empty() && self.dropped == 0

@@ -14,13 +14,34 @@
 //!
 //! Dialect (see `grammars/gcode.ebnf` and the issue 4 list): G0 G1 G2 G3 in G17/G18/G19
 //! (I/J/K under G90.1 or G91.1, R, P turns, helices), G4, G7/G8, G20/G21, G53, G54–G59.3,
-//! G61/G61.1/G64 (P), G80, G90/G91, G92/G92.1/G92.2/G92.3, G93/G94, F S T, X Y Z A B C,
+//! G61/G61.1/G64 (P, and Q recorded as LinuxCNC's naive-CAM tolerance, not applied),
+//! G80, G90/G91, G92/G92.1/G92.2/G92.3, G93/G94, F S T, X Y Z A B C, polar `@` `^`,
 //! M0 M1 M2 M30 M3 M4 M5 M6 M7 M8 M9, parameters (`#1`, `#<name>`) and expressions,
-//! `(MSG, …)`, `*nn` checksums. G40 and G49 are accepted as they select what pvtc always
+//! `(MSG, …)`, `(DEBUG, …)`, `(PRINT, …)`, `*nn` checksums. Issue 16, as LinuxCNC's
+//! `rs274` runs them: canned cycles G73 G81–G89 with G98/G99 and L ([`interpreter`]'s
+//! `cycles`), tools (T, M6, G43/G43.1/G43.2/G49 from [`GcodeOptions::tool_table`]),
+//! G10 L1/L2/L10/L11/L20, G52, G28/G30/G28.1/G30.1; G96/G97 and M48–M53 are kept as
+//! state, `(LOG…)` comments accepted. G40 is accepted as it selects what pvtc always
 //! does. Every axis starts at 0. Lines with block delete (`/`) are executed (the switch
-//! is off). O-words, canned cycles, cutter and tool length compensation, G5.x, G38.x,
-//! G28/G30 and reads of machine-specific parameters are `unsupported`, one diagnostic
-//! per feature with the count of places, and the program fails.
+//! is off). A program number (`O1001`) names the program. G76, cutter compensation,
+//! G5.x, G38.x, G33 and reads of machine-specific parameters are `unsupported`, one
+//! diagnostic per feature with the count of places, and the program fails. A block with
+//! an unknown G code runs nothing and the blocks after it in its motion mode are
+//! skipped, so nothing cascades.
+//!
+//! O-words (`oword.rs`): `sub`/`endsub`/`return`/`call` with arguments `#1`–`#30` and
+//! local names, `if`/`elseif`/`else`/`endif`, `while`/`endwhile`, `do`/`while`,
+//! `repeat`/`endrepeat`, `break`, `continue`; `o<name> call` reads `name.ngc` through
+//! [`GcodeOptions::subroutines`] when the program does not define it. Calls nest at most
+//! [`MAX_CALL_DEPTH`] deep, a loop runs at most [`MAX_LOOP_ITERATIONS`] times (all loops
+//! together [`MAX_TOTAL_ITERATIONS`]), held bodies take at most [`MAX_BUFFERED_BYTES`];
+//! each limit is a coded error. Fanuc-style `M98 P<n> L<count>` runs the block `O<n>` …
+//! `M99` of the same file (`subprogram.rs`).
+//!
+//! Parameters (`params.rs`, `params/machine.rs`): predefined names (`#<_x>`,
+//! `#<_metric>`, `#<_feed>`, `#<_value>`, …) and machine parameters (#5161–#5428: homes,
+//! G92, coordinate systems, tool, position) read the interpreter's state; probe results,
+//! M66 inputs, HAL pins and ini values are `unsupported`.
 //!
 //! Contours: a rapid move is a contour of its own; feed moves run together until a
 //! rapid, an event or a stop. Every event (G4 dwell, M0/M1 pause, S, T, M6, M3/M4/M5,
@@ -37,26 +58,73 @@ mod diagnostic;
 mod interpreter;
 mod kept;
 mod lines;
+mod messages;
 pub mod offsets;
+mod oword;
 mod params;
 mod parser;
 mod prescan;
 mod request;
 mod sink;
+mod subprogram;
 mod syntax;
+mod tools;
 mod value;
 
 pub use diagnostic::{GcodeDiagnostic, GcodeErrors};
 pub use kept::MAX_KEPT_DIAGNOSTICS;
 pub use lines::MAX_LINE_BYTES;
 pub use offsets::{parse_offsets, OffsetsError};
+pub use oword::{SubroutineFile, SubroutineFiles};
 pub use prescan::{prescan, Prescan};
 pub use pvt_core::text::line_col;
 pub use sink::{StreamSummary, ToolpathSink};
 pub use syntax::{check_syntax, SyntaxSummary};
+pub use tools::{Tool, ToolTable};
 
 use interpreter::{Flow, Interpreter};
 use parser::{LineKind, SourceLine, SourceLines};
+
+/// How deep subroutine calls may nest, as in LinuxCNC (10 levels with the main program);
+/// one more is `pvtc::gcode::recursion_limit`.
+pub const MAX_CALL_DEPTH: usize = 9;
+
+/// How many times one loop may run each time it is entered; one more is
+/// `pvtc::gcode::loop_limit` (a loop that never ends is an error, never a hang).
+pub const MAX_LOOP_ITERATIONS: u64 = 1_000_000;
+
+/// How many loop iterations a run may make in all (nested loops multiply); one more is
+/// `pvtc::gcode::loop_limit` too.
+pub const MAX_TOTAL_ITERATIONS: u64 = 100_000_000;
+
+/// How many bytes of text the bodies of subroutines and of the main program's loops
+/// held in memory may take together (the rest of a program streams); more is
+/// `pvtc::gcode::body_too_large`.
+pub const MAX_BUFFERED_BYTES: usize = 16 << 20;
+
+/// Where `o<name> call` finds subroutines the program does not define
+/// ([`SubroutineFiles`]); none by default.
+#[derive(Clone, Default)]
+pub struct Subroutines(pub Option<std::sync::Arc<dyn SubroutineFiles + Send + Sync>>);
+
+impl std::fmt::Debug for Subroutines {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match &self.0 {
+            Some(files) => write!(f, "Subroutines({})", files.describe()),
+            None => f.write_str("Subroutines(none)"),
+        }
+    }
+}
+
+impl PartialEq for Subroutines {
+    fn eq(&self, other: &Self) -> bool {
+        match (&self.0, &other.0) {
+            (Some(a), Some(b)) => std::sync::Arc::ptr_eq(a, b),
+            (None, None) => true,
+            _ => false,
+        }
+    }
+}
 
 /// The rapid rate when [`GcodeOptions::rapid`] is `None`, millimetres per minute.
 pub use pvt_core::defaults::RAPID_MM_PER_MIN as DEFAULT_RAPID_MM_PER_MIN;
@@ -86,6 +154,11 @@ pub struct GcodeOptions {
     /// X Y Z in millimetres and A B C in degrees; zero by default. A position in the
     /// output is the program coordinate plus the active row plus any G92 offset.
     pub work_offsets: [[f64; 6]; 9],
+    /// The tool table G43 and G43.2 read (LinuxCNC's `.tbl` format, millimetres); empty
+    /// by default, where only H0 (no offset) is known.
+    pub tool_table: ToolTable,
+    /// Subroutine files for `o<name> call` (`--subroutine-path`).
+    pub subroutines: Subroutines,
 }
 
 impl Default for GcodeOptions {
@@ -97,6 +170,8 @@ impl Default for GcodeOptions {
             arc_rel_tolerance: pvt_core::defaults::ARC_REL_TOLERANCE,
             units: None,
             work_offsets: [[0.0; 6]; 9],
+            tool_table: ToolTable::default(),
+            subroutines: Subroutines::default(),
         }
     }
 }
@@ -176,6 +251,9 @@ pub fn compile_read(
 /// The G-code front end fed one line at a time; [`compile_into`] and [`compile_read`]
 /// drive it.
 pub struct Reader<'a> {
+    options: &'a GcodeOptions,
+    flow: oword::Flow,
+    subprograms: subprogram::Subprograms,
     interpreter: Interpreter<'a>,
     params: params::Parameters,
     block: block::Block,
@@ -188,9 +266,13 @@ pub struct Reader<'a> {
 impl<'a> Reader<'a> {
     /// A reader compiling into `sink`.
     pub fn new(options: &'a GcodeOptions, sink: &'a mut dyn ToolpathSink) -> Reader<'a> {
+        let params = params::Parameters::default();
         Reader {
+            options,
+            flow: oword::Flow::default(),
+            subprograms: subprogram::Subprograms::default(),
             interpreter: Interpreter::new(options, sink),
-            params: params::Parameters::default(),
+            params,
             block: block::Block::default(),
             percent_lines: 0,
             number: 0,
@@ -225,12 +307,27 @@ impl<'a> Reader<'a> {
         true
     }
 
+    /// Records a diagnostic, shown at the call when a subroutine file's line caused it.
+    pub(crate) fn report(&mut self, diagnostic: GcodeDiagnostic) {
+        self.interpreter.report(diagnostic);
+    }
+
+    /// Brings the machine parameters' view up to date for a line that reads parameters.
+    pub(crate) fn refresh_view(&mut self, line: u32) {
+        self.params.view = self.interpreter.view();
+        self.params.view.line = line;
+        self.params.view.call_level = self.params.call_level() as u32;
+    }
+
     fn source_line(&mut self, line: SourceLine<'_>) -> bool {
         if line.text.len() > MAX_LINE_BYTES {
             self.number = line.number.saturating_sub(1);
             return self.too_long_line(line.start, line.text.len());
         }
         self.number = line.number;
+        if self.ended.is_some() && self.subprogram_after_end(line) {
+            return true;
+        }
         if let Some(end) = &self.ended {
             let Some(warning) = after_end(line, &mut self.block, &self.params, end) else {
                 return true;
@@ -238,11 +335,35 @@ impl<'a> Reader<'a> {
             self.interpreter.warn(warning);
             return false;
         }
+        if let Some(more) = self.subprogram_line(line) {
+            return more;
+        }
+        if let Some(more) = self.flow_line(line) {
+            return more;
+        }
+        self.run_line(line);
+        true
+    }
+
+    /// Parses and executes one line of G-code (not a control line); returns false once
+    /// the program has ended.
+    pub(crate) fn run_line(&mut self, line: SourceLine<'_>) -> bool {
+        if self.ended.is_some() {
+            return false;
+        }
+        if memchr::memchr(b'#', line.text.as_bytes()).is_some() {
+            self.refresh_view(line.number);
+        }
         let parsed = parser::parse_line(line, &mut self.block, &self.params);
+        if let Some(origin) = &self.interpreter.origin {
+            // Elements from a subroutine file carry the line of the call.
+            self.block.line = origin.call_line;
+        }
         // All assignments of a line take effect after the line is read.
         for assignment in &self.block.assignments {
             self.params.set(&assignment.param, assignment.value);
         }
+        let call = self.take_subprogram_words();
         self.ended = match parsed {
             Ok(LineKind::Percent) => {
                 self.percent_lines += 1;
@@ -255,18 +376,23 @@ impl<'a> Reader<'a> {
             // The words read around the bad text still set modes, feed and position, but
             // whatever else they cause is not reported: the line has its error already.
             Err(diagnostic) => {
-                self.interpreter.report(diagnostic);
+                self.report(diagnostic);
                 match self.interpreter.execute_quietly(&self.block) {
                     Flow::Continue => None,
                     Flow::End(word) => Some(word.name()),
                 }
             }
         };
-        true
+        if let (Some(call), None) = (call, &self.ended) {
+            self.subprogram_call(call);
+        }
+        self.ended.is_none()
     }
 
     /// Ends the program: its summary, or every error met.
-    pub fn finish(self) -> Result<StreamSummary, GcodeErrors> {
+    pub fn finish(mut self) -> Result<StreamSummary, GcodeErrors> {
+        self.flow_finish();
+        self.subprograms_finish();
         self.interpreter.finish()
     }
 }

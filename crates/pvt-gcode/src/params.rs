@@ -1,19 +1,22 @@
-//! Parameters: RS274NGC numbered (`#1`–`#5399`) and named (`#<name>`, `#<_global>`) values.
+//! Parameters: RS274NGC numbered (`#1`–`#5602`) and named (`#<name>`, `#<_global>`) values.
 //!
-//! Owns the store and its rules (names are case-insensitive with blanks removed, numbered
-//! parameters start at 0, named ones must be assigned before they are read, reads of
-//! machine-specific parameters are refused). It must not parse text (that is
-//! [`crate::value`]) nor decide when assignments take effect (after the line is read:
-//! [`crate::compile_into`] applies a block's assignments after parsing it).
+//! Owns the store and its rules: names are case-insensitive with blanks removed, numbered
+//! parameters start at 0, named ones must be assigned before they are read; a
+//! subroutine call gets its own `#1`–`#30` (its arguments) and its own names without a
+//! leading underscore (locals), while `#31`… and `#<_names>` are global; machine
+//! parameters are answered by [`machine`] from the interpreter's state. It must not parse
+//! text (that is [`crate::value`]) nor decide when assignments take effect (after the
+//! line is read: [`crate::compile_into`] applies a block's assignments after parsing it).
+
+pub(crate) mod machine;
 
 use std::collections::HashMap;
 
-/// The highest numbered parameter.
-pub(crate) const MAX_NUMBERED: usize = 5399;
+/// The highest numbered parameter (LinuxCNC's last, #5602).
+pub(crate) const MAX_NUMBERED: usize = 5602;
 
-/// The first numbered parameter that holds machine state (probe results, stored
-/// positions, offsets); reading one the program did not assign is refused.
-const FIRST_MACHINE: usize = 5000;
+/// How many numbered parameters a subroutine call holds as its own: `#1`–`#30`.
+pub(crate) const CALL_ARGUMENTS: usize = 30;
 
 /// Which parameter an assignment sets.
 #[derive(Debug, Clone, PartialEq)]
@@ -29,8 +32,17 @@ pub(crate) enum ParamRef {
 pub(crate) enum ReadProblem {
     /// A named parameter never assigned.
     Undefined,
-    /// A parameter that holds machine state pvtc does not know.
-    MachineSpecific,
+    /// A parameter that holds machine state pvtc does not know: the feature.
+    MachineSpecific(&'static str),
+}
+
+/// A subroutine call's own parameters.
+#[derive(Debug, Clone)]
+struct Frame {
+    /// The caller's `#1`–`#30`, restored on return.
+    saved: [f64; CALL_ARGUMENTS],
+    /// Names without a leading underscore assigned in the call.
+    locals: HashMap<String, f64>,
 }
 
 /// All parameter values of a program run.
@@ -38,7 +50,13 @@ pub(crate) enum ReadProblem {
 pub(crate) struct Parameters {
     numbered: Vec<f64>,
     assigned: Vec<bool>,
+    /// Global names (leading underscore) and the main program's locals.
     named: HashMap<String, f64>,
+    /// One per subroutine call in progress, innermost last.
+    frames: Vec<Frame>,
+    /// The interpreter's state, for machine parameters (brought up to date before a
+    /// line that reads parameters).
+    pub view: machine::MachineView,
 }
 
 impl Default for Parameters {
@@ -47,14 +65,26 @@ impl Default for Parameters {
             numbered: vec![0.0; MAX_NUMBERED + 1],
             assigned: vec![false; MAX_NUMBERED + 1],
             named: HashMap::new(),
+            frames: Vec::new(),
+            view: machine::MachineView::default(),
         }
     }
 }
 
-/// True when `name` (as written) reads machine state: `_hal[…]`, `_ini[…]` or any
-/// predefined global such as `_x` that the program has not assigned.
-pub(crate) fn is_machine_name(normalized: &str) -> bool {
+/// True when `name` (normalized) is global: it starts with an underscore.
+pub(crate) fn is_global_name(normalized: &str) -> bool {
     normalized.starts_with('_')
+}
+
+/// True when `name` (normalized) is a predefined parameter a program may not assign:
+/// one the interpreter's state answers, `_value` and `_value_returned`, HAL pins and ini
+/// values (LinuxCNC refuses these assignments too).
+pub(crate) fn is_read_only(normalized: &str) -> bool {
+    matches!(normalized, "_value" | "_value_returned")
+        || !matches!(
+            machine::named(&machine::MachineView::default(), normalized),
+            machine::Answer::NotMachine
+        )
 }
 
 /// `name` lower-cased with blanks removed, borrowed when it already is.
@@ -77,25 +107,76 @@ pub(crate) fn normalize(name: &str) -> std::borrow::Cow<'_, str> {
 impl Parameters {
     /// The value of `#index` (1..=[`MAX_NUMBERED`], checked by the caller).
     pub fn numbered(&self, index: usize) -> Result<f64, ReadProblem> {
-        match (self.numbered.get(index), self.assigned.get(index)) {
-            (Some(&v), Some(&assigned)) if assigned || index < FIRST_MACHINE => Ok(v),
-            _ => Err(ReadProblem::MachineSpecific),
+        let (Some(&v), Some(&assigned)) = (self.numbered.get(index), self.assigned.get(index))
+        else {
+            return Err(ReadProblem::MachineSpecific("parameters above #5602"));
+        };
+        if index < 5000 {
+            return Ok(v);
+        }
+        match machine::numbered(&self.view, index, assigned) {
+            machine::Answer::Value(value) => Ok(value),
+            machine::Answer::Machine(feature) => Err(ReadProblem::MachineSpecific(feature)),
+            machine::Answer::NotMachine => Ok(v),
+        }
+    }
+
+    /// The map a name lives in: globals, the innermost call's locals, or the main ones.
+    fn scope(&self, key: &str) -> &HashMap<String, f64> {
+        match self.frames.last() {
+            Some(frame) if !is_global_name(key) => &frame.locals,
+            _ => &self.named,
         }
     }
 
     /// The value of `#<name>` (`name` as written between the angle brackets).
     pub fn named(&self, name: &str) -> Result<f64, ReadProblem> {
         let key = normalize(name);
-        match self.named.get(key.as_ref()) {
-            Some(&v) => Ok(v),
-            None if is_machine_name(&key) => Err(ReadProblem::MachineSpecific),
-            None => Err(ReadProblem::Undefined),
+        if let Some(&v) = self.scope(&key).get(key.as_ref()) {
+            return Ok(v);
+        }
+        if !is_global_name(&key) {
+            return Err(ReadProblem::Undefined);
+        }
+        match machine::named(&self.view, &key) {
+            machine::Answer::Value(value) => Ok(value),
+            machine::Answer::Machine(feature) => Err(ReadProblem::MachineSpecific(feature)),
+            machine::Answer::NotMachine => Err(ReadProblem::Undefined),
         }
     }
 
-    /// True when `#<name>` has a value (`EXISTS[#<name>]`).
+    /// True when `#<name>` has a value (`EXISTS[#<name>]`): assigned, or predefined.
     pub fn exists(&self, name: &str) -> bool {
-        self.named.contains_key(normalize(name).as_ref())
+        let key = normalize(name);
+        self.scope(&key).contains_key(key.as_ref())
+            || (is_global_name(&key)
+                && matches!(machine::named(&self.view, &key), machine::Answer::Value(_)))
+    }
+
+    /// Enters a subroutine call: `#1`–`#30` become `args` (0 past them), saved for
+    /// [`Parameters::leave_call`], and the call gets locals of its own.
+    pub fn enter_call(&mut self, args: &[f64]) {
+        let mut saved = [0.0; CALL_ARGUMENTS];
+        for (i, slot) in saved.iter_mut().enumerate() {
+            *slot = self.numbered[i + 1];
+            self.numbered[i + 1] = args.get(i).copied().unwrap_or(0.0);
+        }
+        self.frames.push(Frame {
+            saved,
+            locals: HashMap::new(),
+        });
+    }
+
+    /// Leaves the innermost call, restoring the caller's `#1`–`#30` and locals.
+    pub fn leave_call(&mut self) {
+        if let Some(frame) = self.frames.pop() {
+            self.numbered[1..=CALL_ARGUMENTS].copy_from_slice(&frame.saved);
+        }
+    }
+
+    /// How many calls are in progress.
+    pub fn call_level(&self) -> usize {
+        self.frames.len()
     }
 
     /// Sets a parameter.
@@ -110,10 +191,14 @@ impl Parameters {
                 }
             }
             ParamRef::Named(name) => {
-                if let Some(slot) = self.named.get_mut(name) {
+                let map = match self.frames.last_mut() {
+                    Some(frame) if !is_global_name(name) => &mut frame.locals,
+                    _ => &mut self.named,
+                };
+                if let Some(slot) = map.get_mut(name) {
                     *slot = value;
                 } else {
-                    self.named.insert(name.clone(), value);
+                    map.insert(name.clone(), value);
                 }
             }
         }
@@ -132,16 +217,55 @@ mod tests {
         assert_eq!(p.named("XSCALE"), Ok(2.0));
         assert!(p.exists("x scale"));
         assert_eq!(p.named("other"), Err(ReadProblem::Undefined));
-        assert_eq!(p.named("_hal[x.y]"), Err(ReadProblem::MachineSpecific));
+        assert!(matches!(
+            p.named("_hal[x.y]"),
+            Err(ReadProblem::MachineSpecific(_))
+        ));
     }
 
     #[test]
-    fn numbered_start_at_zero_machine_ones_are_refused() {
+    fn numbered_start_at_zero_machine_ones_read_the_view() {
         let mut p = Parameters::default();
         assert_eq!(p.numbered(1), Ok(0.0));
-        assert_eq!(p.numbered(5221), Err(ReadProblem::MachineSpecific));
+        assert_eq!(p.numbered(5221), Ok(0.0));
         p.set(&ParamRef::Numbered(5221), 3.0);
         assert_eq!(p.numbered(5221), Ok(3.0));
-        assert_eq!(p.numbered(9999), Err(ReadProblem::MachineSpecific));
+        p.view.position[0] = 4.0;
+        p.set(&ParamRef::Numbered(5420), 3.0);
+        assert_eq!(p.numbered(5420), Ok(4.0));
+        assert!(matches!(
+            p.numbered(5061),
+            Err(ReadProblem::MachineSpecific(_))
+        ));
+        assert!(matches!(
+            p.numbered(9999),
+            Err(ReadProblem::MachineSpecific(_))
+        ));
+    }
+
+    #[test]
+    fn calls_have_their_own_arguments_and_locals() {
+        let mut p = Parameters::default();
+        p.set(&ParamRef::Numbered(1), 7.0);
+        p.set(&ParamRef::Numbered(31), 8.0);
+        p.set(&ParamRef::Named("main".into()), 1.0);
+        p.set(&ParamRef::Named("_g".into()), 2.0);
+        p.enter_call(&[5.0]);
+        assert_eq!(p.numbered(1), Ok(5.0));
+        assert_eq!(p.numbered(2), Ok(0.0));
+        assert_eq!(p.numbered(31), Ok(8.0));
+        assert_eq!(p.named("main"), Err(ReadProblem::Undefined));
+        assert!(!p.exists("main"));
+        assert_eq!(p.named("_g"), Ok(2.0));
+        p.set(&ParamRef::Named("inner".into()), 3.0);
+        p.set(&ParamRef::Named("_g".into()), 4.0);
+        p.set(&ParamRef::Numbered(1), 9.0);
+        assert_eq!(p.named("inner"), Ok(3.0));
+        p.leave_call();
+        assert_eq!(p.numbered(1), Ok(7.0));
+        assert_eq!(p.named("inner"), Err(ReadProblem::Undefined));
+        assert_eq!(p.named("main"), Ok(1.0));
+        assert_eq!(p.named("_g"), Ok(4.0));
+        assert!(p.exists("_x"));
     }
 }

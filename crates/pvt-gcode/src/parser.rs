@@ -2,7 +2,7 @@
 //!
 //! Owns the lexical rules (letters, numbers, comments, `%` lines, block delete, line
 //! numbers, line ends, BOM), written as nom parsers, one per EBNF production. It must not
-//! give words a meaning: a well-formed `Q5` is the interpreter's to reject. A malformed
+//! give words a meaning: a well-formed `E5` is the interpreter's to reject. A malformed
 //! line yields one diagnostic and no block; the caller carries on with the next line.
 
 use nom::bytes::complete::{take_till, take_while};
@@ -13,6 +13,7 @@ use nom::{IResult, Parser};
 
 use crate::block::{Assignment, Block, Word};
 use crate::diagnostic::{span, GcodeDiagnostic};
+use crate::messages::{active, Active};
 use crate::params::{normalize, ParamRef, Parameters};
 use crate::value::Reader;
 
@@ -294,7 +295,9 @@ pub(crate) fn parse_line(
             Some(b'#') => read_assignment(&mut reader, block),
             Some(b'*') => read_checksum(&mut reader, text),
             Some(b'O' | b'o') => read_o_word(&mut reader, block),
-            Some(c) if c.is_ascii_alphabetic() || *c == b'$' => read_word(&mut reader, block),
+            Some(c) if c.is_ascii_alphabetic() || matches!(c, b'$' | b'@' | b'^') => {
+                read_word(&mut reader, block)
+            }
             Some(_) => Err(bad_item(rest, line.start + at)),
         };
         if let Err(diagnostic) = result {
@@ -317,13 +320,16 @@ pub(crate) fn parse_line(
     }
 }
 
-/// A `( … )` comment at the reader; a `(MSG, …)` one sets the block's message.
+/// A `( … )` comment at the reader; a `(MSG, …)`, `(DEBUG, …)` or `(PRINT, …)` one sets
+/// the block's message.
 fn read_comment(reader: &mut Reader<'_>, block: &mut Block) -> Result<(), GcodeDiagnostic> {
     let rest = reader.rest();
     match comment(rest) {
         Ok((after, inside)) => {
             if let Some(text) = message(inside) {
                 block.message = Some(text.to_owned());
+            } else if let Some(Active::Message(text)) = active(inside, reader.params()) {
+                block.message = Some(text);
             }
             reader.pos += rest.len() - after.len();
             Ok(())
@@ -362,6 +368,15 @@ fn read_assignment(reader: &mut Reader<'_>, block: &mut Block) -> Result<(), Gco
     }
     reader.pos += 1;
     let value = reader.real_value()?;
+    if let ParamRef::Named(name) = &param {
+        if crate::params::is_read_only(name) {
+            return Err(GcodeDiagnostic::BadValue {
+                word: reader.text_between(hash, target_end).to_owned(),
+                expected: "a predefined parameter is read-only (the interpreter sets it)",
+                span: span(reader.absolute(hash)..reader.absolute(target_end)),
+            });
+        }
+    }
     block.assignments.push(Assignment { param, value });
     Ok(())
 }
@@ -391,8 +406,9 @@ fn read_checksum(reader: &mut Reader<'_>, text: &str) -> Result<(), GcodeDiagnos
     Ok(())
 }
 
-/// An `O` word: a program number alone on its line (Fanuc style) is kept as a word the
-/// interpreter warns about; anything else is subroutines or control flow, unsupported.
+/// An `O` word: a program number alone on its line (Fanuc style) is kept as a word that
+/// names the program; an O-word with a keyword reaches the parser only when it does
+/// not start its line ([`crate::oword`] reads control lines), which is an error.
 fn read_o_word(reader: &mut Reader<'_>, block: &mut Block) -> Result<(), GcodeDiagnostic> {
     let at = reader.pos;
     let rest = reader.rest();
@@ -412,10 +428,10 @@ fn read_o_word(reader: &mut Reader<'_>, block: &mut Block) -> Result<(), GcodeDi
     let len = rest.trim_end().len().max(1);
     reader.pos += len;
     let shown: String = rest.trim_end().chars().take(40).collect();
-    Err(GcodeDiagnostic::Unsupported {
-        code: shown,
-        feature: "O-word subroutines and control flow",
-        places: 1,
+    Err(GcodeDiagnostic::Oword {
+        detail: format!(
+            "`{shown}`: an O-word is a line of its own, `oN keyword [values]`, or a program number alone"
+        ),
         span: span(reader.absolute(at)..reader.absolute(at + len)),
     })
 }

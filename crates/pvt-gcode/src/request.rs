@@ -7,7 +7,9 @@
 use pvt_core::{Axis, CoolantState, Plane, SpindleState, Units, AXIS_COUNT};
 
 use crate::block::{Block, Word};
-use crate::codes::{self, Distance, FeedMode, GCode, MCode, MotionMode, NonModal, PathMode};
+use crate::codes::{
+    self, Distance, FeedMode, GCode, MCode, MotionMode, NonModal, PathMode, ToolLength,
+};
 use crate::diagnostic::{span, GcodeDiagnostic};
 
 /// A program stop (modal group 4).
@@ -36,18 +38,34 @@ pub(crate) struct Request {
     pub spindle: Option<(SpindleState, Word)>,
     pub coolant: Option<(CoolantState, Word)>,
     pub tool_change: Option<((), Word)>,
+    pub tool_length: Option<(ToolLength, Word)>,
+    /// G98 (`false`) or G99 (`true`).
+    pub retract: Option<(bool, Word)>,
+    /// G96 (`true`) or G97.
+    pub surface_speed: Option<(bool, Word)>,
+    /// M48…M53, accepted as state.
+    pub overrides: Option<((), Word)>,
     pub p: Option<Word>,
+    pub q: Option<Word>,
+    pub l: Option<Word>,
+    pub h: Option<Word>,
+    pub d: Option<Word>,
     pub s: Option<Word>,
     pub t: Option<Word>,
     /// X Y Z A B C, indexed by [`Axis::index`].
     pub axes: [Option<Word>; AXIS_COUNT],
     /// I J K.
     pub offsets: [Option<Word>; 3],
+    /// `@` (polar radius) and `^` (polar angle, degrees).
+    pub polar: [Option<Word>; 2],
     pub radius: Option<Word>,
     pub feed: Option<Word>,
     /// The block makes no move: an unsupported code uses its axis words, or its motion
     /// codes conflict (both reported).
     pub no_move: bool,
+    /// The block has a G code pvtc does not know: it is skipped whole, so that no mode
+    /// drifts, and the motion mode becomes unknown until the next motion code.
+    pub unknown_g: bool,
 }
 
 impl Request {
@@ -73,15 +91,22 @@ impl Request {
                     put_word(slot, word, errors);
                 }
                 b'R' => put_word(&mut request.radius, word, errors),
+                b'@' => put_word(&mut request.polar[0], word, errors),
+                b'^' => put_word(&mut request.polar[1], word, errors),
                 b'F' => put_word(&mut request.feed, word, errors),
                 b'P' => put_word(&mut request.p, word, errors),
+                b'Q' => put_word(&mut request.q, word, errors),
+                b'L' => put_word(&mut request.l, word, errors),
+                b'H' => put_word(&mut request.h, word, errors),
+                b'D' => put_word(&mut request.d, word, errors),
                 b'S' => put_word(&mut request.s, word, errors),
                 b'T' => put_word(&mut request.t, word, errors),
                 b'$' => errors.push(ignored(
                     word,
                     "spindle selection ($) is not part of a toolpath",
                 )),
-                b'O' => errors.push(ignored(word, "a program number names the program only")),
+                // A program number (`O1000` alone on its line) names the program only.
+                b'O' => {}
                 letter => errors.push(GcodeDiagnostic::UnknownWord {
                     word: word.name(),
                     meaning: codes::letter_meaning(letter),
@@ -93,17 +118,18 @@ impl Request {
 
     /// True when the block has any axis word.
     pub fn has_axis_words(&self) -> bool {
-        self.axes.iter().any(Option::is_some)
+        self.axes.iter().chain(&self.polar).any(Option::is_some)
     }
 
-    /// The block's axis words, in X Y Z A B C order.
+    /// The block's axis words, in X Y Z A B C `@` `^` order.
     pub fn axis_words(&self) -> impl Iterator<Item = &Word> {
-        self.axes.iter().flatten()
+        self.axes.iter().chain(&self.polar).flatten()
     }
 
     fn read_g(&mut self, word: Word, errors: &mut Vec<GcodeDiagnostic>) {
         let tenths = codes::tenths(word.value);
         let Some(code) = tenths.and_then(codes::g_code) else {
+            self.unknown_g = true;
             return errors.push(unknown_code(word, "not an RS274NGC G code"));
         };
         let modes =
@@ -152,6 +178,27 @@ impl Request {
                 errors,
                 modes("non-modal group"),
             ),
+            GCode::ToolLength(t) => put_mode(
+                &mut self.tool_length,
+                t,
+                word,
+                errors,
+                modes("tool length offset"),
+            ),
+            GCode::Retract(r) => put_mode(
+                &mut self.retract,
+                r,
+                word,
+                errors,
+                modes("canned cycle return level"),
+            ),
+            GCode::SurfaceSpeed(c) => put_mode(
+                &mut self.surface_speed,
+                c,
+                word,
+                errors,
+                modes("spindle speed mode"),
+            ),
             GCode::NoOp(_) => {}
             GCode::Unsupported(feature) => {
                 errors.push(unsupported(word, feature.name));
@@ -185,6 +232,9 @@ impl Request {
                 modes("tool change"),
             ),
             Some(MCode::End) => put_mode(&mut self.stop, Stop::End, word, errors, stop_conflict),
+            Some(MCode::Override) => {
+                put_mode(&mut self.overrides, (), word, errors, modes("override"))
+            }
             Some(MCode::Unsupported(feature)) => errors.push(unsupported(word, feature)),
             None => errors.push(unknown_code(word, "not an RS274NGC M code")),
         }

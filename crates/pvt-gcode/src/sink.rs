@@ -20,4 +20,7 @@ pub struct StreamSummary {
     /// The last G64 P tolerance, output units: recorded only, since the contour planner
     /// passes exactly through every programmed point, which meets any tolerance.
     pub path_tolerance: Option<f64>,
+    /// The last G64 Q (LinuxCNC's naive-CAM tolerance, which merges nearly collinear
+    /// moves), output units: recorded only, every programmed point is kept.
+    pub naive_cam_tolerance: Option<f64>,
 }

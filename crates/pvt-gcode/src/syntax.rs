@@ -22,7 +22,8 @@ pub struct SyntaxSummary {
 }
 
 /// Parses every line of `source` (words, numbers, comments, parameters and expressions,
-/// each with its span) without interpreting any. Assignments take effect at the end of
+/// each with its span) without interpreting any; an O-word control line is checked for
+/// its keyword only. Assignments take effect at the end of
 /// their line, so later reads of a parameter see its value.
 pub fn check_syntax(source: &str) -> SyntaxSummary {
     let (mut block, mut params, mut errors) =
@@ -33,6 +34,16 @@ pub fn check_syntax(source: &str) -> SyntaxSummary {
         if line.text.len() > MAX_LINE_BYTES {
             errors.push(line_too_long(line.number, line.text.len(), line.start));
             continue;
+        }
+        // An O-word control line is read when it runs (its values then): here only its
+        // keyword is checked.
+        match crate::oword::parse_control(line.text, line.start) {
+            Some(Ok(_)) => continue,
+            Some(Err(diagnostic)) => {
+                errors.push(diagnostic);
+                continue;
+            }
+            None => {}
         }
         if let Err(diagnostic) = parser::parse_line(line, &mut block, &params) {
             errors.push(diagnostic);
@@ -59,5 +70,19 @@ mod tests {
         assert_eq!((summary.lines, summary.words), (4, 5));
         let spans: Vec<_> = summary.errors.iter().map(|e| e.span()).collect();
         assert_eq!(spans, [36..38, 42..44]); // `e3`, `X)`
+    }
+
+    #[test]
+    fn control_lines_are_checked_for_their_keyword_only() {
+        let summary = check_syntax(
+            "o1 while [#<n> LT 3]
+G1 X1
+o1 endwhile
+o2 jump
+",
+        );
+        assert_eq!((summary.lines, summary.words), (4, 2));
+        let codes: Vec<_> = summary.errors.iter().map(|e| e.code()).collect();
+        assert_eq!(codes, ["pvtc::gcode::oword"]);
     }
 }

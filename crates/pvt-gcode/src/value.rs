@@ -120,6 +120,11 @@ impl<'a> Reader<'a> {
         }
     }
 
+    /// The parameters values are read from.
+    pub fn params(&self) -> &'a Parameters {
+        self.params
+    }
+
     /// A real value: `[sign] (number | [expr] | #param | FUNCTION[expr])`.
     pub fn real_value(&mut self) -> Result<f64> {
         self.skip_blanks();
@@ -470,7 +475,7 @@ impl<'a> Reader<'a> {
         let rounded = value.round();
         if (value - rounded).abs() > 1e-6 || !(1.0..=MAX_NUMBERED as f64).contains(&rounded) {
             return Err(GcodeDiagnostic::OutOfRange {
-                what: "parameter number (1 to 5399)",
+                what: "parameter number (1 to 5602)",
                 value,
                 span: span(self.range(start.saturating_sub(1), self.pos)),
             });
@@ -503,9 +508,9 @@ impl<'a> Reader<'a> {
                 name: written.to_owned(),
                 span: at,
             },
-            ReadProblem::MachineSpecific => GcodeDiagnostic::Unsupported {
+            ReadProblem::MachineSpecific(feature) => GcodeDiagnostic::Unsupported {
                 code: normalize(written).into_owned(),
-                feature: "machine-specific parameters",
+                feature,
                 places: 1,
                 span: at,
             },

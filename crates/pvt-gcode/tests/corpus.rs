@@ -28,7 +28,7 @@ const EXPECTED: &[(&str, &[&str])] = &[
     ("tort.ngc", &[]),
     (
         "plasmac_metric_pipe.ngc",
-        &["probing", "machine-specific parameters"],
+        &["probing", "HAL pins (#<_hal[…]>)"],
     ),
 ];
 

@@ -31,7 +31,7 @@ fn a_bad_word_on_line_3_names_line_3() {
 
 #[test]
 fn every_bad_line_is_reported() {
-    let got = after_head("G1 X--1\nG1 X2\nG1 Y.\nQ5\nG1 X(\n");
+    let got = after_head("G1 X--1\nG1 X2\nG1 Y.\nE5\nG1 X(\n");
     assert_eq!(
         got,
         [
@@ -45,21 +45,28 @@ fn every_bad_line_is_reported() {
 
 #[test]
 fn unknown_words() {
-    assert_eq!(after_head("G1 X1 Q5\n"), [("unknown_word", 3, 7)]);
-    assert_eq!(after_head("G1 X1 @\n"), [("unknown_word", 3, 7)]);
+    assert_eq!(after_head("G1 X1 E5\n"), [("unknown_word", 3, 7)]);
+    assert_eq!(after_head("G1 X1 ~\n"), [("unknown_word", 3, 7)]);
     assert_eq!(after_head("G1.5 X1\n"), [("unknown_word", 3, 1)]);
     assert_eq!(after_head("M1000\n"), [("unknown_word", 3, 1)]);
 }
 
 #[test]
 fn unsupported_features_are_named() {
-    let source = format!("{HEAD}G81 X1 Y1 Z-1 R1\n");
+    let source = format!("{HEAD}G76 X1 Z-1\n");
     let errors = compile(&source, &GcodeOptions::default()).unwrap_err();
     let messages: Vec<_> = errors.diagnostics.iter().map(ToString::to_string).collect();
-    assert_eq!(messages, ["G81 (canned cycles) is not supported by pvtc"]);
+    assert_eq!(
+        messages,
+        ["G76 (lathe threading cycles) is not supported by pvtc"]
+    );
     assert_eq!(after_head("G41 X1\n"), [("unsupported", 3, 1)]);
     assert_eq!(after_head("G1 X1 M60\n"), [("unsupported", 3, 7)]);
-    assert_eq!(after_head("G1 X#<_x>\n"), [("unsupported", 3, 5)]);
+    assert_eq!(
+        after_head("G1 X#<_hal[motion.probe-input]>\n"),
+        [("unsupported", 3, 5)]
+    );
+    assert_eq!(after_head("G1 X#5063\n"), [("unsupported", 3, 5)]);
     assert_eq!(after_head("G38.2 Z-5\n"), [("unsupported", 3, 1)]);
 }
 
@@ -240,14 +247,19 @@ fn issue_4_codes_name_line_and_column() {
     assert_eq!(after_head("G4 P-1\n"), [("bad_value", 3, 4)]);
     assert_eq!(after_head("G2 X0 Y0 I5 P0\n"), [("bad_value", 3, 13)]);
     assert_eq!(after_head("G1 X#0\n"), [("out_of_range", 3, 5)]);
-    assert_eq!(after_head("G28\n"), [("unsupported", 3, 1)]);
-    assert_eq!(after_head("o100 sub\n"), [("unsupported", 3, 1)]);
-    assert_eq!(after_head("G43 H1\n")[0], ("unsupported", 3, 1));
+    assert_eq!(after_head("G10 L2 P1 R45\n"), [("unsupported", 3, 11)]);
+    assert_eq!(after_head("G10 L1 P1 Z1\n"), [("unknown_tool", 3, 8)]);
+    assert_eq!(after_head("G10 P1 X1\n"), [("missing_word", 3, 1)]);
+    assert_eq!(after_head("o100 sub\n"), [("oword", 3, 1)]);
+    assert_eq!(after_head("o100 jump\n"), [("oword", 3, 1)]);
+    assert_eq!(after_head("o100 call\n"), [("unknown_subroutine", 3, 1)]);
+    assert_eq!(after_head("G43 H1\n"), [("unknown_tool", 3, 5)]);
+    assert_eq!(after_head("G81 X1 Z-1\n"), [("cycle", 3, 1)]);
 }
 
 #[test]
 fn unsupported_features_are_reported_once_with_their_count() {
-    let source = format!("{HEAD}G81 X1 Y1 Z-1 R1\nG83 X2 Q1\nG38.2 Z-1\nG82 X3\n");
+    let source = format!("{HEAD}G76 X1 Z-1\nG76 X2 Z-1\nG38.2 Z-1\nG76 X3 Z-1\n");
     let errors = compile(&source, &GcodeOptions::default()).unwrap_err();
     let messages: Vec<_> = errors
         .diagnostics
@@ -258,7 +270,7 @@ fn unsupported_features_are_reported_once_with_their_count() {
     assert_eq!(
         messages,
         [
-            "G81 (canned cycles) is not supported by pvtc (3 places; the first is shown)",
+            "G76 (lathe threading cycles) is not supported by pvtc (3 places; the first is shown)",
             "G38.2 (probing) is not supported by pvtc"
         ]
     );
@@ -266,6 +278,7 @@ fn unsupported_features_are_reported_once_with_their_count() {
 
 #[test]
 fn ignored_words_are_warnings() {
+    // A program number is a name, not a warning.
     let source = "O10\nG21 G1 X1 F100 P2 $1\n";
     let compiled = compile(source, &GcodeOptions::default()).unwrap();
     let warnings: Vec<_> = compiled
@@ -276,7 +289,6 @@ fn ignored_words_are_warnings() {
     assert_eq!(
         warnings,
         [
-            ("pvtc::gcode::ignored_word", (1, 1)),
             ("pvtc::gcode::ignored_word", (2, 16)),
             ("pvtc::gcode::ignored_word", (2, 19))
         ]

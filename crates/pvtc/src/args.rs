@@ -2,7 +2,8 @@
 //!
 //! Owns the flags, their help text and their conversion into pipeline options (reading
 //! the `--offsets` file once per run, [`PipelineArgs::read_files`], parsed by
-//! [`pvt_gcode::offsets`]). It must not compile anything.
+//! [`pvt_gcode::offsets`]; the `--tool-table` file through [`crate::tools`]). It must
+//! not compile anything.
 
 use crate::pipeline::{CompileOptions, DrawingOptions, Failure, InputKind, VelocitySource};
 use clap::{Parser, Subcommand, ValueEnum};
@@ -181,6 +182,18 @@ pub struct PipelineArgs {
     /// The rows of the `--offsets` file, once [`PipelineArgs::read_files`] has read it.
     #[arg(skip)]
     pub work_offsets: Option<[[f64; 6]; 9]>,
+    /// G-code: folders where `o<name> call` finds `name.ngc` (repeatable, or a
+    /// `:`-separated list, like LinuxCNC's SUBROUTINE_PATH).
+    #[arg(long = "subroutine-path", value_name = "DIR")]
+    pub subroutine_path: Vec<String>,
+    /// G-code: the tool table G43 H reads, in LinuxCNC's `.tbl` format (lines like
+    /// `T1 P1 Z0.5 D6 ;comment`, millimetres and degrees) [default: no tools].
+    #[arg(long = "tool-table", value_name = "FILE")]
+    pub tool_table: Option<PathBuf>,
+    /// G-code: the units of the --tool-table file's lengths (LinuxCNC reads a table in
+    /// its machine units; the standalone `rs274` in inches) [default: mm].
+    #[arg(long = "tool-table-units", value_enum, value_name = "UNITS")]
+    pub tool_table_units: Option<UnitsArg>,
     /// G-code: a centre-format arc is refused when its start and end radii differ by
     /// more than this many mm and by more than --arc-rel-tolerance [default: 0.002].
     #[arg(long = "arc-abs-tolerance", value_name = "MM", value_parser = positive_number)]
@@ -226,6 +239,21 @@ impl PipelineArgs {
                  (--planner lspb)"
             )));
         }
+        if !self.subroutine_path.is_empty() && input != InputKind::Gcode {
+            return Err(Failure::Usage(
+                "--subroutine-path does nothing here: it finds G-code subroutines".into(),
+            ));
+        }
+        if self.tool_table_units.is_some() && self.tool_table.is_none() {
+            return Err(Failure::Usage(
+                "--tool-table-units does nothing without --tool-table FILE".into(),
+            ));
+        }
+        if self.tool_table.is_some() && input != InputKind::Gcode {
+            return Err(Failure::Usage(
+                "--tool-table does nothing here: G43 H in a G-code program reads it".into(),
+            ));
+        }
         if self.velocities.is_some() && input != InputKind::Csv {
             return Err(Failure::Usage(
                 "--velocities does nothing here: it chooses the velocities of a CSV series".into(),
@@ -257,6 +285,16 @@ impl PipelineArgs {
             (Some(path), None) => read_offsets(path)?,
             (None, None) => [[0.0; 6]; 9],
         };
+        let tool_table = match &self.tool_table {
+            Some(path) => {
+                let mut table = crate::tools::read(path)?;
+                if self.tool_table_units == Some(UnitsArg::In) {
+                    table.scale_lengths(25.4);
+                }
+                table
+            }
+            None => pvt_gcode::ToolTable::default(),
+        };
         let defaults = pvt_gcode::GcodeOptions::default();
         let input = match self.input_format {
             Some(InputArg::Gcode) => InputKind::Gcode,
@@ -284,6 +322,8 @@ impl PipelineArgs {
             quantize: self.quantize,
             quantize_rounding: self.quantize_rounding.unwrap_or_default(),
             work_offsets,
+            subroutine_path: self.subroutine_path.clone(),
+            tool_table,
             arc_abs_tolerance_mm: self
                 .arc_abs_tolerance
                 .unwrap_or(defaults.arc_abs_tolerance_mm),

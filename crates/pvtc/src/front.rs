@@ -71,6 +71,13 @@ pub fn gcode_options(options: &CompileOptions) -> pvt_gcode::GcodeOptions {
         arc_rel_tolerance: options.arc_rel_tolerance,
         units: options.drawing.units,
         work_offsets: options.work_offsets,
+        subroutines: pvt_gcode::Subroutines(match options.subroutine_path.is_empty() {
+            true => None,
+            false => Some(std::sync::Arc::new(
+                crate::subroutines::SubroutinePath::from_args(&options.subroutine_path),
+            )),
+        }),
+        tool_table: options.tool_table.clone(),
     }
 }
 

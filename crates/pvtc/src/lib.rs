@@ -21,7 +21,9 @@ pub mod pipeline;
 pub mod plot;
 pub mod report;
 pub mod stream;
+pub mod subroutines;
 pub mod toolpath;
+pub mod tools;
 
 pub use args::{Cli, Command, CompileArgs};
 pub use pipeline::{

@@ -149,6 +149,10 @@ pub struct CompileOptions {
     pub quantize_rounding: Rounding,
     /// G-code work offsets, G54…G59.3 rows of X Y Z (mm) A B C (degrees).
     pub work_offsets: [[f64; 6]; 9],
+    /// G-code `--subroutine-path` values (folders or `:`-separated lists).
+    pub subroutine_path: Vec<String>,
+    /// G-code tool table (G43 H), millimetres and degrees.
+    pub tool_table: pvt_gcode::ToolTable,
     /// G-code arc check: absolute radius tolerance, mm.
     pub arc_abs_tolerance_mm: f64,
     /// G-code arc check: relative radius tolerance.
@@ -199,6 +203,8 @@ impl CompileOptions {
             quantize: None,
             quantize_rounding: Rounding::Up,
             work_offsets: [[0.0; 6]; 9],
+            subroutine_path: Vec::new(),
+            tool_table: pvt_gcode::ToolTable::default(),
             arc_abs_tolerance_mm: pvt_core::defaults::ARC_ABS_TOLERANCE_MM,
             arc_rel_tolerance: pvt_core::defaults::ARC_REL_TOLERANCE,
             drawing: DrawingOptions::default(),

@@ -10,7 +10,7 @@ fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
-const BAD_LINE_3: &str = "G21 G90\nG1 X1 Y1 F100\nG1 X2 Q7 Y2\nG1 X3 Y3\n";
+const BAD_LINE_3: &str = "G21 G90\nG1 X1 Y1 F100\nG1 X2 E7 Y2\nG1 X3 Y3\n";
 
 #[test]
 fn compiles_a_sample_to_json_on_stdout() {
@@ -125,7 +125,7 @@ fn stdout_redirected_to_a_file_streams_and_starts_over_like_an_output_file() {
     // An error after enough moves that output has been written by then.
     let bad = dir.path().join("bad.ngc");
     let moves: String = (1..=5000).map(|i| format!("G1 X{i} F600\n")).collect();
-    std::fs::write(&bad, moves + "G1 X2 Q7 Y2\n").unwrap();
+    std::fs::write(&bad, moves + "G1 X2 E7 Y2\n").unwrap();
     let append = std::fs::OpenOptions::new().append(true).open(&out).unwrap();
     let o = pvtc_into(&["compile", bad.to_str().unwrap()], append);
     assert_eq!(o.status.code(), Some(1));
@@ -1257,4 +1257,56 @@ fn output_to_a_fifo_writes_through_it_and_keeps_it() {
     assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
     let written = reader.join().unwrap();
     assert!(String::from_utf8_lossy(&written).contains("CLOSE"));
+}
+
+#[test]
+fn tool_table_offsets_apply_and_its_errors_name_the_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let table = dir.path().join("tools.tbl");
+    std::fs::write(&table, "T1 P1 Z12.7 D6 ;6 mm drill\nT2 P2 Z-5\n").unwrap();
+    let program = "G21 G90\nG0 X1 Y0 Z0\nT1 M6 G43 H1\nG0 Z10\n";
+    let run = |extra: &[&str]| {
+        let mut args = vec!["compile", "-", "--format", "json"];
+        args.extend_from_slice(extra);
+        pvtc(&args, Some(program))
+    };
+    let o = run(&["--tool-table", table.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let last = v["contours"].as_array().unwrap().last().unwrap().clone();
+    // Z10 with tool 1's 12.7 mm length: the machine Z is 22.7.
+    assert_eq!(last["segments"][0]["p"], serde_json::json!([1.0, 22.7]));
+    // The same table read in inches: 12.7 in is 322.58 mm.
+    let o = run(&[
+        "--tool-table",
+        table.to_str().unwrap(),
+        "--tool-table-units",
+        "in",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let last = v["contours"].as_array().unwrap().last().unwrap().clone();
+    let z = last["segments"][0]["p"][1].as_f64().unwrap();
+    assert!((z - (10.0 + 12.7 * 25.4)).abs() < 1e-9, "{z}");
+    let o = run(&["--tool-table-units", "in"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    // Without the table, H1 is an unknown tool.
+    let o = run(&[]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        stderr(&o).contains("pvtc::gcode::unknown_tool"),
+        "{}",
+        stderr(&o)
+    );
+    // A bad word names its line and is labelled.
+    std::fs::write(&table, "T1 Z1\nT2 Z1.x\n").unwrap();
+    let o = run(&["--tool-table", table.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = stderr(&o);
+    assert!(err.contains("pvtc::tool_table::syntax"), "{err}");
+    assert!(err.contains("line 2: `Z1.x`"), "{err}");
+    assert!(o.stdout.is_empty());
+    let missing = dir.path().join("missing.tbl");
+    let o = run(&["--tool-table", missing.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
 }

@@ -111,7 +111,7 @@ fn repeated_errors_are_grouped_too_and_a_single_one_is_not() {
     let input = dir.path().join("bad.ngc");
     std::fs::write(
         &input,
-        "G21\nG1 X1 Q1 F100\nG1 X2 Q2\nG1 X3 Q3\nG1 X4 Y4 Y5\n",
+        "G21\nG1 X1 E1 F100\nG1 X2 E2\nG1 X3 E3\nG1 X4 Y4 Y5\n",
     )
     .unwrap();
     let o = pvtc(&["compile", input.to_str().unwrap(), "--diagnostics", "json"]);
@@ -190,7 +190,7 @@ fn a_batch_prints_each_files_diagnostics_under_its_name_and_a_summary() {
     std::fs::write(inputs.join("b_good.ngc"), "G21 G90\nG1 X1 F100\n").unwrap();
     std::fs::write(
         inputs.join("c_bad.ngc"),
-        "G21 G90\nG1 X1 Y1 F100\nG1 X2 Q7 Y2\nG1 X3 Y3 Q3\n",
+        "G21 G90\nG1 X1 Y1 F100\nG1 X2 E7 Y2\nG1 X3 Y3 E3\n",
     )
     .unwrap();
     let out = dir.path().join("out");
@@ -215,10 +215,10 @@ fn a_batch_prints_each_files_diagnostics_under_its_name_and_a_summary() {
     // So are the errors, with the lines of both places.
     let errors = &err[bad..];
     assert!(
-        errors.contains("│ G1 X2 Q7 Y2") && errors.contains("at lines 3, 4"),
+        errors.contains("│ G1 X2 E7 Y2") && errors.contains("at lines 3, 4"),
         "{err}"
     );
-    // Q7 and Q3 read differently: the first message, and how many more like it.
+    // E7 and E3 read differently: the first message, and how many more like it.
     assert!(errors.contains("(and 1 more like it)"), "{err}");
     assert!(
         err.trim_end()

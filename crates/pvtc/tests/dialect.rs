@@ -12,9 +12,11 @@
 //! zero-length straight moves, which pvtc drops with a warning.
 //!
 //! Sidecar files next to `NAME.ngc`: `NAME.tbl`, a tool table (rs274 `-t`, pvtc
-//! `--tool-table`); `NAME.ini`, an ini file for rs274 (`-i`); `NAME.args`, extra pvtc
-//! arguments, one per line. Without rs274 (Debian package linuxcnc-uspace) each test says
-//! SKIPPED; with `PVTC_REQUIRE_RS274=1` (set by `.ci/run`) it fails instead.
+//! `--tool-table`); `NAME.ini`, an ini file for rs274 (`-i`, rs274 then runs in the
+//! program's folder, so that a relative SUBROUTINE_PATH names a folder beside it);
+//! `NAME.args`, extra pvtc arguments, one per line (pvtc runs in the program's
+//! folder). Without rs274 (Debian package linuxcnc-uspace) each test says SKIPPED;
+//! with `PVTC_REQUIRE_RS274=1` (set by `.ci/run`) it fails instead.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -83,6 +85,7 @@ fn sidecar(program: &Path, extension: &str) -> Option<PathBuf> {
 fn rs274_moves(rs274: &str, program: &Path) -> Result<Vec<Move>, String> {
     static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
     let _turn = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let _machine_turn = MachineTurn::take();
     let mut tries = 0;
     loop {
         let run = rs274_once(rs274, program);
@@ -98,7 +101,42 @@ fn rs274_moves(rs274: &str, program: &Path) -> Result<Vec<Move>, String> {
     }
 }
 
-/// An rs274 run that a signal ended.
+/// A turn among every process on this machine that runs rs274 (other test binaries,
+/// other checkouts): rs274 keeps its tool table in shared memory, so a run beside another
+/// can find the other's table ("Requested tool 1 not found"). The turn is a directory
+/// created atomically; one older than 30 s is taken as left behind by a killed process.
+struct MachineTurn(Option<PathBuf>);
+
+impl MachineTurn {
+    fn take() -> MachineTurn {
+        let path = std::env::temp_dir().join("pvtc-rs274-turn");
+        for _ in 0..1200 {
+            if std::fs::create_dir(&path).is_ok() {
+                return MachineTurn(Some(path));
+            }
+            let age = std::fs::metadata(&path)
+                .and_then(|m| m.modified())
+                .map(|t| t.elapsed().unwrap_or_default());
+            if age.is_ok_and(|age| age > std::time::Duration::from_secs(30)) {
+                let _ = std::fs::remove_dir(&path);
+                continue;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(25));
+        }
+        // Waited 30 s: run without the turn (a failure then says what rs274 said).
+        MachineTurn(None)
+    }
+}
+
+impl Drop for MachineTurn {
+    fn drop(&mut self) {
+        if let Some(path) = &self.0 {
+            let _ = std::fs::remove_dir(path);
+        }
+    }
+}
+
+/// An rs274 run that a signal ended, or that lost its tool table to another run.
 struct Killed(String);
 
 fn rs274_once(rs274: &str, program: &Path) -> Result<Result<Vec<Move>, String>, Killed> {
@@ -108,14 +146,18 @@ fn rs274_once(rs274: &str, program: &Path) -> Result<Result<Vec<Move>, String>, 
     if let Some(table) = sidecar(program, "tbl") {
         command.arg("-t").arg(table);
     }
+    // With an ini, rs274 runs in the program's folder: a relative SUBROUTINE_PATH
+    // there is relative to the folder (pvtc's `.args` too: pvtc runs there).
+    let mut cwd = dir.path().to_path_buf();
     if let Some(ini) = sidecar(program, "ini") {
         command.arg("-i").arg(ini);
+        cwd = program.parent().expect("a folder").to_path_buf();
     }
     let output = command
         .arg("-g")
         .arg(program)
         .arg(&out)
-        .current_dir(dir.path())
+        .current_dir(cwd)
         .stdin(Stdio::null())
         .output()
         .expect("rs274 runs");
@@ -127,6 +169,12 @@ fn rs274_once(rs274: &str, program: &Path) -> Result<Result<Vec<Move>, String>, 
         String::from_utf8_lossy(&output.stderr)
     );
     if output.status.code().is_none() {
+        return Err(Killed(failure));
+    }
+    let lost_table = String::from_utf8_lossy(&output.stderr)
+        .contains("not found in the tool table")
+        || String::from_utf8_lossy(&output.stdout).contains("not found in the tool table");
+    if !output.status.success() && lost_table && sidecar(program, "tbl").is_some() {
         return Err(Killed(failure));
     }
     if !output.status.success() {
@@ -299,6 +347,7 @@ fn pvtc_moves(program: &Path) -> Result<Vec<Move>, String> {
         .arg("compile")
         .arg(program)
         .args(["--format", "toolpath"])
+        .current_dir(program.parent().expect("a folder"))
         .env("NO_COLOR", "1");
     if let Some(table) = sidecar(program, "tbl") {
         command.arg("--tool-table").arg(table);
@@ -584,6 +633,22 @@ mod generated {
         Feed(f64),
         Dwell(f64),
         Offset([f64; 2]),
+        /// A canned cycle then G80: the code (G73 G81 G82 G83 G85 G89), G99, the hole
+        /// (absolute, or the step under G91), R from the start, the depth, Q, L.
+        Cycle {
+            code: usize,
+            to_r: bool,
+            hole: [f64; 2],
+            r: f64,
+            depth: f64,
+            q: f64,
+            repeats: u32,
+        },
+        /// A G1 to polar `@` radius, `^` angle (degrees), in G17.
+        Polar {
+            radius: f64,
+            angle: f64,
+        },
     }
 
     fn step() -> impl Strategy<Value = Step> {
@@ -607,6 +672,21 @@ mod generated {
             1 => (1u32..3000).prop_map(|f| Step::Feed(f64::from(f))),
             1 => (1u32..20).prop_map(|p| Step::Dwell(f64::from(p) / 4.0)),
             1 => [coordinate(), coordinate()].prop_map(Step::Offset),
+            2 => (0usize..6, any::<bool>(), [coordinate(), coordinate()], 0u32..150, 1u32..200, 5u32..80, 1u32..4)
+                .prop_map(|(code, to_r, hole, r, depth, q, repeats)| Step::Cycle {
+                    code,
+                    to_r,
+                    hole,
+                    // Never 0: R must not round onto the start level.
+                    r: f64::from(r) / 10.0 - 4.95,
+                    depth: f64::from(depth) / 10.0,
+                    q: f64::from(q) / 10.0,
+                    repeats,
+                }),
+            1 => (1u32..500, -360i32..360).prop_map(|(r, a)| Step::Polar {
+                radius: f64::from(r) / 10.0,
+                angle: f64::from(a),
+            }),
         ]
     }
 
@@ -687,6 +767,56 @@ mod generated {
                     at[0] = *x;
                     at[1] = *y;
                 }
+                Step::Cycle {
+                    code,
+                    to_r,
+                    hole,
+                    r,
+                    depth,
+                    q,
+                    repeats,
+                } => {
+                    // Drilling along the plane's normal: Z in G17, Y in G18, X in G19.
+                    let (a, b, n) = [(0, 1, 2), (2, 0, 1), (1, 2, 0)][plane];
+                    let name = ["G73", "G81", "G82", "G83", "G85", "G89"][*code];
+                    let retract = if *to_r { "G99" } else { "G98" };
+                    let level = at[n] + r;
+                    let (first, second, r_word, bottom_word, count) = if incremental {
+                        (hole[0], hole[1], *r, -depth, *repeats)
+                    } else {
+                        (hole[0], hole[1], level, level - depth, 1)
+                    };
+                    text.push_str(&format!(
+                        "{retract} {name} {}{first:.4} {}{second:.4} {}{bottom_word:.4} R{r_word:.4}",
+                        words[a], words[b], words[n]
+                    ));
+                    match name {
+                        "G73" | "G83" => text.push_str(&format!(" Q{q:.4}")),
+                        "G82" | "G89" => text.push_str(" P0.25"),
+                        _ => {}
+                    }
+                    if incremental {
+                        text.push_str(&format!(" L{count}"));
+                    }
+                    text.push_str("\nG80\n");
+                    if incremental {
+                        at[a] += first * f64::from(count);
+                        at[b] += second * f64::from(count);
+                    } else {
+                        at[a] = first;
+                        at[b] = second;
+                    }
+                    // G98 ends at the start level, or R when the start is below it.
+                    at[n] = if *to_r { level } else { at[n].max(level) };
+                }
+                Step::Polar { radius, angle } => {
+                    if plane == 0 && !incremental {
+                        text.push_str(&format!("G1 @{radius:.4} ^{angle:.4}\n"));
+                        let rad = angle.to_radians();
+                        at[0] = radius * libm::cos(rad);
+                        at[1] = radius * libm::sin(rad);
+                    }
+                }
             }
         }
         text.push_str("M2\n");
@@ -743,4 +873,133 @@ fn corpus_programs_move_as_rs274_moves() {
         .filter_map(|name| compare(rs274, &dir.join(name)).err())
         .collect();
     assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+}
+
+/// Random O-word programs: conditionals, counted and conditional loops with `continue`,
+/// and calls of a subroutine, nested, over moves that read `#<_x>` and a parameter.
+/// (`break` is left to `tests/dialect/oword_while_nested.ngc`: in rs274, a `break` of a
+/// `while` makes every later `do` loop run once, a quirk pvtc does not copy.)
+mod generated_control_flow {
+    use super::*;
+    use proptest::prelude::*;
+
+    #[derive(Debug, Clone)]
+    enum Node {
+        /// `G1` by (dx, dy) tenths from the position read through `#<_x>`, `#<_y>`.
+        Move(i32, i32),
+        /// `#<v> = [#<v> + k]`.
+        Add(i32),
+        /// `o<step> call [arg]`: a relative step of (arg, arg / 2).
+        Call(i32),
+        If(i32, Vec<Node>, Vec<Node>),
+        Repeat(u32, Vec<Node>),
+        /// Runs `times` times, skipping the rest of its body after `skip_after` iterations.
+        While(u32, Option<u32>, Vec<Node>),
+        DoWhile(u32, Vec<Node>),
+    }
+
+    fn node() -> impl Strategy<Value = Node> {
+        let leaf = prop_oneof![
+            3 => (-30i32..30, -30i32..30).prop_map(|(dx, dy)| Node::Move(dx, dy)),
+            1 => (-3i32..4).prop_map(Node::Add),
+            1 => (-20i32..20).prop_map(Node::Call),
+        ];
+        leaf.prop_recursive(3, 24, 4, |inner| {
+            let body = prop::collection::vec(inner.clone(), 1..4);
+            prop_oneof![
+                (-3i32..4, body.clone(), prop::collection::vec(inner, 0..3))
+                    .prop_map(|(limit, then, otherwise)| Node::If(limit, then, otherwise)),
+                (0u32..3, body.clone()).prop_map(|(times, body)| Node::Repeat(times, body)),
+                (0u32..3, prop::option::of(0u32..3), body.clone())
+                    .prop_map(|(times, at, body)| Node::While(times, at, body)),
+                (1u32..3, body).prop_map(|(times, body)| Node::DoWhile(times, body)),
+            ]
+        })
+    }
+
+    fn render(nodes: &[Node], labels: &mut u32, text: &mut String) {
+        for node in nodes {
+            let mut label = || {
+                *labels += 1;
+                *labels
+            };
+            match node {
+                Node::Move(dx, dy) => text.push_str(&format!(
+                    "G1 X[#<_x> + {}] Y[#<_y> + {} + #<v> / 10]\n",
+                    f64::from(*dx) / 10.0,
+                    f64::from(*dy) / 10.0
+                )),
+                Node::Add(k) => text.push_str(&format!("#<v> = [#<v> + {k}]\n")),
+                Node::Call(arg) => {
+                    text.push_str(&format!("o<step> call [{}]\n", f64::from(*arg) / 10.0))
+                }
+                Node::If(limit, then, otherwise) => {
+                    let l = label();
+                    text.push_str(&format!("o{l} if [#<v> GT {limit}]\n"));
+                    render(then, labels, text);
+                    if !otherwise.is_empty() {
+                        text.push_str(&format!("o{l} else\n"));
+                        render(otherwise, labels, text);
+                    }
+                    text.push_str(&format!("o{l} endif\n"));
+                }
+                Node::Repeat(times, body) => {
+                    let l = label();
+                    text.push_str(&format!("o{l} repeat [{times}]\n"));
+                    render(body, labels, text);
+                    text.push_str(&format!("o{l} endrepeat\n"));
+                }
+                Node::While(times, at, body) => {
+                    let l = label();
+                    text.push_str(&format!("#<w{l}> = 0\no{l} while [#<w{l}> LT {times}]\n"));
+                    text.push_str(&format!("#<w{l}> = [#<w{l}> + 1]\n"));
+                    if let Some(at) = at {
+                        let b = label();
+                        text.push_str(&format!(
+                            "o{b} if [#<w{l}> GT {at}]\no{l} continue\no{b} endif\n"
+                        ));
+                    }
+                    render(body, labels, text);
+                    text.push_str(&format!("o{l} endwhile\n"));
+                }
+                Node::DoWhile(times, body) => {
+                    let l = label();
+                    text.push_str(&format!("#<w{l}> = 0\no{l} do\n#<w{l}> = [#<w{l}> + 1]\n"));
+                    render(body, labels, text);
+                    text.push_str(&format!("o{l} while [#<w{l}> LT {times}]\n"));
+                }
+            }
+        }
+    }
+
+    fn program(nodes: &[Node]) -> String {
+        let mut text = String::from(
+            "G21 G90 G17 G94 F300\nG1 X1 Y1\n#<v> = 0\n\
+             o<step> sub\nG91 G1 X#1 Y[#1 / 2]\nG90\no<step> endsub\n",
+        );
+        render(nodes, &mut 0, &mut text);
+        text.push_str("M2\n");
+        text
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 32, ..ProptestConfig::default() })]
+
+        #[test]
+        fn random_control_flow_moves_as_rs274_moves(nodes in prop::collection::vec(node(), 1..6)) {
+            let rs274 = match rs274() {
+                Ok(rs274) => rs274,
+                Err(why) => {
+                    eprintln!("SKIPPED: {why}");
+                    return Ok(());
+                }
+            };
+            let dir = tempfile::tempdir().expect("temporary directory");
+            let path = dir.path().join("random.ngc");
+            let text = program(&nodes);
+            std::fs::write(&path, &text).expect("written");
+            let compared = compare(rs274, &path);
+            prop_assert!(compared.is_ok(), "{}\n{}", text, compared.unwrap_err());
+        }
+    }
 }

@@ -13,7 +13,7 @@ use pvt_core::{
 use super::{Feed, Interpreter};
 use crate::arcs::{self, ArcProblem, ArcTolerance};
 use crate::block::{cover, Block, Word};
-use crate::codes::{Distance, FeedMode, MotionMode, NonModal, PathMode};
+use crate::codes::{Distance, FeedMode, MotionMode, NonModal, PathMode, ToolLength};
 use crate::diagnostic::{span, GcodeDiagnostic};
 use crate::request::Request;
 
@@ -35,7 +35,20 @@ impl Interpreter<'_> {
 
     /// The block's move in the motion mode in effect.
     pub(super) fn run_motion(&mut self, request: &Request, block: &Block) {
-        let offsets_use_axes = matches!(request.non_modal, Some((NonModal::SetOffset, _)));
+        let offsets_use_axes = matches!(
+            request.non_modal,
+            Some((
+                NonModal::SetOffset
+                    | NonModal::Home(_)
+                    | NonModal::SetHome(_)
+                    | NonModal::SetTable
+                    | NonModal::LocalOffset,
+                _
+            ))
+        ) || matches!(
+            request.tool_length,
+            Some((ToolLength::Dynamic | ToolLength::Add, _))
+        );
         if request.no_move || offsets_use_axes {
             return;
         }
@@ -50,6 +63,11 @@ impl Interpreter<'_> {
                 }
             }
             Some(MotionMode::Unsupported) => {}
+            Some(MotionMode::Cycle(cycle)) => {
+                if has_axes {
+                    self.cycle_move(cycle, request, block);
+                }
+            }
             Some(mode @ (MotionMode::Rapid | MotionMode::Linear)) => {
                 self.reject_arc_words(request, mode.name());
                 if has_axes {
@@ -85,7 +103,7 @@ impl Interpreter<'_> {
     }
 
     /// The end position of the block's move: machine coordinates, output units.
-    fn target(&self, request: &Request) -> Result<Position, GcodeDiagnostic> {
+    pub(super) fn target(&self, request: &Request) -> Result<Position, GcodeDiagnostic> {
         const WHAT: [&str; 6] = [
             "X coordinate",
             "Y coordinate",
@@ -111,12 +129,62 @@ impl Interpreter<'_> {
                 return Err(out_of_range(WHAT[i], end[i], word.span()));
             }
         }
+        if request.polar.iter().any(Option::is_some) {
+            self.polar_target(request, machine, &mut end)?;
+        }
         Ok(end)
+    }
+
+    /// `@` radius and `^` angle (degrees) from the program origin in the XY plane, set
+    /// as LinuxCNC does: under G91 added to the current radius and angle.
+    fn polar_target(
+        &self,
+        request: &Request,
+        machine: bool,
+        end: &mut Position,
+    ) -> Result<(), GcodeDiagnostic> {
+        let first = request.polar.iter().flatten().next().copied();
+        let at = first.map_or(0..0, |w| w.span());
+        let refuse = |detail: &'static str| GcodeDiagnostic::BadValue {
+            word: first.map_or_else(String::new, |w| w.name()),
+            expected: detail,
+            span: span(at.clone()),
+        };
+        if request.axes[0].is_some() || request.axes[1].is_some() {
+            return Err(refuse(
+                "polar words (@, ^) replace X and Y; give one or the other",
+            ));
+        }
+        if self.modal.plane != Plane::XY || machine {
+            return Err(refuse("polar words (@, ^) work in G17 without G53"));
+        }
+        let scale = self.scale();
+        let x = (self.position[0] - self.offset(0)) / scale;
+        let y = (self.position[1] - self.offset(1)) / scale;
+        let (mut radius, mut angle) = (libm::hypot(x, y), libm::atan2(y, x));
+        let [r_word, a_word] = request.polar.map(|w| w.map(|w| w.value));
+        match self.modal.distance {
+            Distance::Absolute => {
+                radius = r_word.unwrap_or(radius);
+                angle = a_word.map_or(angle, f64::to_radians);
+            }
+            Distance::Incremental => {
+                radius += r_word.unwrap_or(0.0);
+                angle += a_word.map_or(0.0, f64::to_radians);
+            }
+        }
+        end[0] = radius * libm::cos(angle) * scale + self.offset(0);
+        end[1] = radius * libm::sin(angle) * scale + self.offset(1);
+        if end[0].is_finite() && end[1].is_finite() {
+            Ok(())
+        } else {
+            Err(out_of_range("X coordinate", end[0], at))
+        }
     }
 
     /// The feed of a feed move, units per second; `None` (reported) when there is none.
     /// The move's `length` is measured only under G93, the one mode that needs it.
-    fn feed_rate(
+    pub(super) fn feed_rate(
         &mut self,
         request: &Request,
         block: &Block,
@@ -178,7 +246,7 @@ impl Interpreter<'_> {
     }
 
     /// The rapid rate, units per second.
-    fn rapid_rate(&self) -> f64 {
+    pub(super) fn rapid_rate(&self) -> f64 {
         let per_minute = match self.options.rapid {
             Some(rapid) if rapid > 0.0 && rapid.is_finite() => rapid,
             _ => self.output().from_mm(crate::DEFAULT_RAPID_MM_PER_MIN),
@@ -209,6 +277,25 @@ impl Interpreter<'_> {
                 Motion::Feed => GcodeDiagnostic::ZeroLengthMove { span },
             });
         }
+        let element = Element {
+            kind: ElementKind::Line,
+            start,
+            end,
+            feed,
+            span: element_span(block),
+        };
+        self.emit(motion, &element);
+    }
+
+    /// A straight move from `start` to `end` (not equal) at `feed` units per second.
+    pub(super) fn straight(
+        &mut self,
+        motion: Motion,
+        start: Position,
+        end: Position,
+        feed: f64,
+        block: &Block,
+    ) {
         let element = Element {
             kind: ElementKind::Line,
             start,

@@ -42,8 +42,11 @@ fn accepts(production: &str, text: &str) -> Option<bool> {
             SourceLines::new(text).all(|l| parse_line(l, &mut Block::default(), &params()).is_ok())
         }
         "newline" => full(newline(text)),
-        "line" => parse(text).is_ok(),
+        "line" => {
+            matches!(crate::oword::parse_control(text, 0), Some(Ok(_))) || parse(text).is_ok()
+        }
         "percent_line" => full(percent_line(text)),
+        "control_line" => matches!(crate::oword::parse_control(text, 0), Some(Ok(_))),
         "block" => matches!(
             parse_line(line(text), &mut Block::default(), &params()),
             Ok(LineKind::Block)
@@ -135,7 +138,7 @@ fn grammar_file_examples() {
     }
     assert_eq!(
         examples.len(),
-        22,
+        23,
         "every parser in the table has a production: {examples:?}"
     );
 }
@@ -180,7 +183,8 @@ fn malformed_text_is_located() {
     assert_eq!(error("G1 X"), ("pvtc::gcode::syntax", 3..4));
     assert_eq!(error("G1 X1e3"), ("pvtc::gcode::syntax", 5..7));
     assert_eq!(error("G1 (open"), ("pvtc::gcode::syntax", 3..8));
-    assert_eq!(error("G1 @"), ("pvtc::gcode::unknown_word", 3..4));
+    assert_eq!(error("G1 ~"), ("pvtc::gcode::unknown_word", 3..4));
+    assert_eq!(error("G1 @"), ("pvtc::gcode::syntax", 3..4));
     assert_eq!(error("G1 é"), ("pvtc::gcode::unknown_word", 3..5));
     assert_eq!(
         error("G1 X#<nope>"),
@@ -192,7 +196,7 @@ fn malformed_text_is_located() {
     assert_eq!(error("G1 X[SQRT[-1]]"), ("pvtc::gcode::math_error", 5..13));
     assert_eq!(error("G1 X#0"), ("pvtc::gcode::out_of_range", 4..6));
     assert_eq!(error("G1 X1 *1"), ("pvtc::gcode::checksum_mismatch", 6..8));
-    assert_eq!(error("o100 sub"), ("pvtc::gcode::unsupported", 0..8));
+    assert_eq!(error("o100 sub"), ("pvtc::gcode::oword", 0..8));
     assert_eq!(
         error("G92 Z[25.0 - #<_hal[plasmac.float-switch-travel]>]"),
         ("pvtc::gcode::unsupported", 13..49)
@@ -305,7 +309,7 @@ fn messages_checksums_and_program_numbers() {
     assert!(parse("N1 G1 X1*96").is_ok());
     let o = parse("O1001 (part)").unwrap();
     assert_eq!(o.words[0].letter, b'O');
-    assert_eq!(error("O1 G1 X1").0, "pvtc::gcode::unsupported");
+    assert_eq!(error("O1 G1 X1").0, "pvtc::gcode::oword");
 }
 
 #[test]
