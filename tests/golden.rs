@@ -16,6 +16,7 @@ use std::path::Path;
 use pvt_core::{Planner, PvtProgram};
 use pvt_emit::Format;
 use pvtc::{CompileOptions, Source};
+use pvtc_tests::ebnf::Grammar;
 use pvtc_tests::{close, compile_file, reference, root, samples};
 
 /// `samples/KIND/STEM.EXT` → `tests/golden/KIND/STEM.FORMAT_EXT`.
@@ -354,139 +355,82 @@ fn step_is_one_rest_to_rest_move_at_the_feed() {
     assert!(close(c.durations[0], 1.5 * 5000.0 / 20_000.0, 1e-15, 0.0));
 }
 
-/// `digits "." n*digit`, optionally signed; never a negative zero.
-fn is_fixed(text: &str, decimals: usize, signed: bool) -> bool {
-    let body = match text.strip_prefix('-') {
-        Some(rest) if signed => {
-            if rest.bytes().all(|b| b == b'0' || b == b'.') {
-                return false;
-            }
-            rest
-        }
-        _ => text,
-    };
-    match body.split_once('.') {
-        Some((int, frac)) => {
-            !int.is_empty()
-                && int.bytes().all(|b| b.is_ascii_digit())
-                && frac.len() == decimals
-                && frac.bytes().all(|b| b.is_ascii_digit())
-        }
-        None => false,
-    }
+/// The limits grammars/pmac.ebnf states in comments, which EBNF cannot: every time
+/// (`time_ms` of a `PVT` or `TA`) above 0 and at most 4095 ms, no `fixed6` a negative
+/// zero. Only called on a line the grammar accepts.
+fn pmac_values_in_range(line: &str) -> bool {
+    let time = line
+        .strip_prefix("PVT")
+        .or_else(|| line.strip_prefix("TA").and_then(|r| r.split(' ').next()));
+    let time_ok = time.is_none_or(|t| t.parse().is_ok_and(|ms: f64| ms > 0.0 && ms <= 4095.0));
+    let negative_zero = line.starts_with("TA")
+        && line
+            .split([' ', ':'])
+            .filter_map(|w| {
+                w.trim_start_matches(|c: char| c.is_ascii_uppercase())
+                    .strip_prefix('-')
+            })
+            .any(|digits| digits.bytes().all(|b| b == b'0' || b == b'.'));
+    time_ok && !negative_zero
 }
 
-/// One line of the body of a PMAC program, checked against grammars/pmac.ebnf.
-fn pmac_line_matches_grammar(line: &str) -> bool {
-    if line.starts_with(';') || line == "ABS" || line == "CLOSE" {
-        return true;
-    }
-    if let Some(n) = line
-        .strip_prefix("OPEN PROG ")
-        .and_then(|r| r.strip_suffix(" CLEAR"))
-    {
-        return !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit());
-    }
-    // A piece time: milliseconds, > 0 and at most 4095.
-    let piece_time =
-        |t: &str| is_fixed(t, 4, false) && t.parse().is_ok_and(|ms: f64| ms > 0.0 && ms <= 4095.0);
-    if let Some(t) = line.strip_prefix("PVT") {
-        return piece_time(t);
-    }
-    let integer = |n: &str| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit());
-    // coord_line and axis_def_line: "&2", "#1->1000X".
-    if let Some(n) = line.strip_prefix('&') {
-        return integer(n);
-    }
-    if let Some((motor, def)) = line.strip_prefix('#').and_then(|r| r.split_once("->")) {
-        let Some((scale, axis)) = def.split_at_checked(def.len().saturating_sub(1)) else {
-            return false;
-        };
-        let scale_ok = scale
-            .split_once('.')
-            .map_or(integer(scale), |(i, f)| integer(i) && integer(f));
-        return integer(motor) && scale_ok && "XYZABC".contains(axis) && !axis.is_empty();
-    }
-    // event_line: a command, " ; ", the event's name and line.
-    if let Some((command, origin)) = line.split_once(" ; ") {
-        let origin_ok = origin.split_once(" from line ").is_some_and(|(name, n)| {
-            !name.is_empty()
-                && name.bytes().all(|b| b.is_ascii_lowercase() || b == b'_')
-                && integer(n)
-        });
-        let command_ok = [
-            "M01", "M03", "M04", "M05", "M06", "M07", "M08", "M09", "STOP",
-        ]
-        .contains(&command)
-            || command.strip_prefix('T').is_some_and(integer)
-            || command
-                .strip_prefix('S')
-                .is_some_and(|v| v.parse::<f64>().is_ok_and(|v| v >= 0.0) && !v.contains('e'))
-            || command
-                .strip_prefix("SEND\"")
-                .and_then(|t| t.strip_suffix('"'))
-                .is_some_and(|t| !t.contains('"'));
-        if origin_ok && command_ok {
-            return true;
-        }
-    }
-    if let Some(rest) = line.strip_prefix("DWELL") {
-        return rest.split_once(" ; G4 from line ").is_some_and(|(t, n)| {
-            is_fixed(t, 4, false) && !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit())
-        });
-    }
-    let Some(rest) = line.strip_prefix("TA") else {
-        return false;
-    };
-    let mut words = rest.split(' ');
-    let time_ok = words.next().is_some_and(piece_time);
-    let mut count = 0;
-    for word in words {
-        count += 1;
-        let Some((axis, pv)) = word.split_at_checked(1) else {
-            return false;
-        };
-        let Some((p, v)) = pv.split_once(':') else {
-            return false;
-        };
-        if !"XYZABC".contains(axis) || !is_fixed(p, 6, true) || !is_fixed(v, 6, true) {
-            return false;
-        }
-    }
-    time_ok && count > 0
+/// The grammar of grammars/pmac.ebnf and the names of its line productions (`*_line`).
+fn pmac_grammar() -> (Grammar, Vec<String>) {
+    let text = std::fs::read_to_string(root().join("grammars/pmac.ebnf")).unwrap();
+    let grammar = Grammar::parse(&text).expect("grammars/pmac.ebnf reads");
+    let lines: Vec<String> = grammar
+        .productions
+        .keys()
+        .filter(|n| n.ends_with("_line"))
+        .cloned()
+        .collect();
+    assert!(lines.len() >= 5, "line productions: {lines:?}");
+    (grammar, lines)
+}
+
+/// One line of a PMAC program (without its line feed): some `*_line` production of
+/// grammars/pmac.ebnf, with its values in range.
+fn pmac_line_matches_grammar(grammar: &Grammar, lines: &[String], line: &str) -> bool {
+    let with_feed = format!("{line}\n");
+    lines.iter().any(|p| grammar.matches(p, &with_feed)) && pmac_values_in_range(line)
 }
 
 #[test]
 fn golden_pmac_files_follow_the_pmac_grammar() {
-    let grammar = std::fs::read_to_string(root().join("grammars/pmac.ebnf")).unwrap();
-    assert!(
-        grammar.contains("piece_line"),
-        "grammars/pmac.ebnf defines the piece line"
-    );
+    let (grammar, lines) = pmac_grammar();
     for sample in samples("gcode", ".ngc")
         .into_iter()
         .chain(samples("dxf", ".dxf"))
     {
         let path = root().join(golden_name(&sample, Format::Pmac));
         let text = std::fs::read_to_string(&path).unwrap();
-        assert!(text.ends_with("CLOSE\n"));
         for (i, line) in text.lines().enumerate() {
             assert!(
-                pmac_line_matches_grammar(line),
+                pmac_line_matches_grammar(&grammar, &lines, line),
                 "{}:{}: {line:?}",
                 path.display(),
                 i + 1
             );
         }
+        // The lines in the order the grammar gives them.
+        assert!(
+            grammar.matches("program", &text),
+            "{} is not a `program` of grammars/pmac.ebnf",
+            path.display()
+        );
     }
-    // The checker itself rejects what the grammar excludes.
+    // The check rejects what the grammar (or its stated limits) excludes.
     for bad in [
         "TA1.0000 X-0.000000:1.000000",
         "TA1.000 X1.000000:0.000000",
         "TA1.0000",
         "TA4095.0001 X1.000000:0.000000",
         "PVT4096.0000",
+        "PVT0.0000",
         "X1.000000:0.000000 TA1.0000",
+        "TA1.0000 W1.000000:0.000000",
+        "DWELL1.0000",
+        "OPEN PROG CLEAR",
         "&",
         "#1->X",
         "#1->1000Q",
@@ -495,8 +439,17 @@ fn golden_pmac_files_follow_the_pmac_grammar() {
         "SEND\"a\"b\" ; message from line 2",
         "M03 ; spindle_cw",
     ] {
-        assert!(!pmac_line_matches_grammar(bad), "{bad}");
+        assert!(!pmac_line_matches_grammar(&grammar, &lines, bad), "{bad}");
     }
+    for good in [
+        "TA1.0000 X-1.000000:0.000000 Y0.000000:0.000000",
+        "; any text",
+    ] {
+        assert!(pmac_line_matches_grammar(&grammar, &lines, good), "{good}");
+    }
+    // A program out of order is not one.
+    assert!(!grammar.matches("program", "ABS\nOPEN PROG 1 CLEAR\nPVT1.0000\nCLOSE\n"));
+    assert!(grammar.matches("program", "OPEN PROG 1 CLEAR\nABS\nPVT1.0000\nCLOSE\n"));
 }
 
 /// PMAC program settings and event commands: every line follows grammars/pmac.ebnf,
@@ -518,9 +471,14 @@ fn pmac_settings_and_event_commands_follow_the_pmac_grammar() {
         events: pvt_emit::PmacEvents::Commands,
     };
     let out = String::from_utf8(pvtc::compile(&source, &options).unwrap().bytes).unwrap();
+    let (grammar, lines) = pmac_grammar();
     for line in out.lines() {
-        assert!(pmac_line_matches_grammar(line), "{line:?} in\n{out}");
+        assert!(
+            pmac_line_matches_grammar(&grammar, &lines, line),
+            "{line:?} in\n{out}"
+        );
     }
+    assert!(grammar.matches("program", &out), "not a `program`:\n{out}");
     let body: Vec<&str> = out.lines().filter(|l| !l.starts_with(';')).collect();
     let piece = |l: &&str| l.starts_with("TA");
     let first_piece = body.iter().position(piece).unwrap();

@@ -147,3 +147,193 @@ fn a_test_that_returns_early_says_it_skipped() {
         "tests that return early without saying SKIPPED: {silent:?}"
     );
 }
+
+/// Every `.rs` file under each member crate's `src/`, with its path from the root.
+fn crate_sources() -> Vec<(String, String)> {
+    member_crates()
+        .iter()
+        .flat_map(|c| rust_files(&root().join("crates").join(c).join("src")))
+        .map(|f| {
+            let name = f.strip_prefix(root()).unwrap().display().to_string();
+            (name, std::fs::read_to_string(&f).unwrap())
+        })
+        .collect()
+}
+
+#[test]
+fn line_and_column_are_computed_in_one_place() {
+    // What a function turning offsets into lines (or lines into offsets) is called or does.
+    const SIGNS: [&str; 6] = [
+        "fn line_col(",
+        "fn line_of(",
+        "fn line_range(",
+        "fn line_column(",
+        "b'\\n').count()",
+        "matches('\\n').count()",
+    ];
+    let mut found = Vec::new();
+    for (name, text) in crate_sources() {
+        if name == "crates/pvt-core/src/text.rs" {
+            continue;
+        }
+        for sign in SIGNS {
+            if text.contains(sign) {
+                found.push(format!("{name}: {sign}"));
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "line/column arithmetic outside pvt-core's text.rs (call pvt_core::text): {found:?}"
+    );
+}
+
+/// The part of a source file that is not test code: nothing from its `#[cfg(test)]` on,
+/// and nothing of a file that is a test module (`tests.rs`, `*_tests.rs`).
+fn non_test_code<'a>(name: &str, text: &'a str) -> &'a str {
+    if name.ends_with("/tests.rs") || name.ends_with("_tests.rs") {
+        return "";
+    }
+    text.split("#[cfg(test)]").next().unwrap_or("")
+}
+
+#[test]
+fn every_default_is_defined_once_in_pvt_core() {
+    const HOME: &str = "crates/pvt-core/src/defaults.rs";
+    let mut rapid = Vec::new();
+    let mut elsewhere = Vec::new();
+    for (name, text) in crate_sources() {
+        let code = non_test_code(&name, &text);
+        for (i, line) in code.lines().enumerate() {
+            if line.contains("5000.0") || line.contains("5_000.0") {
+                rapid.push(format!("{name}:{}", i + 1));
+            }
+            // A default given its own number (not a name from pvt_core::defaults).
+            let t = line.trim_start();
+            let defines = (t.starts_with("pub const DEFAULT") || t.starts_with("const DEFAULT"))
+                && t.split('=').nth(1).is_some_and(|v| {
+                    v.trim_start()
+                        .starts_with(|c: char| c.is_ascii_digit() || c == '-')
+                });
+            if defines && name != HOME {
+                elsewhere.push(format!("{name}:{}", i + 1));
+            }
+        }
+    }
+    assert!(
+        rapid.len() == 1 && rapid[0].starts_with(HOME),
+        "the 5000 mm/min rapid default is written once, in {HOME}: {rapid:?}"
+    );
+    assert!(
+        elsewhere.is_empty(),
+        "defaults defined outside {HOME}: {elsewhere:?}"
+    );
+}
+
+/// The pvtc modules each pvtc module names: `use crate::a::…`, `use crate::{a, b…}` and
+/// `crate::a::` paths in code (comments and test modules left out); the crate root is
+/// not a module here.
+fn pvtc_module_graph() -> std::collections::BTreeMap<String, Vec<String>> {
+    let src = root().join("crates/pvtc/src");
+    let modules: Vec<String> = rust_files(&src)
+        .iter()
+        .filter(|f| f.parent() == Some(src.as_path()))
+        .filter_map(|f| f.file_stem().map(|s| s.to_string_lossy().into_owned()))
+        .filter(|m| m != "lib" && m != "main")
+        .collect();
+    let mut graph = std::collections::BTreeMap::new();
+    for m in &modules {
+        let text = std::fs::read_to_string(src.join(format!("{m}.rs"))).unwrap();
+        let code: String = non_test_code(m, &text)
+            .lines()
+            .map(|l| l.split("//").next().unwrap_or(""))
+            .collect::<Vec<_>>()
+            .join("\n");
+        let mut named = Vec::new();
+        for (i, _) in code.match_indices("crate::") {
+            let rest = &code[i + "crate::".len()..];
+            let names: Vec<&str> = if let Some(group) = rest.strip_prefix('{') {
+                // `use crate::{a, b::c}`: the first word of each item.
+                let group = group.split('}').next().unwrap_or("");
+                group.split(',').map(|item| item.trim()).collect()
+            } else {
+                vec![rest]
+            };
+            for name in names {
+                let word: String = name
+                    .chars()
+                    .take_while(|c| c.is_alphanumeric() || *c == '_')
+                    .collect();
+                if word != *m && modules.contains(&word) && !named.contains(&word) {
+                    named.push(word);
+                }
+            }
+        }
+        graph.insert(m.clone(), named);
+    }
+    graph
+}
+
+/// A cycle of `graph` as the modules along it, if there is one.
+fn find_cycle(graph: &std::collections::BTreeMap<String, Vec<String>>) -> Option<Vec<String>> {
+    fn visit(
+        m: &str,
+        graph: &std::collections::BTreeMap<String, Vec<String>>,
+        path: &mut Vec<String>,
+        done: &mut Vec<String>,
+    ) -> Option<Vec<String>> {
+        if let Some(at) = path.iter().position(|p| p == m) {
+            let mut cycle = path[at..].to_vec();
+            cycle.push(m.to_string());
+            return Some(cycle);
+        }
+        if done.iter().any(|d| d == m) {
+            return None;
+        }
+        path.push(m.to_string());
+        for next in graph.get(m).into_iter().flatten() {
+            if let Some(c) = visit(next, graph, path, done) {
+                return Some(c);
+            }
+        }
+        path.pop();
+        done.push(m.to_string());
+        None
+    }
+    let mut done = Vec::new();
+    graph
+        .keys()
+        .find_map(|m| visit(m, graph, &mut Vec::new(), &mut done))
+}
+
+#[test]
+fn the_cycle_finder_finds_cycles() {
+    let graph = |edges: &[(&str, &str)]| {
+        let mut g = std::collections::BTreeMap::<String, Vec<String>>::new();
+        for (a, b) in edges {
+            g.entry(a.to_string()).or_default().push(b.to_string());
+            g.entry(b.to_string()).or_default();
+        }
+        g
+    };
+    assert_eq!(
+        find_cycle(&graph(&[("a", "b"), ("b", "c"), ("a", "c")])),
+        None
+    );
+    assert_eq!(
+        find_cycle(&graph(&[("a", "b"), ("b", "c"), ("c", "a")])),
+        Some(vec!["a".into(), "b".into(), "c".into(), "a".into()])
+    );
+}
+
+#[test]
+fn pvtc_modules_import_each_other_without_a_cycle() {
+    let graph = pvtc_module_graph();
+    // The graph is read: the modules that carry the compile name their inputs.
+    assert!(
+        graph["pipeline"].contains(&"front".to_string()),
+        "{graph:?}"
+    );
+    assert!(graph["front"].contains(&"options".to_string()), "{graph:?}");
+    assert_eq!(find_cycle(&graph), None, "pvtc's module imports: {graph:?}");
+}

@@ -3,8 +3,9 @@
 //! The `dxf` crate panics on some malformed files (chrono date ranges, indexing).
 //! `pvt_dxf::read_drawing` catches those with `catch_unwind` and returns `pvtc::dxf::read`,
 //! exactly as the CLI does; libFuzzer's panic hook would abort before that catch runs, so
-//! this target lets a panic raised inside those crates unwind to it and keeps the abort
-//! for every other panic (ours, or an allocation failure in std), which stays a crash.
+//! this target lets a panic raised inside that one call (`pvt_dxf::panic_is_contained`)
+//! unwind to it and keeps the abort for every other panic (ours, or an allocation failure
+//! in std), which stays a crash.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
@@ -18,8 +19,7 @@ fn contain_third_party_panics() {
     CONTAIN.call_once(|| {
         let abort = std::panic::take_hook();
         std::panic::set_hook(Box::new(move |info| {
-            let file = info.location().map(|l| l.file()).unwrap_or("");
-            if !pvt_dxf::is_contained_panic(file) {
+            if !pvt_dxf::panic_is_contained() {
                 abort(info);
             }
         }));

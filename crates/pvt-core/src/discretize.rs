@@ -21,8 +21,8 @@ use crate::toolpath::{Arc, Contour, ElementKind};
 pub struct ChordTolerance(f64);
 
 impl ChordTolerance {
-    /// Default: 0.001 mm.
-    pub const DEFAULT_MM: f64 = 0.001;
+    /// Default, millimetres: [`crate::defaults::TOLERANCE_MM`].
+    pub const DEFAULT_MM: f64 = crate::defaults::TOLERANCE_MM;
 
     /// A tolerance; `None` unless it is finite and positive.
     pub fn new(value: f64) -> Option<ChordTolerance> {

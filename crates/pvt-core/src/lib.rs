@@ -4,7 +4,8 @@
 //! arc discretization by chord tolerance ([`discretize`]), the planners ([`plan`]) and the
 //! cubic Hermite evaluation a controller performs ([`hermite`]), long pieces cut along
 //! their own cubic for controllers with a largest piece time ([`split`]) and the check of
-//! a planned program against limits and its source ([`check`]).
+//! a planned program against limits and its source ([`check`]), line/column
+//! positions in source text ([`text`]) and every default value ([`defaults`]).
 //!
 //! Architecture invariants:
 //! - this crate does no I/O and knows no file format: front ends produce a [`Toolpath`],
@@ -15,6 +16,7 @@
 
 pub mod axis;
 pub mod check;
+pub mod defaults;
 pub mod discretize;
 pub mod hermite;
 pub mod plan;
@@ -22,6 +24,7 @@ pub mod polyline;
 pub mod program;
 pub mod split;
 pub mod stream;
+pub mod text;
 pub mod toolpath;
 pub mod vector;
 

@@ -186,7 +186,11 @@ fn diagnose(
     message: String,
     span: Range<usize>,
 ) -> CsvDiagnostic {
-    let (line, column) = line_col(source, span.start);
+    let (line, column) = pvt_core::text::line_col(source, span.start);
+    let (line, column) = (
+        u32::try_from(line).unwrap_or(u32::MAX),
+        u32::try_from(column).unwrap_or(u32::MAX),
+    );
     CsvDiagnostic {
         kind,
         message,
@@ -194,22 +198,6 @@ fn diagnose(
         column,
         span,
     }
-}
-
-/// The 1-based line and column (in characters) of a byte offset in the source.
-pub fn line_col(source: &str, offset: usize) -> (u32, u32) {
-    let mut offset = offset.min(source.len());
-    while !source.is_char_boundary(offset) {
-        offset -= 1;
-    }
-    let before = &source[..offset];
-    let line = 1 + before.bytes().filter(|&b| b == b'\n').count();
-    let start = before.rfind('\n').map_or(0, |i| i + 1);
-    let column = 1 + before[start..].chars().count();
-    (
-        u32::try_from(line).unwrap_or(u32::MAX),
-        u32::try_from(column).unwrap_or(u32::MAX),
-    )
 }
 
 /// The meaning of each header field; errors for unknown, repeated or missing columns.

@@ -112,6 +112,11 @@ fn header_errors() {
         vec![("pvtc::csv::missing_header", 2, 1)]
     );
     assert_eq!(codes("t,x,q\n"), vec![("pvtc::csv::unknown_column", 1, 5)]);
+    // A byte order mark is not a column (the same count as G-code's, pvt_core::text).
+    assert_eq!(
+        codes("\u{feff}t,x,q\n"),
+        vec![("pvtc::csv::unknown_column", 1, 5)]
+    );
     assert_eq!(
         codes("t,x,dt\n"),
         vec![("pvtc::csv::duplicate_column", 1, 5)]

@@ -58,14 +58,12 @@ use crate::entities::{is_imperial, mm_per_unit, Reader};
 use crate::geom::Affine;
 use crate::source::SourceMap;
 
-/// Default rapid rate, millimetres per minute.
-pub const DEFAULT_RAPID_MM_PER_MIN: f64 = 5000.0;
-/// Default [`DxfOptions::max_points`]. A drawing is read in memory, at roughly 400 bytes
-/// per point from file to output (10 million points took 4.2 GB), so this bounds the
-/// memory of a compile near 1 GB.
-pub const DEFAULT_MAX_POINTS: usize = 2_000_000;
+/// Default [`DxfOptions::max_points`] ([`pvt_core::defaults::DXF_MAX_POINTS`]).
+pub use pvt_core::defaults::DXF_MAX_POINTS as DEFAULT_MAX_POINTS;
 /// Default join tolerance, millimetres (raised to the chord tolerance if that is larger).
-pub const DEFAULT_JOIN_MM: f64 = 0.01;
+pub use pvt_core::defaults::JOIN_TOLERANCE_MM as DEFAULT_JOIN_MM;
+/// Default rapid rate, millimetres per minute.
+pub use pvt_core::defaults::RAPID_MM_PER_MIN as DEFAULT_RAPID_MM_PER_MIN;
 
 /// How to read a drawing.
 #[derive(Debug, Clone, PartialEq)]
@@ -328,20 +326,42 @@ fn check_options(o: &DxfOptions) -> Result<(), DxfError> {
     Ok(())
 }
 
-/// Source paths of the third-party crates whose panics [`read_drawing`] catches and turns
-/// into `pvtc::dxf::read` (the `dxf` parser and the date library it calls).
-const CONTAINED_PANIC_SOURCES: [&str; 4] = ["/dxf-", "/dxf/", "/chrono-", "/chrono/"];
+thread_local! {
+    /// True while this thread is inside the `dxf` crate's parse in [`load`].
+    static INSIDE_DXF_PARSE: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
 
-/// True when a panic raised at source file `file` comes from a crate whose panics this
-/// front end catches and reports as `pvtc::dxf::read`; a panic hook may stay quiet about
-/// those, and must treat any other as a bug.
-pub fn is_contained_panic(file: &str) -> bool {
-    CONTAINED_PANIC_SOURCES.iter().any(|s| file.contains(s))
+/// True while the current thread is inside the `dxf` crate's parse, whose panics
+/// [`read_drawing`] catches and reports as `pvtc::dxf::read`: a panic hook may stay
+/// quiet about a panic raised while this holds, and must treat any other as a bug.
+pub fn panic_is_contained() -> bool {
+    INSIDE_DXF_PARSE.with(std::cell::Cell::get)
+}
+
+/// Sets [`INSIDE_DXF_PARSE`] for its lifetime (cleared on unwind too).
+struct InsideDxfParse;
+
+impl InsideDxfParse {
+    fn enter() -> Self {
+        INSIDE_DXF_PARSE.with(|c| c.set(true));
+        InsideDxfParse
+    }
+}
+
+impl Drop for InsideDxfParse {
+    fn drop(&mut self) {
+        INSIDE_DXF_PARSE.with(|c| c.set(false));
+    }
 }
 
 /// Parses the bytes with the `dxf` crate, turning its errors (and panics) into `read`.
 fn load(bytes: &[u8]) -> Result<dxf::Drawing, DxfError> {
-    let result = std::panic::catch_unwind(|| dxf::Drawing::load(&mut Cursor::new(bytes)));
+    // Only the third-party parse is inside the catch: a panic in pvt-dxf's own code
+    // stays a bug.
+    let result = std::panic::catch_unwind(|| {
+        let _inside = InsideDxfParse::enter();
+        dxf::Drawing::load(&mut Cursor::new(bytes))
+    });
     let ascii = source::is_ascii_dxf(bytes);
     match result {
         Ok(Ok(d)) => Ok(d),
@@ -378,7 +398,7 @@ fn error_span(e: &dxf::DxfError, bytes: &[u8], ascii: bool) -> Span {
         E::UnexpectedCodePair(pair, _) => Some(pair.offset),
         E::UnexpectedEndOfInput if ascii => {
             // The end of the file: its last line.
-            let lines = bytes.split(|&b| b == b'\n').count();
+            let lines = pvt_core::text::line_of(bytes, bytes.len());
             let trailing = usize::from(bytes.last() == Some(&b'\n'));
             Some(lines.saturating_sub(trailing).max(1))
         }
@@ -399,27 +419,10 @@ fn error_span(e: &dxf::DxfError, bytes: &[u8], ascii: bool) -> Span {
 
 /// The span of 1-based line `line` of the bytes (empty at the end when past it).
 fn line_span(bytes: &[u8], line: usize) -> Span {
-    let mut start = 0;
-    let mut current = 1;
-    while current < line {
-        match bytes[start..].iter().position(|&b| b == b'\n') {
-            Some(i) => {
-                start += i + 1;
-                current += 1;
-            }
-            None => {
-                start = bytes.len();
-                break;
-            }
-        }
-    }
-    let end = bytes[start..]
-        .iter()
-        .position(|&b| b == b'\n')
-        .map_or(bytes.len(), |i| start + i);
+    let range = pvt_core::text::line_range(bytes, line);
     Span {
-        start,
-        end,
+        start: range.start,
+        end: range.end,
         line: u32::try_from(line).unwrap_or(u32::MAX),
     }
 }

@@ -44,7 +44,8 @@ pub struct JsonWriter<W> {
     out: W,
     text: String,
     totals: Totals,
-    /// Events, as JSON objects, printed after the contours (they are few).
+    /// Every event of the program, as JSON objects, printed after the contours: memory
+    /// grows with the number of events (not of pieces).
     events: Vec<String>,
 }
 

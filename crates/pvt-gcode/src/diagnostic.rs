@@ -785,22 +785,6 @@ fn count_errors(n: usize) -> String {
     }
 }
 
-/// The 1-based line and column (in characters, a BOM not counted) of a byte offset.
-///
-/// An offset past the end names the end of the source; one inside a character names it.
-pub fn line_col(source: &str, byte_offset: usize) -> (usize, usize) {
-    let mut offset = byte_offset.min(source.len());
-    while !source.is_char_boundary(offset) {
-        offset -= 1;
-    }
-    let before = &source[..offset];
-    let line = 1 + before.bytes().filter(|&b| b == b'\n').count();
-    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
-    let text = &before[line_start..];
-    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    (line, 1 + text.chars().count())
-}
-
 fn loop_message(limit: u64, all: bool) -> String {
     if all {
         format!("loops ran {limit} times in all")
@@ -846,19 +830,6 @@ pub(crate) fn span(range: Range<usize>) -> SourceSpan {
 mod tests {
     use super::*;
     use miette::Diagnostic;
-
-    #[test]
-    fn line_col_counts_lines_and_characters() {
-        let src = "G0 X1\nG1 é Y2\r\nG2";
-        assert_eq!(line_col(src, 0), (1, 1));
-        assert_eq!(line_col(src, 6), (2, 1));
-        // After the two-byte é, the column counts characters.
-        assert_eq!(line_col(src, 12), (2, 6));
-        // Inside é: the character's own column.
-        assert_eq!(line_col(src, 10), (2, 4));
-        assert_eq!(line_col(src, 1000), (3, 3));
-        assert_eq!(line_col("\u{feff}G0", 3), (1, 1));
-    }
 
     #[test]
     fn code_matches_miette_code() {

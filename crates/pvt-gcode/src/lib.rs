@@ -59,6 +59,7 @@ mod interpreter;
 mod kept;
 mod lines;
 mod messages;
+pub mod offsets;
 mod oword;
 mod params;
 mod parser;
@@ -70,11 +71,13 @@ mod syntax;
 mod tools;
 mod value;
 
-pub use diagnostic::{line_col, GcodeDiagnostic, GcodeErrors};
+pub use diagnostic::{GcodeDiagnostic, GcodeErrors};
 pub use kept::MAX_KEPT_DIAGNOSTICS;
 pub use lines::MAX_LINE_BYTES;
+pub use offsets::{parse_offsets, OffsetsError};
 pub use oword::{SubroutineFile, SubroutineFiles};
 pub use prescan::{prescan, Prescan};
+pub use pvt_core::text::line_col;
 pub use sink::{StreamSummary, ToolpathSink};
 pub use syntax::{check_syntax, SyntaxSummary};
 pub use tools::{Tool, ToolTable};
@@ -124,7 +127,7 @@ impl PartialEq for Subroutines {
 }
 
 /// The rapid rate when [`GcodeOptions::rapid`] is `None`, millimetres per minute.
-pub const DEFAULT_RAPID_MM_PER_MIN: f64 = 5000.0;
+pub use pvt_core::defaults::RAPID_MM_PER_MIN as DEFAULT_RAPID_MM_PER_MIN;
 
 /// How to compile a program: values the G-code itself does not give.
 #[derive(Debug, Clone, PartialEq)]
@@ -136,9 +139,10 @@ pub struct GcodeOptions {
     /// [`DEFAULT_RAPID_MM_PER_MIN`] converted to the output units.
     pub rapid: Option<f64>,
     /// Arc centre check, absolute tolerance in millimetres (converted for inch programs);
-    /// default 0.002.
+    /// default [`pvt_core::defaults::ARC_ABS_TOLERANCE_MM`] (0.002).
     pub arc_abs_tolerance_mm: f64,
-    /// Arc centre check, tolerance relative to the start radius; default 0.001 (0.1 %).
+    /// Arc centre check, tolerance relative to the start radius; default
+    /// [`pvt_core::defaults::ARC_REL_TOLERANCE`] (0.001, 0.1 %).
     /// A centre-form arc is rejected only when its start and end radii differ by more than
     /// both tolerances (as LinuxCNC does); an R that falls short of half the chord by no
     /// more than either gives a half circle.
@@ -162,8 +166,8 @@ impl Default for GcodeOptions {
         GcodeOptions {
             default_feed: None,
             rapid: None,
-            arc_abs_tolerance_mm: 0.002,
-            arc_rel_tolerance: 0.001,
+            arc_abs_tolerance_mm: pvt_core::defaults::ARC_ABS_TOLERANCE_MM,
+            arc_rel_tolerance: pvt_core::defaults::ARC_REL_TOLERANCE,
             units: None,
             work_offsets: [[0.0; 6]; 9],
             tool_table: ToolTable::default(),

@@ -1,8 +1,9 @@
 //! Command-line arguments.
 //!
 //! Owns the flags, their help text and their conversion into pipeline options (reading
-//! the `--offsets` file through [`crate::offsets`], the `--tool-table` file through
-//! [`crate::tools`]). It must not compile anything.
+//! the `--offsets` file once per run, [`PipelineArgs::read_files`], parsed by
+//! [`pvt_gcode::offsets`]; the `--tool-table` file through [`crate::tools`]). It must
+//! not compile anything.
 
 use crate::pipeline::{CompileOptions, DrawingOptions, Failure, InputKind, VelocitySource};
 use clap::{Parser, Subcommand, ValueEnum};
@@ -178,6 +179,9 @@ pub struct PipelineArgs {
     /// millimetres and degrees) [default: all zero].
     #[arg(long, value_name = "FILE")]
     pub offsets: Option<PathBuf>,
+    /// The rows of the `--offsets` file, once [`PipelineArgs::read_files`] has read it.
+    #[arg(skip)]
+    pub work_offsets: Option<[[f64; 6]; 9]>,
     /// G-code: folders where `o<name> call` finds `name.ngc` (repeatable, or a
     /// `:`-separated list, like LinuxCNC's SUBROUTINE_PATH).
     #[arg(long = "subroutine-path", value_name = "DIR")]
@@ -263,12 +267,23 @@ impl PipelineArgs {
         Ok(())
     }
 
-    /// The pipeline options these arguments ask for, for a source named `name`; reads the
-    /// `--offsets` file if one is given.
+    /// Reads the files the options name that hold the same for every input of a run
+    /// (the `--offsets` table), once: [`PipelineArgs::compile_options`] then reads none.
+    pub fn read_files(&mut self) -> Result<(), Failure> {
+        if let (Some(path), None) = (&self.offsets, self.work_offsets) {
+            self.work_offsets = Some(read_offsets(path)?);
+        }
+        Ok(())
+    }
+
+    /// The pipeline options these arguments ask for, for a source named `name`. The
+    /// `--offsets` rows are those [`PipelineArgs::read_files`] read; without that call
+    /// the file is read here.
     pub fn compile_options(&self, name: &str, format: Format) -> Result<CompileOptions, Failure> {
-        let work_offsets = match &self.offsets {
-            Some(path) => crate::offsets::read(path)?,
-            None => [[0.0; 6]; 9],
+        let work_offsets = match (&self.offsets, self.work_offsets) {
+            (_, Some(rows)) => rows,
+            (Some(path), None) => read_offsets(path)?,
+            (None, None) => [[0.0; 6]; 9],
         };
         let tool_table = match &self.tool_table {
             Some(path) => {
@@ -437,6 +452,19 @@ impl CompileArgs {
     }
 }
 
+/// Reads the `--offsets` table at `path` (G-code words, parsed by pvt-gcode).
+fn read_offsets(path: &std::path::Path) -> Result<[[f64; 6]; 9], Failure> {
+    let text = std::fs::read_to_string(path).map_err(|error| Failure::Io {
+        path: path.to_path_buf(),
+        action: "read",
+        error,
+    })?;
+    pvt_gcode::parse_offsets(&text).map_err(|e| {
+        let named = miette::NamedSource::new(path.display().to_string(), text);
+        Failure::Input(vec![miette::Report::new(e).with_source_code(named)])
+    })
+}
+
 /// Arguments of `pvtc check`.
 #[derive(Debug, clap::Args)]
 pub struct CheckArgs {
@@ -583,6 +611,36 @@ mod tests {
             "{bare}"
         );
         assert!(duration("0.001").is_err() && duration(" 5 ").is_err());
+    }
+
+    #[test]
+    fn the_offsets_file_is_read_once_per_run() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("offsets.txt");
+        std::fs::write(&path, "G55 X100 Y50\n").unwrap();
+        let cli = Cli::try_parse_from(
+            ["pvtc", "compile", "a.ngc", "b.ngc", "--offsets"]
+                .iter()
+                .copied()
+                .chain([path.to_str().unwrap()]),
+        )
+        .unwrap();
+        let Command::Compile(mut args) = cli.command else {
+            panic!("a compile command");
+        };
+        args.pipeline.read_files().unwrap();
+        // Gone after the one read: every job's options still have its rows.
+        std::fs::remove_file(&path).unwrap();
+        for name in ["a.ngc", "b.ngc"] {
+            let options = args.compile_options(name).unwrap();
+            assert_eq!(options.work_offsets[1], [100.0, 50.0, 0.0, 0.0, 0.0, 0.0]);
+        }
+        // Without the run's read, the file is read (and here missing).
+        args.pipeline.work_offsets = None;
+        assert!(matches!(
+            args.compile_options("a.ngc"),
+            Err(Failure::Io { .. })
+        ));
     }
 
     #[test]

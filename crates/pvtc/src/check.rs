@@ -87,7 +87,7 @@ fn check_options(
 
 /// Servo period `check` samples at when neither the command line nor the machine file
 /// gives one (seed 001's XMP: 500 µs).
-pub const DEFAULT_SERVO_PERIOD: f64 = 0.0005;
+pub use pvt_core::defaults::SERVO_PERIOD_S as DEFAULT_SERVO_PERIOD;
 
 /// Refuses a program whose motion lasts more than `--max-samples` servo periods: sampling
 /// it would run for hours (a JSON program may carry any time).

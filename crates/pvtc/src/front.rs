@@ -3,7 +3,7 @@
 //! Owns the mapping from CLI options to each front end's options and from each front
 //! end's diagnostics to printable reports. It must not plan or write output.
 
-use crate::pipeline::{CompileOptions, Failure, InputKind, Source};
+use crate::options::{at_line, CompileOptions, Failure, InputKind, Source};
 use miette::Report;
 use pvt_core::{Toolpath, Units};
 use pvt_csv::PointSeries;
@@ -139,6 +139,5 @@ fn dxf_report(e: pvt_dxf::DxfError, source: &Source) -> Report {
     if line == 0 {
         return Report::new(e);
     }
-    crate::pipeline::at_line(&e.code_str(), &e.to_string(), line, source)
-        .with_source_code(source.named_text())
+    at_line(&e.code_str(), &e.to_string(), line, source).with_source_code(source.named_text())
 }

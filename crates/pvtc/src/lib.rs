@@ -1,11 +1,11 @@
 //! pvtc: the command line, a small layer on top of the pipeline crates.
 //!
-//! Owns arguments ([`args`]), reading inputs and choosing a front end ([`front`],
-//! [`pipeline`]), batch runs ([`batch`]), the unplanned toolpath route ([`toolpath`]),
-//! writing outputs atomically ([`output`]), the check and plot commands' rendering
-//! ([`check`], [`plot`]), diagnostics ([`report`]), and the shell completions and manual
-//! page (`pvtc completions`, `pvtc man`, from the argument definitions by clap_complete
-//! and clap_mangen).
+//! Owns arguments ([`args`]), the data a compile shares ([`options`]), reading inputs
+//! and choosing a front end ([`front`], [`pipeline`]), batch runs ([`batch`]), the
+//! unplanned toolpath route ([`toolpath`]), writing outputs atomically ([`output`]), the
+//! check and plot commands' rendering ([`check`], [`plot`]), diagnostics ([`report`]),
+//! and the shell completions and manual page (`pvtc completions`, `pvtc man`, from the
+//! argument definitions by clap_complete and clap_mangen).
 //! Architecture invariant: no geometry, planning or formatting happens here; a failed run
 //! never creates or changes an output file.
 
@@ -15,7 +15,7 @@ pub mod check;
 pub mod excerpt;
 pub mod front;
 pub mod machine;
-pub mod offsets;
+pub mod options;
 pub mod output;
 pub mod pipeline;
 pub mod plot;
@@ -43,9 +43,18 @@ pub fn run(cli: Cli) -> ExitCode {
     report::install_panic_hook();
     output::remove_partial_outputs_on_interrupt();
     match cli.command {
-        Command::Compile(args) => compile_command(&args),
-        Command::Check(args) => check::run(&args),
-        Command::Plot(args) => plot::run(&args),
+        Command::Compile(mut args) => match args.pipeline.read_files() {
+            Ok(()) => compile_command(&args),
+            Err(failure) => Reporter::new(&args.pipeline).fail(&failure),
+        },
+        Command::Check(mut args) => match args.pipeline.read_files() {
+            Ok(()) => check::run(&args),
+            Err(failure) => Reporter::new(&args.pipeline).fail(&failure),
+        },
+        Command::Plot(mut args) => match args.pipeline.read_files() {
+            Ok(()) => plot::run(&args),
+            Err(failure) => Reporter::new(&args.pipeline).fail(&failure),
+        },
         Command::Completions { shell } => completions(shell),
         Command::Man => man_page(),
     }

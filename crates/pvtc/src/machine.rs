@@ -241,10 +241,6 @@ mod tests {
         e.code().map(|c| c.to_string()).unwrap_or_default()
     }
 
-    fn line_of(text: &str, offset: usize) -> usize {
-        text[..offset].matches('\n').count() + 1
-    }
-
     #[test]
     fn reads_limits_and_converts_units() {
         let m = Machine::parse("m.toml", GOOD).unwrap();
@@ -263,7 +259,10 @@ mod tests {
             panic!("{e:?}")
         };
         assert!(message.contains("max_speed"), "{message}");
-        assert_eq!(line_of(&text, span.unwrap().offset()), 7);
+        assert_eq!(
+            pvt_core::text::line_of(text.as_bytes(), span.unwrap().offset()),
+            7
+        );
     }
 
     #[test]
@@ -274,7 +273,7 @@ mod tests {
         let MachineError::BadLimit { span, .. } = &e else {
             panic!("{e:?}")
         };
-        assert_eq!(line_of(&text, span.offset()), 7);
+        assert_eq!(pvt_core::text::line_of(text.as_bytes(), span.offset()), 7);
     }
 
     #[test]

@@ -421,14 +421,14 @@ pub fn to_json(report: &Report) -> serde_json::Value {
     value
 }
 
-/// Installs a panic hook that keeps the default report for every panic except those from
-/// third-party parsing crates that pvtc catches and turns into diagnostics (their messages
-/// would only repeat that diagnostic).
+/// Installs a panic hook that keeps the default report for every panic except one raised
+/// inside the `dxf` crate's parse, which pvt-dxf catches and turns into `pvtc::dxf::read`
+/// (its message would only repeat that diagnostic). Which panics those are is a flag
+/// pvt-dxf sets around that one call, not the panic's source path.
 pub fn install_panic_hook() {
     let default = std::panic::take_hook();
     std::panic::set_hook(Box::new(move |info| {
-        let file = info.location().map(|l| l.file()).unwrap_or("");
-        if !pvt_dxf::is_contained_panic(file) {
+        if !pvt_dxf::panic_is_contained() {
             default(info);
         }
     }));

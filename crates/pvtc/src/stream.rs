@@ -1,8 +1,8 @@
-//! The streaming path: G-code elements go straight through discretization and the contour
-//! planner into a back end, in constant memory, whatever the program's length.
+//! The streaming path: G-code elements go straight through pvt-core's [`PlanStage`] (every
+//! planner) into a back end, in bounded memory, whatever the program's length.
 //!
 //! Owns the glue between the G-code front end's sink interface, pvt-core's
-//! [`ContourStream`] and pvt-emit's [`Checked`] writer. It must not parse, plan or format:
+//! [`PlanStage`] and pvt-emit's [`Checked`] writer. It must not parse, plan or format:
 //! each of those stays in its crate, so the streamed output is byte-identical to the
 //! in-memory path's.
 

@@ -2,29 +2,12 @@
 //! and on standard input, with `--diagnostics json`. Both routes must exit 1, write no
 //! output, and report the code and line tests/bad/EXPECTED gives, the same way.
 
-use std::io::Write;
-use std::path::PathBuf;
-use std::process::{Command, Stdio};
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+mod common;
+use common::{pvtc_bytes, root};
 
 /// (exit code, stdout length, every (code, line) on stderr) of one run.
 fn run(args: &[&str], stdin: &[u8]) -> (Option<i32>, usize, Vec<(String, u64)>) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_pvtc"))
-        .args(args)
-        .current_dir(root())
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("pvtc runs");
-    let mut pipe = child.stdin.take().unwrap();
-    // A run that fails before reading its input closes the pipe: that is fine.
-    let _ = pipe.write_all(stdin);
-    drop(pipe);
-    let out = child.wait_with_output().unwrap();
+    let out = pvtc_bytes(args, stdin);
     let diagnostics = String::from_utf8_lossy(&out.stderr)
         .lines()
         .filter_map(|l| serde_json::from_str::<serde_json::Value>(l).ok())

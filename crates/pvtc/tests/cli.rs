@@ -1,28 +1,10 @@
 //! The `pvtc` binary end to end: exit codes, diagnostics, stdin/stdout, no partial output.
 
-use std::io::Write;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::path::Path;
+use std::process::{Command, Output};
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn pvtc(args: &[&str], stdin: Option<&str>) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_pvtc"))
-        .args(args)
-        .current_dir(root())
-        .env("NO_COLOR", "1")
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("pvtc runs");
-    let mut pipe = child.stdin.take().unwrap();
-    pipe.write_all(stdin.unwrap_or("").as_bytes()).unwrap();
-    drop(pipe);
-    child.wait_with_output().unwrap()
-}
+mod common;
+use common::{pvtc, pvtc_into, root};
 
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
@@ -111,19 +93,6 @@ fn output_file_is_written_whole_and_matches_stdout() {
     assert!(String::from_utf8(stdout)
         .unwrap()
         .contains("OPEN PROG 1 CLEAR"));
-}
-
-/// Runs pvtc with standard output redirected to `file` (as `>` or `>>` does).
-fn pvtc_into(args: &[&str], file: std::fs::File) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pvtc"))
-        .args(args)
-        .current_dir(root())
-        .env("NO_COLOR", "1")
-        .stdin(Stdio::null())
-        .stdout(Stdio::from(file))
-        .stderr(Stdio::piped())
-        .output()
-        .expect("pvtc runs")
 }
 
 /// Standard output redirected to a file is written in one pass, starting over when the
@@ -1008,6 +977,42 @@ fn offsets_file_and_units_conversion_apply_to_gcode() {
         "{}",
         stderr(&bad)
     );
+}
+
+/// A batch reads the offsets table once for the run: a bad one is one diagnostic with
+/// its line, not one per job, and no output is written.
+#[test]
+fn a_batch_reads_the_offsets_file_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let offsets = dir.path().join("offsets.txt");
+    std::fs::write(&offsets, "G54 X1\nG60 X2\n").unwrap();
+    let out = dir.path().join("out");
+    let mut args = vec!["compile"];
+    let inputs: Vec<String> = (0..3)
+        .map(|i| {
+            let p = dir.path().join(format!("p{i}.ngc"));
+            std::fs::write(&p, "G21 G90 G55\nG1 X10 Y0 F600\n").unwrap();
+            p.display().to_string()
+        })
+        .collect();
+    args.extend(inputs.iter().map(String::as_str));
+    args.extend(["--out-dir", out.to_str().unwrap()]);
+    args.extend([
+        "--offsets",
+        offsets.to_str().unwrap(),
+        "--diagnostics",
+        "json",
+    ]);
+    let o = pvtc(&args, None);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let errors: Vec<serde_json::Value> = stderr(&o)
+        .lines()
+        .filter_map(|l| serde_json::from_str(l).ok())
+        .collect();
+    assert_eq!(errors.len(), 1, "{}", stderr(&o));
+    assert_eq!(errors[0]["code"], "pvtc::offsets::syntax");
+    assert_eq!(errors[0]["line"], 2);
+    assert!(!out.exists() || std::fs::read_dir(&out).unwrap().next().is_none());
 }
 
 #[test]

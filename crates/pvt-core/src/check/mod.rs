@@ -52,7 +52,7 @@ pub struct CheckOptions {
 impl Default for CheckOptions {
     fn default() -> CheckOptions {
         CheckOptions {
-            servo_period: 0.0005,
+            servo_period: crate::defaults::SERVO_PERIOD_S,
             limits: BTreeMap::new(),
         }
     }
@@ -181,7 +181,7 @@ pub fn check_program(
     let period = if options.servo_period.is_finite() && options.servo_period > 0.0 {
         options.servo_period
     } else {
-        0.0005
+        crate::defaults::SERVO_PERIOD_S
     };
     let tl = Timeline::new(program);
     let (closed, violations) = closed_form(&tl, period, options);

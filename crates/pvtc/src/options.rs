@@ -1,0 +1,257 @@
+//! The plain data every phase of a compile shares: the input ([`Source`], [`InputKind`]),
+//! the options ([`CompileOptions`], [`DrawingOptions`]), why a run failed ([`Failure`])
+//! and a diagnostic labelling a source line ([`at_line`]).
+//!
+//! Owns these types so that data flows one way: `front` and `pipeline` (and the rest of
+//! the CLI) import them from here, and this module imports no pvtc module but `machine`
+//! (`tests/tidy.rs` fails on an import cycle between pvtc's modules). It must not read a
+//! format, plan or write: it is data and its constructors.
+
+use miette::{LabeledSpan, NamedSource, Report};
+use pvt_core::{Planner, Rounding, Timing, Units};
+use pvt_emit::Format;
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// Default rapid rate, mm/min.
+pub use pvt_core::defaults::RAPID_MM_PER_MIN as DEFAULT_RAPID_MM_PER_MIN;
+
+/// An input, read whole.
+#[derive(Debug, Clone)]
+pub struct Source {
+    /// The name diagnostics and headers use: the path as given, or `<stdin>`.
+    pub name: String,
+    /// The bytes read.
+    pub bytes: Vec<u8>,
+}
+
+impl Source {
+    /// Reads `path`, or standard input for `-`.
+    pub fn read(path: &Path) -> Result<Source, Failure> {
+        let io_failure = |error| Failure::Io {
+            path: path.to_path_buf(),
+            action: "read",
+            error,
+        };
+        if path == Path::new("-") {
+            let mut bytes = Vec::new();
+            std::io::stdin()
+                .read_to_end(&mut bytes)
+                .map_err(io_failure)?;
+            return Ok(Source {
+                name: "<stdin>".into(),
+                bytes,
+            });
+        }
+        let bytes = std::fs::read(path).map_err(io_failure)?;
+        Ok(Source {
+            name: path.display().to_string(),
+            bytes,
+        })
+    }
+
+    /// A source from text already in memory.
+    pub fn from_text(name: &str, text: &str) -> Source {
+        Source {
+            name: name.into(),
+            bytes: text.as_bytes().to_vec(),
+        }
+    }
+
+    /// The source as text (invalid UTF-8 becomes U+FFFD) with its name, for diagnostics;
+    /// shared, so each diagnostic that clones it holds no copy of the text.
+    pub fn named_text(&self) -> NamedSource<Arc<str>> {
+        NamedSource::new(
+            self.name.clone(),
+            Arc::from(String::from_utf8_lossy(&self.bytes)),
+        )
+    }
+}
+
+/// The front ends.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum InputKind {
+    /// RS274/NGC G-code.
+    Gcode,
+    /// DXF drawing.
+    Dxf,
+    /// Point-time series as CSV.
+    Csv,
+}
+
+impl InputKind {
+    /// The planner used when none is asked for: `path` for geometry (G-code, DXF),
+    /// `contour` for a point-time series, whose points are the path.
+    pub fn default_planner(self) -> Planner {
+        match self {
+            InputKind::Gcode | InputKind::Dxf => Planner::Path,
+            InputKind::Csv => Planner::Contour,
+        }
+    }
+
+    /// The front end a file name suggests: `.dxf` drawing, `.csv` series, else G-code.
+    pub fn from_name(name: &str) -> InputKind {
+        let lower = name.to_ascii_lowercase();
+        if lower.ends_with(".dxf") {
+            InputKind::Dxf
+        } else if lower.ends_with(".csv") {
+            InputKind::Csv
+        } else {
+            InputKind::Gcode
+        }
+    }
+}
+
+/// Options only drawings use.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct DrawingOptions {
+    /// Layers to cut; empty is every layer.
+    pub layers: Vec<String>,
+    /// Join tolerance, drawing units; `None` is 0.01 mm.
+    pub join_tolerance: Option<f64>,
+    /// Where the machine starts (X, Y).
+    pub start_point: [f64; 2],
+    /// Safe Z for travel between contours.
+    pub safe_z: Option<f64>,
+    /// Most points a DXF drawing may hold; `None` is [`pvt_dxf::DEFAULT_MAX_POINTS`].
+    pub max_points: Option<usize>,
+    /// Units: G-code output converted into them; DXF and CSV read in them.
+    pub units: Option<Units>,
+}
+
+/// Everything a compilation depends on besides the source.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CompileOptions {
+    /// Output format.
+    pub format: Format,
+    /// Front end.
+    pub input: InputKind,
+    /// Machine limits from `--machine`.
+    pub machine: Option<crate::machine::Machine>,
+    /// How far the path planner may round a corner between two lines, program units.
+    pub corner_tolerance: Option<f64>,
+    /// Feed for moves before the first F word (required for drawings), units per minute.
+    pub feed: Option<f64>,
+    /// Rapid rate, program units per minute; `None` is 5000 mm/min.
+    pub rapid: Option<f64>,
+    /// Chord tolerance, program units; `None` is 0.001 mm.
+    pub tolerance: Option<f64>,
+    /// The planner.
+    pub planner: Planner,
+    /// Piece times of the time-based planners.
+    pub timing: Timing,
+    /// Acceleration for lspb, units/s².
+    pub accel: Option<f64>,
+    /// Piece-time quantum, seconds.
+    pub quantize: Option<f64>,
+    /// Which way piece times go onto the quantum grid.
+    pub quantize_rounding: Rounding,
+    /// G-code work offsets, G54…G59.3 rows of X Y Z (mm) A B C (degrees).
+    pub work_offsets: [[f64; 6]; 9],
+    /// G-code `--subroutine-path` values (folders or `:`-separated lists).
+    pub subroutine_path: Vec<String>,
+    /// G-code tool table (G43 H), millimetres and degrees.
+    pub tool_table: pvt_gcode::ToolTable,
+    /// G-code arc check: absolute radius tolerance, mm.
+    pub arc_abs_tolerance_mm: f64,
+    /// G-code arc check: relative radius tolerance.
+    pub arc_rel_tolerance: f64,
+    /// Options only drawings use.
+    pub drawing: DrawingOptions,
+    /// Where a point-time series' velocities come from; `None`: the file's columns when
+    /// it has them and the planner takes velocities.
+    pub velocities: Option<VelocitySource>,
+    /// PMAC output: program number, coordinate system, axis definitions, event commands.
+    pub pmac: pvt_emit::PmacSettings,
+}
+
+/// Where the velocities of a point-time series come from (`--velocities`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum VelocitySource {
+    /// The series' `v<axis>` columns, used as given.
+    File,
+    /// The planner's own method; the columns are ignored.
+    Plan,
+}
+
+impl CompileOptions {
+    /// Share of the tolerance a drawing's splines and ellipses are flattened within: the
+    /// path planner keeps the motion within the rest of it, so that the motion is within
+    /// the whole tolerance of the true curve; the other planners' chords take all of it.
+    pub fn curve_share(&self) -> f64 {
+        if self.input == InputKind::Dxf && self.planner == Planner::Path {
+            0.5
+        } else {
+            1.0
+        }
+    }
+
+    /// Default options writing `format`.
+    pub fn new(format: Format) -> CompileOptions {
+        CompileOptions {
+            format,
+            input: InputKind::Gcode,
+            machine: None,
+            corner_tolerance: None,
+            feed: None,
+            rapid: None,
+            tolerance: None,
+            planner: Planner::Path,
+            timing: Timing::FromFeed,
+            accel: None,
+            quantize: None,
+            quantize_rounding: Rounding::Up,
+            work_offsets: [[0.0; 6]; 9],
+            subroutine_path: Vec::new(),
+            tool_table: pvt_gcode::ToolTable::default(),
+            arc_abs_tolerance_mm: pvt_core::defaults::ARC_ABS_TOLERANCE_MM,
+            arc_rel_tolerance: pvt_core::defaults::ARC_REL_TOLERANCE,
+            drawing: DrawingOptions::default(),
+            velocities: None,
+            pmac: pvt_emit::PmacSettings::default(),
+        }
+    }
+}
+
+/// Why a run failed.
+#[derive(Debug)]
+pub enum Failure {
+    /// A file could not be read or written.
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// `read` or `write`.
+        action: &'static str,
+        /// What the system said.
+        error: std::io::Error,
+    },
+    /// The input has errors; every one of them, ready to print.
+    Input(Vec<Report>),
+    /// The command line asks for something impossible (exit status 2).
+    Usage(String),
+}
+
+impl Failure {
+    /// The stable codes of the diagnostics, in order (for tests and tools).
+    pub fn codes(&self) -> Vec<String> {
+        match self {
+            Failure::Io { .. } => vec!["pvtc::io".into()],
+            Failure::Usage(_) => vec!["pvtc::usage".into()],
+            Failure::Input(reports) => reports
+                .iter()
+                .map(|r| r.code().map(|c| c.to_string()).unwrap_or_default())
+                .collect(),
+        }
+    }
+}
+
+/// A diagnostic labelling the whole of 1-based `line` of the source.
+pub(crate) fn at_line(code: &str, message: &str, line: u32, source: &Source) -> Report {
+    let range = pvt_core::text::line_range(&source.bytes, line as usize);
+    miette::miette!(
+        code = code.to_string(),
+        labels = vec![LabeledSpan::at(range, "this line")],
+        "{message}"
+    )
+}
