@@ -151,7 +151,9 @@ pub(crate) fn prints_whole<const DECIMALS: usize>(x: f64) -> bool {
     if scaled.is_nan() || scaled.abs() >= EXACT_INTEGERS {
         return is_whole(x);
     }
-    round_half_away(scaled).unsigned_abs() % POW10_INT[DECIMALS] == 0
+    round_half_away(scaled)
+        .unsigned_abs()
+        .is_multiple_of(POW10_INT[DECIMALS])
 }
 
 /// `x` (|x| < 2^53) rounded half away from zero, as `f64::round` does, without the call

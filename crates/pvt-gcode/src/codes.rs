@@ -327,12 +327,12 @@ pub(crate) fn m_code(tenths: u32) -> Option<MCode> {
         80 => Coolant(CoolantState::Flood),
         90 => Coolant(CoolantState::Off),
         190 => Unsupported("spindle orientation"),
-        480..=530 if tenths % 10 == 0 => Override,
+        480..=530 if tenths.is_multiple_of(10) => Override,
         600 => Unsupported("pallet change"),
         610 => Unsupported("setting the current tool"),
-        620..=680 if tenths % 10 == 0 => Unsupported("digital and analog outputs"),
-        700..=730 if tenths % 10 == 0 => Unsupported("saving and restoring modal state"),
-        1000..=1990 if tenths % 10 == 0 => Unsupported("user-defined M codes"),
+        620..=680 if tenths.is_multiple_of(10) => Unsupported("digital and analog outputs"),
+        700..=730 if tenths.is_multiple_of(10) => Unsupported("saving and restoring modal state"),
+        1000..=1990 if tenths.is_multiple_of(10) => Unsupported("user-defined M codes"),
         _ => return None,
     })
 }

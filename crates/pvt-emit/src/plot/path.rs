@@ -61,7 +61,7 @@ fn programmed_points(program: &PvtProgram, max: usize) -> Vec<(f64, &[f64])> {
     let starts = program.contours.iter().filter(|c| !c.is_empty()).count();
     let total = program.segment_count() + starts;
     let stride = total.div_ceil(max.max(2) - 1).max(1);
-    let keep = |r: usize| r % stride == 0 || r + 1 == total;
+    let keep = |r: usize| r.is_multiple_of(stride) || r + 1 == total;
     let mut out = Vec::new();
     let (mut clock, mut r) = (0.0, 0);
     for contour in program.contours.iter().filter(|c| !c.is_empty()) {
