@@ -182,6 +182,12 @@ pub struct PipelineArgs {
     /// The rows of the `--offsets` file, once [`PipelineArgs::read_files`] has read it.
     #[arg(skip)]
     pub work_offsets: Option<[[f64; 6]; 9]>,
+    /// The `--tool-table` file, once [`PipelineArgs::read_files`] has read it.
+    #[arg(skip)]
+    pub tools_read: Option<pvt_gcode::ToolTable>,
+    /// The `--machine` file, once [`PipelineArgs::read_files`] has read it.
+    #[arg(skip)]
+    pub machine_read: Option<crate::machine::Machine>,
     /// G-code: folders where `o<name> call` finds `name.ngc` (repeatable, or a
     /// `:`-separated list, like LinuxCNC's SUBROUTINE_PATH).
     #[arg(long = "subroutine-path", value_name = "DIR")]
@@ -268,32 +274,45 @@ impl PipelineArgs {
     }
 
     /// Reads the files the options name that hold the same for every input of a run
-    /// (the `--offsets` table), once: [`PipelineArgs::compile_options`] then reads none.
+    /// (the `--offsets` table, the `--tool-table` and the `--machine` file), once:
+    /// [`PipelineArgs::compile_options`] then reads none.
     pub fn read_files(&mut self) -> Result<(), Failure> {
         if let (Some(path), None) = (&self.offsets, self.work_offsets) {
             self.work_offsets = Some(read_offsets(path)?);
         }
+        if self.tools_read.is_none() {
+            self.tools_read = Some(self.read_tool_table()?);
+        }
+        if let (Some(path), None) = (&self.machine, &self.machine_read) {
+            self.machine_read = Some(crate::machine::Machine::read(path)?);
+        }
         Ok(())
     }
 
+    /// The `--tool-table` file in millimetres, or an empty table.
+    fn read_tool_table(&self) -> Result<pvt_gcode::ToolTable, Failure> {
+        let Some(path) = &self.tool_table else {
+            return Ok(pvt_gcode::ToolTable::default());
+        };
+        let mut table = crate::tools::read(path)?;
+        if self.tool_table_units == Some(UnitsArg::In) {
+            table.scale_lengths(25.4);
+        }
+        Ok(table)
+    }
+
     /// The pipeline options these arguments ask for, for a source named `name`. The
-    /// `--offsets` rows are those [`PipelineArgs::read_files`] read; without that call
-    /// the file is read here.
+    /// `--offsets` rows, tool table and machine are those [`PipelineArgs::read_files`]
+    /// read; without that call the files are read here.
     pub fn compile_options(&self, name: &str, format: Format) -> Result<CompileOptions, Failure> {
         let work_offsets = match (&self.offsets, self.work_offsets) {
             (_, Some(rows)) => rows,
             (Some(path), None) => read_offsets(path)?,
             (None, None) => [[0.0; 6]; 9],
         };
-        let tool_table = match &self.tool_table {
-            Some(path) => {
-                let mut table = crate::tools::read(path)?;
-                if self.tool_table_units == Some(UnitsArg::In) {
-                    table.scale_lengths(25.4);
-                }
-                table
-            }
-            None => pvt_gcode::ToolTable::default(),
+        let tool_table = match &self.tools_read {
+            Some(table) => table.clone(),
+            None => self.read_tool_table()?,
         };
         let defaults = pvt_gcode::GcodeOptions::default();
         let input = match self.input_format {
@@ -304,9 +323,10 @@ impl PipelineArgs {
         };
         let planner = self.planner.unwrap_or(input.default_planner());
         self.check_used(input, planner)?;
-        let machine = match &self.machine {
-            Some(path) => Some(crate::machine::Machine::read(path)?),
-            None => None,
+        let machine = match (&self.machine, &self.machine_read) {
+            (_, Some(machine)) => Some(machine.clone()),
+            (Some(path), None) => Some(crate::machine::Machine::read(path)?),
+            (None, None) => None,
         };
         Ok(CompileOptions {
             format,
@@ -641,6 +661,50 @@ mod tests {
             args.compile_options("a.ngc"),
             Err(Failure::Io { .. })
         ));
+    }
+
+    #[test]
+    fn the_tool_table_and_machine_file_are_read_once_per_run() {
+        let dir = tempfile::tempdir().unwrap();
+        let tools = dir.path().join("tools.tbl");
+        let machine = dir.path().join("machine.toml");
+        std::fs::write(&tools, "T1 P1 Z2.5 D1 ;drill\n").unwrap();
+        let root = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../samples/machines/mill.toml"
+        );
+        std::fs::copy(root, &machine).unwrap();
+        let (tools_arg, machine_arg) = (tools.to_str().unwrap(), machine.to_str().unwrap());
+        let cli = Cli::try_parse_from([
+            "pvtc",
+            "compile",
+            "a.ngc",
+            "b.ngc",
+            "--tool-table",
+            tools_arg,
+            "--machine",
+            machine_arg,
+        ])
+        .unwrap();
+        let Command::Compile(mut args) = cli.command else {
+            panic!("a compile command");
+        };
+        args.pipeline.read_files().unwrap();
+        std::fs::remove_file(&tools).unwrap();
+        std::fs::remove_file(&machine).unwrap();
+        for name in ["a.ngc", "b.ngc"] {
+            let options = args.compile_options(name).unwrap();
+            assert!(options.machine.is_some(), "{name}: the machine read once");
+            assert_eq!(
+                options.tool_table,
+                args.pipeline.tools_read.clone().unwrap()
+            );
+        }
+        args.pipeline.tools_read = None;
+        assert!(
+            args.compile_options("a.ngc").is_err(),
+            "read again: missing"
+        );
     }
 
     #[test]

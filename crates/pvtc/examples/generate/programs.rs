@@ -37,7 +37,11 @@ fn surfacing(out: &mut impl Write, lines: usize) -> io::Result<()> {
             if written >= lines {
                 break;
             }
-            let k = if row.is_multiple_of(2) { i } else { per_row - i };
+            let k = if row.is_multiple_of(2) {
+                i
+            } else {
+                per_row - i
+            };
             let x = k as f64 * step;
             writeln!(out, "X{x:.4} Y{y:.4} Z{:.4}", surface(x, y))?;
             written += 1;
