@@ -2,21 +2,11 @@
 //! their places, notes that `--deny-warnings` lets through, and each file's diagnostics
 //! in a batch with a summary.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+use common::{root, run as pvtc};
 
-fn pvtc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pvtc"))
-        .args(args)
-        .current_dir(root())
-        .env("NO_COLOR", "1")
-        .output()
-        .expect("pvtc runs")
-}
+use std::process::Output;
 
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()

@@ -2,25 +2,11 @@
 //! methods in words, each chord method by its own name, PT into MovePT arrays, and which
 //! velocities a CSV series is planned with.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use common::{run as pvtc, text};
+
 use std::process::{Command, Output};
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn pvtc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pvtc"))
-        .args(args)
-        .current_dir(root())
-        .env("NO_COLOR", "1")
-        .output()
-        .expect("pvtc runs")
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
 
 const PLANNERS: [&str; 8] = [
     "path",

@@ -1,41 +1,11 @@
 //! The command line's output conveniences: PMAC program settings and event commands,
 //! shell completions, the manual page, and the plot's file formats.
 
-use clap::CommandFactory;
-use std::path::PathBuf;
-use std::process::{Command, Output};
+mod common;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+use common::{root, run as pvtc, text};
 
-fn pvtc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pvtc"))
-        .args(args)
-        .current_dir(root())
-        .env("NO_COLOR", "1")
-        .stdin(std::process::Stdio::null())
-        .output()
-        .expect("pvtc runs")
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
-
-/// Every subcommand's name and every long option of it.
-fn subcommands() -> Vec<(String, Vec<String>)> {
-    pvtc::Cli::command()
-        .get_subcommands()
-        .map(|sub| {
-            let longs = sub
-                .get_arguments()
-                .filter_map(|a| a.get_long().map(|l| format!("--{l}")))
-                .collect();
-            (sub.get_name().to_string(), longs)
-        })
-        .collect()
-}
+use std::process::Command;
 
 #[test]
 fn pmac_settings_write_the_coordinate_system_axes_and_program_number() {
@@ -132,7 +102,7 @@ fn man_page_renders_and_names_every_subcommand_and_option() {
         "{page}"
     );
     assert_eq!(page.as_bytes(), pvtc::man_page_text());
-    for (name, longs) in subcommands() {
+    for (name, longs) in common::long_options() {
         assert!(
             page.contains(&format!(".SH \"PVTC {}\"", name.to_uppercase())),
             "no section for {name}"
@@ -185,7 +155,7 @@ fn completions_cover_every_subcommand_in_each_shell() {
         let o = pvtc(&["completions", shell]);
         assert!(o.status.success(), "{shell}: {}", text(&o.stderr));
         let script = text(&o.stdout);
-        for (name, longs) in subcommands() {
+        for (name, longs) in common::long_options() {
             assert!(script.contains(&name), "{shell}: no {name}");
             for long in longs {
                 let bare = long.trim_start_matches('-');

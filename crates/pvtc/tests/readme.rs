@@ -8,13 +8,12 @@
 //! `json`, it is the last command's standard output, where a line `...` stands for lines
 //! left out.
 
-use clap::CommandFactory;
+mod common;
+
+use common::root;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
 
 fn readme() -> String {
     std::fs::read_to_string(root().join("README.md")).unwrap()
@@ -193,27 +192,13 @@ fn the_shown_output_rule_catches_differences() {
     assert!(shown_matches(&lines("a\nx"), "a\nb\n").is_err());
 }
 
-/// Long options of each subcommand, from the clap definitions `--help` prints.
-fn options() -> Vec<(String, Vec<String>)> {
-    pvtc::Cli::command()
-        .get_subcommands()
-        .map(|sub| {
-            let longs = sub
-                .get_arguments()
-                .filter_map(|a| a.get_long().map(|l| format!("--{l}")))
-                .collect();
-            (sub.get_name().to_string(), longs)
-        })
-        .collect()
-}
-
 #[test]
 fn the_usage_synopsis_and_the_help_agree() {
     let text = readme();
     let usage = text.split("## Usage").nth(1).expect("a Usage section");
     let synopsis = &blocks(usage)[0];
     assert_eq!(synopsis.lang, "text");
-    let all = options();
+    let all = common::long_options();
     let mut current: Option<&(String, Vec<String>)> = None;
     let mut named = std::collections::BTreeSet::new();
     for line in &synopsis.lines {

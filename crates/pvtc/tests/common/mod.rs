@@ -1,8 +1,9 @@
 //! The one way pvtc's integration tests start the `pvtc` binary: from the workspace
 //! root, without colour, with given bytes on standard input.
 //!
-//! Owns the process spawn shared by `cli.rs` and `bad_cli.rs`; it must not judge a run
-//! (each test asserts on the [`Output`] itself).
+//! Owns the process spawn shared by the CLI tests, and the command line's option names
+//! from its clap definitions; it must not judge a run (each test asserts on the
+//! [`Output`] itself).
 #![allow(dead_code)] // each test binary uses its own part
 
 use std::io::Write;
@@ -49,4 +50,33 @@ pub fn pvtc_into(args: &[&str], file: std::fs::File) -> Output {
         .stderr(Stdio::piped())
         .output()
         .expect("pvtc runs")
+}
+
+/// Runs `pvtc ARGS` with nothing on standard input.
+pub fn run(args: &[&str]) -> Output {
+    command(args)
+        .stdin(Stdio::null())
+        .output()
+        .expect("pvtc runs")
+}
+
+/// Output bytes as text (invalid UTF-8 replaced).
+pub fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// Every subcommand's name with its long options, from the clap definitions `--help`
+/// prints.
+pub fn long_options() -> Vec<(String, Vec<String>)> {
+    use clap::CommandFactory;
+    pvtc::Cli::command()
+        .get_subcommands()
+        .map(|sub| {
+            let longs = sub
+                .get_arguments()
+                .filter_map(|a| a.get_long().map(|l| format!("--{l}")))
+                .collect();
+            (sub.get_name().to_string(), longs)
+        })
+        .collect()
 }
