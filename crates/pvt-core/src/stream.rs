@@ -7,17 +7,21 @@
 //!   (with quantization too: it puts each window's pieces on the grid itself);
 //! - `contour`: seed 000's three-point [`ContourStream`] over the flattened points;
 //! - the other planners, and contour with quantization (which re-times a whole
-//!   contour): the open contour's elements, planned when it ends.
+//!   contour): the open contour's elements, planned when it ends;
+//! - a timed run (a point-time series pushed with [`PlanStage::timed_point`]): the whole
+//!   run, planned with its own times when it ends, since the timed planners solve over
+//!   every point (the C2 spline, LSPB's blends).
 //!
-//! [`crate::plan::plan_toolpath_report`] is this stage with a collecting sink; there is no
-//! second pipeline. It must not parse or print.
+//! [`crate::plan::plan_toolpath_report`] and [`crate::plan::plan_timed`] are this stage
+//! with a collecting sink; there is no second pipeline. It must not parse or print.
 
 use crate::axis::Axis;
 use crate::discretize::{arc_positions, project};
 use crate::plan::{
-    plan_buffered, ContourStream, PathStream, PlanError, PlanOptions, PlanReport, Planner,
+    plan_buffered, plan_run, ContourStream, PathStream, PlanError, PlanOptions, PlanReport,
+    Planner, TimedPoints,
 };
-use crate::program::SegmentRef;
+use crate::program::{PvtContour, SegmentRef};
 use crate::toolpath::{Contour, Element, ElementKind, EventKind, Motion, ProgramEvent};
 
 /// Receives a toolpath in program order, one element at a time.
@@ -51,6 +55,7 @@ enum Open {
     Path(Box<PathStream>),
     Points(Box<ContourStream>),
     Buffered(Contour),
+    Timed(TimedPoints),
 }
 
 /// The planning stage: a [`ToolpathSink`] that plans as elements arrive and hands pieces
@@ -123,6 +128,64 @@ impl<S: PieceSink> PlanStage<S> {
         self.open = Some((open, pending));
     }
 
+    /// The next point of a timed run (a point-time series, e.g. a CSV row): reached
+    /// `duration` seconds after the run's previous point (ignored for its first point),
+    /// from source `line`, with the velocity the series gives there, if any (given at
+    /// every point of a run or at none).
+    ///
+    /// A run is one rest-to-rest feed contour on the stage's axes. It ends like a contour
+    /// ([`ToolpathSink::end_contour`], an event, an element or [`PlanStage::finish`]) and
+    /// is then planned whole with its own times (see [`crate::plan::plan_timed`]), so the
+    /// stage holds every point of it.
+    pub fn timed_point(
+        &mut self,
+        position: &[f64],
+        duration: f64,
+        velocity: Option<&[f64]>,
+        line: u32,
+    ) {
+        if self.error.is_some() {
+            return;
+        }
+        if !matches!(self.open, Some((Open::Timed(_), _)) | None) {
+            self.close();
+        }
+        let Some((Open::Timed(run), _)) = self.open.as_mut() else {
+            let mut run = TimedPoints::start_at(position);
+            run.velocities = velocity.map(<[f64]>::to_vec);
+            let pending = Pending {
+                motion: Motion::Feed,
+                start: position.to_vec(),
+                line,
+                started: false,
+            };
+            self.open = Some((Open::Timed(run), pending));
+            return;
+        };
+        if position.len() != run.dim {
+            self.error = Some(PlanError::BadShape);
+            return;
+        }
+        match (run.velocities.as_mut(), velocity) {
+            (Some(given), Some(v)) if v.len() == run.dim => given.extend_from_slice(v),
+            (None, None) => {}
+            _ => {
+                self.error = Some(PlanError::BadShape);
+                return;
+            }
+        }
+        run.push(position, duration, line);
+    }
+
+    /// Plans a whole timed run with its own times.
+    fn plan_timed_run(&mut self, run: &TimedPoints) -> Result<PvtContour, PlanError> {
+        run.validate()?;
+        if run.dim != self.axes.len() {
+            return Err(PlanError::BadShape);
+        }
+        plan_run(run, &self.options, Motion::Feed, &mut self.report)
+    }
+
     /// Pushes one element into the open contour's planner.
     fn push(&mut self, element: &Element) -> Result<(), PlanError> {
         let Some((open, pending)) = self.open.as_mut() else {
@@ -136,6 +199,8 @@ impl<S: PieceSink> PlanStage<S> {
                 contour.elements.push(*element);
                 Ok(())
             }
+            // Never open here: an element ends a timed run first.
+            Open::Timed(_) => Ok(()),
             Open::Points(stream) => {
                 let line = element.span.line;
                 let ends = match &element.kind {
@@ -163,6 +228,21 @@ impl<S: PieceSink> PlanStage<S> {
         if self.error.is_some() {
             return;
         }
+        let open = match open {
+            Open::Timed(run) => {
+                match self.plan_timed_run(&run) {
+                    Ok(planned) => {
+                        pending.start.clone_from(&planned.start);
+                        for seg in planned.segments() {
+                            hand_on(&mut self.sink, &mut self.contours, &mut pending, &seg);
+                        }
+                    }
+                    Err(e) => self.error = Some(e),
+                }
+                return;
+            }
+            open => open,
+        };
         let (sink, contours) = (&mut self.sink, &mut self.contours);
         let mut emit = |seg: &SegmentRef<'_>| hand_on(sink, contours, &mut pending, seg);
         let result = match open {
@@ -176,6 +256,7 @@ impl<S: PieceSink> PlanStage<S> {
                 stream.finish(&mut |seg| emit(&seg));
                 Ok(())
             }
+            Open::Timed(_) => Ok(()),
             Open::Buffered(contour) => {
                 plan_buffered(&contour, &self.axes, &self.options, &mut self.report).map(
                     |planned| {
@@ -212,6 +293,9 @@ impl<S: PieceSink> ToolpathSink for PlanStage<S> {
         if self.error.is_some() {
             return;
         }
+        if matches!(self.open, Some((Open::Timed(_), _))) {
+            self.close();
+        }
         if self.open.is_none() {
             self.begin(motion, element);
         }
@@ -239,5 +323,88 @@ impl<S: PieceSink> ToolpathSink for PlanStage<S> {
             kind: event.clone(),
             line,
         });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every contour, piece and event as text, in the order the stage hands them on.
+    #[derive(Default)]
+    struct Log(Vec<String>);
+
+    impl PieceSink for Log {
+        fn contour(&mut self, motion: Motion, start: &[f64], line: u32) {
+            self.0
+                .push(format!("contour {motion:?} {start:?} line {line}"));
+        }
+        fn piece(&mut self, p: &SegmentRef<'_>) {
+            let (end, v, t, line) = (p.end, p.velocity, p.duration, p.line);
+            self.0.push(format!("piece {end:?} {v:?} {t} line {line}"));
+        }
+        fn event(&mut self, e: &ProgramEvent) {
+            let (before, line) = (e.before_contour, e.line);
+            self.0.push(format!("event before {before} line {line}"));
+        }
+    }
+
+    fn chord_stage() -> PlanStage<Log> {
+        let options = PlanOptions {
+            planner: Planner::Chord,
+            ..PlanOptions::default()
+        };
+        PlanStage::new(vec![Axis::X], options, Log::default()).unwrap()
+    }
+
+    #[test]
+    fn timed_runs_are_planned_with_their_own_times_between_events() {
+        let mut stage = chord_stage();
+        // x = 0, 1, 3, 6 at 1 s, 1 s, 0.5 s: chord-forward's velocity at a point is the
+        // outgoing chord over its time, 0 at both ends.
+        for (x, dt, line) in [(0.0, 0.0, 2), (1.0, 1.0, 3), (3.0, 1.0, 4), (6.0, 0.5, 5)] {
+            stage.timed_point(&[x], dt, None, line);
+        }
+        stage.event(&EventKind::Dwell { seconds: 1.0 }, 6);
+        stage.timed_point(&[6.0], 0.0, None, 7);
+        stage.timed_point(&[4.0], 2.0, None, 8);
+        let (log, report) = stage.finish().unwrap();
+        let expected = [
+            "contour Feed [0.0] line 2",
+            "piece [1.0] [2.0] 1 line 3",
+            "piece [3.0] [6.0] 1 line 4",
+            "piece [6.0] [0.0] 0.5 line 5",
+            "event before 1 line 6",
+            "contour Feed [6.0] line 7",
+            "piece [4.0] [0.0] 2 line 8",
+        ];
+        assert_eq!(log.0, expected);
+        assert!(!report.velocities_ignored);
+    }
+
+    #[test]
+    fn a_timed_run_keeps_given_velocities_and_refuses_a_missing_one() {
+        let mut stage = chord_stage();
+        stage.timed_point(&[0.0], 0.0, Some(&[0.0]), 1);
+        stage.timed_point(&[1.0], 1.0, Some(&[0.25]), 2);
+        stage.timed_point(&[2.0], 1.0, Some(&[0.0]), 3);
+        let (log, _) = stage.finish().unwrap();
+        assert_eq!(log.0[1], "piece [1.0] [0.25] 1 line 2");
+
+        let mut stage = chord_stage();
+        stage.timed_point(&[0.0], 0.0, Some(&[0.0]), 1);
+        stage.timed_point(&[1.0], 1.0, None, 2);
+        assert!(matches!(stage.finish(), Err(PlanError::BadShape)));
+    }
+
+    #[test]
+    fn a_bad_time_in_a_timed_run_is_an_error_at_its_line() {
+        let mut stage = chord_stage();
+        stage.timed_point(&[0.0], 0.0, None, 1);
+        stage.timed_point(&[1.0], -1.0, None, 2);
+        assert!(matches!(
+            stage.finish(),
+            Err(PlanError::BadDuration { line: 2, .. })
+        ));
     }
 }

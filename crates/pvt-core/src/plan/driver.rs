@@ -145,7 +145,9 @@ pub(crate) fn plan_buffered(
     })
 }
 
-/// Plans a point-time series (e.g. from CSV) on `axes` as one feed contour.
+/// Plans a point-time series (e.g. from CSV) on `axes` as one feed contour: the series
+/// pushed point by point through the one planning path ([`PlanStage::timed_point`]) into
+/// a collector.
 ///
 /// The series' own times are used ([`PlanOptions::timing`] applies to toolpaths only);
 /// given velocities are used as given by chord, const-accel and spline. The contour
@@ -165,22 +167,33 @@ pub fn plan_timed(
         timing: Timing::FromFeed,
         ..options.clone()
     };
-    check_options(&options)?;
-    let mut report = PlanReport::default();
-    let contour = plan_run(points, &options, Motion::Feed, &mut report)?;
-    let contours = if contour.is_empty() {
-        Vec::new()
-    } else {
-        vec![contour]
+    let collector = Collector {
+        program: PvtProgram {
+            axes: axes.clone(),
+            units,
+            interpolation: options.interpolation(),
+            contours: Vec::new(),
+            events: Vec::new(),
+        },
     };
-    let program = PvtProgram {
-        axes,
-        units,
-        interpolation: options.interpolation(),
-        contours,
-        events: Vec::new(),
-    };
-    Ok(Planned { program, report })
+    let mut stage = PlanStage::new(axes, options, collector)?;
+    let dim = points.dim;
+    for i in 0..points.len() {
+        let (duration, line) = match i.checked_sub(1) {
+            Some(k) => (points.durations[k], points.lines[k]),
+            None => (0.0, points.line_of_point(0)),
+        };
+        let velocity = points
+            .velocities
+            .as_ref()
+            .map(|v| &v[i * dim..(i + 1) * dim]);
+        stage.timed_point(points.point(i), duration, velocity, line);
+    }
+    let (collector, report) = stage.finish()?;
+    Ok(Planned {
+        program: collector.program,
+        report,
+    })
 }
 
 /// Rejects options that are out of range or that the chosen planner cannot honour.
@@ -210,7 +223,7 @@ pub fn check_options(options: &PlanOptions) -> Result<(), PlanError> {
 }
 
 /// Plans one run (rest to rest) with the chosen planner and quantizes it.
-fn plan_run(
+pub(crate) fn plan_run(
     run: &TimedPoints,
     options: &PlanOptions,
     motion: Motion,
