@@ -149,11 +149,15 @@ fn choose_velocities(
 /// the total time against the time at the feeds; `None` for the other planners.
 pub(crate) fn summary_note(report: &PlanReport, totals: &Totals, units: Units) -> Option<Report> {
     let error = report.path_error?;
-    let ratio = totals.time / report.feed_time;
+    // A point series has no feed to compare with: its pieces come from the points.
+    let ratio = match report.feed_time > 0.0 {
+        true => format!(" ({:.3} x length / feed)", totals.time / report.feed_time),
+        false => String::new(),
+    };
     Some(miette::miette!(
         severity = Severity::Advice,
         code = "pvtc::plan::summary",
-        "{} pieces; path error at most {error:.6} {}; total time {:.4} s ({ratio:.3} x length / feed)",
+        "{} pieces; path error at most {error:.6} {}; total time {:.4} s{ratio}",
         totals.segments,
         units.name(),
         totals.time

@@ -260,3 +260,21 @@ fn pt_into_movepvt_is_movept_arrays_that_compile_and_pmac_points_there() {
         assert!(o.status.success(), "{}", text(&o.stderr));
     }
 }
+
+/// The summary compares the time with length / feed only where there is a feed: a point
+/// series has none, so it gives no ratio (it used to print `inf x length / feed`).
+#[test]
+fn the_summary_of_a_series_has_no_feed_ratio() {
+    let series = pvtc(&["compile", "samples/csv/an208_step.csv", "--planner", "path"]);
+    let said = text(&series.stderr);
+    assert!(series.status.success(), "{said}");
+    assert!(said.contains("pvtc::plan::summary"), "{said}");
+    assert!(
+        !said.contains("inf") && !said.contains("length / feed"),
+        "{said}"
+    );
+    let program = pvtc(&["compile", "samples/gcode/square.ngc"]);
+    let words = text(&program.stderr).replace('│', " ");
+    let words: Vec<&str> = words.split_whitespace().collect();
+    assert!(words.join(" ").contains("x length / feed"), "{words:?}");
+}
