@@ -9,7 +9,7 @@
 //! never leaves a partial output. It must not compile anything itself.
 
 use crate::args::CompileArgs;
-use crate::pipeline::{compile, Failure, Source};
+use crate::pipeline::Failure;
 use crate::{output, EXIT_INPUT_ERROR, EXIT_USAGE};
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
@@ -110,27 +110,11 @@ pub fn run_jobs(jobs: &[Job], args: &CompileArgs) -> Vec<Outcome> {
 
 fn run_job(job: &Job, args: &CompileArgs) -> Outcome {
     let name = job.input.display().to_string();
-    let streamable = args
-        .compile_options(&name)
-        .ok()
-        .filter(|o| crate::stream::can_stream(&job.input, o));
-    if let Some(options) = streamable {
-        let result = output::write_file_with(&job.output, |out| {
+    let result = args.compile_options(&name).and_then(|options| {
+        output::write_file_with(&job.output, |out| {
             let deny = args.pipeline.deny_warnings;
-            crate::stream::compile_streaming(&job.input, &name, &options, deny, out)
-        });
-        return outcome(job, result);
-    }
-    let result = Source::read(&job.input).and_then(|source| {
-        let compiled = compile(&source, &args.compile_options(&source.name)?)?;
-        let warned = compiled
-            .warnings
-            .iter()
-            .any(|w| w.severity() == Some(miette::Severity::Warning));
-        if args.pipeline.deny_warnings && warned {
-            return Err(Failure::Input(compiled.warnings));
-        }
-        output::write_file(&job.output, &compiled.bytes).map(|()| compiled.warnings)
+            crate::stream::compile_to(&job.input, &options, deny, out)
+        })
     });
     outcome(job, result)
 }

@@ -116,33 +116,6 @@ fn write_stdout(bytes: &[u8]) -> ExitCode {
     }
 }
 
-/// G-code, from a file or standard input, streams: standard input is first copied to a
-/// temporary file, so every route runs in the same bounded memory.
-fn compile_gcode(
-    args: &CompileArgs,
-    input: &std::path::Path,
-    options: &CompileOptions,
-    reporter: &Reporter,
-) -> ExitCode {
-    let spooled = match stdin_file(input) {
-        Ok(spooled) => spooled,
-        Err(failure) => return reporter.fail(&failure),
-    };
-    let (path, name) = match &spooled {
-        Some(file) => (file.path(), "<stdin>".to_string()),
-        None => (input, input.display().to_string()),
-    };
-    let deny = args.pipeline.deny_warnings;
-    let result = output::write_with(args.output.as_deref(), |out| {
-        stream::compile_streaming(path, &name, options, deny, out)
-    });
-    match result.map(|warnings| reporter.warnings(&warnings)) {
-        Ok(Ok(())) => ExitCode::SUCCESS,
-        Ok(Err(code)) => code,
-        Err(failure) => reporter.fail(&failure),
-    }
-}
-
 /// For `-`, standard input copied into a temporary file (removed when dropped).
 pub(crate) fn stdin_file(
     input: &std::path::Path,
@@ -169,28 +142,17 @@ fn compile_command(args: &CompileArgs) -> ExitCode {
     }
     let reporter = Reporter::new(&args.pipeline);
     let input = &args.inputs[0];
-    if let Ok(options) = args.compile_options(&input.display().to_string()) {
-        if options.input == InputKind::Gcode {
-            return compile_gcode(args, input, &options, &reporter);
-        }
-    }
-    let source = match Source::read(input) {
-        Ok(source) => source,
-        Err(failure) => return reporter.fail(&failure),
-    };
-    let options = match args.compile_options(&source.name) {
+    let options = match args.compile_options(&input.display().to_string()) {
         Ok(options) => options,
         Err(failure) => return reporter.fail(&failure),
     };
-    let compiled = match compile(&source, &options) {
-        Ok(compiled) => compiled,
-        Err(failure) => return reporter.fail(&failure),
-    };
-    if let Err(code) = reporter.warnings(&compiled.warnings) {
-        return code;
-    }
-    match output::write(args.output.as_deref(), &compiled.bytes) {
-        Ok(()) => ExitCode::SUCCESS,
+    let deny = args.pipeline.deny_warnings;
+    let result = output::write_with(args.output.as_deref(), |out| {
+        stream::compile_to(input, &options, deny, out)
+    });
+    match result.map(|warnings| reporter.warnings(&warnings)) {
+        Ok(Ok(())) => ExitCode::SUCCESS,
+        Ok(Err(code)) => code,
         Err(failure) => reporter.fail(&failure),
     }
 }

@@ -1,5 +1,7 @@
-//! The streaming path: G-code elements go straight through pvt-core's [`PlanStage`] (every
-//! planner) into a back end, in bounded memory, whatever the program's length.
+//! The route of `pvtc compile`, single or batch ([`compile_to`]), and its streaming path:
+//! G-code elements go straight through pvt-core's [`PlanStage`] (every planner) into a
+//! back end, in bounded memory, whatever the program's length; a drawing or a series goes
+//! through the same stage into a collector, then to the same writer.
 //!
 //! Owns the glue between the G-code front end's sink interface, pvt-core's
 //! [`PlanStage`] and pvt-emit's [`Checked`] writer. It must not parse, plan or format:
@@ -153,12 +155,6 @@ impl ToolpathSink for MovedAxes {
     fn event(&mut self, _: &EventKind, _: u32) {}
 }
 
-/// Whether `path` and `options` can take the streaming path: a G-code file (not standard
-/// input) planned by the contour planner without quantization.
-pub fn can_stream(path: &std::path::Path, options: &crate::CompileOptions) -> bool {
-    path != std::path::Path::new("-") && options.input == crate::InputKind::Gcode
-}
-
 fn open(path: &std::path::Path) -> Result<std::io::BufReader<std::fs::File>, crate::Failure> {
     std::fs::File::open(path)
         .map(|f| std::io::BufReader::with_capacity(1 << 18, f))
@@ -263,6 +259,38 @@ struct Pass {
     outcome: Result<(Totals, PlanReport), StreamFailure>,
 }
 
+/// Compiles the input at `input` (`-`: standard input) into `out` and returns its
+/// warnings and notes: the one route of `pvtc compile`, single or batch.
+///
+/// G-code streams in bounded memory (standard input is spooled to a temporary file
+/// first); a drawing or a point series is read whole and planned through the same stage
+/// into a collector. With `deny_warnings`, a warning fails the run before anything is
+/// written; a failure leaves `out` for the caller to discard.
+pub fn compile_to(
+    input: &std::path::Path,
+    options: &crate::CompileOptions,
+    deny_warnings: bool,
+    out: &mut Target<'_>,
+) -> Result<Vec<miette::Report>, crate::Failure> {
+    if options.input == crate::InputKind::Gcode {
+        let spooled = crate::stdin_file(input)?;
+        let (path, name) = match &spooled {
+            Some(file) => (file.path(), "<stdin>".to_string()),
+            None => (input, input.display().to_string()),
+        };
+        return compile_streaming(path, &name, options, deny_warnings, out);
+    }
+    let source = crate::Source::read(input)?;
+    let compiled = crate::pipeline::compile(&source, options)?;
+    let warnings = deny(compiled.warnings, deny_warnings)?;
+    std::io::Write::write_all(out, &compiled.bytes).map_err(|error| crate::Failure::Io {
+        path: "<output>".into(),
+        action: "write",
+        error,
+    })?;
+    Ok(warnings)
+}
+
 /// Compiles the G-code file at `path` into `out` in constant memory and returns the
 /// warnings; the bytes are those [`crate::compile`] gives.
 ///
@@ -320,7 +348,7 @@ pub fn compile_streaming(
 
 /// The warnings, or, when any is a warning and `deny_warnings`, a failure holding them
 /// (sources and labels kept) and one error saying nothing was written.
-fn deny(
+pub(crate) fn deny(
     warnings: Vec<miette::Report>,
     deny_warnings: bool,
 ) -> Result<Vec<miette::Report>, crate::Failure> {
