@@ -160,6 +160,26 @@ impl<'a> Interpreter<'a> {
         }
     }
 
+    /// A program's write to a numbered parameter that holds interpreter state: the G28
+    /// and G30 homes (#5161–#5166, #5181–#5186, millimetres or degrees, as they read) move
+    /// where the next G28/G30 goes, as LinuxCNC reads its homes from those parameters.
+    pub fn parameter_written(&mut self, index: usize, value: f64) {
+        let home = [(0, 5161), (1, 5181)].into_iter().find_map(|(row, first)| {
+            let axis = index.checked_sub(first).filter(|axis| *axis < AXIS_COUNT)?;
+            Some((row, axis))
+        });
+        let Some((row, axis)) = home else {
+            return;
+        };
+        let rotary = pvt_core::Axis::ALL[axis].is_rotary();
+        let units = *self.output_units.get_or_insert(self.modal.units);
+        self.homes[row][axis] = if rotary {
+            value
+        } else {
+            value / units.mm_per_unit()
+        };
+    }
+
     /// The state machine parameters read (see [`crate::params::machine`]), in program
     /// units, as it stands after the last block; stored offsets, homes and tool offsets in
     /// millimetres (degrees for A B C).

@@ -362,6 +362,9 @@ impl<'a> Reader<'a> {
         // All assignments of a line take effect after the line is read.
         for assignment in &self.block.assignments {
             self.params.set(&assignment.param, assignment.value);
+            if let params::ParamRef::Numbered(index) = assignment.param {
+                self.interpreter.parameter_written(index, assignment.value);
+            }
         }
         let call = self.take_subprogram_words();
         self.ended = match parsed {

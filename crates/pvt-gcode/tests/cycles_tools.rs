@@ -216,6 +216,29 @@ fn g28_goes_through_the_intermediate_point_to_the_stored_home() {
     assert_moves(&got, &want);
 }
 
+/// LinuxCNC keeps the G28 and G30 homes in #5161… and #5181…: a program that writes
+/// them moves where G28 and G30 go (millimetres, as the parameters read; in an inch
+/// program 25.4 is one inch).
+#[test]
+fn homes_written_as_parameters_move_g28_and_g30() {
+    let d = GcodeOptions::default();
+    let got = moves(
+        "G21\n#5161 = 7\n#5163 = 9\n#5182 = -4\nG0 X1 Y1 Z1\nG28\nG30\n",
+        &d,
+    );
+    let want = [
+        (RAPID, [1.0, 1.0, 1.0]),
+        (RAPID, [7.0, 0.0, 9.0]),
+        (RAPID, [0.0, -4.0, 0.0]),
+    ];
+    assert_moves(&got, &want);
+    let inch = moves("G20\n#5161 = 25.4\nG0 X2\nG28\n", &d);
+    assert_moves(&inch, &[(RAPID, [2.0, 0.0, 0.0]), (RAPID, [1.0, 0.0, 0.0])]);
+    // Reading the parameter back gives what was written.
+    let read = moves("G21\n#5161 = 3\nG0 X#5161\n", &d);
+    assert_moves(&read, &[(RAPID, [3.0, 0.0, 0.0])]);
+}
+
 #[test]
 fn fanuc_post_lines_compile() {
     let c = compile(
