@@ -10,9 +10,11 @@
 //! it must not parse text (that is [`crate::parser`]) nor compute arc centres (that is
 //! [`crate::arcs`]). Its moves live in [`motion`].
 //!
-//! Positions are machine coordinates in output units: a program coordinate plus the
-//! active work offset (G54…G59.3, from [`GcodeOptions::work_offsets`]) plus the G92
-//! offset. Rotary axes are degrees and never converted. Every axis starts at 0.
+//! Positions are machine coordinates in output units: a program coordinate plus the G92
+//! offset, turned in XY by the active system's rotation (G10 L2 R), plus the work offset
+//! (G54…G59.3, from [`GcodeOptions::work_offsets`]) and the tool length offset; one pair
+//! of functions (`to_machine`, `to_program`) makes that transform and its inverse. Rotary
+//! axes are degrees and never converted. Every axis starts at 0.
 
 mod cycles;
 mod machine;
@@ -99,6 +101,9 @@ pub(crate) struct Interpreter<'a> {
     /// Work offsets G54…G59.3 (rows; X Y Z millimetres, A B C degrees), from
     /// [`GcodeOptions::work_offsets`] and changed by G10 L2/L20.
     pub(crate) work_offsets: [[f64; AXIS_COUNT]; 9],
+    /// The XY rotation of each coordinate system G54…G59.3 (#5230…), degrees
+    /// counter-clockwise about the work origin; set by G10 L2/L20 R.
+    pub(crate) rotations: [f64; 9],
     /// The tool table, from [`GcodeOptions::tool_table`] and changed by G10 L1/L10/L11.
     pub(crate) tools: crate::ToolTable,
     /// Tool selected and loaded, and the tool length offset in effect.
@@ -144,6 +149,7 @@ impl<'a> Interpreter<'a> {
             pending: Vec::new(),
             request: None,
             work_offsets: options.work_offsets,
+            rotations: [0.0; 9],
             tools: options.tool_table.clone(),
             tool: machine::ToolState::default(),
             homes: [[0.0; AXIS_COUNT]; 2],
@@ -187,14 +193,11 @@ impl<'a> Interpreter<'a> {
         let scale = self.scale();
         let mm = self.output().mm_per_unit();
         let linear = |i: usize| !pvt_core::Axis::ALL.get(i).is_some_and(|a| a.is_rotary());
-        let mut position = [0.0; AXIS_COUNT];
+        let mut position = self.to_program(self.position);
         for (i, p) in position.iter_mut().enumerate() {
-            let relative = self.position[i] - self.offset(i);
-            *p = if linear(i) {
-                relative / scale
-            } else {
-                relative
-            };
+            if linear(i) {
+                *p /= scale;
+            }
         }
         let to_mm = |v: &Position| -> Position {
             std::array::from_fn(|i| if linear(i) { v[i] * mm } else { v[i] })
@@ -231,6 +234,7 @@ impl<'a> Interpreter<'a> {
                 .get(self.tool.current)
                 .map_or(0.0, |t| t.diameter),
             work_offsets: self.work_offsets,
+            rotations: self.rotations,
             homes: [to_mm(&self.homes[0]), to_mm(&self.homes[1])],
             line: 0,
             call_level: 0,
@@ -494,15 +498,68 @@ impl<'a> Interpreter<'a> {
 
     /// The work plus G92 plus tool length offset of axis `i`, output units (degrees for rotary axes).
     fn offset(&self, i: usize) -> f64 {
+        self.work(i) + self.g92[i] + self.tool.offset[i]
+    }
+
+    /// The work offset of axis `i` in the active system, output units (degrees for
+    /// rotary axes).
+    fn work(&self, i: usize) -> f64 {
         let work = self
             .work_offsets
             .get(self.modal.coord_system)
             .map_or(0.0, |w| w[i]);
-        let work = match pvt_core::Axis::ALL.get(i) {
+        match pvt_core::Axis::ALL.get(i) {
             Some(axis) if axis.is_rotary() => work,
             _ => self.output().from_mm(work),
-        };
-        work + self.g92[i] + self.tool.offset[i]
+        }
+    }
+
+    /// The XY rotation of the active coordinate system, degrees.
+    fn rotation(&self) -> f64 {
+        self.rotations
+            .get(self.modal.coord_system)
+            .copied()
+            .unwrap_or(0.0)
+    }
+
+    /// Program coordinates (output units, degrees for rotary axes) to machine
+    /// coordinates: plus the G92 offset, rotated about the work origin by the active
+    /// system's XY rotation, plus the work and tool length offsets. The one place the
+    /// rotation is applied; without rotation each axis is `program + offset(i)`.
+    fn to_machine(&self, program: Position) -> Position {
+        let mut machine: Position = std::array::from_fn(|i| program[i] + self.offset(i));
+        let rotation = self.rotation();
+        if rotation != 0.0 {
+            let (sin, cos) = libm::sincos(rotation.to_radians());
+            let (x, y) = (program[0] + self.g92[0], program[1] + self.g92[1]);
+            machine[0] = x * cos - y * sin + self.work(0) + self.tool.offset[0];
+            machine[1] = x * sin + y * cos + self.work(1) + self.tool.offset[1];
+        }
+        machine
+    }
+
+    /// Machine coordinates to program coordinates: the inverse of [`Self::to_machine`].
+    fn to_program(&self, machine: Position) -> Position {
+        let mut program: Position = std::array::from_fn(|i| machine[i] - self.offset(i));
+        let rotation = self.rotation();
+        if rotation != 0.0 {
+            let (sin, cos) = libm::sincos(rotation.to_radians());
+            let x = machine[0] - self.work(0) - self.tool.offset[0];
+            let y = machine[1] - self.work(1) - self.tool.offset[1];
+            program[0] = x * cos + y * sin - self.g92[0];
+            program[1] = -x * sin + y * cos - self.g92[1];
+        }
+        program
+    }
+
+    /// A vector (I J offsets, say) in the program's XY plane turned into the machine's.
+    fn rotate_xy(&self, v: [f64; 2]) -> [f64; 2] {
+        let rotation = self.rotation();
+        if rotation == 0.0 {
+            return v;
+        }
+        let (sin, cos) = libm::sincos(rotation.to_radians());
+        [v[0] * cos - v[1] * sin, v[0] * sin + v[1] * cos]
     }
 
     /// G92, G92.1, G92.2, G92.3.
@@ -516,11 +573,18 @@ impl<'a> Interpreter<'a> {
                     return self.push(missing(word, "at least one axis word"));
                 }
                 self.output_units.get_or_insert(self.modal.units);
+                // The offset that makes the current position read `wanted`: in the
+                // rotated frame, so from the program position plus the old offset.
+                let program = self.to_program(self.position);
+                let rotated = self.rotation() != 0.0;
                 for axis in pvt_core::Axis::ALL {
                     let i = axis.index();
                     if let Some(w) = request.axes[i] {
                         let wanted = self.program_value(axis, w.value);
-                        self.g92[i] = self.position[i] - (self.offset(i) - self.g92[i]) - wanted;
+                        self.g92[i] = match rotated && i < 2 {
+                            true => program[i] + self.g92[i] - wanted,
+                            false => self.position[i] - (self.offset(i) - self.g92[i]) - wanted,
+                        };
                     }
                 }
             }

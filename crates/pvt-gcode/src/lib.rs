@@ -20,7 +20,8 @@
 //! `(MSG, …)`, `(DEBUG, …)`, `(PRINT, …)`, `*nn` checksums. Issue 16, as LinuxCNC's
 //! `rs274` runs them: canned cycles G73 G81–G89 with G98/G99 and L ([`interpreter`]'s
 //! `cycles`), tools (T, M6, G43/G43.1/G43.2/G49 from [`GcodeOptions::tool_table`]),
-//! G10 L1/L2/L10/L11/L20, G52, G28/G30/G28.1/G30.1; G96/G97 and M48–M53 are kept as
+//! G10 L1/L2/L10/L11/L20 (L2 R: a coordinate system's XY rotation about its origin), G52,
+//! G28/G30/G28.1/G30.1; G96/G97 and M48–M53 are kept as
 //! state, `(LOG…)` comments accepted. G40 is accepted as it selects what pvtc always
 //! does. Every axis starts at 0. Lines with block delete (`/`) are executed (the switch
 //! is off). A program number (`O1001`) names the program. G76, cutter compensation,

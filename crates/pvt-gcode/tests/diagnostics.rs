@@ -247,7 +247,7 @@ fn issue_4_codes_name_line_and_column() {
     assert_eq!(after_head("G4 P-1\n"), [("bad_value", 3, 4)]);
     assert_eq!(after_head("G2 X0 Y0 I5 P0\n"), [("bad_value", 3, 13)]);
     assert_eq!(after_head("G1 X#0\n"), [("out_of_range", 3, 5)]);
-    assert_eq!(after_head("G10 L2 P1 R45\n"), [("unsupported", 3, 11)]);
+    assert_eq!(after_head("G10 L20 P1 R45\n"), [("bad_value", 3, 12)]);
     assert_eq!(after_head("G10 L1 P1 Z1\n"), [("unknown_tool", 3, 8)]);
     assert_eq!(after_head("G10 P1 X1\n"), [("missing_word", 3, 1)]);
     assert_eq!(after_head("o100 sub\n"), [("oword", 3, 1)]);

@@ -649,6 +649,9 @@ mod generated {
             radius: f64,
             angle: f64,
         },
+        /// `G10 L2 P1 R` (degrees) then a G1 back to the program position, read anew in
+        /// the turned frame.
+        Rotation(f64),
     }
 
     fn step() -> impl Strategy<Value = Step> {
@@ -687,6 +690,7 @@ mod generated {
                 radius: f64::from(r) / 10.0,
                 angle: f64::from(a),
             }),
+            1 => (-1800i32..1800).prop_map(|a| Step::Rotation(f64::from(a) / 10.0)),
         ]
     }
 
@@ -696,6 +700,7 @@ mod generated {
         let mut text = String::from("G21 G90 G17 G94 F500\nG1 X1 Y2 Z3\n");
         let mut at = [1.0f64, 2.0, 3.0];
         let (mut plane, mut incremental, mut inches) = (0usize, false, false);
+        let mut rotated = false;
         let words = ["X", "Y", "Z"];
         for step in steps {
             match step {
@@ -717,6 +722,9 @@ mod generated {
                     rise,
                     turns,
                 } => {
+                    if rotated && plane != 0 {
+                        continue; // pvtc refuses G18/G19 arcs in a rotated system
+                    }
                     let (a, b, n) = [(0, 1, 2), (2, 0, 1), (1, 2, 0)][plane];
                     let from = from.to_radians();
                     let sweep = if *clockwise { -sweep } else { *sweep }.to_radians();
@@ -815,6 +823,17 @@ mod generated {
                         let rad = angle.to_radians();
                         at[0] = radius * libm::cos(rad);
                         at[1] = radius * libm::sin(rad);
+                    }
+                }
+                Step::Rotation(angle) => {
+                    rotated = *angle != 0.0;
+                    text.push_str(&format!(
+                        "G10 L2 P1 R{angle:.1}\nG90 G17 G1 X{:.4} Y{:.4} Z{:.4}\n",
+                        at[0], at[1], at[2]
+                    ));
+                    text.push_str(["", "G18\n", "G19\n"][plane]);
+                    if incremental {
+                        text.push_str("G91\n");
                     }
                 }
             }

@@ -135,7 +135,8 @@ impl Interpreter<'_> {
             _ => {}
         }
         let scale = self.scale();
-        let program = |i: usize| (self.position[i] - self.offset(i)) / scale;
+        let here = self.to_program(self.position);
+        let program = |i: usize| here[i] / scale;
         let current = [program(a.index()), program(b.index()), program(c.index())];
         let initial = *self.cycle.initial_level.get_or_insert(current[2]);
         // LinuxCNC starts from the initial level under G98, from where the tool is under
@@ -365,9 +366,28 @@ impl Interpreter<'_> {
         let (a, b, c) = self.modal.plane.axes();
         let scale = self.scale();
         let mut end = self.position;
-        for (k, axis) in [a, b, c].into_iter().enumerate() {
-            let i = axis.index();
-            end[i] = p[k] * scale + self.offset(i);
+        if self.rotation() != 0.0 {
+            let here = self.to_program(self.position);
+            let mut program = here;
+            for (k, axis) in [a, b, c].into_iter().enumerate() {
+                program[axis.index()] = p[k] * scale;
+            }
+            // Where X and Y stay in the program they stay exactly in the machine.
+            let placed = match program[..2] == here[..2] {
+                true => self.position,
+                false => self.to_machine(program),
+            };
+            for i in [0, 1, a.index(), b.index(), c.index()] {
+                end[i] = match i < 2 {
+                    true => placed[i],
+                    false => program[i] + self.offset(i),
+                };
+            }
+        } else {
+            for (k, axis) in [a, b, c].into_iter().enumerate() {
+                let i = axis.index();
+                end[i] = p[k] * scale + self.offset(i);
+            }
         }
         let start = self.position;
         let feed = match motion {

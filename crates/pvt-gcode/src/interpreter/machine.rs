@@ -5,7 +5,8 @@
 //! Owns the tool and home state, kept as plain fields of the interpreter (current tool
 //! #5400, offsets #5401…, homes #5161…/#5181…) and what each of these codes does to it.
 //! Homes and tool offsets are output units; a home is a machine position, which G28/G30
-//! reach whatever tool offset is in effect (as G53 does). It must not read words nor expand cycles.
+//! reach whatever tool offset is in effect (as G53 does); in a turned system the home is
+//! read in the turned frame, as rs274 reads it. It must not read words nor expand cycles.
 
 use pvt_core::{Axis, Motion, Position, AXIS_COUNT};
 
@@ -122,6 +123,20 @@ impl Interpreter<'_> {
                         *end = home;
                     }
                 }
+                if self.rotation() != 0.0 && (all || request.axes[0].or(request.axes[1]).is_some())
+                {
+                    // As rs274: the home read in the program's (turned) frame gives the
+                    // X and Y with words; the other one keeps the intermediate point's.
+                    let mut program = self.to_program(via);
+                    let home = self.to_program(self.homes[k]);
+                    for i in [0, 1] {
+                        if all || request.axes[i].is_some() {
+                            program[i] = home[i];
+                        }
+                    }
+                    let placed = self.to_machine(program);
+                    end[..2].copy_from_slice(&placed[..2]);
+                }
                 let rate = self.rapid_rate();
                 for point in [via, end] {
                     let start = self.position;
@@ -159,13 +174,8 @@ impl Interpreter<'_> {
         let Some(p_number) = super::whole(p.value) else {
             return self.push(super::bad_value(p, "a whole number ≥ 0"));
         };
-        if let Some(r) = request.radius {
-            return self.push(GcodeDiagnostic::Unsupported {
-                code: format!("G10 {}", r.name()),
-                feature: "coordinate system rotation",
-                places: 1,
-                span: span(r.span()),
-            });
+        if let (Some(r), false) = (request.radius, l.value == 2.0) {
+            return self.push(super::bad_value(r, "R (a rotation) with G10 L2 only"));
         }
         let mm = |me: &Self, axis: Axis, value: f64| match axis.is_rotary() {
             true => value,
@@ -180,9 +190,35 @@ impl Interpreter<'_> {
                         return self.push(super::bad_value(p, "P0 (current) or P1…P9 (G54…G59.3)"))
                     }
                 };
+                let rotation = self.rotations[row];
+                // L20 in a rotated system: the current position read in the program's
+                // frame (axis words replacing X, Y) sets the X and Y offsets together,
+                // turned by the row's rotation, as LinuxCNC does.
+                let turned = l.value == 20.0
+                    && (rotation != 0.0 || self.rotation() != 0.0)
+                    && (request.axes[0].is_some() || request.axes[1].is_some());
+                if turned {
+                    let mut program = self.to_program(self.position);
+                    for axis in [Axis::X, Axis::Y] {
+                        if let Some(w) = request.axes[axis.index()] {
+                            program[axis.index()] = self.program_value(axis, w.value);
+                        }
+                    }
+                    let (sin, cos) = libm::sincos(rotation.to_radians());
+                    let (x, y) = (program[0] + self.g92[0], program[1] + self.g92[1]);
+                    let turned = [x * cos - y * sin, x * sin + y * cos];
+                    for axis in [Axis::X, Axis::Y] {
+                        let i = axis.index();
+                        let offset = self.position[i] - self.tool.offset[i] - turned[i];
+                        self.work_offsets[row][i] = mm(self, axis, offset);
+                    }
+                }
                 for axis in Axis::ALL {
                     let i = axis.index();
                     let Some(w) = request.axes[i] else { continue };
+                    if turned && i < 2 {
+                        continue;
+                    }
                     let value = self.program_value(axis, w.value);
                     let offset = match l.value == 2.0 {
                         true => value,
@@ -190,12 +226,27 @@ impl Interpreter<'_> {
                     };
                     self.work_offsets[row][i] = mm(self, axis, offset);
                 }
+                if let Some(r) = request.radius {
+                    self.rotations[row] = r.value;
+                }
             }
             1.0 | 10.0 | 11.0 => {
                 if self.tools.get(p_number).is_none() {
                     return self.push(GcodeDiagnostic::UnknownTool {
                         tool: p_number,
                         span: span(p.span()),
+                    });
+                }
+                let rotation = match l.value {
+                    10.0 => self.rotation(),
+                    _ => self.rotations[8],
+                };
+                if let (Some(w), true) = (request.axes[0].or(request.axes[1]), rotation != 0.0) {
+                    return self.push(GcodeDiagnostic::Unsupported {
+                        code: format!("G10 L{}", l.value),
+                        feature: "X/Y tool offsets from a rotated coordinate system",
+                        places: 1,
+                        span: span(w.span()),
                     });
                 }
                 let mut values = [None; AXIS_COUNT];

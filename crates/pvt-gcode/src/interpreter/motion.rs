@@ -113,6 +113,11 @@ impl Interpreter<'_> {
             "C angle",
         ];
         let machine = matches!(request.non_modal, Some((NonModal::MachineCoords, _)));
+        // In a rotated system X and Y are read in the program's frame and placed
+        // together; every other axis (and G53) is one machine axis.
+        let rotated = !machine && self.rotation() != 0.0;
+        let here = self.to_program(self.position);
+        let mut program = here;
         let mut end = self.position;
         for axis in Axis::ALL {
             let i = axis.index();
@@ -120,13 +125,27 @@ impl Interpreter<'_> {
                 continue;
             };
             let value = self.program_value(axis, word.value);
-            end[i] = match (machine, self.modal.distance) {
-                (true, _) => value,
-                (false, Distance::Absolute) => value + self.offset(i),
-                (false, Distance::Incremental) => end[i] + value,
-            };
-            if !end[i].is_finite() {
-                return Err(out_of_range(WHAT[i], end[i], word.span()));
+            if rotated && i < 2 {
+                program[i] = match self.modal.distance {
+                    Distance::Absolute => value,
+                    Distance::Incremental => program[i] + value,
+                };
+                // The program point where the tool is stays that machine point exactly
+                // (no move from rounding in and out of the turned frame).
+                let placed = match program[..2] == here[..2] {
+                    true => self.position,
+                    false => self.to_machine(program),
+                };
+                end[..2].copy_from_slice(&placed[..2]);
+            } else {
+                end[i] = match (machine, self.modal.distance) {
+                    (true, _) => value,
+                    (false, Distance::Absolute) => value + self.offset(i),
+                    (false, Distance::Incremental) => end[i] + value,
+                };
+            }
+            if let Some(bad) = end.iter().copied().find(|v| !v.is_finite()) {
+                return Err(out_of_range(WHAT[i], bad, word.span()));
             }
         }
         if request.polar.iter().any(Option::is_some) {
@@ -159,8 +178,8 @@ impl Interpreter<'_> {
             return Err(refuse("polar words (@, ^) work in G17 without G53"));
         }
         let scale = self.scale();
-        let x = (self.position[0] - self.offset(0)) / scale;
-        let y = (self.position[1] - self.offset(1)) / scale;
+        let mut program = self.to_program(self.position);
+        let (x, y) = (program[0] / scale, program[1] / scale);
         let (mut radius, mut angle) = (libm::hypot(x, y), libm::atan2(y, x));
         let [r_word, a_word] = request.polar.map(|w| w.map(|w| w.value));
         match self.modal.distance {
@@ -173,8 +192,10 @@ impl Interpreter<'_> {
                 angle += a_word.map_or(0.0, f64::to_radians);
             }
         }
-        end[0] = radius * libm::cos(angle) * scale + self.offset(0);
-        end[1] = radius * libm::sin(angle) * scale + self.offset(1);
+        program[0] = radius * libm::cos(angle) * scale;
+        program[1] = radius * libm::sin(angle) * scale;
+        let placed = self.to_machine(program);
+        end[..2].copy_from_slice(&placed[..2]);
         if end[0].is_finite() && end[1].is_finite() {
             Ok(())
         } else {
@@ -308,6 +329,23 @@ impl Interpreter<'_> {
 
     fn arc_move(&mut self, direction: ArcDirection, request: &Request, block: &Block) {
         self.output_units.get_or_insert(Units::Millimetre);
+        if self.rotation() != 0.0 && self.modal.plane != Plane::XY {
+            // Turned about Z, a G18/G19 arc leaves the planes an element can lie in.
+            let at = move_span(request, block);
+            return self.push(GcodeDiagnostic::Unsupported {
+                code: format!(
+                    "G{}",
+                    if direction == ArcDirection::Clockwise {
+                        2
+                    } else {
+                        3
+                    }
+                ),
+                feature: "G18/G19 arcs in a rotated coordinate system",
+                places: 1,
+                span: span(at),
+            });
+        }
         let end = match self.target(request) {
             Ok(end) => end,
             Err(diagnostic) => return self.push(diagnostic),
@@ -419,12 +457,24 @@ impl Interpreter<'_> {
     fn center_offsets(&self, plane: Plane, words: [Option<Word>; 2], start: [f64; 2]) -> [f64; 2] {
         let scale = self.scale();
         let (first, second, _) = plane.axes();
+        let values = words.map(|w| w.map_or(0.0, |w| w.value * scale));
+        if self.rotation() != 0.0 {
+            // Only G17 arcs reach here in a rotated system (see `arc_move`).
+            return match self.modal.arc_centers.0 {
+                Distance::Incremental => self.rotate_xy(values),
+                Distance::Absolute => {
+                    let mut centre = self.to_program(self.position);
+                    centre[..2].copy_from_slice(&values);
+                    let centre = self.to_machine(centre);
+                    [centre[0] - start[0], centre[1] - start[1]]
+                }
+            };
+        }
         let mut offsets = [0.0; 2];
         for (k, axis) in [first, second].into_iter().enumerate() {
-            let value = words[k].map_or(0.0, |w| w.value * scale);
             offsets[k] = match self.modal.arc_centers.0 {
-                Distance::Incremental => value,
-                Distance::Absolute => value + self.offset(axis.index()) - start[k],
+                Distance::Incremental => values[k],
+                Distance::Absolute => values[k] + self.offset(axis.index()) - start[k],
             };
         }
         offsets

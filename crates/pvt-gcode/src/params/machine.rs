@@ -44,6 +44,8 @@ pub(crate) struct MachineView {
     pub tool_diameter: f64,
     /// Work offsets G54…G59.3 as G10 left them, millimetres.
     pub work_offsets: [[f64; 6]; 9],
+    /// The XY rotation of each coordinate system, degrees (#5230, #5250, …).
+    pub rotations: [f64; 9],
     /// G28 and G30 home positions, millimetres.
     pub homes: [[f64; 6]; 2],
     /// The line being read (file line number).
@@ -71,6 +73,7 @@ impl Default for MachineView {
             tool_offset: [0.0; 6],
             tool_diameter: 0.0,
             work_offsets: [[0.0; 6]; 9],
+            rotations: [0.0; 9],
             homes: [[0.0; 6]; 2],
             line: 0,
             call_level: 0,
@@ -128,8 +131,11 @@ pub(crate) fn numbered(view: &MachineView, index: usize, assigned: bool) -> Answ
     }
     if (5221..=5390).contains(&index) {
         let (system, field) = ((index - 5221) / 20, (index - 5221) % 20);
-        // Fields 0–8 are X…W, 9 is the XY rotation (always 0 in pvtc).
-        let value = view.work_offsets[system].get(field).copied().unwrap_or(0.0);
+        // Fields 0–8 are X…W, 9 is the XY rotation.
+        let value = match field {
+            9 => view.rotations[system],
+            _ => view.work_offsets[system].get(field).copied().unwrap_or(0.0),
+        };
         return Answer::Value(value);
     }
     Answer::NotMachine
