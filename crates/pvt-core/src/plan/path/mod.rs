@@ -77,6 +77,7 @@ use crate::plan::quantize::Quantum;
 use crate::program::{PvtContour, SegmentRef};
 use crate::toolpath::Contour;
 use std::collections::BTreeMap;
+use std::ops::{Deref, DerefMut};
 
 use crate::toolpath::Element;
 use curve::Curve;
@@ -120,6 +121,67 @@ pub struct PathReport {
     pub error_bound: f64,
     /// Largest relative change of the mid-piece speed that the quantum grid made.
     pub speed_change: f64,
+}
+
+/// A point or vector on the projected axes, held inline: the planner makes several for
+/// every piece of every round, and a heap allocation each was about a third of a
+/// compile's instructions. The axes are distinct, so there are at most
+/// [`AXIS_COUNT`](crate::axis::AXIS_COUNT) of them.
+#[derive(Clone, Copy)]
+pub(super) struct Vector {
+    values: [f64; crate::axis::AXIS_COUNT],
+    len: usize,
+}
+
+impl Vector {
+    /// `len` zeros (at most [`AXIS_COUNT`](crate::axis::AXIS_COUNT)).
+    pub fn zeros(len: usize) -> Vector {
+        debug_assert!(len <= crate::axis::AXIS_COUNT, "{len} axes");
+        Vector {
+            values: [0.0; crate::axis::AXIS_COUNT],
+            len: len.min(crate::axis::AXIS_COUNT),
+        }
+    }
+
+    /// `f(0), …, f(len − 1)`.
+    pub fn from_fn(len: usize, mut f: impl FnMut(usize) -> f64) -> Vector {
+        let mut v = Vector::zeros(len);
+        v.iter_mut().enumerate().for_each(|(i, x)| *x = f(i));
+        v
+    }
+}
+
+impl Deref for Vector {
+    type Target = [f64];
+    fn deref(&self) -> &[f64] {
+        &self.values[..self.len]
+    }
+}
+
+impl DerefMut for Vector {
+    fn deref_mut(&mut self) -> &mut [f64] {
+        &mut self.values[..self.len]
+    }
+}
+
+impl<'a> IntoIterator for &'a Vector {
+    type Item = &'a f64;
+    type IntoIter = std::slice::Iter<'a, f64>;
+    fn into_iter(self) -> Self::IntoIter {
+        self.iter()
+    }
+}
+
+impl PartialEq for Vector {
+    fn eq(&self, other: &Vector) -> bool {
+        **self == **other
+    }
+}
+
+impl std::fmt::Debug for Vector {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_list().entries(self.iter()).finish()
+    }
 }
 
 /// Per projected axis: velocity, acceleration and jerk limits (infinite where none).
