@@ -120,9 +120,13 @@ impl Knots {
             start.speed,
         );
         first.fixed = true;
+        // Room for a line's blend knot and end knot, and its junction: a knot vector
+        // grown one push at a time copied itself about twice per window.
+        let mut knots = Vec::with_capacity(2 * curves.len() + 1);
+        knots.push(first);
         let mut this = Knots {
-            knots: vec![first],
-            junctions: Vec::new(),
+            knots,
+            junctions: Vec::with_capacity(curves.len()),
             accelerates: bounds.accelerates(),
         };
         if let Some(j) = &start.junction {

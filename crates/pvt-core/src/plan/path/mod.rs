@@ -448,3 +448,21 @@ fn check_element(element: &Element) -> Result<(), PlanError> {
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::Vector;
+
+    #[test]
+    fn a_vector_is_its_first_len_values() {
+        let v = Vector::from_fn(3, |i| i as f64 + 0.5);
+        assert_eq!(&*v, &[0.5, 1.5, 2.5]);
+        assert_eq!(format!("{v:?}"), "[0.5, 1.5, 2.5]");
+        let mut w = Vector::zeros(3);
+        assert_eq!(&*w, &[0.0; 3]);
+        w.copy_from_slice(&v);
+        assert_eq!(w, v);
+        assert_ne!(Vector::zeros(2), Vector::zeros(3));
+        assert_eq!(v.into_iter().sum::<f64>(), 4.5);
+    }
+}

@@ -385,6 +385,17 @@ pub(super) fn mid_speed_change(before: &[Piece], after: &[Piece]) -> f64 {
 mod tests {
     use super::blend_error;
 
+    /// Pieces, curves and junctions own no heap memory (nothing to drop): the planner
+    /// makes several pieces per element in every round of every window.
+    #[test]
+    fn planner_values_hold_no_heap_memory() {
+        use std::mem::needs_drop;
+        assert!(!needs_drop::<super::Piece>());
+        assert!(!needs_drop::<super::super::curve::Curve>());
+        assert!(!needs_drop::<super::super::knots::Junction>());
+        assert!(!needs_drop::<super::super::knots::Start>());
+    }
+
     /// Distance from `p` to the ray from the origin along `t` (unit).
     fn to_ray(p: [f64; 2], t: [f64; 2]) -> f64 {
         let along = (p[0] * t[0] + p[1] * t[1]).max(0.0);
