@@ -272,6 +272,13 @@ impl PathStream {
         element: &Element,
         emit: &mut dyn FnMut(&SegmentRef<'_>),
     ) -> Result<(), PlanError> {
+        if self.axes.len() > crate::axis::AXIS_COUNT {
+            // An axis given twice: a curve holds at most one value per axis.
+            return Err(PlanError::UnsupportedOption {
+                planner: "path",
+                option: "an axis twice",
+            });
+        }
         check_element(element)?;
         self.curves.extend(Curve::new(element, &self.axes));
         if self.options.quantum.is_none() && self.curves.len() >= self.window {
@@ -452,6 +459,41 @@ fn check_element(element: &Element) -> Result<(), PlanError> {
 #[cfg(test)]
 mod tests {
     use super::Vector;
+
+    /// More axes than there are (one given twice) is refused, not a panic.
+    #[test]
+    fn an_axis_twice_is_refused() {
+        use crate::axis::Axis;
+        use crate::toolpath::{Element, ElementKind, Span};
+        let axes = [Axis::X; crate::axis::AXIS_COUNT + 1];
+        let options = super::PathOptions {
+            tolerance: 0.01,
+            corner_tolerance: None,
+            limits: Default::default(),
+            quantum: None,
+        };
+        let mut stream = super::PathStream::new(&axes, &options);
+        let mut end = [0.0; crate::axis::AXIS_COUNT];
+        end[0] = 1.0;
+        let element = Element {
+            kind: ElementKind::Line,
+            start: [0.0; crate::axis::AXIS_COUNT],
+            end,
+            feed: 10.0,
+            span: Span::default(),
+        };
+        let result = stream.push(&element, &mut |_| {});
+        assert!(
+            matches!(
+                result,
+                Err(super::PlanError::UnsupportedOption {
+                    planner: "path",
+                    ..
+                })
+            ),
+            "{result:?}"
+        );
+    }
 
     #[test]
     fn a_vector_is_its_first_len_values() {
