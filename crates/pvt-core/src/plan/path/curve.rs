@@ -4,8 +4,8 @@
 //! or spiral arc, by a parameter `φ` (arc length on a line, swept angle on an arc). It
 //! must not choose speeds or pieces: that is the planner's.
 
+use super::Vector;
 use crate::axis::Axis;
-use crate::discretize::project;
 use crate::toolpath::{Element, ElementKind};
 use crate::vector::{distance, norm};
 
@@ -13,9 +13,9 @@ use crate::vector::{distance, norm};
 #[derive(Debug, Clone)]
 pub(super) struct Curve {
     /// Exact start, projected.
-    pub start: Vec<f64>,
+    pub start: Vector,
     /// Exact end, projected.
-    pub end: Vec<f64>,
+    pub end: Vector,
     /// Parameter range.
     pub span: f64,
     /// Programmed feed, units/s.
@@ -28,7 +28,7 @@ pub(super) struct Curve {
 #[derive(Debug, Clone)]
 enum Shape {
     /// φ is the distance from the start along `unit`.
-    Line { unit: Vec<f64> },
+    Line { unit: Vector },
     /// φ is the swept angle; see [`Curve::position`].
     Arc(ArcShape),
 }
@@ -46,14 +46,14 @@ struct ArcShape {
     /// dr/dφ: the radius changes linearly with angle (a spiral posted with few decimals).
     radius_rate: f64,
     /// d/dφ of every projected axis that moves linearly (zero on the plane's two axes).
-    linear_rate: Vec<f64>,
+    linear_rate: Vector,
 }
 
 impl Curve {
     /// The curve of `element` on `axes`; `None` when it does not move.
     pub fn new(element: &Element, axes: &[Axis]) -> Option<Curve> {
-        let start = project(&element.start, axes);
-        let end = project(&element.end, axes);
+        let start = Vector::from_fn(axes.len(), |i| element.start[axes[i].index()]);
+        let end = Vector::from_fn(axes.len(), |i| element.end[axes[i].index()]);
         let shape = match element.kind {
             ElementKind::Arc(arc) => arc_shape(element, &arc, axes),
             ElementKind::Line => None,
@@ -62,11 +62,7 @@ impl Curve {
             Some((arc, span)) => (Shape::Arc(arc), span),
             None => {
                 let length = distance(&start, &end);
-                let unit = start
-                    .iter()
-                    .zip(&end)
-                    .map(|(a, b)| (b - a) / length)
-                    .collect();
+                let unit = Vector::from_fn(start.len(), |i| (end[i] - start[i]) / length);
                 (Shape::Line { unit }, length)
             }
         };
@@ -235,10 +231,10 @@ fn arc_shape(
     let second = axes.iter().position(|&a| a == second)?;
     let sweep = arc.sweep(&element.start, &element.end);
     let span = sweep.sweep.abs();
-    let mut linear_rate: Vec<f64> = axes
-        .iter()
-        .map(|a| (element.end[a.index()] - element.start[a.index()]) / span)
-        .collect();
+    let mut linear_rate = Vector::from_fn(axes.len(), |i| {
+        let a = axes[i].index();
+        (element.end[a] - element.start[a]) / span
+    });
     linear_rate[first] = 0.0;
     linear_rate[second] = 0.0;
     let shape = ArcShape {

@@ -7,7 +7,7 @@
 
 use super::curve::Curve;
 use super::pieces::Piece;
-use super::{AxisBounds, NORMAL_SHARE, TANGENT_ANGLE};
+use super::{AxisBounds, Vector, NORMAL_SHARE, TANGENT_ANGLE};
 use crate::program::SegmentRef;
 use crate::vector::norm;
 
@@ -59,7 +59,7 @@ pub(super) struct Start {
 #[derive(Debug, Clone, PartialEq)]
 pub(super) struct Junction {
     /// Unit velocity direction at the junction: the bisector of the two tangents.
-    pub direction: Vec<f64>,
+    pub direction: Vector,
     /// |direction − incoming tangent| (= |direction − outgoing tangent|).
     pub deviation: f64,
     /// Between two lines under limits: the corner is cut by one blend piece that leaves
@@ -74,7 +74,7 @@ pub(super) struct Junction {
     /// The speed cap at the junction (or of the blend piece).
     pub cap: f64,
     /// Unit tangents arriving and leaving.
-    pub tangents: [Vec<f64>; 2],
+    pub tangents: [Vector; 2],
 }
 
 /// The knots of one contour, in order, with their junctions.
@@ -120,9 +120,13 @@ impl Knots {
             start.speed,
         );
         first.fixed = true;
+        // Room for a line's blend knot and end knot, and its junction: a knot vector
+        // grown one push at a time copied itself about twice per window.
+        let mut knots = Vec::with_capacity(2 * curves.len() + 1);
+        knots.push(first);
         let mut this = Knots {
-            knots: vec![first],
-            junctions: Vec::new(),
+            knots,
+            junctions: Vec::with_capacity(curves.len()),
             accelerates: bounds.accelerates(),
         };
         if let Some(j) = &start.junction {
@@ -528,22 +532,18 @@ fn junction(
 ) -> Option<(Junction, [f64; 2])> {
     let t_in = unit_tangent(a, a.span);
     let t_out = unit_tangent(b, 0.0);
-    let sum: Vec<f64> = t_in.iter().zip(&t_out).map(|(x, y)| x + y).collect();
-    let diff: Vec<f64> = t_in.iter().zip(&t_out).map(|(x, y)| x - y).collect();
+    let sum = Vector::from_fn(t_in.len(), |i| t_in[i] + t_out[i]);
+    let diff = Vector::from_fn(t_in.len(), |i| t_in[i] - t_out[i]);
     let (sum_norm, diff_norm) = (norm(&sum), norm(&diff));
     let angle = 2.0 * libm::atan2(diff_norm, sum_norm);
     let stops = !bounds.accelerates() && corner.is_none() && angle > TANGENT_ANGLE;
     if sum_norm < 1e-6 || stops {
         return None;
     }
-    let direction: Vec<f64> = sum.iter().map(|x| x / sum_norm).collect();
-    let deviation = norm(
-        &direction
-            .iter()
-            .zip(&t_in)
-            .map(|(d, t)| d - t)
-            .collect::<Vec<_>>(),
-    );
+    let direction = Vector::from_fn(sum.len(), |i| sum[i] / sum_norm);
+    let deviation = norm(&Vector::from_fn(direction.len(), |i| {
+        direction[i] - t_in[i]
+    }));
     let mut junction = Junction {
         direction,
         deviation,
@@ -573,8 +573,8 @@ fn junction(
     (junction.cap > 0.0).then_some((junction, zones))
 }
 
-fn unit_tangent(curve: &Curve, param: f64) -> Vec<f64> {
-    let mut t = vec![0.0; curve.start.len()];
+fn unit_tangent(curve: &Curve, param: f64) -> Vector {
+    let mut t = Vector::zeros(curve.start.len());
     curve.derivative(param, &mut t);
     let n = norm(&t);
     t.iter_mut().for_each(|x| *x /= n);

@@ -77,6 +77,7 @@ use crate::plan::quantize::Quantum;
 use crate::program::{PvtContour, SegmentRef};
 use crate::toolpath::Contour;
 use std::collections::BTreeMap;
+use std::ops::{Deref, DerefMut};
 
 use crate::toolpath::Element;
 use curve::Curve;
@@ -120,6 +121,67 @@ pub struct PathReport {
     pub error_bound: f64,
     /// Largest relative change of the mid-piece speed that the quantum grid made.
     pub speed_change: f64,
+}
+
+/// A point or vector on the projected axes, held inline: the planner makes several for
+/// every piece of every round, and a heap allocation each was about a third of a
+/// compile's instructions. The axes are distinct, so there are at most
+/// [`AXIS_COUNT`](crate::axis::AXIS_COUNT) of them.
+#[derive(Clone, Copy)]
+pub(super) struct Vector {
+    values: [f64; crate::axis::AXIS_COUNT],
+    len: usize,
+}
+
+impl Vector {
+    /// `len` zeros (at most [`AXIS_COUNT`](crate::axis::AXIS_COUNT)).
+    pub fn zeros(len: usize) -> Vector {
+        debug_assert!(len <= crate::axis::AXIS_COUNT, "{len} axes");
+        Vector {
+            values: [0.0; crate::axis::AXIS_COUNT],
+            len: len.min(crate::axis::AXIS_COUNT),
+        }
+    }
+
+    /// `f(0), …, f(len − 1)`.
+    pub fn from_fn(len: usize, mut f: impl FnMut(usize) -> f64) -> Vector {
+        let mut v = Vector::zeros(len);
+        v.iter_mut().enumerate().for_each(|(i, x)| *x = f(i));
+        v
+    }
+}
+
+impl Deref for Vector {
+    type Target = [f64];
+    fn deref(&self) -> &[f64] {
+        &self.values[..self.len]
+    }
+}
+
+impl DerefMut for Vector {
+    fn deref_mut(&mut self) -> &mut [f64] {
+        &mut self.values[..self.len]
+    }
+}
+
+impl<'a> IntoIterator for &'a Vector {
+    type Item = &'a f64;
+    type IntoIter = std::slice::Iter<'a, f64>;
+    fn into_iter(self) -> Self::IntoIter {
+        self.iter()
+    }
+}
+
+impl PartialEq for Vector {
+    fn eq(&self, other: &Vector) -> bool {
+        **self == **other
+    }
+}
+
+impl std::fmt::Debug for Vector {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_list().entries(self.iter()).finish()
+    }
 }
 
 /// Per projected axis: velocity, acceleration and jerk limits (infinite where none).
@@ -210,6 +272,13 @@ impl PathStream {
         element: &Element,
         emit: &mut dyn FnMut(&SegmentRef<'_>),
     ) -> Result<(), PlanError> {
+        if self.axes.len() > crate::axis::AXIS_COUNT {
+            // An axis given twice: a curve holds at most one value per axis.
+            return Err(PlanError::UnsupportedOption {
+                planner: "path",
+                option: "an axis twice",
+            });
+        }
         check_element(element)?;
         self.curves.extend(Curve::new(element, &self.axes));
         if self.options.quantum.is_none() && self.curves.len() >= self.window {
@@ -385,4 +454,57 @@ fn check_element(element: &Element) -> Result<(), PlanError> {
         return Err(PlanError::NonFinitePoint { line });
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Vector;
+
+    /// More axes than there are (one given twice) is refused, not a panic.
+    #[test]
+    fn an_axis_twice_is_refused() {
+        use crate::axis::Axis;
+        use crate::toolpath::{Element, ElementKind, Span};
+        let axes = [Axis::X; crate::axis::AXIS_COUNT + 1];
+        let options = super::PathOptions {
+            tolerance: 0.01,
+            corner_tolerance: None,
+            limits: Default::default(),
+            quantum: None,
+        };
+        let mut stream = super::PathStream::new(&axes, &options);
+        let mut end = [0.0; crate::axis::AXIS_COUNT];
+        end[0] = 1.0;
+        let element = Element {
+            kind: ElementKind::Line,
+            start: [0.0; crate::axis::AXIS_COUNT],
+            end,
+            feed: 10.0,
+            span: Span::default(),
+        };
+        let result = stream.push(&element, &mut |_| {});
+        assert!(
+            matches!(
+                result,
+                Err(super::PlanError::UnsupportedOption {
+                    planner: "path",
+                    ..
+                })
+            ),
+            "{result:?}"
+        );
+    }
+
+    #[test]
+    fn a_vector_is_its_first_len_values() {
+        let v = Vector::from_fn(3, |i| i as f64 + 0.5);
+        assert_eq!(&*v, &[0.5, 1.5, 2.5]);
+        assert_eq!(format!("{v:?}"), "[0.5, 1.5, 2.5]");
+        let mut w = Vector::zeros(3);
+        assert_eq!(&*w, &[0.0; 3]);
+        w.copy_from_slice(&v);
+        assert_eq!(w, v);
+        assert_ne!(Vector::zeros(2), Vector::zeros(3));
+        assert_eq!(v.into_iter().sum::<f64>(), 4.5);
+    }
 }

@@ -7,17 +7,17 @@
 
 use super::curve::Curve;
 use super::knots::Knots;
-use super::AxisBounds;
+use super::{AxisBounds, Vector};
 use crate::hermite::HermiteSegment;
 use crate::plan::quantize::{quanta_time, Quantum};
 
 /// One piece, ready to emit.
 #[derive(Debug, Clone)]
 pub(super) struct Piece {
-    pub start: Vec<f64>,
-    pub end: Vec<f64>,
-    pub start_velocity: Vec<f64>,
-    pub end_velocity: Vec<f64>,
+    pub start: Vector,
+    pub end: Vector,
+    pub start_velocity: Vector,
+    pub end_velocity: Vector,
     /// Seconds.
     pub duration: f64,
     /// Bound on the distance between the cubic and the programmed point, program units.
@@ -40,10 +40,10 @@ impl Knots {
         let dim = curve.start.len();
         let (a, b) = (&self.knots[k], &self.knots[k + 1]);
         let mut piece = Piece {
-            start: vec![0.0; dim],
-            end: vec![0.0; dim],
-            start_velocity: vec![0.0; dim],
-            end_velocity: vec![0.0; dim],
+            start: Vector::zeros(dim),
+            end: Vector::zeros(dim),
+            start_velocity: Vector::zeros(dim),
+            end_velocity: Vector::zeros(dim),
             duration: 0.0,
             error: 0.0,
         };
@@ -87,12 +87,12 @@ impl Knots {
         let e = self.knots[k].after.element;
         let (a, b) = (&curves[e], &curves[e + 1]);
         let dim = a.start.len();
-        let mut start = vec![0.0; dim];
-        let mut end = vec![0.0; dim];
+        let mut start = Vector::zeros(dim);
+        let mut end = Vector::zeros(dim);
         a.position(a.span - l, &mut start);
         b.position(l, &mut end);
         let (va, vb) = (self.knots[k].speed, self.knots[k + 1].speed);
-        let scaled = |t: &[f64], v: f64| t.iter().map(|x| x * v).collect::<Vec<f64>>();
+        let scaled = |t: &[f64], v: f64| Vector::from_fn(t.len(), |i| t[i] * v);
         let duration = blend_time(l, va, vb);
         Piece {
             start,
@@ -281,10 +281,10 @@ impl Knots {
     /// bound for the reference motion φ(t) that is the cubic in the parameter from the
     /// knots' new parameter rates (see "Quantization" in [`super`]).
     fn grid_piece(&self, curves: &[Curve], p: &Piece, k: usize, t: f64, scale: [f64; 2]) -> Piece {
-        let divide = |v: &[f64], s: f64| v.iter().map(|x| x / s).collect::<Vec<f64>>();
+        let divide = |v: &[f64], s: f64| Vector::from_fn(v.len(), |i| v[i] / s);
         let mut piece = Piece {
-            start: p.start.clone(),
-            end: p.end.clone(),
+            start: p.start,
+            end: p.end,
             start_velocity: divide(&p.start_velocity, scale[0]),
             end_velocity: divide(&p.end_velocity, scale[1]),
             duration: t,
@@ -357,19 +357,17 @@ fn parameter_peaks(phi: &HermiteSegment) -> (f64, f64, f64) {
 /// (pieces that stand still at mid-piece left out).
 pub(super) fn mid_speed_change(before: &[Piece], after: &[Piece]) -> f64 {
     let mid = |p: &Piece| {
-        let v: Vec<f64> = (0..p.start.len())
-            .map(|i| {
-                HermiteSegment::new(
-                    p.start[i],
-                    p.start_velocity[i],
-                    p.end[i],
-                    p.end_velocity[i],
-                    p.duration,
-                )
-                .at(p.duration / 2.0)
-                .velocity
-            })
-            .collect();
+        let v = Vector::from_fn(p.start.len(), |i| {
+            HermiteSegment::new(
+                p.start[i],
+                p.start_velocity[i],
+                p.end[i],
+                p.end_velocity[i],
+                p.duration,
+            )
+            .at(p.duration / 2.0)
+            .velocity
+        });
         crate::vector::norm(&v)
     };
     before
@@ -386,6 +384,17 @@ pub(super) fn mid_speed_change(before: &[Piece], after: &[Piece]) -> f64 {
 #[allow(clippy::disallowed_methods)]
 mod tests {
     use super::blend_error;
+
+    /// Pieces, curves and junctions own no heap memory (nothing to drop): the planner
+    /// makes several pieces per element in every round of every window.
+    #[test]
+    fn planner_values_hold_no_heap_memory() {
+        use std::mem::needs_drop;
+        assert!(!needs_drop::<super::Piece>());
+        assert!(!needs_drop::<super::super::curve::Curve>());
+        assert!(!needs_drop::<super::super::knots::Junction>());
+        assert!(!needs_drop::<super::super::knots::Start>());
+    }
 
     /// Distance from `p` to the ray from the origin along `t` (unit).
     fn to_ray(p: [f64; 2], t: [f64; 2]) -> f64 {
