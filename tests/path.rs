@@ -102,6 +102,21 @@ fn assert_on_grid(planned: &PvtContour, q: f64) {
 }
 
 /// The independent deviation of a planned contour from its elements.
+/// The random programs' checks, by the reference: within `tol` of the contour and
+/// covering it, and, when `limited`, within 80 units/s and 800 units/s² per axis.
+fn within(c: &Contour, planned: &PvtContour, tol: f64, limited: bool) -> Result<(), TestCaseError> {
+    let d = deviation(c, planned);
+    prop_assert!(d.error <= tol, "off by {} > {}", d.error, tol);
+    prop_assert!(d.gap <= tol, "gap {} > {}", d.gap, tol);
+    if limited {
+        for (v, a) in reference::peaks(planned) {
+            prop_assert!(v <= 80.0 * (1.0 + 1e-6), "v {}", v);
+            prop_assert!(a <= 800.0 * (1.0 + 1e-6), "a {}", a);
+        }
+    }
+    Ok(())
+}
+
 fn deviation(c: &Contour, planned: &PvtContour) -> Deviation {
     let program = PvtProgram {
         axes: XYZ.to_vec(),
@@ -429,15 +444,7 @@ proptest! {
         let tol = 10f64.powf(tol_exp);
         let lim = if limited { limits(80.0, 800.0) } else { BTreeMap::new() };
         let planned = plan(&c, tol, &lim);
-        let d = deviation(&c, &planned);
-        prop_assert!(d.error <= tol, "off by {} > {}", d.error, tol);
-        prop_assert!(d.gap <= tol, "gap {} > {}", d.gap, tol);
-        if limited {
-            for (v, a) in reference::peaks(&planned) {
-                prop_assert!(v <= 80.0 * (1.0 + 1e-6), "v {}", v);
-                prop_assert!(a <= 800.0 * (1.0 + 1e-6), "a {}", a);
-            }
-        }
+        within(&c, &planned, tol, limited)?;
     }
 }
 
@@ -463,13 +470,7 @@ proptest! {
         };
         let planned = plan_on(&c, tol, &lim, Some(q));
         assert_on_grid(&planned, q.seconds);
-        let d = deviation(&c, &planned);
-        prop_assert!(d.error <= tol, "off by {} > {}", d.error, tol);
-        prop_assert!(d.gap <= tol, "gap {} > {}", d.gap, tol);
-        for (v, a) in reference::peaks(&planned) {
-            prop_assert!(v <= 80.0 * (1.0 + 1e-6), "v {}", v);
-            prop_assert!(a <= 800.0 * (1.0 + 1e-6), "a {}", a);
-        }
+        within(&c, &planned, tol, true)?;
     }
 }
 
@@ -490,13 +491,7 @@ proptest! {
         let tol = 10f64.powf(tol_exp);
         let lim = limits_with_jerk(80.0, 800.0, Some(20000.0));
         let planned = plan_on(&c, tol, &lim, on_grid.then_some(MS));
-        let d = deviation(&c, &planned);
-        prop_assert!(d.error <= tol, "off by {} > {}", d.error, tol);
-        prop_assert!(d.gap <= tol, "gap {} > {}", d.gap, tol);
-        for (v, a) in reference::peaks(&planned) {
-            prop_assert!(v <= 80.0 * (1.0 + 1e-6), "v {}", v);
-            prop_assert!(a <= 800.0 * (1.0 + 1e-6), "a {}", a);
-        }
+        within(&c, &planned, tol, true)?;
         for j in reference::jerks(&planned) {
             prop_assert!(j <= 20000.0 * (1.0 + 1e-6), "jerk {}", j);
         }

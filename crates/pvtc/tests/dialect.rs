@@ -500,6 +500,14 @@ fn compare(rs274: &str, program: &Path) -> Result<usize, String> {
     }
 }
 
+/// Compares a program given as text (a generated one), written to a temporary file.
+fn compare_text(rs274: &str, text: &str) -> Result<usize, String> {
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let path = dir.path().join("random.ngc");
+    std::fs::write(&path, text).expect("written");
+    compare(rs274, &path)
+}
+
 fn dialect_programs() -> Vec<PathBuf> {
     let dir = root().join("tests/dialect");
     let mut programs: Vec<PathBuf> = std::fs::read_dir(&dir)
@@ -854,11 +862,8 @@ mod generated {
                     return Ok(());
                 }
             };
-            let dir = tempfile::tempdir().expect("temporary directory");
-            let path = dir.path().join("random.ngc");
             let text = program(&steps);
-            std::fs::write(&path, &text).expect("written");
-            let compared = compare(rs274, &path);
+            let compared = compare_text(rs274, &text);
             prop_assert!(compared.is_ok(), "{}\n{}", text, compared.unwrap_err());
         }
     }
@@ -1013,11 +1018,8 @@ mod generated_control_flow {
                     return Ok(());
                 }
             };
-            let dir = tempfile::tempdir().expect("temporary directory");
-            let path = dir.path().join("random.ngc");
             let text = program(&nodes);
-            std::fs::write(&path, &text).expect("written");
-            let compared = compare(rs274, &path);
+            let compared = compare_text(rs274, &text);
             prop_assert!(compared.is_ok(), "{}\n{}", text, compared.unwrap_err());
         }
     }
