@@ -81,7 +81,7 @@ pub use prescan::{prescan, Prescan};
 pub use pvt_core::text::line_col;
 pub use sink::{StreamSummary, ToolpathSink};
 pub use syntax::{check_syntax, SyntaxSummary};
-pub use tools::{Tool, ToolTable};
+pub use tools::{Tool, ToolTable, ToolTableError};
 
 use interpreter::{Flow, Interpreter};
 use parser::{LineKind, SourceLine, SourceLines};

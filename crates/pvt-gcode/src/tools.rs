@@ -13,7 +13,32 @@
 //! degrees), like the `--offsets` file; U V W are read and unused. It must not apply the
 //! offsets (the interpreter does, for G43) nor read files.
 
+use miette::{Diagnostic, SourceSpan};
 use std::ops::Range;
+use thiserror::Error;
+
+/// A line of the table that is not a tool: a word that is not a letter with a finite
+/// number, a second T, a tool number that is not whole, or a letter the format lacks.
+#[derive(Debug, Clone, PartialEq, Error, Diagnostic)]
+#[error("{message}")]
+#[diagnostic(
+    code(pvtc::tool_table::syntax),
+    help("write one tool per line, e.g. `T1 P1 Z0.5 D6 ;6 mm drill`")
+)]
+pub struct ToolTableError {
+    /// What is wrong, naming the line and the word.
+    pub message: String,
+    /// The word's bytes in the table's text.
+    #[label("here")]
+    pub span: SourceSpan,
+}
+
+fn error(range: Range<usize>, message: String) -> ToolTableError {
+    ToolTableError {
+        message,
+        span: SourceSpan::from(range),
+    }
+}
 
 /// One tool of the table.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -33,8 +58,8 @@ pub struct ToolTable {
 }
 
 impl ToolTable {
-    /// Parses the text of a `.tbl` file; an error is the byte range and what is wrong.
-    pub fn parse(text: &str) -> Result<ToolTable, (Range<usize>, String)> {
+    /// Parses the text of a `.tbl` file; an error labels the word that is wrong.
+    pub fn parse(text: &str) -> Result<ToolTable, ToolTableError> {
         let mut table = ToolTable::default();
         let mut offset = 0;
         for (index, line) in text.split_inclusive('\n').enumerate() {
@@ -53,19 +78,19 @@ impl ToolTable {
                 let range = at..at + word.len();
                 let (letter, value) = match word.split_at_checked(1) {
                     Some((l, v)) if !v.is_empty() => (l.to_ascii_uppercase(), v),
-                    _ => return Err((range, not_a_word(word, index))),
+                    _ => return Err(error(range, not_a_word(word, index))),
                 };
                 let number: f64 = match value.parse() {
                     Ok(n) if f64::is_finite(n) => n,
-                    _ => return Err((range, not_a_word(word, index))),
+                    _ => return Err(error(range, not_a_word(word, index))),
                 };
                 if letter == "T" {
                     if tool.is_some() {
-                        return Err((range, format!("line {}: a second T word", index + 1)));
+                        return Err(error(range, format!("line {}: a second T word", index + 1)));
                     }
                     let rounded = number.round();
                     if rounded != number || !(0.0..=f64::from(u32::MAX)).contains(&number) {
-                        return Err((
+                        return Err(error(
                             range,
                             format!(
                                 "line {}: `{word}`: a tool number is a whole number ≥ 0",
@@ -81,7 +106,7 @@ impl ToolTable {
                     continue;
                 }
                 let Some(t) = tool.as_mut() else {
-                    return Err((
+                    return Err(error(
                         range,
                         format!("line {}: a tool line starts with its T word", index + 1),
                     ));
@@ -96,7 +121,7 @@ impl ToolTable {
                     "D" => t.diameter = number,
                     "P" | "U" | "V" | "W" | "I" | "J" | "Q" => {}
                     _ => {
-                        return Err((
+                        return Err(error(
                             range,
                             format!(
                                 "line {}: `{word}`: a tool line has T P X Y Z A B C U V W D I J Q words",
@@ -168,15 +193,17 @@ mod tests {
     #[test]
     fn errors_name_the_line_and_word() {
         let text = "T1 Z1\nT2 Z1.x\n";
-        let (range, message) = ToolTable::parse(text).unwrap_err();
+        let parts =
+            |e: ToolTableError| (e.span.offset()..e.span.offset() + e.span.len(), e.message);
+        let (range, message) = parts(ToolTable::parse(text).unwrap_err());
         assert_eq!(&text[range], "Z1.x");
         assert!(message.starts_with("line 2:"), "{message}");
-        let (range, message) = ToolTable::parse("P1 Z1\n").unwrap_err();
+        let (range, message) = parts(ToolTable::parse("P1 Z1\n").unwrap_err());
         assert_eq!(range, 0..2);
         assert!(message.contains("starts with its T word"), "{message}");
-        let (_, message) = ToolTable::parse("T1.5 Z1\n").unwrap_err();
+        let (_, message) = parts(ToolTable::parse("T1.5 Z1\n").unwrap_err());
         assert!(message.contains("whole number"), "{message}");
-        let (_, message) = ToolTable::parse("T1 R2\n").unwrap_err();
+        let (_, message) = parts(ToolTable::parse("T1 R2\n").unwrap_err());
         assert!(message.contains("`R2`"), "{message}");
     }
 }

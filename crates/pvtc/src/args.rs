@@ -1,9 +1,9 @@
 //! Command-line arguments.
 //!
 //! Owns the flags, their help text and their conversion into pipeline options (reading
-//! the `--offsets` file once per run, [`PipelineArgs::read_files`], parsed by
-//! [`pvt_gcode::offsets`]; the `--tool-table` file through [`crate::tools`]). It must
-//! not compile anything.
+//! the `--offsets`, `--tool-table` and `--machine` files once per run,
+//! [`PipelineArgs::read_files`]; the first two are parsed by pvt-gcode, whose errors are
+//! shown on the file's text). It must not compile anything.
 
 use crate::pipeline::{CompileOptions, DrawingOptions, Failure, InputKind, VelocitySource};
 use clap::{Parser, Subcommand, ValueEnum};
@@ -294,7 +294,7 @@ impl PipelineArgs {
         let Some(path) = &self.tool_table else {
             return Ok(pvt_gcode::ToolTable::default());
         };
-        let mut table = crate::tools::read(path)?;
+        let mut table = read_side_file(path, pvt_gcode::ToolTable::parse)?;
         if self.tool_table_units == Some(UnitsArg::In) {
             table.scale_lengths(25.4);
         }
@@ -473,16 +473,28 @@ impl CompileArgs {
 }
 
 /// Reads the `--offsets` table at `path` (G-code words, parsed by pvt-gcode).
-fn read_offsets(path: &std::path::Path) -> Result<[[f64; 6]; 9], Failure> {
+/// Reads a file that holds the same for every input of a run (the `--offsets` table, the
+/// `--tool-table`) and parses it; a parse error is shown on the file's own text.
+fn read_side_file<T, E>(
+    path: &std::path::Path,
+    parse: impl FnOnce(&str) -> Result<T, E>,
+) -> Result<T, Failure>
+where
+    E: miette::Diagnostic + Send + Sync + 'static,
+{
     let text = std::fs::read_to_string(path).map_err(|error| Failure::Io {
         path: path.to_path_buf(),
         action: "read",
         error,
     })?;
-    pvt_gcode::parse_offsets(&text).map_err(|e| {
-        let named = miette::NamedSource::new(path.display().to_string(), text);
+    parse(&text).map_err(|e| {
+        let named = miette::NamedSource::new(path.display().to_string(), text.clone());
         Failure::Input(vec![miette::Report::new(e).with_source_code(named)])
     })
+}
+
+fn read_offsets(path: &std::path::Path) -> Result<[[f64; 6]; 9], Failure> {
+    read_side_file(path, pvt_gcode::parse_offsets)
 }
 
 /// Arguments of `pvtc check`.

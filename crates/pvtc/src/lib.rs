@@ -23,7 +23,6 @@ pub mod report;
 pub mod stream;
 pub mod subroutines;
 pub mod toolpath;
-pub mod tools;
 
 pub use args::{Cli, Command, CompileArgs};
 pub use pipeline::{
