@@ -115,12 +115,24 @@ fn write_stdout(bytes: &[u8]) -> ExitCode {
     }
 }
 
-/// For `-`, standard input copied into a temporary file (removed when dropped).
-pub(crate) fn stdin_file(
-    input: &std::path::Path,
-) -> Result<Option<tempfile::NamedTempFile>, Failure> {
+/// A G-code input as a file to read from: the file itself, or for `-` standard input
+/// copied into a temporary file (removed when dropped), with the name diagnostics use.
+pub(crate) struct Spooled {
+    _copy: Option<tempfile::NamedTempFile>,
+    /// Where to read.
+    pub path: std::path::PathBuf,
+    /// The path as given, or `<stdin>`.
+    pub name: String,
+}
+
+/// `input` as a file to read from, spooling standard input for `-`.
+pub(crate) fn spool(input: &std::path::Path) -> Result<Spooled, Failure> {
     if input != std::path::Path::new("-") {
-        return Ok(None);
+        return Ok(Spooled {
+            _copy: None,
+            path: input.to_path_buf(),
+            name: input.display().to_string(),
+        });
     }
     let failure = |error| Failure::Io {
         path: "<stdin>".into(),
@@ -129,7 +141,11 @@ pub(crate) fn stdin_file(
     };
     let mut file = tempfile::NamedTempFile::new().map_err(failure)?;
     std::io::copy(&mut std::io::stdin().lock(), file.as_file_mut()).map_err(failure)?;
-    Ok(Some(file))
+    Ok(Spooled {
+        path: file.path().to_path_buf(),
+        _copy: Some(file),
+        name: "<stdin>".into(),
+    })
 }
 
 fn compile_command(args: &CompileArgs) -> ExitCode {

@@ -273,12 +273,8 @@ pub fn compile_to(
     out: &mut Target<'_>,
 ) -> Result<Vec<miette::Report>, crate::Failure> {
     if options.input == crate::InputKind::Gcode {
-        let spooled = crate::stdin_file(input)?;
-        let (path, name) = match &spooled {
-            Some(file) => (file.path(), "<stdin>".to_string()),
-            None => (input, input.display().to_string()),
-        };
-        return compile_streaming(path, &name, options, deny_warnings, out);
+        let input = crate::spool(input)?;
+        return compile_streaming(&input.path, &input.name, options, deny_warnings, out);
     }
     let source = crate::Source::read(input)?;
     let compiled = crate::pipeline::compile(&source, options)?;

@@ -45,25 +45,22 @@ fn gcode(
     input: &Path,
     options: &CompileOptions,
 ) -> Result<Vec<miette::Report>, Failure> {
-    let spooled = crate::stdin_file(input)?;
-    let (path, name) = match &spooled {
-        Some(file) => (file.path(), "<stdin>".to_string()),
-        None => (input, input.display().to_string()),
-    };
+    let spooled = crate::spool(input)?;
+    let (path, name) = (spooled.path.as_path(), spooled.name.as_str());
     let gcode = crate::front::gcode_options(options);
     output::write_with(args.output.as_deref(), |out| {
         if !out.can_restart() {
             crate::stream::compile_read(
                 path,
-                &name,
+                name,
                 &gcode,
                 &mut crate::stream::MovedAxes::default(),
             )?;
         }
         let mut writer = ToolpathWriter::new(std::io::BufWriter::new(&mut *out));
-        let summary = crate::stream::compile_read(path, &name, &gcode, &mut writer)?;
+        let summary = crate::stream::compile_read(path, name, &gcode, &mut writer)?;
         writer.finish(summary.units).map_err(write_failure)?;
-        Ok(crate::stream::reports(path, &name, summary.warnings))
+        Ok(crate::stream::reports(path, name, summary.warnings))
     })
 }
 
