@@ -298,14 +298,7 @@ impl Interpreter<'_> {
                 Motion::Feed => GcodeDiagnostic::ZeroLengthMove { span },
             });
         }
-        let element = Element {
-            kind: ElementKind::Line,
-            start,
-            end,
-            feed,
-            span: element_span(block),
-        };
-        self.emit(motion, &element);
+        self.straight(motion, start, end, feed, block);
     }
 
     /// A straight move from `start` to `end` (not equal) at `feed` units per second.
