@@ -3,8 +3,8 @@
 //! Owns the route that stops before planning: a G-code file or standard input streams
 //! through the G-code front end into [`pvt_emit::toolpath::ToolpathWriter`]; a drawing's
 //! whole toolpath is replayed into the same writer. It must not plan, and, like every
-//! route, a failed run writes nothing: a stream that cannot start over gets a first pass
-//! into nothing.
+//! route, a failed run (an error, or a warning under `--deny-warnings`) writes nothing: a
+//! stream that cannot start over gets a first pass into nothing.
 
 use crate::args::CompileArgs;
 use crate::output::{self, Target};
@@ -48,19 +48,19 @@ fn gcode(
     let spooled = crate::spool(input)?;
     let (path, name) = (spooled.path.as_path(), spooled.name.as_str());
     let gcode = crate::front::gcode_options(options);
+    let deny = args.pipeline.deny_warnings;
+    let warned = |warnings| crate::stream::deny(crate::stream::reports(path, name, warnings), deny);
     output::write_with(args.output.as_deref(), |out| {
         if !out.can_restart() {
-            crate::stream::compile_read(
-                path,
-                name,
-                &gcode,
-                &mut crate::stream::MovedAxes::default(),
-            )?;
+            // A stream keeps what it is given: errors and denied warnings come first.
+            let mut nothing = crate::stream::MovedAxes::default();
+            warned(crate::stream::compile_read(path, name, &gcode, &mut nothing)?.warnings)?;
         }
         let mut writer = ToolpathWriter::new(std::io::BufWriter::new(&mut *out));
         let summary = crate::stream::compile_read(path, name, &gcode, &mut writer)?;
+        let warnings = warned(summary.warnings)?;
         writer.finish(summary.units).map_err(write_failure)?;
-        Ok(crate::stream::reports(path, name, summary.warnings))
+        Ok(warnings)
     })
 }
 
@@ -79,6 +79,7 @@ fn drawing(
             ))
         }
     };
+    let warnings = crate::stream::deny(warnings, args.pipeline.deny_warnings)?;
     output::write_with(args.output.as_deref(), |out: &mut Target<'_>| {
         let mut writer = ToolpathWriter::new(std::io::BufWriter::new(out));
         replay(&toolpath, &mut writer);

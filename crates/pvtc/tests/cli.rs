@@ -1358,3 +1358,30 @@ fn tool_table_offsets_apply_and_its_errors_name_the_line() {
     let o = run(&["--tool-table", missing.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(1));
 }
+
+/// `--format toolpath --deny-warnings` on a warning writes nothing, into a file or into
+/// a pipe, and says so with `pvtc::deny_warnings` (it used to write the file first).
+#[test]
+fn toolpath_under_deny_warnings_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let program = dir.path().join("w.ngc");
+    std::fs::write(&program, "G1 X5 F100\nG1 X5\nM2\n").unwrap();
+    let out = dir.path().join("w.jsonl");
+    let (program, out) = (program.to_str().unwrap(), out.to_str().unwrap());
+    let args = [
+        "compile",
+        program,
+        "--format",
+        "toolpath",
+        "--deny-warnings",
+    ];
+    let to_file = pvtc(&[&args[..], &["-o", out]].concat(), None);
+    assert_eq!(to_file.status.code(), Some(1), "{}", stderr(&to_file));
+    assert!(stderr(&to_file).contains("pvtc::deny_warnings"));
+    assert!(!std::path::Path::new(out).exists(), "nothing written");
+    let to_pipe = pvtc(&args, None);
+    assert_eq!(to_pipe.status.code(), Some(1), "{}", stderr(&to_pipe));
+    assert!(to_pipe.stdout.is_empty(), "nothing on the pipe");
+    let allowed = pvtc(&args[..4], None);
+    assert!(allowed.status.success() && !allowed.stdout.is_empty());
+}
