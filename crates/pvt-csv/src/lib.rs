@@ -88,6 +88,20 @@ enum Column {
     Velocity(Axis),
 }
 
+impl Column {
+    /// The axes of the velocity columns (`velocity`) or of the position columns, in
+    /// column order.
+    fn axes(columns: &[Column], velocity: bool) -> Vec<Axis> {
+        columns
+            .iter()
+            .filter_map(|c| match (c, velocity) {
+                (Column::Position(a), false) | (Column::Velocity(a), true) => Some(*a),
+                _ => None,
+            })
+            .collect()
+    }
+}
+
 /// One field of a line: trimmed text and its byte range in the source.
 struct Field<'a> {
     text: &'a str,
@@ -276,16 +290,7 @@ fn check_header(
             whole.clone(),
         ));
     }
-    let axes: Vec<Axis> = columns
-        .iter()
-        .filter_map(|c| {
-            if let Column::Position(a) = c {
-                Some(*a)
-            } else {
-                None
-            }
-        })
-        .collect();
+    let axes = Column::axes(columns, false);
     if axes.is_empty() {
         errors.push(diagnose(
             source,
@@ -294,16 +299,7 @@ fn check_header(
             whole.clone(),
         ));
     }
-    let velocities: Vec<Axis> = columns
-        .iter()
-        .filter_map(|c| {
-            if let Column::Velocity(a) = c {
-                Some(*a)
-            } else {
-                None
-            }
-        })
-        .collect();
+    let velocities = Column::axes(columns, true);
     if velocities.is_empty() {
         return;
     }
@@ -340,16 +336,7 @@ fn read_rows(
     units: Units,
     errors: &mut Vec<CsvDiagnostic>,
 ) -> Option<PointSeries> {
-    let mut axes: Vec<Axis> = columns
-        .iter()
-        .filter_map(|c| {
-            if let Column::Position(a) = c {
-                Some(*a)
-            } else {
-                None
-            }
-        })
-        .collect();
+    let mut axes = Column::axes(columns, false);
     axes.sort();
     let has_velocity = columns.iter().any(|c| matches!(c, Column::Velocity(_)));
     let dim = axes.len();
