@@ -305,6 +305,14 @@ pub fn read(text: &str) -> Result<PvtProgram, ReadError> {
                     i + 1
                 )));
             }
+            if !(s.t.is_finite() && s.t > 0.0) {
+                return Err(bad(format!(
+                    "contour {}, segment {}: time {} is not a positive number of seconds",
+                    c + 1,
+                    i + 1,
+                    s.t
+                )));
+            }
             contour.push(&s.p, &s.v, s.t, s.line);
         }
         contours.push(contour);

@@ -61,6 +61,24 @@ fn json_reads_back_bit_for_bit() {
     assert_eq!(json::read(&t).unwrap(), program());
 }
 
+/// A piece time that is zero or negative is refused when read, not checked as an
+/// infinite acceleration or out of order.
+#[test]
+fn json_refuses_a_piece_time_that_is_not_positive() {
+    let t = text(Format::Json);
+    let value: serde_json::Value = serde_json::from_str(&t).unwrap();
+    let time = value["contours"][0]["segments"][1]["t"].to_string();
+    for bad in ["0.0", "-0.2"] {
+        let edited = t.replacen(&format!("\"t\": {time}"), &format!("\"t\": {bad}"), 1);
+        assert_ne!(edited, t, "the second piece's time was not found");
+        let err = json::read(&edited).unwrap_err().to_string();
+        assert!(
+            err.contains("contour 1, segment 2: time") && err.contains("not a positive"),
+            "{err}"
+        );
+    }
+}
+
 #[test]
 fn movepvt_declares_interleaved_arrays() {
     let t = text(Format::MovePvt);
