@@ -81,9 +81,13 @@ fn plan_on(
         corner_tolerance: None,
         limits: limits.clone(),
         quantum,
+        servo_period: SERVO,
     };
     plan_path(c, &XYZ, &options).expect("plans").0
 }
+
+/// The servo period the planner bounds acceleration steps over (the default's 0.5 ms).
+const SERVO: f64 = 0.0005;
 
 const MS: Quantum = Quantum {
     seconds: 0.001,
@@ -348,6 +352,7 @@ fn a_corner_tolerance_blends_corners_without_a_machine_file() {
         corner_tolerance: Some(0.05),
         limits: BTreeMap::new(),
         quantum: None,
+        servo_period: SERVO,
     };
     let blended = plan_path(&c, &XYZ, &options).unwrap().0;
     let d = deviation(&c, &blended);
@@ -495,6 +500,9 @@ proptest! {
         for j in reference::jerks(&planned) {
             prop_assert!(j <= 20000.0 * (1.0 + 1e-6), "jerk {}", j);
         }
+        for step in reference::knot_steps(&planned) {
+            prop_assert!(step <= 20000.0 * SERVO * (1.0 + 1e-6), "acceleration step {}", step);
+        }
     }
 }
 
@@ -515,6 +523,12 @@ fn a_jerk_limit_slows_a_circle_and_holds() {
     let held = plan(&c, 0.001, &limits_with_jerk(100.0, 1000.0, Some(2000.0)));
     for j in reference::jerks(&held) {
         assert!(j <= 2000.0 * (1.0 + 1e-6), "jerk {j}");
+    }
+    for step in reference::knot_steps(&held) {
+        assert!(
+            step <= 2000.0 * SERVO * (1.0 + 1e-6),
+            "acceleration step {step}"
+        );
     }
     assert_within(&held, 100.0, 1000.0);
     assert_follows(&c, &held, 0.001);
@@ -563,6 +577,7 @@ fn a_long_contour_on_a_grid_keeps_its_limits_and_tolerance_whatever_the_window()
             corner_tolerance: None,
             limits: lim.clone(),
             quantum: Some(MS),
+            servo_period: SERVO,
         };
         let planned = plan_stream(&c, &options, window);
         assert_on_grid(&planned, 0.001);
@@ -585,6 +600,7 @@ fn plan_windowed(
         corner_tolerance: None,
         limits: lim.clone(),
         quantum: None,
+        servo_period: SERVO,
     };
     plan_stream(c, &options, window)
 }
@@ -664,8 +680,54 @@ fn a_tolerance_no_piece_can_meet_is_an_error_naming_the_line() {
         corner_tolerance: None,
         limits: BTreeMap::new(),
         quantum: None,
+        servo_period: SERVO,
     };
     let e = plan_path(&c, &XYZ, &options).unwrap_err();
     assert_eq!(e.code(), "pvtc::plan::path_not_met");
     assert_eq!(e.line(), 1);
+}
+
+/// A 100 mm line from rest to rest under `samples/machines/mill.toml`'s X limits
+/// (100 mm/s, 1000 mm/s², 50000 mm/s³), worked by hand. The planner plans to
+/// (1 − 10⁻⁵) of each limit and gives its S-curves 0.9 of the jerk: V = 100·s,
+/// A = 1000·s, J = 45000·s with s = 1 − 10⁻⁵. V ≥ A²/J, so each speed change reaches A:
+/// a ramp of A/J, a constant-acceleration middle of V/A − A/J and a ramp down, over
+/// (V/2)·(V/A + A/J) mm each; the cruise covers the rest at V.
+#[test]
+fn a_line_from_rest_to_rest_is_two_s_curves_and_a_cruise() {
+    let c = contour(vec![line(pos(0.0, 0.0, 0.0), pos(100.0, 0.0, 0.0), 6000.0)]);
+    let share = 1.0 - 1e-5;
+    let lim = limits_with_jerk(100.0, 1000.0, Some(50000.0));
+    let planned = plan(&c, 0.001, &lim);
+    let (v, a, j) = (100.0 * share, 1000.0 * share, 0.9 * 50000.0 * share);
+    let (ramp, middle) = (a / j, v / a - a / j);
+    let change = v / 2.0 * (v / a + a / j);
+    let cruise = (100.0 - 2.0 * change) / v;
+    let expected = [ramp, middle, ramp, cruise, ramp, middle, ramp];
+    assert_eq!(
+        planned.durations.len(),
+        expected.len(),
+        "{:?}",
+        planned.durations
+    );
+    for (t, e) in planned.durations.iter().zip(expected) {
+        assert!(
+            (t - e).abs() <= 1e-9 * e,
+            "durations {:?}, expected {expected:?}",
+            planned.durations
+        );
+    }
+    let total = 2.0 * (v / a + a / j) + cruise;
+    assert!((planned.total_time() - total).abs() <= 1e-9 * total);
+    let (peak_v, peak_a) = reference::peaks(&planned)[0];
+    assert!((peak_v - v).abs() <= 1e-9 * v, "velocity {peak_v}");
+    assert!((peak_a - a).abs() <= 1e-9 * a, "acceleration {peak_a}");
+    let jerk = reference::jerks(&planned)[0];
+    assert!((jerk - j).abs() <= 1e-6 * j, "jerk {jerk}");
+    // Continuous acceleration: no step at any knot (rounding only).
+    assert!(
+        reference::knot_steps(&planned)[0] < 1e-6,
+        "{:?}",
+        reference::knot_steps(&planned)
+    );
 }

@@ -112,6 +112,9 @@ pub struct PathOptions {
     pub limits: BTreeMap<Axis, AxisLimits>,
     /// Time grid of the piece times (`--quantize`), if any.
     pub quantum: Option<Quantum>,
+    /// Servo period, seconds: with a jerk limit `J`, the acceleration step at a knot is
+    /// bounded by `J·servo_period` on each axis (see "Jerk").
+    pub servo_period: f64,
 }
 
 /// What the path planner achieved on a contour.
@@ -191,10 +194,14 @@ pub(super) struct AxisBounds {
     pub acceleration: Vec<f64>,
     /// Bounds each piece's own (constant) jerk, `6·a₃` of its cubic.
     pub jerk: Vec<f64>,
+    /// Bounds the step of the acceleration at a knot: `jerk·servo_period`.
+    pub step: Vec<f64>,
+    /// The servo period the steps are bounded over, seconds.
+    pub servo_period: f64,
 }
 
 impl AxisBounds {
-    fn new(axes: &[Axis], limits: &BTreeMap<Axis, AxisLimits>) -> AxisBounds {
+    fn new(axes: &[Axis], limits: &BTreeMap<Axis, AxisLimits>, servo_period: f64) -> AxisBounds {
         let get = |f: fn(&AxisLimits) -> Option<f64>| -> Vec<f64> {
             axes.iter()
                 .map(|a| {
@@ -205,15 +212,24 @@ impl AxisBounds {
                 })
                 .collect()
         };
+        let jerk = get(|l| l.jerk);
         AxisBounds {
             velocity: get(|l| l.velocity),
             acceleration: get(|l| l.acceleration),
-            jerk: get(|l| l.jerk),
+            step: jerk.iter().map(|j| j * servo_period).collect(),
+            jerk,
+            servo_period,
         }
     }
 
     fn accelerates(&self) -> bool {
         self.acceleration.iter().any(|a| a.is_finite())
+    }
+
+    /// True when some axis has a jerk limit: speed changes are S-curves and the
+    /// acceleration steps at knots are bounded (see "Jerk").
+    pub fn jerk_mode(&self) -> bool {
+        self.jerk.iter().any(|j| j.is_finite())
     }
 }
 
@@ -254,7 +270,7 @@ impl PathStream {
         PathStream {
             window: window.max(2),
             axes: axes.to_vec(),
-            bounds: AxisBounds::new(axes, &options.limits),
+            bounds: AxisBounds::new(axes, &options.limits, options.servo_period),
             options: options.clone(),
             curves: Vec::new(),
             start: Start {
@@ -281,7 +297,8 @@ impl PathStream {
         }
         check_element(element)?;
         self.curves.extend(Curve::new(element, &self.axes));
-        if self.options.quantum.is_none() && self.curves.len() >= self.window {
+        let whole = self.options.quantum.is_some() || self.bounds.jerk_mode();
+        if !whole && self.curves.len() >= self.window {
             self.plan(false, emit)?;
         }
         Ok(())
@@ -308,6 +325,9 @@ impl PathStream {
         let corner = self.options.corner_tolerance;
         let narrow = self.options.quantum.is_some();
         let mut knots = Knots::new(curves, bounds, tolerance, corner, &self.start, narrow);
+        if bounds.jerk_mode() {
+            knots.min_cruise = self.options.quantum.map_or(0.0, |q| 3.0 * q.seconds);
+        }
         if !last {
             knots.cap_for_window(curves, least);
         }
@@ -325,14 +345,18 @@ impl PathStream {
             pieces = grid.grid.pieces;
         }
         let count = if last {
-            pieces.len()
+            knots.knots.len() - 1
         } else {
             match knots.cut(curves, self.stopping_distance()) {
                 Some(k) => k,
                 None => return Ok(()),
             }
         };
-        let worst = pieces[..count].iter().map(|p| p.error).fold(0.0, f64::max);
+        let worst = pieces
+            .iter()
+            .take_while(|p| p.knot < count)
+            .map(|p| p.error)
+            .fold(0.0, f64::max);
         self.report.error_bound = self.report.error_bound.max(worst);
         knots.emit(curves, &pieces, count, emit);
         if !last {
@@ -406,6 +430,9 @@ fn settle(
         if knots.slow_over(&pieces, bounds) {
             continue;
         }
+        if knots.step_over(&pieces, bounds) {
+            continue;
+        }
         return Some(pieces);
     }
     None
@@ -431,7 +458,8 @@ fn on_grid(
     for _ in 0..MAX_ROUNDS {
         let grid = knots.on_grid(curves, bounds, &planned, quantum);
         let changed = knots.split_over(curves, &grid.pieces, tolerance)
-            || knots.slow_over(&grid.pieces, bounds);
+            || knots.slow_over(&grid.pieces, bounds)
+            || knots.step_over(&grid.pieces, bounds);
         if !changed {
             return Some(OnGrid { planned, grid });
         }
@@ -471,6 +499,7 @@ mod tests {
             corner_tolerance: None,
             limits: Default::default(),
             quantum: None,
+            servo_period: crate::defaults::SERVO_PERIOD_S,
         };
         let mut stream = super::PathStream::new(&axes, &options);
         let mut end = [0.0; crate::axis::AXIS_COUNT];
