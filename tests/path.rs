@@ -696,7 +696,7 @@ fn a_tolerance_no_piece_can_meet_is_an_error_naming_the_line() {
 #[test]
 fn a_line_from_rest_to_rest_is_two_s_curves_and_a_cruise() {
     let c = contour(vec![line(pos(0.0, 0.0, 0.0), pos(100.0, 0.0, 0.0), 6000.0)]);
-    let share = 1.0 - 1e-5;
+    let share: f64 = 1.0 - 1e-5;
     let lim = limits_with_jerk(100.0, 1000.0, Some(50000.0));
     let planned = plan(&c, 0.001, &lim);
     let (v, a, j) = (100.0 * share, 1000.0 * share, 0.9 * 50000.0 * share);
@@ -725,6 +725,44 @@ fn a_line_from_rest_to_rest_is_two_s_curves_and_a_cruise() {
     let jerk = reference::jerks(&planned)[0];
     assert!((jerk - j).abs() <= 1e-6 * j, "jerk {jerk}");
     // Continuous acceleration: no step at any knot (rounding only).
+    assert!(
+        reference::knot_steps(&planned)[0] < 1e-6,
+        "{:?}",
+        reference::knot_steps(&planned)
+    );
+}
+
+/// A 0.2 mm line from rest to rest under the same limits never reaches A: each speed
+/// change is two ramps of jerk J meeting at the peak speed p, over p·√(p/J) = 0.1 mm, so
+/// p = (0.1·√J)^⅔ and each of the four pieces takes √(p/J); the peak acceleration is √(p·J).
+#[test]
+fn a_short_line_is_two_triangular_s_curves() {
+    let c = contour(vec![line(pos(0.0, 0.0, 0.0), pos(0.2, 0.0, 0.0), 6000.0)]);
+    let share: f64 = 1.0 - 1e-5;
+    let lim = limits_with_jerk(100.0, 1000.0, Some(50000.0));
+    let planned = plan(&c, 0.001, &lim);
+    let (a, j) = (1000.0 * share, 0.9 * 50000.0 * share);
+    let peak = (0.1 * j.sqrt()).powf(2.0 / 3.0);
+    assert!(peak < a * a / j, "the case is triangular: {peak}");
+    let ramp = (peak / j).sqrt();
+    assert_eq!(planned.durations.len(), 4, "{:?}", planned.durations);
+    for t in &planned.durations {
+        assert!(
+            (t - ramp).abs() <= 1e-9 * ramp,
+            "{:?} != {ramp}",
+            planned.durations
+        );
+    }
+    let (peak_v, peak_a) = reference::peaks(&planned)[0];
+    assert!(
+        (peak_v - peak).abs() <= 1e-9 * peak,
+        "velocity {peak_v} != {peak}"
+    );
+    let expected = (peak * j).sqrt();
+    assert!(
+        (peak_a - expected).abs() <= 1e-9 * expected,
+        "acceleration {peak_a}"
+    );
     assert!(
         reference::knot_steps(&planned)[0] < 1e-6,
         "{:?}",

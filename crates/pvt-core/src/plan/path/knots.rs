@@ -242,6 +242,13 @@ impl Knots {
                 // let it change speed at a share of its lines' (see the constant).
                 let a = |c: &Curve| tangential_accel(c, 0.0, c.span, bounds, j.cap);
                 accel[k] = BLEND_TANGENT_SHARE * a(&curves[e]).min(a(&curves[e + 1]));
+                if self.jerk_mode {
+                    // Under a jerk limit a blend changes speed at most at half
+                    // the least acceleration step: its ends' tangential acceleration
+                    // steps against the lines' S-curves, which end at zero.
+                    let least = bounds.step.iter().fold(f64::INFINITY, |a, &b| a.min(b));
+                    accel[k] = accel[k].min(0.5 * least);
+                }
                 continue;
             }
             let (curve, from, to) = self.piece_span(curves, k);

@@ -148,11 +148,11 @@ impl Knots {
         let p1 = from + wa * ramp + sign * j * ramp.powi(3) / 6.0;
         let w2 = w1 + sign * accel * hold;
         let p2 = p1 + w1 * hold + sign * 0.5 * accel * hold * hold;
-        let mut points = vec![(from, wa, ramp), (p1, w1, hold)];
+        let mut points = vec![(from, wa, ramp)];
         if hold == 0.0 {
-            points.pop();
+            points.push((p1, w1, ramp));
         } else {
-            points.push((p2, w2, ramp));
+            points.extend([(p1, w1, hold), (p2, w2, ramp)]);
         }
         points.push((to, wb, 0.0));
         let last = points.len() - 2;
