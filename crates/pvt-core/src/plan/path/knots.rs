@@ -2,8 +2,10 @@
 //!
 //! Owns the initial knots (element ends, arc subdivisions by the error bound, the short
 //! zones beside a junction passed at speed), the speed caps and the backward and forward
-//! passes, and the two repairs: splitting a piece over the tolerance, slowing a piece over
-//! a limit. It must not compute a piece's cubic: that is [`super::pieces`].
+//! passes (with the S-curve distances under a jerk limit), and the repairs: splitting a
+//! piece over the tolerance, slowing a piece over a limit and, under a jerk limit,
+//! slowing a knot whose acceleration step is over its bound. It must not compute a
+//! piece's cubic: that is [`super::pieces`].
 
 use super::curve::Curve;
 use super::pieces::Piece;
@@ -339,10 +341,12 @@ impl Knots {
                 }
             };
             add(rise);
+            // In jerk mode a cruise is at least 10⁻⁶ of the piece (and `min_cruise`
+            // long): a cruise of a rounding error's length would be a piece whose
+            // accelerations, from its written ends, are rounding noise.
             let cruise = d - fall - rise;
-            if d - fall > rise * (1.0 + 1e-9)
-                && (j.is_infinite() || cruise >= self.min_cruise * peak)
-            {
+            let long = j.is_infinite() || cruise >= (self.min_cruise * peak).max(1e-6 * d);
+            if d - fall > rise * (1.0 + 1e-9) && long {
                 add(d - fall);
             }
         }

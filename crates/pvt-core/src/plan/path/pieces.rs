@@ -2,8 +2,9 @@
 //!
 //! Owns the piece time from the reference motion (constant parameter acceleration), the
 //! per-piece error bound of the module documentation, and the closed-form per-axis peaks
-//! that limits are checked against, and the same pieces on a quantum grid. It must not
-//! move knots or change speeds.
+//! that limits are checked against, and the same pieces on a quantum grid; under a jerk
+//! limit, each piece's S-curve parts (and their C² parts on the grid) and each cubic's end
+//! accelerations. It must not move knots or change speeds.
 
 use super::curve::Curve;
 use super::knots::Knots;
