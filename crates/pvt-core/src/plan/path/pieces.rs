@@ -315,19 +315,20 @@ fn blend_time(l: f64, va: f64, vb: f64) -> f64 {
 impl Piece {
     /// Each axis' acceleration at the start and at the end of the cubic.
     pub fn end_accelerations(&self) -> [Vector; 2] {
-        let mut out = [Vector::zeros(self.start.len()); 2];
-        for i in 0..self.start.len() {
-            let h = HermiteSegment::new(
+        let cubic = |i: usize| {
+            HermiteSegment::new(
                 self.start[i],
                 self.start_velocity[i],
                 self.end[i],
                 self.end_velocity[i],
                 self.duration,
-            );
-            out[0][i] = h.a0;
-            out[1][i] = h.end().acceleration;
-        }
-        out
+            )
+        };
+        let n = self.start.len();
+        [
+            Vector::from_fn(n, |i| cubic(i).a0),
+            Vector::from_fn(n, |i| cubic(i).end().acceleration),
+        ]
     }
 
     /// True when the piece starts and ends at rest.
