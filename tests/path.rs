@@ -483,19 +483,29 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(32))]
 
     /// With a jerk limit every piece's jerk (independently: the third difference of its
-    /// control points) stays within it, on a time grid or not, and so do the other
-    /// limits and the tolerance.
+    /// control points) stays within it, and so does every knot's acceleration step
+    /// within the jerk limit times the servo period (independently: each cubic's end
+    /// accelerations from its end states), on a time grid (1, 2 or 0.442 ms, either
+    /// rounding) or not, and so do the other limits and the tolerance.
     #[test]
     fn random_programs_with_a_jerk_limit_keep_it(
         steps in prop::collection::vec(step(), 1..6),
         tol_exp in -3.0..-1.0f64,
         feed in 5.0..200.0f64,
-        on_grid in any::<bool>(),
+        quantum_ms in prop_oneof![Just(0.0f64), Just(1.0), Just(2.0), Just(0.442)],
+        nearest in any::<bool>(),
     ) {
         let c = contour(program(&steps, feed));
         let tol = 10f64.powf(tol_exp);
         let lim = limits_with_jerk(80.0, 800.0, Some(20000.0));
-        let planned = plan_on(&c, tol, &lim, on_grid.then_some(MS));
+        let q = (quantum_ms > 0.0).then(|| Quantum {
+            seconds: quantum_ms / 1000.0,
+            rounding: if nearest { Rounding::Nearest } else { Rounding::Up },
+        });
+        let planned = plan_on(&c, tol, &lim, q);
+        if let Some(q) = q {
+            assert_on_grid(&planned, q.seconds);
+        }
         within(&c, &planned, tol, true)?;
         for j in reference::jerks(&planned) {
             prop_assert!(j <= 20000.0 * (1.0 + 1e-6), "jerk {}", j);
