@@ -512,26 +512,12 @@ impl Knots {
             b.speed / (scale[1] * curve.rate(to)),
         );
         let phi = HermiteSegment::new(from, wa, to, wb, t);
-        let (rate, accel, slowest) = parameter_peaks(&phi);
-        if slowest < 0.0 {
+        if parameter_peaks(&phi).2 < 0.0 {
             // φ would leave the piece's parameter range (not with K ≥ k).
             piece.error = f64::INFINITY;
             return piece;
         }
-        let [d2, d3, d4] = curve.derivative_bounds();
-        let jerk = phi.jerk.abs();
-        let bend = t.powi(4) / 384.0
-            * (d4 * rate.powi(4)
-                + 6.0 * d3 * rate * rate * accel
-                + 3.0 * d2 * accel * accel
-                + 4.0 * d2 * rate * jerk);
-        let mismatch = |speed: f64, junction: Option<usize>, s: f64| {
-            junction.map_or(0.0, |j| speed * self.junctions[j].deviation / s)
-        };
-        let turn = 4.0 / 27.0
-            * t
-            * (mismatch(a.speed, a.junction, scale[0]) + mismatch(b.speed, b.junction, scale[1]));
-        piece.error = bend + turn;
+        piece.error = bend(curve, &phi) + self.turn(t, [(a, true, scale[0]), (b, true, scale[1])]);
         piece
     }
 }
