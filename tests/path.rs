@@ -779,3 +779,27 @@ fn a_short_line_is_two_triangular_s_curves() {
         reference::knot_steps(&planned)
     );
 }
+
+/// Under a jerk limit the stream plans the contour whole whatever its window (a window's
+/// first knot, already written, could not have its acceleration step matched): a
+/// 16-element window gives the same motion, with every knot's step within the bound.
+#[test]
+fn a_jerk_limit_plans_the_contour_whole_whatever_the_window() {
+    let c = long_contour();
+    let lim = limits_with_jerk(100.0, 1000.0, Some(50000.0));
+    let whole = plan_windowed(&c, 0.001, &lim, usize::MAX);
+    let windowed = plan_windowed(&c, 0.001, &lim, 16);
+    let same = whole.durations == windowed.durations && whole.ends == windowed.ends;
+    assert!(
+        same,
+        "a 16-element window changes the motion under a jerk limit"
+    );
+    for step in reference::knot_steps(&windowed) {
+        assert!(
+            step <= 50000.0 * SERVO * (1.0 + 1e-6),
+            "acceleration step {step}"
+        );
+    }
+    assert_follows(&c, &windowed, 0.001);
+    assert_within(&windowed, 100.0, 1000.0);
+}
