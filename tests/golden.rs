@@ -180,6 +180,18 @@ fn check_follows_on(sample: &str, machine: Option<&str>, quantum: Option<f64>) {
                 );
             }
         }
+        // A jerk limit also bounds the acceleration step at every knot by what one
+        // servo period allows.
+        let servo = m.servo_period.unwrap_or(pvt_core::defaults::SERVO_PERIOD_S);
+        for (k, step) in reference::knot_steps(contour).into_iter().enumerate() {
+            if let Some(jmax) = limits[&program.axes[k]].jerk {
+                assert!(
+                    step <= jmax * servo * (1.0 + 1e-6),
+                    "{sample}: axis {k} acceleration step {step} > {} at a knot",
+                    jmax * servo
+                );
+            }
+        }
     }
 }
 

@@ -81,9 +81,13 @@ fn plan_on(
         corner_tolerance: None,
         limits: limits.clone(),
         quantum,
+        servo_period: SERVO,
     };
     plan_path(c, &XYZ, &options).expect("plans").0
 }
+
+/// The servo period the planner bounds acceleration steps over (the default's 0.5 ms).
+const SERVO: f64 = 0.0005;
 
 const MS: Quantum = Quantum {
     seconds: 0.001,
@@ -348,6 +352,7 @@ fn a_corner_tolerance_blends_corners_without_a_machine_file() {
         corner_tolerance: Some(0.05),
         limits: BTreeMap::new(),
         quantum: None,
+        servo_period: SERVO,
     };
     let blended = plan_path(&c, &XYZ, &options).unwrap().0;
     let d = deviation(&c, &blended);
@@ -478,22 +483,35 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(32))]
 
     /// With a jerk limit every piece's jerk (independently: the third difference of its
-    /// control points) stays within it, on a time grid or not, and so do the other
-    /// limits and the tolerance.
+    /// control points) stays within it, and so does every knot's acceleration step
+    /// within the jerk limit times the servo period (independently: each cubic's end
+    /// accelerations from its end states), on a time grid (1, 2 or 0.442 ms, either
+    /// rounding) or not, and so do the other limits and the tolerance.
     #[test]
     fn random_programs_with_a_jerk_limit_keep_it(
         steps in prop::collection::vec(step(), 1..6),
         tol_exp in -3.0..-1.0f64,
         feed in 5.0..200.0f64,
-        on_grid in any::<bool>(),
+        quantum_ms in prop_oneof![Just(0.0f64), Just(1.0), Just(2.0), Just(0.442)],
+        nearest in any::<bool>(),
     ) {
         let c = contour(program(&steps, feed));
         let tol = 10f64.powf(tol_exp);
         let lim = limits_with_jerk(80.0, 800.0, Some(20000.0));
-        let planned = plan_on(&c, tol, &lim, on_grid.then_some(MS));
+        let q = (quantum_ms > 0.0).then(|| Quantum {
+            seconds: quantum_ms / 1000.0,
+            rounding: if nearest { Rounding::Nearest } else { Rounding::Up },
+        });
+        let planned = plan_on(&c, tol, &lim, q);
+        if let Some(q) = q {
+            assert_on_grid(&planned, q.seconds);
+        }
         within(&c, &planned, tol, true)?;
         for j in reference::jerks(&planned) {
             prop_assert!(j <= 20000.0 * (1.0 + 1e-6), "jerk {}", j);
+        }
+        for step in reference::knot_steps(&planned) {
+            prop_assert!(step <= 20000.0 * SERVO * (1.0 + 1e-6), "acceleration step {}", step);
         }
     }
 }
@@ -515,6 +533,12 @@ fn a_jerk_limit_slows_a_circle_and_holds() {
     let held = plan(&c, 0.001, &limits_with_jerk(100.0, 1000.0, Some(2000.0)));
     for j in reference::jerks(&held) {
         assert!(j <= 2000.0 * (1.0 + 1e-6), "jerk {j}");
+    }
+    for step in reference::knot_steps(&held) {
+        assert!(
+            step <= 2000.0 * SERVO * (1.0 + 1e-6),
+            "acceleration step {step}"
+        );
     }
     assert_within(&held, 100.0, 1000.0);
     assert_follows(&c, &held, 0.001);
@@ -563,6 +587,7 @@ fn a_long_contour_on_a_grid_keeps_its_limits_and_tolerance_whatever_the_window()
             corner_tolerance: None,
             limits: lim.clone(),
             quantum: Some(MS),
+            servo_period: SERVO,
         };
         let planned = plan_stream(&c, &options, window);
         assert_on_grid(&planned, 0.001);
@@ -585,6 +610,7 @@ fn plan_windowed(
         corner_tolerance: None,
         limits: lim.clone(),
         quantum: None,
+        servo_period: SERVO,
     };
     plan_stream(c, &options, window)
 }
@@ -664,8 +690,116 @@ fn a_tolerance_no_piece_can_meet_is_an_error_naming_the_line() {
         corner_tolerance: None,
         limits: BTreeMap::new(),
         quantum: None,
+        servo_period: SERVO,
     };
     let e = plan_path(&c, &XYZ, &options).unwrap_err();
     assert_eq!(e.code(), "pvtc::plan::path_not_met");
     assert_eq!(e.line(), 1);
+}
+
+/// A 100 mm line from rest to rest under `samples/machines/mill.toml`'s X limits
+/// (100 mm/s, 1000 mm/s², 50000 mm/s³), worked by hand. The planner plans to
+/// (1 − 10⁻⁵) of each limit and gives its S-curves 0.9 of the jerk: V = 100·s,
+/// A = 1000·s, J = 45000·s with s = 1 − 10⁻⁵. V ≥ A²/J, so each speed change reaches A:
+/// a ramp of A/J, a constant-acceleration middle of V/A − A/J and a ramp down, over
+/// (V/2)·(V/A + A/J) mm each; the cruise covers the rest at V.
+#[test]
+fn a_line_from_rest_to_rest_is_two_s_curves_and_a_cruise() {
+    let c = contour(vec![line(pos(0.0, 0.0, 0.0), pos(100.0, 0.0, 0.0), 6000.0)]);
+    let share: f64 = 1.0 - 1e-5;
+    let lim = limits_with_jerk(100.0, 1000.0, Some(50000.0));
+    let planned = plan(&c, 0.001, &lim);
+    let (v, a, j) = (100.0 * share, 1000.0 * share, 0.9 * 50000.0 * share);
+    let (ramp, middle) = (a / j, v / a - a / j);
+    let change = v / 2.0 * (v / a + a / j);
+    let cruise = (100.0 - 2.0 * change) / v;
+    let expected = [ramp, middle, ramp, cruise, ramp, middle, ramp];
+    assert_eq!(
+        planned.durations.len(),
+        expected.len(),
+        "{:?}",
+        planned.durations
+    );
+    for (t, e) in planned.durations.iter().zip(expected) {
+        assert!(
+            (t - e).abs() <= 1e-9 * e,
+            "durations {:?}, expected {expected:?}",
+            planned.durations
+        );
+    }
+    let total = 2.0 * (v / a + a / j) + cruise;
+    assert!((planned.total_time() - total).abs() <= 1e-9 * total);
+    let (peak_v, peak_a) = reference::peaks(&planned)[0];
+    assert!((peak_v - v).abs() <= 1e-9 * v, "velocity {peak_v}");
+    assert!((peak_a - a).abs() <= 1e-9 * a, "acceleration {peak_a}");
+    let jerk = reference::jerks(&planned)[0];
+    assert!((jerk - j).abs() <= 1e-6 * j, "jerk {jerk}");
+    // Continuous acceleration: no step at any knot (rounding only).
+    assert!(
+        reference::knot_steps(&planned)[0] < 1e-6,
+        "{:?}",
+        reference::knot_steps(&planned)
+    );
+}
+
+/// A 0.2 mm line from rest to rest under the same limits never reaches A: each speed
+/// change is two ramps of jerk J meeting at the peak speed p, over p·√(p/J) = 0.1 mm, so
+/// p = (0.1·√J)^⅔ and each of the four pieces takes √(p/J); the peak acceleration is √(p·J).
+#[test]
+fn a_short_line_is_two_triangular_s_curves() {
+    let c = contour(vec![line(pos(0.0, 0.0, 0.0), pos(0.2, 0.0, 0.0), 6000.0)]);
+    let share: f64 = 1.0 - 1e-5;
+    let lim = limits_with_jerk(100.0, 1000.0, Some(50000.0));
+    let planned = plan(&c, 0.001, &lim);
+    let (a, j) = (1000.0 * share, 0.9 * 50000.0 * share);
+    let peak = (0.1 * j.sqrt()).powf(2.0 / 3.0);
+    assert!(peak < a * a / j, "the case is triangular: {peak}");
+    let ramp = (peak / j).sqrt();
+    assert_eq!(planned.durations.len(), 4, "{:?}", planned.durations);
+    for t in &planned.durations {
+        assert!(
+            (t - ramp).abs() <= 1e-9 * ramp,
+            "{:?} != {ramp}",
+            planned.durations
+        );
+    }
+    let (peak_v, peak_a) = reference::peaks(&planned)[0];
+    assert!(
+        (peak_v - peak).abs() <= 1e-9 * peak,
+        "velocity {peak_v} != {peak}"
+    );
+    let expected = (peak * j).sqrt();
+    assert!(
+        (peak_a - expected).abs() <= 1e-9 * expected,
+        "acceleration {peak_a}"
+    );
+    assert!(
+        reference::knot_steps(&planned)[0] < 1e-6,
+        "{:?}",
+        reference::knot_steps(&planned)
+    );
+}
+
+/// Under a jerk limit the stream plans the contour whole whatever its window (a window's
+/// first knot, already written, could not have its acceleration step matched): a
+/// 16-element window gives the same motion, with every knot's step within the bound.
+#[test]
+fn a_jerk_limit_plans_the_contour_whole_whatever_the_window() {
+    let c = long_contour();
+    let lim = limits_with_jerk(100.0, 1000.0, Some(50000.0));
+    let whole = plan_windowed(&c, 0.001, &lim, usize::MAX);
+    let windowed = plan_windowed(&c, 0.001, &lim, 16);
+    let same = whole.durations == windowed.durations && whole.ends == windowed.ends;
+    assert!(
+        same,
+        "a 16-element window changes the motion under a jerk limit"
+    );
+    for step in reference::knot_steps(&windowed) {
+        assert!(
+            step <= 50000.0 * SERVO * (1.0 + 1e-6),
+            "acceleration step {step}"
+        );
+    }
+    assert_follows(&c, &windowed, 0.001);
+    assert_within(&windowed, 100.0, 1000.0);
 }

@@ -202,6 +202,7 @@ pub fn plan_options(
         accel: options.accel,
         quantize: options.quantize,
         quantize_rounding: options.quantize_rounding,
+        servo_period: options.machine.as_ref().and_then(|m| m.servo_period),
     })
 }
 

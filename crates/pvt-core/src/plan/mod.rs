@@ -171,6 +171,9 @@ pub struct PlanOptions {
     pub quantize: Option<f64>,
     /// Which way piece times go onto the `quantize` grid.
     pub quantize_rounding: Rounding,
+    /// Servo period, seconds, over which the path planner bounds the acceleration step
+    /// at a knot under a jerk limit (`None`: [`crate::defaults::SERVO_PERIOD_S`]).
+    pub servo_period: Option<f64>,
 }
 
 impl PlanOptions {
@@ -185,6 +188,7 @@ impl PlanOptions {
                 seconds,
                 rounding: self.quantize_rounding,
             }),
+            servo_period: self.servo_period.unwrap_or(crate::defaults::SERVO_PERIOD_S),
         }
     }
 
@@ -209,6 +213,7 @@ impl Default for PlanOptions {
             accel: None,
             quantize: None,
             quantize_rounding: Rounding::Up,
+            servo_period: None,
         }
     }
 }

@@ -2,8 +2,10 @@
 //!
 //! Owns the initial knots (element ends, arc subdivisions by the error bound, the short
 //! zones beside a junction passed at speed), the speed caps and the backward and forward
-//! passes, and the two repairs: splitting a piece over the tolerance, slowing a piece over
-//! a limit. It must not compute a piece's cubic: that is [`super::pieces`].
+//! passes (with the S-curve distances under a jerk limit), and the repairs: splitting a
+//! piece over the tolerance, slowing a piece over a limit and, under a jerk limit,
+//! slowing a knot whose acceleration step is over its bound. It must not compute a
+//! piece's cubic: that is [`super::pieces`].
 
 use super::curve::Curve;
 use super::pieces::Piece;
@@ -85,6 +87,13 @@ pub(super) struct Knots {
     /// True when limits bound the tangential acceleration (trapezoids), false when the
     /// speed may change over any piece.
     accelerates: bool,
+    /// True with a jerk limit: speed changes are S-curves between knots at zero
+    /// tangential acceleration (see "Jerk" in [`super`]).
+    pub jerk_mode: bool,
+    /// In jerk mode, the shortest cruise a line's trapezoid gets, seconds (three quanta on
+    /// a time grid, else 0): a shorter one would be stretched to whole quanta, and the
+    /// velocities beside it divided by that stretch.
+    pub min_cruise: f64,
 }
 
 impl Knot {
@@ -127,7 +136,9 @@ impl Knots {
         let mut this = Knots {
             knots,
             junctions: Vec::with_capacity(curves.len()),
-            accelerates: bounds.accelerates(),
+            accelerates: bounds.accelerates() || bounds.jerk_mode(),
+            jerk_mode: bounds.jerk_mode(),
+            min_cruise: 0.0,
         };
         if let Some(j) = &start.junction {
             this.knots[0].junction = Some(0);
@@ -220,6 +231,9 @@ impl Knots {
         let mut accel = vec![f64::INFINITY; n - 1];
         let mut length = vec![0.0; n - 1];
         let mut piece_cap = vec![f64::INFINITY; n - 1];
+        // The path jerk of each piece's S-curve (jerk mode; infinite on blends and
+        // without: the plain constant-acceleration distances).
+        let mut jerk = vec![f64::INFINITY; n - 1];
         for k in 0..n - 1 {
             if let Some(j) = self.knots[k].blend {
                 let j = &self.junctions[j];
@@ -230,12 +244,22 @@ impl Knots {
                 // let it change speed at a share of its lines' (see the constant).
                 let a = |c: &Curve| tangential_accel(c, 0.0, c.span, bounds, j.cap);
                 accel[k] = BLEND_TANGENT_SHARE * a(&curves[e]).min(a(&curves[e + 1]));
+                if self.jerk_mode {
+                    // Under a jerk limit a blend changes speed at most at half
+                    // the least acceleration step: its ends' tangential acceleration
+                    // steps against the lines' S-curves, which end at zero.
+                    let least = bounds.step.iter().fold(f64::INFINITY, |a, &b| a.min(b));
+                    accel[k] = accel[k].min(0.5 * least);
+                }
                 continue;
             }
             let (curve, from, to) = self.piece_span(curves, k);
             piece_cap[k] = speed_cap(curve, from, to, bounds);
             accel[k] = tangential_accel(curve, from, to, bounds, piece_cap[k]);
             length[k] = curve.length(from, to);
+            if self.jerk_mode {
+                jerk[k] = path_jerk(curve, from, to, bounds);
+            }
         }
         for (k, knot) in self.knots.iter_mut().enumerate() {
             let mut cap = knot.cap;
@@ -247,14 +271,21 @@ impl Knots {
             }
             knot.speed = if knot.fixed { knot.cap } else { cap };
         }
+        let reach = |v: f64, k: usize| {
+            if jerk[k].is_finite() {
+                scurve_reachable(v, accel[k], jerk[k], length[k])
+            } else {
+                reachable(v, accel[k], length[k])
+            }
+        };
         for k in (0..n - 1).rev() {
-            let reach = reachable(self.knots[k + 1].speed, accel[k], length[k]);
+            let reach = reach(self.knots[k + 1].speed, k);
             if !self.knots[k].fixed {
                 self.knots[k].speed = self.knots[k].speed.min(reach);
             }
         }
         for k in 0..n - 1 {
-            let reach = reachable(self.knots[k].speed, accel[k], length[k]);
+            let reach = reach(self.knots[k].speed, k);
             self.knots[k + 1].speed = self.knots[k + 1].speed.min(reach);
         }
     }
@@ -279,12 +310,22 @@ impl Knots {
             let a = tangential_accel(curve, from, to, bounds, cap);
             let d = curve.length(from, to);
             let (va, vb) = (self.knots[k].speed, self.knots[k + 1].speed);
-            if !curve.is_line() || !a.is_finite() {
+            let j = if self.jerk_mode {
+                path_jerk(curve, from, to, bounds)
+            } else {
+                f64::INFINITY
+            };
+            if !curve.is_line() || !(a.is_finite() || j.is_finite()) {
                 continue;
             }
-            let peak = cap.min((a * d + 0.5 * (va * va + vb * vb)).sqrt());
-            let rise = (peak * peak - va * va) / (2.0 * a);
-            let fall = (peak * peak - vb * vb) / (2.0 * a);
+            let (peak, rise, fall) = if j.is_finite() {
+                scurve_peak(va, vb, cap, a, j, d)
+            } else {
+                let peak = cap.min((a * d + 0.5 * (va * va + vb * vb)).sqrt());
+                let rise = (peak * peak - va * va) / (2.0 * a);
+                let fall = (peak * peak - vb * vb) / (2.0 * a);
+                (peak, rise, fall)
+            };
             let element = self.knots[k].after.element;
             let mut add = |at: f64| {
                 if at > 1e-9 * d && at < d * (1.0 - 1e-9) {
@@ -300,7 +341,12 @@ impl Knots {
                 }
             };
             add(rise);
-            if d - fall > rise * (1.0 + 1e-9) {
+            // In jerk mode a cruise is at least 10⁻⁶ of the piece (and `min_cruise`
+            // long): a cruise of a rounding error's length would be a piece whose
+            // accelerations, from its written ends, are rounding noise.
+            let cruise = d - fall - rise;
+            let long = j.is_infinite() || cruise >= (self.min_cruise * peak).max(1e-6 * d);
+            if d - fall > rise * (1.0 + 1e-9) && long {
                 add(d - fall);
             }
         }
@@ -321,9 +367,14 @@ impl Knots {
     pub fn split_over(&mut self, curves: &[Curve], pieces: &[Piece], tolerance: f64) -> bool {
         let mut out = Vec::with_capacity(self.knots.len());
         let mut split = false;
-        for (k, piece) in pieces.iter().enumerate() {
+        // The largest error of each knot's piece (of its S-curve parts in jerk mode).
+        let mut errors = vec![0.0_f64; self.knots.len() - 1];
+        for p in pieces {
+            errors[p.knot] = errors[p.knot].max(p.error);
+        }
+        for (k, &error) in errors.iter().enumerate() {
             if let Some(j) = self.knots[k].blend {
-                if piece.error > self.junctions[j].tolerance {
+                if error > self.junctions[j].tolerance {
                     let slower = self.knots[k].speed.min(self.knots[k + 1].speed);
                     for i in [k, k + 1] {
                         let knot = &mut self.knots[i];
@@ -335,7 +386,7 @@ impl Knots {
                 }
             }
             out.push(self.knots[k]);
-            if piece.error > tolerance && self.knots[k].blend.is_none() {
+            if error > tolerance && self.knots[k].blend.is_none() {
                 let (_, from, to) = self.piece_span(curves, k);
                 let place = Place {
                     element: self.knots[k].after.element,
@@ -354,7 +405,8 @@ impl Knots {
     /// acceleration peak exceeds a limit. Returns whether any did.
     pub fn slow_over(&mut self, pieces: &[Piece], bounds: &AxisBounds) -> bool {
         let mut slowed = false;
-        for (k, piece) in pieces.iter().enumerate() {
+        for piece in pieces {
+            let k = piece.knot;
             if piece.at_rest() {
                 // A line at rest at both ends: trapezoid knots will replace it.
                 continue;
@@ -369,6 +421,69 @@ impl Knots {
             }
         }
         slowed
+    }
+
+    /// In jerk mode, lowers the speed caps where the acceleration steps by more than
+    /// `bounds.step` on an axis: between two consecutive pieces (or parts of one
+    /// S-curve), and between rest and the contour's first and last piece. Every such step
+    /// (a corner blend, a junction passed at speed, a change of curvature, the
+    /// interpolation of a curve) grows with the square of the speeds, so the knot's cap
+    /// goes down by the square root of the excess; a blend beside the knot, whose
+    /// acceleration depends on both its speeds, has its other knot lowered too, and an
+    /// S-curve's inner step both of its knots. Returns whether any step was over.
+    pub fn step_over(&mut self, pieces: &[Piece], bounds: &AxisBounds) -> bool {
+        if !self.jerk_mode || pieces.is_empty() {
+            return false;
+        }
+        let dim = pieces[0].start.len();
+        let ends: Vec<[Vector; 2]> = pieces.iter().map(Piece::end_accelerations).collect();
+        let mut over = false;
+        for i in 0..=pieces.len() {
+            let before = if i == 0 {
+                Vector::zeros(dim)
+            } else {
+                ends[i - 1][1]
+            };
+            let after = ends.get(i).map_or(Vector::zeros(dim), |e| e[0]);
+            let mut factor: f64 = 1.0;
+            for a in 0..dim {
+                let step = (after[a] - before[a]).abs();
+                if step > bounds.step[a] * (1.0 + 1e-9) {
+                    factor = factor.min((bounds.step[a] / step).sqrt());
+                }
+            }
+            if factor >= 1.0 {
+                continue;
+            }
+            over = true;
+            let mut lower = Vec::with_capacity(2);
+            if i == 0 {
+                lower.push(pieces[0].knot + 1);
+            } else if i == pieces.len() {
+                lower.push(pieces[i - 1].knot);
+            } else {
+                let (prev, next) = (pieces[i - 1].knot, pieces[i].knot);
+                if prev == next {
+                    lower.extend([next, next + 1]);
+                } else {
+                    lower.push(next);
+                    if self.knots[prev].blend.is_some() {
+                        lower.push(prev);
+                    }
+                    if self.knots[next].blend.is_some() {
+                        lower.push(next + 1);
+                    }
+                }
+            }
+            let step = if factor > 0.9999 { 1.0 - 1e-3 } else { 0.98 };
+            for k in lower {
+                let knot = &mut self.knots[k];
+                if !knot.fixed {
+                    knot.cap = knot.cap.min(knot.speed * factor * step);
+                }
+            }
+        }
+        over
     }
 
     /// Distance from every knot to the start of the window's last element (0 on it):
@@ -443,12 +558,12 @@ impl Knots {
         count: usize,
         emit: &mut dyn FnMut(&SegmentRef<'_>),
     ) {
-        for (k, piece) in pieces.iter().enumerate().take(count) {
+        for piece in pieces.iter().take_while(|p| p.knot < count) {
             emit(&SegmentRef {
                 end: &piece.end,
                 velocity: &piece.end_velocity,
                 duration: piece.duration,
-                line: curves[self.knots[k].after.element].line,
+                line: curves[self.knots[piece.knot].after.element].line,
             });
         }
     }
@@ -619,4 +734,92 @@ fn blend_cap(j: &Junction, l: f64, bounds: &AxisBounds) -> f64 {
         }
     }
     cap
+}
+
+/// Share of the least jerk limit per unit of tangent that a piece's S-curve uses as its
+/// path jerk: on a curve the turn adds jerk of its own, and the closed-form check slows
+/// what is still over.
+const JERK_SHARE: f64 = 0.9;
+
+/// The path jerk of the S-curves on `[from, to]` of `curve`: [`JERK_SHARE`] of the least
+/// `jerk_i / |t_i|` over the axes (infinite when no axis the piece moves has a limit).
+pub(super) fn path_jerk(curve: &Curve, from: f64, to: f64, bounds: &AxisBounds) -> f64 {
+    let mut jerk = f64::INFINITY;
+    for i in 0..bounds.jerk.len() {
+        let (tangent, _) = curve.axis_factors(from, to, i);
+        if tangent > 0.0 {
+            jerk = jerk.min(bounds.jerk[i] / tangent);
+        }
+    }
+    JERK_SHARE * jerk
+}
+
+/// The shortest path length over which the speed goes from `va` to `vb`, at zero
+/// tangential acceleration at both ends, under tangential acceleration `a` and path jerk
+/// `j`: `(va + vb)/2 · (Δv/a + a/j)` when `Δv ≥ a²/j` (the acceleration reaches `a`),
+/// else `(va + vb)·√(Δv/j)`.
+pub(super) fn scurve_distance(va: f64, vb: f64, a: f64, j: f64) -> f64 {
+    let dv = (vb - va).abs();
+    if dv == 0.0 {
+        return 0.0;
+    }
+    if !a.is_finite() && !j.is_finite() {
+        return 0.0;
+    }
+    if dv * j >= a * a {
+        0.5 * (va + vb) * (dv / a + a / j)
+    } else {
+        (va + vb) * (dv / j).sqrt()
+    }
+}
+
+/// Bisection steps of the S-curve inversions: a fixed count, so the result is the same
+/// on every run.
+const BISECTIONS: usize = 64;
+
+/// The fastest speed at the end of a piece of length `d` entered at `v` by an S-curve
+/// (see [`scurve_distance`]).
+fn scurve_reachable(v: f64, a: f64, j: f64, d: f64) -> f64 {
+    // Δv ≤ ∛(d²·j): d ≥ (va + vb)/2 · 2·√(Δv/j) ≥ Δv·√(Δv/j) in both cases.
+    let hi = reachable(v, a, d).min(v + libm::cbrt(d * d * j));
+    if !hi.is_finite() {
+        return f64::INFINITY;
+    }
+    let (mut lo, mut hi) = (v, hi);
+    for _ in 0..BISECTIONS {
+        let mid = 0.5 * (lo + hi);
+        if scurve_distance(v, mid, a, j) <= d {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
+/// The highest cruise speed (at most `cap`) of a line of length `d` from `va` to `vb` by
+/// two S-curves, and the lengths of the rise and the fall.
+fn scurve_peak(va: f64, vb: f64, cap: f64, a: f64, j: f64, d: f64) -> (f64, f64, f64) {
+    let low = va.max(vb);
+    let mut hi = cap.min(low + libm::cbrt(d * d * j));
+    if a.is_finite() {
+        hi = hi.min((a * d + 0.5 * (va * va + vb * vb)).sqrt());
+    }
+    let fits = |p: f64| scurve_distance(va, p, a, j) + scurve_distance(p, vb, a, j) <= d;
+    let mut lo = low;
+    if hi > lo {
+        for _ in 0..BISECTIONS {
+            let mid = 0.5 * (lo + hi);
+            if fits(mid) {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+    }
+    (
+        lo,
+        scurve_distance(va, lo, a, j),
+        scurve_distance(lo, vb, a, j),
+    )
 }

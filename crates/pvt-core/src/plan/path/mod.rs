@@ -37,11 +37,55 @@
 //! and the passes run again.
 //!
 //! # Jerk
-//! With a jerk limit, each piece's own jerk (the constant third derivative of its cubic,
-//! `6·a₃`) is bounded the same way: a piece over it has its knots slowed by the cube root
-//! of the excess (its jerk scales with the cube of its speeds). The step of the
-//! acceleration between two pieces at a knot is not bounded: the pieces are C¹, and a
-//! servo loop that spreads that step over one period sees `|Δa|/Tₛ`.
+//! With a jerk limit on some axis (jerk mode; without one nothing below applies and the
+//! pieces are those described above), the planner bounds, on every axis `i` with a
+//! limit `Jᵢ`:
+//! - each piece's own jerk, the constant third derivative `6·a₃` of its cubic, by `Jᵢ`:
+//!   a piece over it has its knots slowed by the cube root of the excess (its jerk
+//!   scales with the cube of its speeds);
+//! - the step of the acceleration at every knot, `|a(T) of the piece before − a(0) of
+//!   the piece after|`, and at the contour's start and end against rest (`a = 0`), by
+//!   `Jᵢ·Tₛ`, with `Tₛ` the servo period ([`PathOptions::servo_period`]: the machine
+//!   file's `servo_period`, else [`crate::defaults::SERVO_PERIOD_S`]): a servo loop
+//!   that spreads the step over one period sees at most the jerk limit;
+//! - and, as without, every velocity and acceleration limit and the path tolerance.
+//!
+//! Every knot carries zero tangential acceleration, and a piece whose speed changes is an
+//! S-curve in its parameter over the same time `T = 2·span/(wa + wb)`: jerk `+j`,
+//! constant acceleration `A`, jerk `−j`, with `A` the smaller root of `T = Δw/A + A/j`
+//! (two ramps of jerk `4·Δw/T²` when the middle would be under 1 % of `T`). The path jerk
+//! `j` is 0.9 of the least `Jᵢ/|tᵢ|` over the axes the piece moves (`tᵢ` its share of
+//! the tangent). Each part's reference motion `φ(t)` is a cubic, and the part's cubic
+//! runs from the exact position and velocity of `c(φ)` at its ends, with the error bound
+//! of "Quantization" below; on a line the parts are the S-curve itself, so the
+//! acceleration is continuous. A piece whose whole speed change at constant
+//! acceleration would step the acceleration by at most a quarter of `j·Tₛ` stays one
+//! cubic. The passes and the trapezoid knots use the S-curve's shortest distance from
+//! `va` to `vb`, `(va + vb)/2·(Δv/a + a/j)` when `Δv ≥ a²/j`, else `(va + vb)·√(Δv/j)`,
+//! inverted by a fixed number of bisections. A corner blend is one cubic: it changes
+//! speed at most at half the least step bound.
+//!
+//! What still steps (a corner blend's turn, a junction passed at speed, a change of
+//! curvature `v²·Δκ`, the interpolation of a curve) grows with the square of the
+//! speeds: every knot's step is computed in closed form from the two cubics beside it,
+//! and where it exceeds the bound the knot's cap is lowered by the square root of the
+//! excess (a blend beside it, and an S-curve whose inner point steps, have both their
+//! knots lowered) and the contour is planned again. The cost: speed changes take longer
+//! (the ramps, and the return to zero tangential acceleration at every knot, on arcs
+//! too), and corners and curvature jumps are taken slower (a line into an arc of radius
+//! `R` at most at `√(Jᵢ·Tₛ·R)`). A contour under a jerk limit is planned whole, not in a
+//! window: a window's first knot, already written, could not be matched to the next.
+//!
+//! On a quantum grid each knot's piece (its S-curve's parts joined) gets whole quanta,
+//! at least three when it spans 1.5 quanta or more, and each knot's velocity is divided
+//! by the larger stretch beside it, as without a jerk limit. A piece that is not a blend
+//! and not at rest is then three parts of whole quanta (ramp, middle, ramp) whose
+//! parameter acceleration is linear on each part, zero at both knots, and takes the two
+//! inner values that meet the new end rates and the span in the new time: the motion
+//! stays C² in the parameter, each part's `φ(t)` is a cubic with the bound below, and
+//! the same step check and repairs run on the grid. Trapezoid cruises shorter than three
+//! quanta are left out there (the piece decelerates from its peak instead), since a
+//! shorter piece would be stretched, and the velocities beside it divided, by far more.
 //!
 //! # Quantization
 //! With a quantum `q` (`--quantize`), the planned pieces go onto the grid here, before
@@ -112,6 +156,9 @@ pub struct PathOptions {
     pub limits: BTreeMap<Axis, AxisLimits>,
     /// Time grid of the piece times (`--quantize`), if any.
     pub quantum: Option<Quantum>,
+    /// Servo period, seconds: with a jerk limit `J`, the acceleration step at a knot is
+    /// bounded by `J·servo_period` on each axis (see "Jerk").
+    pub servo_period: f64,
 }
 
 /// What the path planner achieved on a contour.
@@ -191,10 +238,14 @@ pub(super) struct AxisBounds {
     pub acceleration: Vec<f64>,
     /// Bounds each piece's own (constant) jerk, `6·a₃` of its cubic.
     pub jerk: Vec<f64>,
+    /// Bounds the step of the acceleration at a knot: `jerk·servo_period`.
+    pub step: Vec<f64>,
+    /// The servo period the steps are bounded over, seconds.
+    pub servo_period: f64,
 }
 
 impl AxisBounds {
-    fn new(axes: &[Axis], limits: &BTreeMap<Axis, AxisLimits>) -> AxisBounds {
+    fn new(axes: &[Axis], limits: &BTreeMap<Axis, AxisLimits>, servo_period: f64) -> AxisBounds {
         let get = |f: fn(&AxisLimits) -> Option<f64>| -> Vec<f64> {
             axes.iter()
                 .map(|a| {
@@ -205,15 +256,24 @@ impl AxisBounds {
                 })
                 .collect()
         };
+        let jerk = get(|l| l.jerk);
         AxisBounds {
             velocity: get(|l| l.velocity),
             acceleration: get(|l| l.acceleration),
-            jerk: get(|l| l.jerk),
+            step: jerk.iter().map(|j| j * servo_period).collect(),
+            jerk,
+            servo_period,
         }
     }
 
     fn accelerates(&self) -> bool {
         self.acceleration.iter().any(|a| a.is_finite())
+    }
+
+    /// True when some axis has a jerk limit: speed changes are S-curves and the
+    /// acceleration steps at knots are bounded (see "Jerk").
+    pub fn jerk_mode(&self) -> bool {
+        self.jerk.iter().any(|j| j.is_finite())
     }
 }
 
@@ -254,7 +314,7 @@ impl PathStream {
         PathStream {
             window: window.max(2),
             axes: axes.to_vec(),
-            bounds: AxisBounds::new(axes, &options.limits),
+            bounds: AxisBounds::new(axes, &options.limits, options.servo_period),
             options: options.clone(),
             curves: Vec::new(),
             start: Start {
@@ -281,7 +341,8 @@ impl PathStream {
         }
         check_element(element)?;
         self.curves.extend(Curve::new(element, &self.axes));
-        if self.options.quantum.is_none() && self.curves.len() >= self.window {
+        let whole = self.options.quantum.is_some() || self.bounds.jerk_mode();
+        if !whole && self.curves.len() >= self.window {
             self.plan(false, emit)?;
         }
         Ok(())
@@ -308,6 +369,9 @@ impl PathStream {
         let corner = self.options.corner_tolerance;
         let narrow = self.options.quantum.is_some();
         let mut knots = Knots::new(curves, bounds, tolerance, corner, &self.start, narrow);
+        if bounds.jerk_mode() {
+            knots.min_cruise = self.options.quantum.map_or(0.0, |q| 3.0 * q.seconds);
+        }
         if !last {
             knots.cap_for_window(curves, least);
         }
@@ -325,14 +389,18 @@ impl PathStream {
             pieces = grid.grid.pieces;
         }
         let count = if last {
-            pieces.len()
+            knots.knots.len() - 1
         } else {
             match knots.cut(curves, self.stopping_distance()) {
                 Some(k) => k,
                 None => return Ok(()),
             }
         };
-        let worst = pieces[..count].iter().map(|p| p.error).fold(0.0, f64::max);
+        let worst = pieces
+            .iter()
+            .take_while(|p| p.knot < count)
+            .map(|p| p.error)
+            .fold(0.0, f64::max);
         self.report.error_bound = self.report.error_bound.max(worst);
         knots.emit(curves, &pieces, count, emit);
         if !last {
@@ -406,6 +474,9 @@ fn settle(
         if knots.slow_over(&pieces, bounds) {
             continue;
         }
+        if knots.step_over(&pieces, bounds) {
+            continue;
+        }
         return Some(pieces);
     }
     None
@@ -431,7 +502,8 @@ fn on_grid(
     for _ in 0..MAX_ROUNDS {
         let grid = knots.on_grid(curves, bounds, &planned, quantum);
         let changed = knots.split_over(curves, &grid.pieces, tolerance)
-            || knots.slow_over(&grid.pieces, bounds);
+            || knots.slow_over(&grid.pieces, bounds)
+            || knots.step_over(&grid.pieces, bounds);
         if !changed {
             return Some(OnGrid { planned, grid });
         }
@@ -471,6 +543,7 @@ mod tests {
             corner_tolerance: None,
             limits: Default::default(),
             quantum: None,
+            servo_period: crate::defaults::SERVO_PERIOD_S,
         };
         let mut stream = super::PathStream::new(&axes, &options);
         let mut end = [0.0; crate::axis::AXIS_COUNT];

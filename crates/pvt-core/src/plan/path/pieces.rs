@@ -2,8 +2,9 @@
 //!
 //! Owns the piece time from the reference motion (constant parameter acceleration), the
 //! per-piece error bound of the module documentation, and the closed-form per-axis peaks
-//! that limits are checked against, and the same pieces on a quantum grid. It must not
-//! move knots or change speeds.
+//! that limits are checked against, and the same pieces on a quantum grid; under a jerk
+//! limit, each piece's S-curve parts (and their C² parts on the grid) and each cubic's end
+//! accelerations. It must not move knots or change speeds.
 
 use super::curve::Curve;
 use super::knots::Knots;
@@ -22,14 +23,35 @@ pub(super) struct Piece {
     pub duration: f64,
     /// Bound on the distance between the cubic and the programmed point, program units.
     pub error: f64,
+    /// The knot the piece starts from (the piece of an S-curve's part).
+    pub knot: usize,
+    /// Where on its knot's piece an S-curve part runs (jerk mode); `None` for a whole piece.
+    pub part: Option<Part>,
+}
+
+/// One part of a piece's S-curve (jerk mode): its parameters and parameter rates at both
+/// ends, and which end is a knot (the other is inside the S-curve).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Part {
+    pub params: [f64; 2],
+    pub rates: [f64; 2],
+    pub at_knot: [bool; 2],
 }
 
 impl Knots {
-    /// The piece between every two consecutive knots.
+    /// The piece between every two consecutive knots, in order; in jerk mode a piece
+    /// that changes speed is its S-curve's two or three parts.
     pub fn pieces(&self, curves: &[Curve], bounds: &AxisBounds) -> Vec<Piece> {
-        (0..self.knots.len() - 1)
-            .map(|k| self.piece(curves, bounds, k))
-            .collect()
+        let mut out = Vec::with_capacity(self.knots.len());
+        for k in 0..self.knots.len() - 1 {
+            let piece = self.piece(curves, bounds, k);
+            if self.jerk_mode {
+                self.scurve(curves, bounds, k, piece, &mut out);
+            } else {
+                out.push(piece);
+            }
+        }
+        out
     }
 
     fn piece(&self, curves: &[Curve], bounds: &AxisBounds, k: usize) -> Piece {
@@ -46,6 +68,8 @@ impl Knots {
             end_velocity: Vector::zeros(dim),
             duration: 0.0,
             error: 0.0,
+            knot: k,
+            part: None,
         };
         curve.position(from, &mut piece.start);
         curve.position(to, &mut piece.end);
@@ -70,10 +94,143 @@ impl Knots {
             // At rest at both ends: the smoothstep along the chord, peaking at the cap.
             let cap = super::knots::speed_cap(curve, from, to, bounds);
             piece.duration = 1.5 * curve.length(from, to) / cap;
+            if self.jerk_mode {
+                piece.duration = piece.duration.max(rest_time(&piece, bounds));
+            }
             piece.error = if curve.is_line() { 0.0 } else { f64::INFINITY };
         }
         piece
     }
+}
+
+impl Knots {
+    /// Piece `k` in jerk mode: a piece that changes speed from `va` to `vb` in its time
+    /// `T` becomes the S-curve in the parameter that fills `T` (see "Jerk" in
+    /// [`super`]): jerk `+j`, constant parameter acceleration `A`, jerk `−j`, with `A` the
+    /// smaller root of `T = Δw/A + A/j`, or two parts of jerk `4·Δw/T²` when the middle
+    /// would be under 1 % of `T`. Each part's reference motion `φ(t)` is a cubic, and
+    /// its cubic runs from the exact position and velocity of `c(φ)` at its ends, with
+    /// the "Quantization" error bound. A blend, a piece at rest and a piece whose whole
+    /// speed change at constant acceleration steps the acceleration by at most a quarter
+    /// of what one servo period allows stay whole.
+    fn scurve(
+        &self,
+        curves: &[Curve],
+        bounds: &AxisBounds,
+        k: usize,
+        whole: Piece,
+        out: &mut Vec<Piece>,
+    ) {
+        if self.knots[k].blend.is_some() || whole.at_rest() {
+            out.push(whole);
+            return;
+        }
+        let (curve, from, to) = self.piece_span(curves, k);
+        let (a, b) = (&self.knots[k], &self.knots[k + 1]);
+        let (wa, wb) = (a.speed / curve.rate(from), b.speed / curve.rate(to));
+        let t = whole.duration;
+        let dw = (wb - wa).abs();
+        let rate = curve.rate(from).max(curve.rate(to));
+        let jerk = super::knots::path_jerk(curve, from, to, bounds);
+        if !jerk.is_finite() || dw * rate / t <= 0.25 * jerk * bounds.servo_period {
+            out.push(whole);
+            return;
+        }
+        let jp = jerk / rate;
+        let middle = (t * t - 4.0 * dw / jp).max(0.0).sqrt();
+        let (ramp, hold, accel) = if middle >= 0.01 * t {
+            (0.5 * (t - middle), middle, 2.0 * dw / (t + middle))
+        } else {
+            (0.5 * t, 0.0, 2.0 * dw / t)
+        };
+        let sign = if wb > wa { 1.0 } else { -1.0 };
+        let j = accel / ramp;
+        let w1 = wa + sign * 0.5 * accel * ramp;
+        let p1 = from + wa * ramp + sign * j * ramp.powi(3) / 6.0;
+        let w2 = w1 + sign * accel * hold;
+        let p2 = p1 + w1 * hold + sign * 0.5 * accel * hold * hold;
+        let mut points = vec![(from, wa, ramp)];
+        if hold == 0.0 {
+            points.push((p1, w1, ramp));
+        } else {
+            points.extend([(p1, w1, hold), (p2, w2, ramp)]);
+        }
+        points.push((to, wb, 0.0));
+        let last = points.len() - 2;
+        for (i, w) in points.windows(2).enumerate() {
+            let ((p0, r0, dt), (p1, r1, _)) = (w[0], w[1]);
+            let mut part = Piece {
+                start: whole.start,
+                end: whole.end,
+                start_velocity: whole.start_velocity,
+                end_velocity: whole.end_velocity,
+                duration: dt,
+                error: 0.0,
+                knot: k,
+                part: Some(Part {
+                    params: [p0, p1],
+                    rates: [r0, r1],
+                    at_knot: [i == 0, i == last],
+                }),
+            };
+            let inner = |phi: f64, w: f64, position: &mut Vector, velocity: &mut Vector| {
+                curve.position(phi, position);
+                curve.derivative(phi, velocity);
+                velocity.iter_mut().for_each(|v| *v *= w);
+            };
+            if i > 0 {
+                inner(p0, r0, &mut part.start, &mut part.start_velocity);
+            }
+            if i < last {
+                inner(p1, r1, &mut part.end, &mut part.end_velocity);
+            }
+            let phi = HermiteSegment::new(p0, r0, p1, r1, dt);
+            let ends = [(a, i == 0, 1.0), (b, i == last, 1.0)];
+            part.error = bend(curve, &phi) + self.turn(dt, ends);
+            out.push(part);
+        }
+    }
+
+    /// The error term `4/27·t·(|Δv_a| + |Δv_b|)/K` of a piece's knot ends (`(knot, is
+    /// a knot, K)`): a junction passed at speed, whose velocity is not the element's.
+    fn turn(&self, t: f64, ends: [(&super::knots::Knot, bool, f64); 2]) -> f64 {
+        let mismatch = |(knot, at_knot, scale): (&super::knots::Knot, bool, f64)| match (
+            at_knot,
+            knot.junction,
+        ) {
+            (true, Some(j)) => knot.speed * self.junctions[j].deviation / scale,
+            _ => 0.0,
+        };
+        4.0 / 27.0 * t * (mismatch(ends[0]) + mismatch(ends[1]))
+    }
+}
+
+/// The error bound of a cubic reference motion `φ(t)` on `curve` (see "Quantization" in
+/// [`super`]), without the junction term.
+fn bend(curve: &Curve, phi: &HermiteSegment) -> f64 {
+    let (rate, accel, _) = parameter_peaks(phi);
+    let [d2, d3, d4] = curve.derivative_bounds();
+    let (t, jerk) = (phi.duration, phi.jerk.abs());
+    t.powi(4) / 384.0
+        * (d4 * rate.powi(4)
+            + 6.0 * d3 * rate * rate * accel
+            + 3.0 * d2 * accel * accel
+            + 4.0 * d2 * rate * jerk)
+}
+
+/// In jerk mode, the least time of a smoothstep at rest at both ends whose acceleration
+/// at each end, `6·c/T²` on an axis moving `c`, is within half its step bound and its
+/// acceleration limit, and whose jerk `12·c/T³` is within its limit.
+fn rest_time(piece: &Piece, bounds: &AxisBounds) -> f64 {
+    let mut t: f64 = 0.0;
+    for i in 0..piece.start.len() {
+        let c = (piece.end[i] - piece.start[i]).abs();
+        t = t
+            .max((12.0 * c / bounds.step[i]).sqrt())
+            .max((6.0 * c / bounds.acceleration[i]).sqrt())
+            .max(libm::cbrt(12.0 * c / bounds.jerk[i]));
+    }
+    t
 }
 
 impl Knots {
@@ -106,6 +263,8 @@ impl Knots {
                 vb * duration / 3.0,
                 junction.half_turn_sin,
             ),
+            knot: k,
+            part: None,
         }
     }
 }
@@ -154,6 +313,24 @@ fn blend_time(l: f64, va: f64, vb: f64) -> f64 {
 }
 
 impl Piece {
+    /// Each axis' acceleration at the start and at the end of the cubic.
+    pub fn end_accelerations(&self) -> [Vector; 2] {
+        let cubic = |i: usize| {
+            HermiteSegment::new(
+                self.start[i],
+                self.start_velocity[i],
+                self.end[i],
+                self.end_velocity[i],
+                self.duration,
+            )
+        };
+        let n = self.start.len();
+        [
+            Vector::from_fn(n, |i| cubic(i).a0),
+            Vector::from_fn(n, |i| cubic(i).end().acceleration),
+        ]
+    }
+
     /// True when the piece starts and ends at rest.
     pub fn at_rest(&self) -> bool {
         self.start_velocity
@@ -228,6 +405,9 @@ impl Knots {
         pieces: &[Piece],
         quantum: Quantum,
     ) -> Grid {
+        if self.jerk_mode {
+            return self.smooth_grid(curves, bounds, pieces, quantum);
+        }
         let mut counts: Vec<f64> = pieces
             .iter()
             .map(|p| quantum.count(p.duration).max(1.0))
@@ -272,15 +452,16 @@ impl Knots {
         let pieces = pieces
             .iter()
             .enumerate()
-            .map(|(k, p)| self.grid_piece(curves, p, k, times[k], [scale[k], scale[k + 1]]))
+            .map(|(i, p)| self.grid_piece(curves, p, times[i], [scale[i], scale[i + 1]]))
             .collect();
         Grid { pieces }
     }
 
-    /// Piece `k` in time `t` with its end velocities divided by `scale`, and its error
+    /// Piece `p` in time `t` with its end velocities divided by `scale`, and its error
     /// bound for the reference motion φ(t) that is the cubic in the parameter from the
-    /// knots' new parameter rates (see "Quantization" in [`super`]).
-    fn grid_piece(&self, curves: &[Curve], p: &Piece, k: usize, t: f64, scale: [f64; 2]) -> Piece {
+    /// knots' (or S-curve points') new parameter rates (see "Quantization" in [`super`]).
+    fn grid_piece(&self, curves: &[Curve], p: &Piece, t: f64, scale: [f64; 2]) -> Piece {
+        let k = p.knot;
         let divide = |v: &[f64], s: f64| Vector::from_fn(v.len(), |i| v[i] / s);
         let mut piece = Piece {
             start: p.start,
@@ -289,6 +470,8 @@ impl Knots {
             end_velocity: divide(&p.end_velocity, scale[1]),
             duration: t,
             error: p.error,
+            knot: p.knot,
+            part: p.part,
         };
         if let Some(j) = self.knots[k].blend {
             // The inner control points move towards the ends (scale ≥ stretch): within
@@ -305,32 +488,251 @@ impl Knots {
         }
         let (curve, from, to) = self.piece_span(curves, k);
         let (a, b) = (&self.knots[k], &self.knots[k + 1]);
+        if let Some(part) = p.part {
+            let phi = HermiteSegment::new(
+                part.params[0],
+                part.rates[0] / scale[0],
+                part.params[1],
+                part.rates[1] / scale[1],
+                t,
+            );
+            piece.error = if parameter_peaks(&phi).2 < 0.0 {
+                f64::INFINITY
+            } else {
+                let ends = [
+                    (a, part.at_knot[0], scale[0]),
+                    (b, part.at_knot[1], scale[1]),
+                ];
+                bend(curve, &phi) + self.turn(t, ends)
+            };
+            return piece;
+        }
         let (wa, wb) = (
             a.speed / (scale[0] * curve.rate(from)),
             b.speed / (scale[1] * curve.rate(to)),
         );
         let phi = HermiteSegment::new(from, wa, to, wb, t);
-        let (rate, accel, slowest) = parameter_peaks(&phi);
-        if slowest < 0.0 {
+        if parameter_peaks(&phi).2 < 0.0 {
             // φ would leave the piece's parameter range (not with K ≥ k).
             piece.error = f64::INFINITY;
             return piece;
         }
-        let [d2, d3, d4] = curve.derivative_bounds();
-        let jerk = phi.jerk.abs();
-        let bend = t.powi(4) / 384.0
-            * (d4 * rate.powi(4)
-                + 6.0 * d3 * rate * rate * accel
-                + 3.0 * d2 * accel * accel
-                + 4.0 * d2 * rate * jerk);
-        let mismatch = |speed: f64, junction: Option<usize>, s: f64| {
-            junction.map_or(0.0, |j| speed * self.junctions[j].deviation / s)
-        };
-        let turn = 4.0 / 27.0
-            * t
-            * (mismatch(a.speed, a.junction, scale[0]) + mismatch(b.speed, b.junction, scale[1]));
-        piece.error = bend + turn;
+        piece.error = bend(curve, &phi) + self.turn(t, [(a, true, scale[0]), (b, true, scale[1])]);
         piece
+    }
+}
+
+impl Knots {
+    /// Jerk mode on the quantum grid (see "Jerk" in [`super`]): each knot's piece (its
+    /// S-curve's parts joined again) gets whole quanta, at least three, and each knot's
+    /// velocity is divided by the larger stretch beside it, as without a jerk limit. A
+    /// piece that is not a blend and not at rest then becomes three parts of whole quanta
+    /// (ramp, middle, ramp, the ramps as long as its S-curve's on the grid) whose
+    /// parameter acceleration is linear on each part, zero at both knots, and takes the
+    /// values at the two inner points that meet the new end rates and the piece's span
+    /// in its new time. The motion stays C² in the parameter; each part's reference
+    /// `φ(t)` is a cubic with the "Quantization" bound. A part over a limit gets its
+    /// piece more quanta, up to [`GRID_ROUNDS`] rounds.
+    fn smooth_grid(
+        &self,
+        curves: &[Curve],
+        bounds: &AxisBounds,
+        planned: &[Piece],
+        quantum: Quantum,
+    ) -> Grid {
+        let mut whole: Vec<Piece> = Vec::with_capacity(self.knots.len());
+        let mut ramps: Vec<f64> = Vec::with_capacity(self.knots.len());
+        for p in planned {
+            match whole.last_mut() {
+                Some(last) if last.knot == p.knot => {
+                    last.end = p.end;
+                    last.end_velocity = p.end_velocity;
+                    last.duration += p.duration;
+                    last.error = last.error.max(p.error);
+                }
+                _ => {
+                    let mut piece = p.clone();
+                    piece.part = None;
+                    whole.push(piece);
+                    ramps.push(if p.part.is_some() { p.duration } else { 0.0 });
+                }
+            }
+        }
+        // A piece under 1.5 quanta stays one cubic: three quanta would stretch it, and
+        // with it the velocities at its knots, too far.
+        let smooth: Vec<bool> = whole
+            .iter()
+            .map(|p| {
+                self.knots[p.knot].blend.is_none()
+                    && !p.at_rest()
+                    && p.duration >= 1.5 * quantum.seconds
+            })
+            .collect();
+        let mut counts: Vec<f64> = whole
+            .iter()
+            .zip(&smooth)
+            .map(|(p, &s)| {
+                let n = quantum.count(p.duration).max(1.0);
+                if s {
+                    n.max(3.0)
+                } else {
+                    n
+                }
+            })
+            .collect();
+        let mut grid = self.smooth_grid_pieces(curves, &whole, &smooth, &ramps, &counts, quantum);
+        for _ in 0..GRID_ROUNDS {
+            let mut factors = vec![1.0_f64; whole.len()];
+            for piece in &grid.pieces {
+                let f = &mut factors[piece.knot];
+                *f = f.min(piece.limit_factor(bounds));
+            }
+            let mut raised = false;
+            for (count, factor) in counts.iter_mut().zip(factors) {
+                if factor < 1.0 {
+                    *count = (*count / factor).ceil().max(*count + 1.0);
+                    raised = true;
+                }
+            }
+            if !raised {
+                break;
+            }
+            grid = self.smooth_grid_pieces(curves, &whole, &smooth, &ramps, &counts, quantum);
+        }
+        grid
+    }
+
+    /// The knots' pieces with `counts[k]` quanta each (see [`Knots::smooth_grid`]).
+    fn smooth_grid_pieces(
+        &self,
+        curves: &[Curve],
+        whole: &[Piece],
+        smooth: &[bool],
+        ramps: &[f64],
+        counts: &[f64],
+        quantum: Quantum,
+    ) -> Grid {
+        let q = quantum.seconds;
+        let n = whole.len();
+        let times: Vec<f64> = counts.iter().map(|&k| quanta_time(k, q)).collect();
+        let stretch: Vec<f64> = times
+            .iter()
+            .zip(whole)
+            .map(|(t, p)| t / p.duration)
+            .collect();
+        let mut scale = vec![1.0; n + 1];
+        for j in 1..=n {
+            scale[j] = if j == n {
+                stretch[n - 1]
+            } else {
+                stretch[j - 1].max(stretch[j])
+            };
+        }
+        let mut pieces = Vec::with_capacity(3 * n);
+        for (k, p) in whole.iter().enumerate() {
+            let ends = [scale[k], scale[k + 1]];
+            if smooth[k] {
+                let ramp = if ramps[k] > 0.0 {
+                    (ramps[k] * stretch[k] / q).round()
+                } else {
+                    (counts[k] / 3.0).floor()
+                };
+                let ramp = ramp.min(((counts[k] - 1.0) / 2.0).floor()).max(1.0);
+                let quanta = [ramp, counts[k] - 2.0 * ramp, ramp];
+                self.smooth_parts(
+                    curves,
+                    p,
+                    quanta.map(|c| quanta_time(c, q)),
+                    ends,
+                    &mut pieces,
+                );
+            } else {
+                pieces.push(self.grid_piece(curves, p, times[k], ends));
+            }
+        }
+        Grid { pieces }
+    }
+
+    /// The three parts of durations `times` of knot piece `p` whose end velocities are
+    /// divided by `scale` (see [`Knots::smooth_grid`]).
+    fn smooth_parts(
+        &self,
+        curves: &[Curve],
+        p: &Piece,
+        times: [f64; 3],
+        scale: [f64; 2],
+        out: &mut Vec<Piece>,
+    ) {
+        let k = p.knot;
+        let (curve, from, to) = self.piece_span(curves, k);
+        let (a, b) = (&self.knots[k], &self.knots[k + 1]);
+        let (wa, wb) = (
+            a.speed / (scale[0] * curve.rate(from)),
+            b.speed / (scale[1] * curve.rate(to)),
+        );
+        let total: f64 = times.iter().sum();
+        // ∫(T − t)·a(t) dt over a part from `start` of length `h` whose acceleration
+        // goes linearly from α to β: α·h·(c − h/2) + (β − α)·h·(c/2 − h/3), c = T − start.
+        let moment = |alpha: f64, beta: f64, start: f64, h: f64| {
+            let c = total - start;
+            alpha * h * (c - 0.5 * h) + (beta - alpha) * h * (0.5 * c - h / 3.0)
+        };
+        let starts = [0.0, times[0], times[0] + times[1]];
+        // The inner accelerations A₁, A₂: the rate change and the span.
+        let (a11, a12) = (0.5 * (times[0] + times[1]), 0.5 * (times[1] + times[2]));
+        let a21 = moment(0.0, 1.0, starts[0], times[0]) + moment(1.0, 0.0, starts[1], times[1]);
+        let a22 = moment(0.0, 1.0, starts[1], times[1]) + moment(1.0, 0.0, starts[2], times[2]);
+        let (r1, r2) = (wb - wa, (to - from) - wa * total);
+        let det = a11 * a22 - a12 * a21;
+        let accel = [
+            0.0,
+            (r1 * a22 - a12 * r2) / det,
+            (a11 * r2 - a21 * r1) / det,
+            0.0,
+        ];
+        let (mut phi, mut rate) = (from, wa);
+        for i in 0..3 {
+            let (h, alpha, beta) = (times[i], accel[i], accel[i + 1]);
+            let (phi0, rate0) = (phi, rate);
+            rate += 0.5 * (alpha + beta) * h;
+            phi += rate0 * h + 0.5 * alpha * h * h + (beta - alpha) * h * h / 6.0;
+            if i == 2 {
+                (phi, rate) = (to, wb);
+            }
+            let mut part = Piece {
+                start: p.start,
+                end: p.end,
+                start_velocity: Vector::from_fn(p.start.len(), |j| p.start_velocity[j] / scale[0]),
+                end_velocity: Vector::from_fn(p.start.len(), |j| p.end_velocity[j] / scale[1]),
+                duration: h,
+                error: 0.0,
+                knot: k,
+                part: Some(Part {
+                    params: [phi0, phi],
+                    rates: [rate0, rate],
+                    at_knot: [i == 0, i == 2],
+                }),
+            };
+            let inner = |at: f64, w: f64, position: &mut Vector, velocity: &mut Vector| {
+                curve.position(at, position);
+                curve.derivative(at, velocity);
+                velocity.iter_mut().for_each(|v| *v *= w);
+            };
+            if i > 0 {
+                inner(phi0, rate0, &mut part.start, &mut part.start_velocity);
+            }
+            if i < 2 {
+                inner(phi, rate, &mut part.end, &mut part.end_velocity);
+            }
+            let cubic = HermiteSegment::new(phi0, rate0, phi, rate, h);
+            part.error = if !det.is_finite() || det == 0.0 || parameter_peaks(&cubic).2 < 0.0 {
+                f64::INFINITY
+            } else {
+                let ends = [(a, i == 0, scale[0]), (b, i == 2, scale[1])];
+                bend(curve, &cubic) + self.turn(h, ends)
+            };
+            out.push(part);
+        }
     }
 }
 
@@ -356,7 +758,17 @@ fn parameter_peaks(phi: &HermiteSegment) -> (f64, f64, f64) {
 /// Largest relative change of the vector speed at mid-piece from `before` to `after`
 /// (pieces that stand still at mid-piece left out).
 pub(super) fn mid_speed_change(before: &[Piece], after: &[Piece]) -> f64 {
-    let mid = |p: &Piece| {
+    mid_speeds(before)
+        .into_iter()
+        .zip(mid_speeds(after))
+        .filter(|(b, _)| *b > 1e-12)
+        .map(|(b, a)| (a - b).abs() / b)
+        .fold(0.0, f64::max)
+}
+
+/// The vector speed at the middle of each knot's piece (of the time of its parts).
+fn mid_speeds(pieces: &[Piece]) -> Vec<f64> {
+    let speed = |p: &Piece, t: f64| {
         let v = Vector::from_fn(p.start.len(), |i| {
             HermiteSegment::new(
                 p.start[i],
@@ -365,18 +777,32 @@ pub(super) fn mid_speed_change(before: &[Piece], after: &[Piece]) -> f64 {
                 p.end_velocity[i],
                 p.duration,
             )
-            .at(p.duration / 2.0)
+            .at(t)
             .velocity
         });
         crate::vector::norm(&v)
     };
-    before
-        .iter()
-        .zip(after)
-        .map(|(b, a)| (mid(b), mid(a)))
-        .filter(|(b, _)| *b > 1e-12)
-        .map(|(b, a)| (a - b).abs() / b)
-        .fold(0.0, f64::max)
+    let mut out = Vec::new();
+    let mut first = 0;
+    while first < pieces.len() {
+        let knot = pieces[first].knot;
+        let count = pieces[first..]
+            .iter()
+            .take_while(|p| p.knot == knot)
+            .count();
+        let parts = &pieces[first..first + count];
+        let half = parts.iter().map(|p| p.duration).sum::<f64>() / 2.0;
+        let mut start = 0.0;
+        for (i, p) in parts.iter().enumerate() {
+            if half < start + p.duration || i + 1 == count {
+                out.push(speed(p, half - start));
+                break;
+            }
+            start += p.duration;
+        }
+        first += count;
+    }
+    out
 }
 
 #[cfg(test)]
