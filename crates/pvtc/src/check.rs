@@ -33,13 +33,15 @@ pub fn run(args: &CheckArgs) -> ExitCode {
     }
     let report = check_program(&program, toolpath.as_ref(), &options);
     let units = program.units.name();
-    if args.json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&to_json(&report)).expect("JSON")
-        );
+    let text = if args.json {
+        serde_json::to_string_pretty(&to_json(&report)).expect("JSON") + "\n"
     } else {
-        print!("{}", table(&report, units));
+        table(&report, units)
+    };
+    // A reader that closed the pipe (`| head`) is not a failure of the check.
+    let written = crate::write_stdout(text.as_bytes());
+    if written != ExitCode::SUCCESS {
+        return written;
     }
     let too_far = args
         .max_path_error

@@ -1119,6 +1119,28 @@ fn x_program(pieces: &[(f64, f64, f64, u32)]) -> String {
 }
 
 #[test]
+fn check_into_a_closed_pipe_does_not_panic_and_still_reports_the_limits() {
+    for (extra, code) in [(None, 0), (Some("X=1"), 1)] {
+        let mut args = vec!["check", "samples/gcode/an208_octagon.ngc", "--json"];
+        if let Some(limit) = extra {
+            args.extend(["--max-vel", limit]);
+        }
+        let mut child = Command::new(env!("CARGO_BIN_EXE_pvtc"))
+            .args(&args)
+            .current_dir(root())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        // The reader is gone before pvtc writes: its write fails with a broken pipe.
+        drop(child.stdout.take());
+        let o = child.wait_with_output().unwrap();
+        assert_eq!(o.status.code(), Some(code), "{}", stderr(&o));
+        assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
+    }
+}
+
+#[test]
 fn check_default_samples_a_program_over_20_million_periods_and_still_refuses_1e300_s() {
     // 15000 s at 0.5 ms: 3·10^7 samples, refused by the old default of 2·10^7.
     let dir = tempfile::tempdir().unwrap();
