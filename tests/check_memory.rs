@@ -40,9 +40,11 @@ fn peak(seconds: f64) -> usize {
 #[test]
 fn check_samples_twenty_million_servo_periods_in_the_memory_of_two_thousand() {
     // At the default 0.5 ms: 2·10^3 and 2·10^7 samples.
+    // The test harness's own thread allocates a little meanwhile (a few hundred bytes, now
+    // and then); a Vec of the samples alone would take 160 MB.
     let (short, long) = (peak(1.0), peak(10_000.0));
     assert!(
-        long <= short,
+        long <= short + 16 * 1024,
         "{long} bytes for 2e7 samples, {short} for 2e3"
     );
     assert!(long < 64 * 1024, "{long} bytes");
