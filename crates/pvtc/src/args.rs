@@ -512,8 +512,13 @@ pub struct CheckArgs {
     #[arg(long = "max-path-error", value_name = "T", value_parser = positive_number)]
     pub max_path_error: Option<f64>,
     /// Most servo samples to take (the motion's time over the servo period); a longer
-    /// program is refused rather than sampled for hours.
-    #[arg(long = "max-samples", value_name = "N", default_value_t = 20_000_000)]
+    /// program is refused rather than sampled for hours. A guard on time only: sampling
+    /// streams in constant memory.
+    #[arg(
+        long = "max-samples",
+        value_name = "N",
+        default_value_t = 1_000_000_000
+    )]
     pub max_samples: u64,
     /// Velocity limit of an axis, `X=500` (units/s); repeatable.
     #[arg(long = "max-vel", value_name = "AXIS=V", value_parser = axis_limit)]

@@ -33,13 +33,15 @@ pub fn run(args: &CheckArgs) -> ExitCode {
     }
     let report = check_program(&program, toolpath.as_ref(), &options);
     let units = program.units.name();
-    if args.json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&to_json(&report)).expect("JSON")
-        );
+    let text = if args.json {
+        serde_json::to_string_pretty(&to_json(&report)).expect("JSON") + "\n"
     } else {
-        print!("{}", table(&report, units));
+        table(&report, units)
+    };
+    // A reader that closed the pipe (`| head`) is not a failure of the check.
+    let written = crate::write_stdout(text.as_bytes());
+    if written != ExitCode::SUCCESS {
+        return written;
     }
     let too_far = args
         .max_path_error
@@ -89,8 +91,9 @@ fn check_options(
 /// gives one (seed 001's XMP: 500 µs).
 pub use pvt_core::defaults::SERVO_PERIOD_S as DEFAULT_SERVO_PERIOD;
 
-/// Refuses a program whose motion lasts more than `--max-samples` servo periods: sampling
-/// it would run for hours (a JSON program may carry any time).
+/// Refuses a program whose motion lasts more than `--max-samples` servo periods: a guard on
+/// time, not memory (sampling streams over the pieces in constant memory, but a JSON
+/// program may carry any time, and sampling 10^300 s would never end).
 fn within_samples(program: &PvtProgram, period: f64, max_samples: u64) -> Result<(), Failure> {
     let total: f64 = program
         .contours
@@ -167,12 +170,14 @@ pub fn to_json(report: &CheckReport) -> serde_json::Value {
                 "velocity": a.velocity.value,
                 "acceleration": a.acceleration.value,
                 "jerk": a.jerk.value,
+                "acceleration_step": a.acceleration_step.value,
                 "sampled_velocity": a.sampled_velocity.value,
                 "sampled_acceleration": a.sampled_acceleration.value,
                 "at": {
                     "velocity": peak_json(&a.velocity),
                     "acceleration": peak_json(&a.acceleration),
                     "jerk": peak_json(&a.jerk),
+                    "acceleration_step": peak_json(&a.acceleration_step),
                     "sampled_velocity": peak_json(&a.sampled_velocity),
                     "sampled_acceleration": peak_json(&a.sampled_acceleration),
                 },
@@ -228,15 +233,16 @@ pub fn table(report: &CheckReport, units: &str) -> String {
     );
     let _ = writeln!(
         t,
-        "\n{:<4} {:>14} {:>14} {:>16} {:>14} {:>16}",
-        "axis", "|v| peak", "|a| peak", "|j| peak", "sampled |v|", "sampled |a|"
+        "\n{:<4} {:>14} {:>14} {:>16} {:>16} {:>14} {:>16}",
+        "axis", "|v| peak", "|a| peak", "|j| peak", "|Δa|/P step", "sampled |v|", "sampled |a|"
     );
     let _ = writeln!(
         t,
-        "{:<4} {:>14} {:>14} {:>16} {:>14} {:>16}",
+        "{:<4} {:>14} {:>14} {:>16} {:>16} {:>14} {:>16}",
         "",
         format!("{units}/s"),
         format!("{units}/s²"),
+        format!("{units}/s³"),
         format!("{units}/s³"),
         format!("{units}/s"),
         format!("{units}/s²")
@@ -244,21 +250,23 @@ pub fn table(report: &CheckReport, units: &str) -> String {
     for a in &report.axes {
         let _ = writeln!(
             t,
-            "{:<4} {:>14.6} {:>14.6} {:>16.6} {:>14.6} {:>16.6}",
+            "{:<4} {:>14.6} {:>14.6} {:>16.6} {:>16.6} {:>14.6} {:>16.6}",
             a.axis.to_string(),
             a.velocity.value,
             a.acceleration.value,
             a.jerk.value,
+            a.acceleration_step.value,
             a.sampled_velocity.value,
             a.sampled_acceleration.value
         );
         let at = |p: &Peak| format!("t={:.4} s {}", p.time, Line(p.line));
         let _ = writeln!(
             t,
-            "     at: |v| {}, |a| {}, |j| {}",
+            "     at: |v| {}, |a| {}, |j| {}, |Δa|/P {}",
             at(&a.velocity),
             at(&a.acceleration),
-            at(&a.jerk)
+            at(&a.jerk),
+            at(&a.acceleration_step)
         );
     }
     if let Some(s) = &report.speed {

@@ -102,7 +102,7 @@ fn man_page() -> ExitCode {
 }
 
 /// Writes `bytes` to standard output; a closed pipe is not an error worth a report.
-fn write_stdout(bytes: &[u8]) -> ExitCode {
+pub(crate) fn write_stdout(bytes: &[u8]) -> ExitCode {
     use std::io::Write;
     let mut out = std::io::stdout().lock();
     match out.write_all(bytes).and_then(|()| out.flush()) {

@@ -1104,6 +1104,140 @@ fn check_refuses_a_program_too_long_to_sample_instead_of_running_for_hours() {
     );
 }
 
+/// A pvtc JSON program on X from rest at 0 through `(end, velocity, time, line)` pieces.
+fn x_program(pieces: &[(f64, f64, f64, u32)]) -> String {
+    let segments: Vec<String> = pieces
+        .iter()
+        .map(|(p, v, t, line)| {
+            format!(r#"{{"p": [{p:?}], "v": [{v:?}], "t": {t:?}, "line": {line}}}"#)
+        })
+        .collect();
+    format!(
+        r#"{{"format": "pvtc-program", "version": 1, "units": "mm", "interpolation": "pvt", "axes": ["X"], "contours": [{{"kind": "feed", "start": [0.0], "segments": [{}]}}], "events": []}}"#,
+        segments.join(", ")
+    )
+}
+
+#[test]
+fn check_into_a_closed_pipe_does_not_panic_and_still_reports_the_limits() {
+    for (extra, code) in [(None, 0), (Some("X=1"), 1)] {
+        let mut args = vec!["check", "samples/gcode/an208_octagon.ngc", "--json"];
+        if let Some(limit) = extra {
+            args.extend(["--max-vel", limit]);
+        }
+        let mut child = Command::new(env!("CARGO_BIN_EXE_pvtc"))
+            .args(&args)
+            .current_dir(root())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        // The reader is gone before pvtc writes: its write fails with a broken pipe.
+        drop(child.stdout.take());
+        let o = child.wait_with_output().unwrap();
+        assert_eq!(o.status.code(), Some(code), "{}", stderr(&o));
+        assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
+    }
+}
+
+#[test]
+fn check_default_samples_a_program_over_20_million_periods_and_still_refuses_1e300_s() {
+    // 15000 s at 0.5 ms: 3·10^7 samples, refused by the old default of 2·10^7.
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("long.json");
+    std::fs::write(&json, x_program(&[(100.0, 0.0, 15000.0, 3)])).unwrap();
+    let o = pvtc(&["check", json.to_str().unwrap()], None);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let table = String::from_utf8_lossy(&o.stdout);
+    assert!(table.contains("total time: 15000.000000 s"), "{table}");
+    std::fs::write(&json, x_program(&[(100.0, 0.0, 1e300, 3)])).unwrap();
+    let o = pvtc(
+        &["check", json.to_str().unwrap(), "--diagnostics", "json"],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("over the limit of 1000000000"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn check_fails_an_acceleration_step_over_the_jerk_limit_naming_line_and_time() {
+    // Piece 1, (0, 0) → (1, 1) in 1 s: a from 4 to −2; piece 2, (1, 1) → (1.5, 0) in
+    // 0.5 s: a from 4 to −8 (a(0) = (6Δp − 4v₀T − 2v₁T)/T², a(T) = (−6Δp + 2v₀T + 4v₁T)/T²).
+    // Steps over 1 ms: 4000 from rest at 0 s, 6000 at 1 s, 8000 back to rest at 1.5 s.
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("steps.json");
+    std::fs::write(&json, x_program(&[(1.0, 1.0, 1.0, 1), (1.5, 0.0, 0.5, 2)])).unwrap();
+    let json = json.to_str().unwrap();
+    let args = ["check", json, "--servo-period", "1ms"];
+    let o = pvtc(&[&args[..], &["--max-jerk", "X=7000"]].concat(), None);
+    let table = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(1), "{table}");
+    assert!(
+        table.contains(
+            "LIMIT EXCEEDED: X acceleration_step 8000.000000 > 7000.000000 at t=1.5000 s (line 2)"
+        ),
+        "{table}"
+    );
+    assert_eq!(table.matches("LIMIT EXCEEDED").count(), 1, "{table}");
+    let o = pvtc(
+        &[&args[..], &["--max-jerk", "X=3000", "--json"]].concat(),
+        None,
+    );
+    assert_eq!(o.status.code(), Some(1));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let found: Vec<(String, u64, f64, f64)> = v["violations"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| {
+            (
+                v["quantity"].as_str().unwrap().to_string(),
+                v["line"].as_u64().unwrap(),
+                v["value"].as_f64().unwrap(),
+                v["time"].as_f64().unwrap(),
+            )
+        })
+        .collect();
+    assert_eq!(found.len(), 2, "{found:?}");
+    for ((q, line, value, time), want) in found.iter().zip([(1, 4000.0, 0.0), (2, 8000.0, 1.5)]) {
+        assert_eq!((q.as_str(), *line), ("acceleration_step", want.0));
+        assert!((value - want.1).abs() < 1e-6 && (time - want.2).abs() < 1e-9);
+    }
+    let step = &v["peaks"]["X"]["at"]["acceleration_step"];
+    assert!((v["peaks"]["X"]["acceleration_step"].as_f64().unwrap() - 8000.0).abs() < 1e-6);
+    assert_eq!(
+        (step["line"].as_u64(), step["time"].as_f64()),
+        (Some(2), Some(1.5))
+    );
+    let o = pvtc(&[&args[..], &["--max-jerk", "X=8000"]].concat(), None);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    // A machine file's servo period spreads the step: over 2 ms the largest is 4000.
+    let machine = dir.path().join("m.toml");
+    let file = |jerk: f64| {
+        format!("units = \"mm\"\nservo_period = 0.002\n[axes.X]\nmax_velocity = 100\nmax_acceleration = 1000\nmax_jerk = {jerk:?}\n")
+    };
+    let check = ["check", json, "--machine", machine.to_str().unwrap()];
+    std::fs::write(&machine, file(3500.0)).unwrap();
+    let o = pvtc(&check, None);
+    let table = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(1), "{table}{}", stderr(&o));
+    assert!(
+        table.contains("X acceleration_step 4000.000000 > 3500.000000"),
+        "{table}"
+    );
+    std::fs::write(&machine, file(4000.0)).unwrap();
+    assert_eq!(pvtc(&check, None).status.code(), Some(0));
+}
+
 const SQUARE: &str = "G21 G90\nG1 X100 F6000\nG1 Y100\nG1 X0\nG1 Y0\nM2\n";
 
 #[test]

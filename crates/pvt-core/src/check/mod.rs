@@ -1,7 +1,8 @@
 //! The check: what a planned program will do on the machine, in numbers.
 //!
 //! Owns the pure computation behind `pvtc check`: total time; per axis the peak |v|, |a|,
-//! |j| of the pieces in closed form (`peaks`) and the velocity and acceleration a servo
+//! |j| of the pieces and the largest acceleration step at a knot over one servo period
+//! (`|Δa|/P`, checked against the jerk limit) in closed form (`peaks`) and the velocity and acceleration a servo
 //! loop sees from positions sampled at its period (`servo`); the vector speed against the
 //! programmed feed; the largest distance from the motion to the true source geometry
 //! (`geometry`); and every axis limit exceeded. PT programs are evaluated as PT
@@ -78,15 +79,20 @@ pub enum Quantity {
     Acceleration,
     /// Jerk, units/s³.
     Jerk,
+    /// The acceleration step at a knot spread over one servo period, `|Δa|/P`, units/s³
+    /// (checked against the jerk limit).
+    AccelerationStep,
 }
 
 impl Quantity {
-    /// The word used in every output: `velocity`, `acceleration` or `jerk`.
+    /// The word used in every output: `velocity`, `acceleration`, `jerk` or
+    /// `acceleration_step`.
     pub fn name(self) -> &'static str {
         match self {
             Quantity::Velocity => "velocity",
             Quantity::Acceleration => "acceleration",
             Quantity::Jerk => "jerk",
+            Quantity::AccelerationStep => "acceleration_step",
         }
     }
 }
@@ -102,6 +108,9 @@ pub struct AxisReport {
     pub acceleration: Peak,
     /// Closed-form peak |jerk| (PT: velocity step over one servo period squared).
     pub jerk: Peak,
+    /// Closed-form largest acceleration step at a knot (a contour's ends against rest)
+    /// over one servo period, `|Δa|/P` (PT: `|ΔV|/P²`, as `jerk`).
+    pub acceleration_step: Peak,
     /// Peak |first difference| of positions sampled at the servo period.
     pub sampled_velocity: Peak,
     /// Peak |second difference| of positions sampled at the servo period.
@@ -195,6 +204,7 @@ pub fn check_program(
             velocity: closed[k][0],
             acceleration: closed[k][1],
             jerk: closed[k][2],
+            acceleration_step: closed[k][3],
             sampled_velocity: sampled_v[k],
             sampled_acceleration: sampled_a[k],
         })
@@ -216,25 +226,22 @@ pub fn check_program(
 /// of the arithmetic that computes it, nothing more.
 pub const LIMIT_ROUNDING: f64 = 1e-9;
 
-/// Closed-form peaks per axis ([velocity, acceleration, jerk]) and the limits exceeded.
+/// Closed-form peaks per axis ([velocity, acceleration, jerk, acceleration step]) and the
+/// limits exceeded.
 fn closed_form(
     tl: &Timeline<'_>,
     period: f64,
     options: &CheckOptions,
-) -> (Vec<[Peak; 3]>, Vec<Violation>) {
+) -> (Vec<[Peak; 4]>, Vec<Violation>) {
     let axes = &tl.program.axes;
-    let mut peaks = vec![[Peak::default(); 3]; axes.len()];
+    let mut peaks = vec![[Peak::default(); 4]; axes.len()];
     let mut worst: BTreeMap<(usize, Quantity, u32), usize> = BTreeMap::new();
     let mut violations: Vec<Violation> = Vec::new();
     for i in 0..tl.pieces.len() {
         for (k, &axis) in axes.iter().enumerate() {
             let limits = options.limits.get(&axis).copied().unwrap_or_default();
             let mut found: Vec<(Quantity, Peak)> = peaks::piece_peaks(tl, i, k, period).to_vec();
-            found.extend(
-                peaks::pt_stop(tl, &tl.pieces[i], k, period)
-                    .into_iter()
-                    .flatten(),
-            );
+            found.extend(peaks::stop(tl, &tl.pieces[i], k, period));
             for (q, peak) in found {
                 let slot = &mut peaks[k][q as usize];
                 if peak.value > slot.value {
@@ -243,7 +250,7 @@ fn closed_form(
                 let limit = match q {
                     Quantity::Velocity => limits.velocity,
                     Quantity::Acceleration => limits.acceleration,
-                    Quantity::Jerk => limits.jerk,
+                    Quantity::Jerk | Quantity::AccelerationStep => limits.jerk,
                 };
                 let Some(limit) = limit.filter(|&l| peak.value > l * (1.0 + LIMIT_ROUNDING)) else {
                     continue;

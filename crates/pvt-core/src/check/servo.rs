@@ -4,10 +4,12 @@
 //! sampled positions, `(x(k) − x(k−1))/P` and `(x(k+1) − 2x(k) + x(k−1))/P²`, each at the
 //! time of sample `k`; the axes are at rest before the start and after the end, so the
 //! steps into and out of motion are seen) and the vector speed against the programmed
-//! feed at the same instants. It must not use closed forms: that is [`super::peaks`].
+//! feed at the same instants. Both walk the program once, in time order ([`Walk`]): the
+//! memory they use does not grow with the number of samples. It must not use closed
+//! forms: that is [`super::peaks`].
 
 use super::geometry::Source;
-use super::timeline::Timeline;
+use super::timeline::{Timeline, Walk};
 use super::{Peak, SpeedReport};
 use crate::toolpath::Motion;
 use crate::vector::norm;
@@ -21,14 +23,15 @@ pub(super) fn sampled_peaks(tl: &Timeline<'_>, period: f64) -> (Vec<Peak>, Vec<P
         return (vel, acc);
     }
     let last = (tl.total / period).ceil() as i64 + 1;
-    let line_at = |t: f64| tl.piece_at(t).map_or(0, |i| tl.pieces[i].line);
+    // Two walks: one reads the positions a period ahead, one finds the line running now.
+    let (mut ahead, mut now) = (Walk::new(tl), Walk::new(tl));
     let (mut before, mut here, mut next) = (vec![0.0; dim], vec![0.0; dim], vec![0.0; dim]);
-    tl.positions_at(-period, &mut before);
-    tl.positions_at(0.0, &mut here);
+    ahead.positions_at(-period, &mut before);
+    ahead.positions_at(0.0, &mut here);
     for k in 0..=last {
         let t = k as f64 * period;
-        tl.positions_at(t + period, &mut next);
-        let line = line_at(t);
+        ahead.positions_at(t + period, &mut next);
+        let line = now.seek(t).map_or(0, |i| tl.pieces[i].line);
         for a in 0..dim {
             let v = ((here[a] - before[a]) / period).abs();
             if v > vel[a].value {
@@ -73,14 +76,15 @@ pub(super) fn speed_against_feed(
     );
     let (mut sum_sq, mut count) = (0.0, 0usize);
     let last = (tl.total / period).floor() as usize;
+    let mut walk = Walk::new(tl);
     for k in 0..=last {
         let t = k as f64 * period;
-        let Some(i) = tl.piece_at(t) else { break };
+        let Some(i) = walk.seek(t) else { break };
         let p = &tl.pieces[i];
         let Some(feed) = source.feed(p.line).filter(|_| p.motion == Motion::Feed) else {
             continue;
         };
-        tl.velocities(p, (t - p.start).min(p.duration), &mut v);
+        walk.velocities(i, (t - p.start).min(p.duration), &mut v);
         let speed = norm(&v);
         if speed < min.value {
             min = Peak {

@@ -269,3 +269,220 @@ fn straight_line_follows_its_source_at_the_feed() {
     assert!(speed.rms_error > 0.0 && speed.samples > 0);
     assert!(close(report.total_time, 7.5, 1e-12));
 }
+
+/// One feed contour on X through `(end, velocity, time, line)` pieces from rest at 0.
+fn pvt_x(pieces: &[(f64, f64, f64, u32)]) -> PvtProgram {
+    let mut c = PvtContour::new(Motion::Feed, vec![0.0]);
+    for &(p, v, t, line) in pieces {
+        c.push(&[p], &[v], t, line);
+    }
+    PvtProgram {
+        axes: vec![Axis::X],
+        units: Units::Millimetre,
+        interpolation: Interpolation::Pvt,
+        contours: vec![c],
+        events: Vec::new(),
+    }
+}
+
+fn with_jerk(period: f64, jerk: f64) -> CheckOptions {
+    let mut options = CheckOptions {
+        servo_period: period,
+        ..CheckOptions::default()
+    };
+    options.limits.insert(
+        Axis::X,
+        AxisLimits {
+            jerk: Some(jerk),
+            ..AxisLimits::default()
+        },
+    );
+    options
+}
+
+#[test]
+fn acceleration_steps_at_knots_are_the_hand_values() {
+    // By hand, a(0) = (6Δp − 4v₀T − 2v₁T)/T² and a(T) = (−6Δp + 2v₀T + 4v₁T)/T²:
+    // piece 1, (0, 0) → (1, 1) in 1 s: a from 4 to −2;
+    // piece 2, (1, 1) → (3, 3) in 1 s: a from 2 to 2;
+    // piece 3, (3, 3) → (3, 0) in 1 s: a from −12 to 6.
+    // Steps: 4 from rest, 2 − (−2) = 4, −12 − 2 = −14, and 6 back to rest at the end.
+    let program = pvt_x(&[(1.0, 1.0, 1.0, 1), (3.0, 3.0, 1.0, 2), (3.0, 0.0, 1.0, 3)]);
+    let period = 0.001;
+    let tl = Timeline::new(&program);
+    let into: Vec<Peak> = (0..3)
+        .map(|i| {
+            let [.., (q, peak)] = peaks::piece_peaks(&tl, i, 0, period);
+            assert_eq!(q, Quantity::AccelerationStep);
+            peak
+        })
+        .collect();
+    for (peak, (step, time, line)) in
+        into.iter()
+            .zip([(4.0, 0.0, 1), (4.0, 1.0, 2), (14.0, 2.0, 3)])
+    {
+        assert!(close(peak.value, step / period, 1e-12), "{peak:?}");
+        assert!(
+            close(peak.time, time, 1e-12) && peak.line == line,
+            "{peak:?}"
+        );
+    }
+    assert!(peaks::stop(&tl, &tl.pieces[1], 0, period).next().is_none());
+    let end: Vec<(Quantity, Peak)> = peaks::stop(&tl, &tl.pieces[2], 0, period).collect();
+    assert_eq!(end.len(), 1);
+    assert_eq!(end[0].0, Quantity::AccelerationStep);
+    assert!(close(end[0].1.value, 6.0 / period, 1e-12) && close(end[0].1.time, 3.0, 1e-12));
+    // The report: the largest step, at the second knot; the pieces' jerk is apart from it
+    // (6·(v₀ + v₁)/T² − 12Δp/T³: −6, 0, 18).
+    let report = check_program(&program, None, &with_jerk(period, 14.0 / period));
+    let x = report.axis(Axis::X).unwrap();
+    assert!(close(x.acceleration_step.value, 14000.0, 1e-12));
+    assert!(close(x.acceleration_step.time, 2.0, 1e-12) && x.acceleration_step.line == 3);
+    assert!(close(x.jerk.value, 18.0, 1e-9));
+    assert!(!report.exceeded(), "{:?}", report.violations);
+    let report = check_program(&program, None, &with_jerk(period, 10.0 / period));
+    let v = report.violations;
+    assert_eq!(v.len(), 1, "{v:?}");
+    assert_eq!((v[0].quantity, v[0].line), (Quantity::AccelerationStep, 3));
+    assert!(close(v[0].value, 14000.0, 1e-12) && close(v[0].time, 2.0, 1e-12));
+    assert_eq!(v[0].limit, 10000.0);
+}
+
+#[test]
+fn a_contour_starts_and_ends_against_rest() {
+    // Piece 1, (0, 0) → (1, 1) in 1 s: a from 4 to −2; piece 2, (1, 1) → (1.5, 0) in
+    // 0.5 s: a from 4 to −8. Steps: 4 from rest at 0 s, 6 at 1 s, 8 to rest at 1.5 s.
+    let program = pvt_x(&[(1.0, 1.0, 1.0, 1), (1.5, 0.0, 0.5, 2)]);
+    let period = 0.001;
+    let steps = |jerk: f64| -> Vec<(u32, f64, f64)> {
+        check_program(&program, None, &with_jerk(period, jerk))
+            .violations
+            .iter()
+            .map(|v| {
+                assert_eq!(v.quantity, Quantity::AccelerationStep);
+                (v.line, v.value * period, v.time)
+            })
+            .collect()
+    };
+    let near = |got: &[(u32, f64, f64)], want: &[(u32, f64, f64)]| {
+        got.len() == want.len()
+            && got
+                .iter()
+                .zip(want)
+                .all(|(a, b)| a.0 == b.0 && close(a.1, b.1, 1e-12) && close(a.2, b.2, 1e-12))
+    };
+    // Only the stop at the end is over 7 / P; line 2's worst is its end, not its knot.
+    let got = steps(7.0 / period);
+    assert!(near(&got, &[(2, 8.0, 1.5)]), "{got:?}");
+    // Over 3 / P: the start from rest as well.
+    let got = steps(3.0 / period);
+    assert!(near(&got, &[(1, 4.0, 0.0), (2, 8.0, 1.5)]), "{got:?}");
+    assert!(steps(8.0 / period).is_empty());
+    // The step scales with the servo period: over 2 ms it is half as steep.
+    let report = check_program(&program, None, &with_jerk(0.002, 1e9));
+    let x = report.axis(Axis::X).unwrap();
+    assert!(close(x.acceleration_step.value, 4000.0, 1e-12));
+}
+
+#[test]
+fn pt_acceleration_step_is_the_velocity_step_over_a_period_squared() {
+    let program = planned(&series(1, &STEP, 0.25), &[Axis::X], Planner::Pt);
+    let report = check_program(&program, None, &CheckOptions::default());
+    let x = report.axis(Axis::X).unwrap();
+    // 20000 counts/s in one 500 µs period: acceleration 4e7 for one period, stepping up and
+    // down by 4e7 within it: 4e7 / 0.0005 = 8e10, as the jerk.
+    assert!(close(x.acceleration_step.value, 8.0e10, 1e-12));
+    assert_eq!(x.acceleration_step, x.jerk);
+    let mut options = CheckOptions::default();
+    options.limits.insert(
+        Axis::X,
+        AxisLimits {
+            jerk: Some(1e10),
+            ..AxisLimits::default()
+        },
+    );
+    let report = check_program(&program, None, &options);
+    for q in [Quantity::Jerk, Quantity::AccelerationStep] {
+        assert!(report.violations.iter().any(|v| v.quantity == q));
+    }
+}
+
+/// A program of PVT and PT contours, rapids and feeds, with pieces shorter and longer than
+/// a servo period.
+fn mixed(interpolation: Interpolation) -> PvtProgram {
+    let mut a = PvtContour::new(Motion::Rapid, vec![0.0, 1.0]);
+    a.push(&[2.0, 1.5], &[3.0, 0.5], 0.0013, 4);
+    a.push(&[2.1, 1.7], &[0.0, 0.0], 0.25, 5);
+    let mut b = PvtContour::new(Motion::Feed, vec![2.1, 1.7]);
+    for i in 0..40 {
+        let x = 2.1 + 0.01 * f64::from(i + 1);
+        b.push(
+            &[x, 1.7 - x * 0.1],
+            &[0.4, -0.04],
+            0.00037 * f64::from(i % 5 + 1),
+            6 + i,
+        );
+    }
+    b.push(&[2.6, 1.4], &[0.0, 0.0], 0.01, 50);
+    PvtProgram {
+        axes: vec![Axis::X, Axis::Y],
+        units: Units::Millimetre,
+        interpolation,
+        contours: vec![a, b],
+        events: Vec::new(),
+    }
+}
+
+#[test]
+fn a_walk_reads_what_a_search_finds() {
+    for interpolation in [Interpolation::Pvt, Interpolation::Pt] {
+        let program = mixed(interpolation);
+        let tl = Timeline::new(&program);
+        let mut walk = timeline::Walk::new(&tl);
+        let (mut got, mut v) = ([0.0; 2], [0.0; 2]);
+        let period = 0.0005;
+        for k in -3..=((tl.total / period) as i64 + 3) {
+            let t = k as f64 * period;
+            let i = tl.piece_at(t).unwrap();
+            assert_eq!(walk.seek(t), Some(i), "t = {t}");
+            let p = &tl.pieces[i];
+            walk.positions_at(t, &mut got);
+            for (k, x) in got.iter().enumerate() {
+                assert_eq!(
+                    x.to_bits(),
+                    tl.position(p, k, t - p.start).to_bits(),
+                    "t = {t}"
+                );
+            }
+            let into = (t - p.start).min(p.duration);
+            walk.velocities(i, into, &mut v);
+            for (k, x) in v.iter().enumerate() {
+                assert_eq!(x.to_bits(), tl.cubic(p, k).at(into).velocity.to_bits());
+            }
+        }
+    }
+}
+
+#[test]
+fn sampled_peaks_are_second_differences_of_positions_found_by_search() {
+    let program = mixed(Interpolation::Pvt);
+    let tl = Timeline::new(&program);
+    let period = 0.0005;
+    let (vel, acc) = servo::sampled_peaks(&tl, period);
+    // Independently: every sample's position by binary search, held before and after.
+    let x = |t: f64, k: usize| {
+        let i = tl.piece_at(t).unwrap();
+        tl.position(&tl.pieces[i], k, t - tl.pieces[i].start)
+    };
+    for k in 0..2 {
+        let (mut v, mut a) = (0.0f64, 0.0f64);
+        for s in 0..=((tl.total / period).ceil() as i64 + 1) {
+            let t = s as f64 * period;
+            v = v.max(((x(t, k) - x(t - period, k)) / period).abs());
+            let second = (x(t + period, k) - 2.0 * x(t, k) + x(t - period, k)) / (period * period);
+            a = a.max(second.abs());
+        }
+        assert!(close(vel[k].value, v, 1e-12), "{} vs {v}", vel[k].value);
+        assert!(close(acc[k].value, a, 1e-12), "{} vs {a}", acc[k].value);
+    }
+}

@@ -2,7 +2,9 @@
 //!
 //! Owns the absolute start time of every piece and the evaluation of any axis at any
 //! instant, for PVT (cubic Hermite pieces) and PT (straight pieces, velocity steps at the
-//! points) alike. It must not judge the motion: the other check modules do.
+//! points) alike, and [`Walk`]: the same evaluation at non-decreasing instants, in
+//! constant memory, walking the pieces in order with each piece's cubics built once. It
+//! must not judge the motion: the other check modules do.
 
 use crate::hermite::HermiteSegment;
 use crate::program::{Interpolation, PvtContour, PvtProgram};
@@ -77,6 +79,11 @@ impl<'a> Timeline<'a> {
         }
     }
 
+    /// End velocity of a PVT piece on axis column `k` (PT: the piece's own velocity).
+    pub fn end_velocity(&self, p: &Piece, k: usize) -> f64 {
+        self.contour(p).segment(p.index).velocity[k]
+    }
+
     /// The cubic of a PVT piece (for PT, the straight line as a zero-acceleration cubic).
     pub fn cubic(&self, p: &Piece, k: usize) -> HermiteSegment {
         let c = self.contour(p);
@@ -103,7 +110,9 @@ impl<'a> Timeline<'a> {
         self.cubic(p, k).at(t.max(0.0)).position
     }
 
-    /// Index of the piece running at absolute time `t` (the last one at or after the end).
+    /// Index of the piece running at absolute time `t` (the last one at or after the end),
+    /// by binary search: what [`Walk::seek`] must agree with.
+    #[cfg(test)]
     pub fn piece_at(&self, t: f64) -> Option<usize> {
         if self.pieces.is_empty() {
             return None;
@@ -111,20 +120,85 @@ impl<'a> Timeline<'a> {
         let i = self.pieces.partition_point(|p| p.start <= t);
         Some(i.saturating_sub(1))
     }
+}
 
-    /// Positions of every axis at absolute time `t` (held at rest before and after).
-    pub fn positions_at(&self, t: f64, out: &mut [f64]) {
-        let Some(i) = self.piece_at(t) else { return };
-        let p = &self.pieces[i];
-        for (k, o) in out.iter_mut().enumerate() {
-            *o = self.position(p, k, t - p.start);
+/// Reads a program at non-decreasing instants (servo samples), in order: the piece running
+/// at each instant is found by stepping forward from the last one, not by searching, and
+/// its cubics are built once. The piece is the one a binary search over the starts finds
+/// (the last one starting at or before the instant; piece times are not negative, so the
+/// starts are in order) and a position is [`Timeline::position`]'s; its memory does not
+/// grow with the number of instants read.
+pub(super) struct Walk<'t, 'a> {
+    tl: &'t Timeline<'a>,
+    /// The piece running at the last instant sought.
+    at: usize,
+    /// The piece whose cubics and end positions are held, if any.
+    loaded: Option<usize>,
+    cubics: Vec<HermiteSegment>,
+    ends: Vec<f64>,
+}
+
+impl<'t, 'a> Walk<'t, 'a> {
+    /// A walk from the start of the program.
+    pub fn new(tl: &'t Timeline<'a>) -> Walk<'t, 'a> {
+        let dim = tl.program.axes.len();
+        Walk {
+            tl,
+            at: 0,
+            loaded: None,
+            cubics: Vec::with_capacity(dim),
+            ends: Vec::with_capacity(dim),
         }
     }
 
-    /// Velocities of every axis `t` seconds into piece `p`.
-    pub fn velocities(&self, p: &Piece, t: f64, out: &mut [f64]) {
+    /// Index of the piece running at `t` (not earlier than any instant sought before): the
+    /// last one starting at or before `t`, the first before the start.
+    pub fn seek(&mut self, t: f64) -> Option<usize> {
+        let pieces = &self.tl.pieces;
+        if pieces.is_empty() {
+            return None;
+        }
+        while self.at + 1 < pieces.len() && pieces[self.at + 1].start <= t {
+            self.at += 1;
+        }
+        Some(self.at)
+    }
+
+    /// Holds the cubics and end positions of piece `i`.
+    fn load(&mut self, i: usize) -> &Piece {
+        let p = &self.tl.pieces[i];
+        if self.loaded != Some(i) {
+            let dim = self.tl.program.axes.len();
+            let end = self.tl.contour(p).segment(p.index).end;
+            self.cubics.clear();
+            self.cubics.extend((0..dim).map(|k| self.tl.cubic(p, k)));
+            self.ends.clear();
+            self.ends.extend_from_slice(&end[..dim]);
+            self.loaded = Some(i);
+        }
+        p
+    }
+
+    /// Positions of every axis at absolute time `t` (held at rest before and after), as
+    /// [`Timeline::position`] gives them in the piece running then.
+    pub fn positions_at(&mut self, t: f64, out: &mut [f64]) {
+        let Some(i) = self.seek(t) else { return };
+        let p = *self.load(i);
+        let t = t - p.start;
         for (k, o) in out.iter_mut().enumerate() {
-            *o = self.cubic(p, k).at(t).velocity;
+            *o = if t >= p.duration {
+                self.ends[k]
+            } else {
+                self.cubics[k].at(t.max(0.0)).position
+            };
+        }
+    }
+
+    /// Velocities of every axis `t` seconds into piece `i`.
+    pub fn velocities(&mut self, i: usize, t: f64, out: &mut [f64]) {
+        self.load(i);
+        for (o, h) in out.iter_mut().zip(&self.cubics) {
+            *o = h.at(t).velocity;
         }
     }
 }
