@@ -404,8 +404,9 @@ pub fn jerks(c: &PvtContour) -> Vec<f64> {
 }
 
 /// Per-axis largest step of the acceleration at a knot of a contour: between the end of
-/// each piece and the start of the next, and between rest and the first piece's start
-/// and the last piece's end. Each cubic's end accelerations come from its written end
+/// each piece and the start of the next, and, counted twice, between rest and the first
+/// piece's start and the last piece's end (another contour may follow straight on, and
+/// the two steps then add up). Each cubic's end accelerations come from its written end
 /// states, `a(0) = (6Δp − 4v₀T − 2v₁T)/T²` and `a(T) = (−6Δp + 2v₀T + 4v₁T)/T²`.
 pub fn knot_steps(c: &PvtContour) -> Vec<f64> {
     let mut out = vec![0.0f64; c.dim];
@@ -423,12 +424,13 @@ pub fn knot_steps(c: &PvtContour) -> Vec<f64> {
             let (dp, v1) = (seg.end[k] - p0[k], seg.velocity[k]);
             let a0 = (6.0 * dp - 4.0 * v0[k] * t - 2.0 * v1 * t) / (t * t);
             let a1 = (-6.0 * dp + 2.0 * v0[k] * t + 4.0 * v1 * t) / (t * t);
-            out[k] = out[k].max((a0 - before[k]).abs());
+            let twice = if i == 0 { 2.0 } else { 1.0 };
+            out[k] = out[k].max(twice * (a0 - before[k]).abs());
             before[k] = a1;
         }
     }
     for k in 0..c.dim {
-        out[k] = out[k].max(before[k].abs());
+        out[k] = out[k].max(2.0 * before[k].abs());
     }
     out
 }

@@ -5,9 +5,11 @@
 //! acceleration is zero inside (`t* = −A/J`), its acceleration is linear so it peaks at an
 //! end, and its jerk is constant. Pieces meet in position and velocity, not acceleration:
 //! at a knot the acceleration steps by `Δa = a(0) of the next − a(T) of the previous`
-//! (each end's acceleration in closed form from the piece's P, V and T), and a contour
-//! starts and ends at rest (`a = 0`) on both sides of the step into its first piece and
-//! out of its last. A servo loop spreads a step over one servo period `P`, so it is
+//! (each end's acceleration in closed form from the piece's P, V and T). Where the
+//! machine rests (the program's start and end, a dwell, a pause, a tool change) the
+//! acceleration on the rest side is 0; a contour that follows the previous one straight
+//! on (nothing or only spindle, coolant or message events between) steps once, from the
+//! previous contour's last piece into its first. A servo loop spreads a step over one servo period `P`, so it is
 //! reported as the jerk the loop sees, `|Δa|/P`, at the knot's time. A PT piece has
 //! constant velocity; its velocity steps at the points have no finite acceleration, so
 //! pvtc reports each step `ΔV` as the servo loop sees it, spread over one servo period:
@@ -85,7 +87,9 @@ pub(super) fn piece_peaks(
     } else {
         at(h.a0.abs(), 0.0)
     };
-    let before = if p.index == 0 {
+    // From rest, or from the piece before: in this contour, or the last of a contour
+    // this one follows straight on (one step there, not two against rest).
+    let before = if p.index == 0 && tl.rests_before(p.contour) {
         0.0
     } else {
         end_accelerations(tl, &tl.pieces[i - 1], k).1
@@ -108,7 +112,10 @@ pub(super) fn stop(
     k: usize,
     period: f64,
 ) -> impl Iterator<Item = (Quantity, Peak)> {
-    let last = tl.program.contours[p.contour].len() == p.index + 1;
+    // A PVT contour followed straight on by another steps once, into that one's first
+    // piece (see `piece_peaks`); at rest, or at the program's end, it steps to rest.
+    let last = tl.program.contours[p.contour].len() == p.index + 1
+        && (tl.is_pt() || tl.rests_before(p.contour + 1));
     let at = |value: f64| Peak {
         value,
         time: p.start + p.duration,

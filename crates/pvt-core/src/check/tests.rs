@@ -384,6 +384,56 @@ fn a_contour_starts_and_ends_against_rest() {
     assert!(close(x.acceleration_step.value, 4000.0, 1e-12));
 }
 
+/// Two contours one after the other: the step between them is one step, from the first
+/// contour's end acceleration to the second's start, unless the machine rests between.
+#[test]
+fn contours_straight_on_step_once_and_rest_only_where_the_machine_rests() {
+    use crate::toolpath::{EventKind, ProgramEvent, SpindleState};
+    // Contour 1, (0, 0) → (1, 0) in 1 s: a from 6 to −6. Contour 2, (1, 0) → (1.5, 0) in
+    // 1 s: a from 3 to −3. Straight on, the step between them at 1 s is 3 − (−6) = 9;
+    // against rest it is 6 on one side and 3 on the other.
+    let mut program = pvt_x(&[(1.0, 0.0, 1.0, 1)]);
+    let mut second = PvtContour::new(Motion::Feed, vec![1.0]);
+    second.push(&[1.5], &[0.0], 1.0, 2);
+    program.contours.push(second);
+    let period = 0.001;
+    let steps = |program: &PvtProgram| -> Vec<(u32, f64, f64)> {
+        check_program(program, None, &with_jerk(period, 7.0 / period))
+            .violations
+            .iter()
+            .map(|v| {
+                assert_eq!(v.quantity, Quantity::AccelerationStep);
+                (v.line, v.value * period, v.time)
+            })
+            .collect()
+    };
+    let straight_on = |got: &[(u32, f64, f64)]| {
+        got.len() == 1
+            && got[0].0 == 2
+            && close(got[0].1, 9.0, 1e-12)
+            && close(got[0].2, 1.0, 1e-12)
+    };
+    let got = steps(&program);
+    assert!(straight_on(&got), "{got:?}");
+    // A spindle event between does not stop the motion.
+    let event = |kind: EventKind| ProgramEvent {
+        before_contour: 1,
+        kind,
+        line: 2,
+    };
+    program.events.push(event(EventKind::Spindle {
+        state: SpindleState::Off,
+    }));
+    let got = steps(&program);
+    assert!(straight_on(&got), "{got:?}");
+    // A dwell does: each side steps against rest, 6 and 3, both within 7.
+    program
+        .events
+        .push(event(EventKind::Dwell { seconds: 0.5 }));
+    let got = steps(&program);
+    assert!(got.is_empty(), "{got:?}");
+}
+
 #[test]
 fn pt_acceleration_step_is_the_velocity_step_over_a_period_squared() {
     let program = planned(&series(1, &STEP, 0.25), &[Axis::X], Planner::Pt);

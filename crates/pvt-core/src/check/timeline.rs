@@ -60,6 +60,23 @@ impl<'a> Timeline<'a> {
         }
     }
 
+    /// True when the machine rests before contour `c` starts: it is the first or past the
+    /// last, or a dwell, a pause or a tool change comes between it and the contour
+    /// before. Otherwise (spindle, coolant, messages, nothing) the contour follows the
+    /// previous one straight on, and a servo loop sees one acceleration step between them.
+    pub fn rests_before(&self, c: usize) -> bool {
+        use crate::toolpath::EventKind;
+        c == 0
+            || c >= self.program.contours.len()
+            || self.program.events.iter().any(|e| {
+                e.before_contour == c
+                    && matches!(
+                        e.kind,
+                        EventKind::Dwell { .. } | EventKind::Pause { .. } | EventKind::ToolChange
+                    )
+            })
+    }
+
     /// True when the program is PT (straight pieces).
     pub fn is_pt(&self) -> bool {
         self.program.interpolation == Interpolation::Pt

@@ -425,7 +425,8 @@ impl Knots {
 
     /// In jerk mode, lowers the speed caps where the acceleration steps by more than
     /// `bounds.step` on an axis: between two consecutive pieces (or parts of one
-    /// S-curve), and between rest and the contour's first and last piece. Every such step
+    /// S-curve), and by more than half of it between rest and the contour's first and last
+    /// piece (two contours straight on then step within the whole). Every such step
     /// (a corner blend, a junction passed at speed, a change of curvature, the
     /// interpolation of a curve) grows with the square of the speeds, so the knot's cap
     /// goes down by the square root of the excess; a blend beside the knot, whose
@@ -445,11 +446,18 @@ impl Knots {
                 ends[i - 1][1]
             };
             let after = ends.get(i).map_or(Vector::zeros(dim), |e| e[0]);
+            // Against rest, half: a contour that follows another straight on (no dwell
+            // between) steps from that one's end to its own start, within the whole.
+            let share = if i == 0 || i == pieces.len() {
+                0.5
+            } else {
+                1.0
+            };
             let mut factor: f64 = 1.0;
             for a in 0..dim {
-                let step = (after[a] - before[a]).abs();
-                if step > bounds.step[a] * (1.0 + 1e-9) {
-                    factor = factor.min((bounds.step[a] / step).sqrt());
+                let (step, bound) = ((after[a] - before[a]).abs(), share * bounds.step[a]);
+                if step > bound * (1.0 + 1e-9) {
+                    factor = factor.min((bound / step).sqrt());
                 }
             }
             if factor >= 1.0 {

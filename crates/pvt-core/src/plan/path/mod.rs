@@ -44,8 +44,9 @@
 //!   a piece over it has its knots slowed by the cube root of the excess (its jerk
 //!   scales with the cube of its speeds);
 //! - the step of the acceleration at every knot, `|a(T) of the piece before − a(0) of
-//!   the piece after|`, and at the contour's start and end against rest (`a = 0`), by
-//!   `Jᵢ·Tₛ`, with `Tₛ` the servo period ([`PathOptions::servo_period`]: the machine
+//!   the piece after|`, by `Jᵢ·Tₛ`, and at the contour's start and end against rest
+//!   (`a = 0`) by half of it, so that two contours run straight on (no dwell between)
+//!   step by at most `Jᵢ·Tₛ` where they meet; with `Tₛ` the servo period ([`PathOptions::servo_period`]: the machine
 //!   file's `servo_period`, else [`crate::defaults::SERVO_PERIOD_S`]): a servo loop
 //!   that spreads the step over one period sees at most the jerk limit;
 //! - and, as without, every velocity and acceleration limit and the path tolerance.
