@@ -222,6 +222,13 @@ impl std::fmt::Display for Line {
     }
 }
 
+/// Seconds as milliseconds with at most six decimals and no trailing zeros: 50 µs is
+/// `0.05`, not `0.049999999999999996`.
+fn millis(seconds: f64) -> String {
+    let text = format!("{:.6}", seconds * 1000.0);
+    text.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
 /// The report as a table for people.
 pub fn table(report: &CheckReport, units: &str) -> String {
     let mut t = String::new();
@@ -229,7 +236,7 @@ pub fn table(report: &CheckReport, units: &str) -> String {
         t,
         "total time: {:.6} s (servo period {} ms)",
         report.total_time,
-        report.servo_period * 1000.0
+        millis(report.servo_period)
     );
     let _ = writeln!(
         t,

@@ -687,6 +687,23 @@ fn check_reports_seed_001_step_acceleration_as_json() {
     assert!(v["max_path_error"].as_f64().is_some());
 }
 
+/// The servo period prints as a person would write it.
+#[test]
+fn check_prints_the_servo_period_in_plain_milliseconds() {
+    for (given, shown) in [("50us", "0.05"), ("500us", "0.5"), ("1ms", "1")] {
+        let o = pvtc(
+            &["check", "samples/gcode/square.ngc", "--servo-period", given],
+            None,
+        );
+        assert!(o.status.success(), "{}", stderr(&o));
+        let text = String::from_utf8_lossy(&o.stdout);
+        assert!(
+            text.contains(&format!("(servo period {shown} ms)")),
+            "{text}"
+        );
+    }
+}
+
 #[test]
 fn check_names_a_dxf_line_for_every_peak_or_says_it_is_unknown() {
     // Rapids and entities inside blocks carry the line of an entity record.
