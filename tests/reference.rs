@@ -385,12 +385,7 @@ pub fn jerks(c: &PvtContour) -> Vec<f64> {
     let mut out = vec![0.0f64; c.dim];
     for i in 0..c.len() {
         let seg = c.segment(i);
-        let (p0, v0): (Vec<f64>, Vec<f64>) = if i == 0 {
-            (c.start.clone(), vec![0.0; c.dim])
-        } else {
-            let prev = c.segment(i - 1);
-            (prev.end.to_vec(), prev.velocity.to_vec())
-        };
+        let (p0, v0) = piece_start(c, i);
         let t = seg.duration;
         for k in 0..c.dim {
             let first = v0[k] * t / 3.0;
@@ -403,6 +398,17 @@ pub fn jerks(c: &PvtContour) -> Vec<f64> {
     out
 }
 
+/// Where piece `i` of a contour starts: position and velocity (the contour's start at
+/// rest for the first).
+fn piece_start(c: &PvtContour, i: usize) -> (Vec<f64>, Vec<f64>) {
+    if i == 0 {
+        (c.start.clone(), vec![0.0; c.dim])
+    } else {
+        let prev = c.segment(i - 1);
+        (prev.end.to_vec(), prev.velocity.to_vec())
+    }
+}
+
 /// Per-axis largest step of the acceleration at a knot of a contour: between the end of
 /// each piece and the start of the next, and, counted twice, between rest and the first
 /// piece's start and the last piece's end (another contour may follow straight on, and
@@ -413,12 +419,7 @@ pub fn knot_steps(c: &PvtContour) -> Vec<f64> {
     let mut before = vec![0.0f64; c.dim];
     for i in 0..c.len() {
         let seg = c.segment(i);
-        let (p0, v0): (Vec<f64>, Vec<f64>) = if i == 0 {
-            (c.start.clone(), vec![0.0; c.dim])
-        } else {
-            let prev = c.segment(i - 1);
-            (prev.end.to_vec(), prev.velocity.to_vec())
-        };
+        let (p0, v0) = piece_start(c, i);
         let t = seg.duration;
         for k in 0..c.dim {
             let (dp, v1) = (seg.end[k] - p0[k], seg.velocity[k]);

@@ -300,6 +300,19 @@ fn with_jerk(period: f64, jerk: f64) -> CheckOptions {
     options
 }
 
+/// The acceleration-step violations of `program` under a jerk limit `jerk` over `period`,
+/// as (line, step in units/s², time); every violation must be a step.
+fn step_violations(program: &PvtProgram, period: f64, jerk: f64) -> Vec<(u32, f64, f64)> {
+    check_program(program, None, &with_jerk(period, jerk))
+        .violations
+        .iter()
+        .map(|v| {
+            assert_eq!(v.quantity, Quantity::AccelerationStep);
+            (v.line, v.value * period, v.time)
+        })
+        .collect()
+}
+
 #[test]
 fn acceleration_steps_at_knots_are_the_hand_values() {
     // By hand, a(0) = (6Δp − 4v₀T − 2v₁T)/T² and a(T) = (−6Δp + 2v₀T + 4v₁T)/T²:
@@ -354,16 +367,7 @@ fn a_contour_starts_and_ends_against_rest() {
     // 0.5 s: a from 4 to −8. Steps: 4 from rest at 0 s, 6 at 1 s, 8 to rest at 1.5 s.
     let program = pvt_x(&[(1.0, 1.0, 1.0, 1), (1.5, 0.0, 0.5, 2)]);
     let period = 0.001;
-    let steps = |jerk: f64| -> Vec<(u32, f64, f64)> {
-        check_program(&program, None, &with_jerk(period, jerk))
-            .violations
-            .iter()
-            .map(|v| {
-                assert_eq!(v.quantity, Quantity::AccelerationStep);
-                (v.line, v.value * period, v.time)
-            })
-            .collect()
-    };
+    let steps = |jerk: f64| step_violations(&program, period, jerk);
     let near = |got: &[(u32, f64, f64)], want: &[(u32, f64, f64)]| {
         got.len() == want.len()
             && got
@@ -397,16 +401,7 @@ fn contours_straight_on_step_once_and_rest_only_where_the_machine_rests() {
     second.push(&[1.5], &[0.0], 1.0, 2);
     program.contours.push(second);
     let period = 0.001;
-    let steps = |program: &PvtProgram| -> Vec<(u32, f64, f64)> {
-        check_program(program, None, &with_jerk(period, 7.0 / period))
-            .violations
-            .iter()
-            .map(|v| {
-                assert_eq!(v.quantity, Quantity::AccelerationStep);
-                (v.line, v.value * period, v.time)
-            })
-            .collect()
-    };
+    let steps = |program: &PvtProgram| step_violations(program, period, 7.0 / period);
     let straight_on = |got: &[(u32, f64, f64)]| {
         got.len() == 1
             && got[0].0 == 2

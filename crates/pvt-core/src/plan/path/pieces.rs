@@ -385,6 +385,28 @@ fn peaks(h: &HermiteSegment) -> (f64, f64) {
 /// Most rounds of lengthening pieces on the grid before the planner lowers speeds instead.
 const GRID_ROUNDS: usize = 64;
 
+/// The grid times of `pieces` with `counts[i]` quanta of `q` each, and every knot's
+/// divisor: the larger stretch `time/duration` of the pieces beside it (the first knot,
+/// whose velocity is already written, 1; the last, its one piece's).
+fn grid_scales(pieces: &[Piece], counts: &[f64], q: f64) -> (Vec<f64>, Vec<f64>) {
+    let n = pieces.len();
+    let times: Vec<f64> = counts.iter().map(|&k| quanta_time(k, q)).collect();
+    let stretch: Vec<f64> = times
+        .iter()
+        .zip(pieces)
+        .map(|(t, p)| t / p.duration)
+        .collect();
+    let mut scale = vec![1.0; n + 1];
+    for j in 1..=n {
+        scale[j] = if j == n {
+            stretch[n - 1]
+        } else {
+            stretch[j - 1].max(stretch[j])
+        };
+    }
+    (times, scale)
+}
+
 /// Pieces on a time grid.
 #[derive(Debug, Clone)]
 pub(super) struct Grid {
@@ -433,21 +455,7 @@ impl Knots {
     /// The pieces with `counts[i]` quanta each and the knot velocities divided by the
     /// larger stretch beside them.
     fn grid_pieces(&self, curves: &[Curve], pieces: &[Piece], counts: &[f64], q: f64) -> Grid {
-        let n = pieces.len();
-        let times: Vec<f64> = counts.iter().map(|&k| quanta_time(k, q)).collect();
-        let stretch: Vec<f64> = times
-            .iter()
-            .zip(pieces)
-            .map(|(t, p)| t / p.duration)
-            .collect();
-        let mut scale = vec![1.0; n + 1];
-        for j in 1..=n {
-            scale[j] = if j == n {
-                stretch[n - 1]
-            } else {
-                stretch[j - 1].max(stretch[j])
-            };
-        }
+        let (times, scale) = grid_scales(pieces, counts, q);
 
         let pieces = pieces
             .iter()
@@ -614,26 +622,13 @@ impl Knots {
     ) -> Grid {
         let q = quantum.seconds;
         let n = whole.len();
-        let times: Vec<f64> = counts.iter().map(|&k| quanta_time(k, q)).collect();
-        let stretch: Vec<f64> = times
-            .iter()
-            .zip(whole)
-            .map(|(t, p)| t / p.duration)
-            .collect();
-        let mut scale = vec![1.0; n + 1];
-        for j in 1..=n {
-            scale[j] = if j == n {
-                stretch[n - 1]
-            } else {
-                stretch[j - 1].max(stretch[j])
-            };
-        }
+        let (times, scale) = grid_scales(whole, counts, q);
         let mut pieces = Vec::with_capacity(3 * n);
         for (k, p) in whole.iter().enumerate() {
             let ends = [scale[k], scale[k + 1]];
             if smooth[k] {
                 let ramp = if ramps[k] > 0.0 {
-                    (ramps[k] * stretch[k] / q).round()
+                    (ramps[k] * (times[k] / p.duration) / q).round()
                 } else {
                     (counts[k] / 3.0).floor()
                 };
