@@ -17,19 +17,26 @@
 //!     {"kind": "feed", "start": [0.0, 0.0], "segments": [
 //!       {"p": [1.0, 0.0], "v": [10.0, 0.0], "t": 0.15, "line": 4}
 //!     ]}
+//!   ],
+//!   "events": [
+//!     {"before_contour": 1, "event": "dwell", "line": 5, "seconds": 0.5}
 //!   ]
 //! }
 //! ```
 //!
 //! `axes` lists the axes the program moves in X Y Z A B C order; `p` is a segment's end
 //! position, `v` its end velocity (units/s), `t` its duration (s) and `line` the source
-//! line it came from. Numbers are shortest round-trip, so they read back bit for bit.
+//! line it came from. An event happens at rest before contour `before_contour` (the number
+//! of contours: after the last), named as `EventKind::name` names it, with its value
+//! (`seconds`, `rpm`, `tool`, `text`) where it has one. Numbers are shortest round-trip,
+//! so a program, events included, reads back bit for bit.
 //! A change that breaks a reader of these fields bumps `version`.
 
 use crate::number::push_exact;
 use crate::stream::{Header, ProgramWriter, Totals};
 use pvt_core::{
-    Axis, EventKind, Interpolation, Motion, ProgramEvent, PvtContour, PvtProgram, SegmentRef, Units,
+    Axis, CoolantState, EventKind, Interpolation, Motion, ProgramEvent, PvtContour, PvtProgram,
+    SegmentRef, SpindleState, Units,
 };
 use serde::Deserialize;
 use std::io::{self, Write};
@@ -235,6 +242,59 @@ struct Document {
     interpolation: Option<String>,
     axes: Vec<String>,
     contours: Vec<ContourDocument>,
+    #[serde(default)]
+    events: Vec<EventDocument>,
+}
+
+#[derive(Deserialize)]
+struct EventDocument {
+    before_contour: usize,
+    event: String,
+    #[serde(default)]
+    line: u32,
+    seconds: Option<f64>,
+    rpm: Option<f64>,
+    tool: Option<u32>,
+    text: Option<String>,
+}
+
+impl EventDocument {
+    /// The event this object spells, as [`EventKind::name`] names it; `None` when the name
+    /// is unknown or a value it needs is missing.
+    fn kind(&self) -> Option<EventKind> {
+        Some(match self.event.as_str() {
+            "dwell" => EventKind::Dwell {
+                seconds: self.seconds.filter(|s| s.is_finite() && *s >= 0.0)?,
+            },
+            "pause" => EventKind::Pause { optional: false },
+            "optional_pause" => EventKind::Pause { optional: true },
+            "spindle_cw" => EventKind::Spindle {
+                state: SpindleState::Clockwise,
+            },
+            "spindle_ccw" => EventKind::Spindle {
+                state: SpindleState::CounterClockwise,
+            },
+            "spindle_off" => EventKind::Spindle {
+                state: SpindleState::Off,
+            },
+            "spindle_speed" => EventKind::SpindleSpeed { rpm: self.rpm? },
+            "coolant_mist" => EventKind::Coolant {
+                state: CoolantState::Mist,
+            },
+            "coolant_flood" => EventKind::Coolant {
+                state: CoolantState::Flood,
+            },
+            "coolant_off" => EventKind::Coolant {
+                state: CoolantState::Off,
+            },
+            "tool_select" => EventKind::ToolSelect { tool: self.tool? },
+            "tool_change" => EventKind::ToolChange,
+            "message" => EventKind::Message {
+                text: self.text.clone()?,
+            },
+            _ => return None,
+        })
+    }
 }
 
 #[derive(Deserialize)]
@@ -317,11 +377,35 @@ pub fn read(text: &str) -> Result<PvtProgram, ReadError> {
         }
         contours.push(contour);
     }
+    let mut events = Vec::with_capacity(doc.events.len());
+    for (i, e) in doc.events.iter().enumerate() {
+        let kind = e.kind().ok_or_else(|| {
+            bad(format!(
+                "event {}: unknown event {:?} or a value it needs is missing",
+                i + 1,
+                e.event
+            ))
+        })?;
+        let earliest = events.last().map_or(0, |p: &ProgramEvent| p.before_contour);
+        if e.before_contour > contours.len() || e.before_contour < earliest {
+            return Err(bad(format!(
+                "event {}: before contour {} (of {}, and not before an earlier event's)",
+                i + 1,
+                e.before_contour,
+                contours.len()
+            )));
+        }
+        events.push(ProgramEvent {
+            before_contour: e.before_contour,
+            kind,
+            line: e.line,
+        });
+    }
     Ok(PvtProgram {
         axes,
         units,
         interpolation,
         contours,
-        events: Vec::new(),
+        events,
     })
 }

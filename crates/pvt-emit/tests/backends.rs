@@ -61,6 +61,60 @@ fn json_reads_back_bit_for_bit() {
     assert_eq!(json::read(&t).unwrap(), program());
 }
 
+/// Every event reads back as it was written, so `pvtc check` on a JSON program knows where
+/// the machine rests (a dwell, a pause, a tool change) as it does on the source.
+#[test]
+fn json_reads_events_back() {
+    use pvt_core::{CoolantState, EventKind, ProgramEvent, SpindleState};
+    let kinds = [
+        EventKind::Dwell { seconds: 0.25 },
+        EventKind::Pause { optional: false },
+        EventKind::Pause { optional: true },
+        EventKind::Spindle {
+            state: SpindleState::Clockwise,
+        },
+        EventKind::Spindle {
+            state: SpindleState::CounterClockwise,
+        },
+        EventKind::Spindle {
+            state: SpindleState::Off,
+        },
+        EventKind::SpindleSpeed { rpm: 12000.0 },
+        EventKind::Coolant {
+            state: CoolantState::Mist,
+        },
+        EventKind::Coolant {
+            state: CoolantState::Flood,
+        },
+        EventKind::Coolant {
+            state: CoolantState::Off,
+        },
+        EventKind::ToolSelect { tool: 7 },
+        EventKind::ToolChange,
+        EventKind::Message {
+            text: "check \"part\" 1".into(),
+        },
+    ];
+    let mut p = program();
+    p.events = kinds
+        .iter()
+        .enumerate()
+        .map(|(i, kind)| ProgramEvent {
+            before_contour: usize::from(i >= 6),
+            kind: kind.clone(),
+            line: 10 + i as u32,
+        })
+        .collect();
+    let t = String::from_utf8(emit_to_vec(&p, Format::Json, &options()).unwrap()).unwrap();
+    assert_eq!(json::read(&t).unwrap(), p);
+    let unknown = t.replacen("\"event\": \"tool_change\"", "\"event\": \"teleport\"", 1);
+    let err = json::read(&unknown).unwrap_err().to_string();
+    assert!(
+        err.contains("event 12: unknown event \"teleport\""),
+        "{err}"
+    );
+}
+
 /// A piece time that is zero or negative is refused when read, not checked as an
 /// infinite acceleration or out of order.
 #[test]
