@@ -67,13 +67,33 @@ fn completions(shell: clap_complete::Shell) -> ExitCode {
     write_stdout(&script)
 }
 
-/// The manual page of pvtc (roff): name, synopsis, description and the list of
-/// subcommands, then for each subcommand (`pvtc compile`, …) its synopsis and options.
+/// The manual page of pvtc (roff), one page: name, synopsis, description, options, the
+/// list of subcommands (each pointing to its section below, as there are no
+/// `pvtc-compile(1)` pages), version, then for each subcommand (`pvtc compile`, …) its
+/// synopsis and options.
 pub fn man_page_text() -> Vec<u8> {
     let command = <Cli as clap::CommandFactory>::command();
     let mut page = Vec::new();
     // Rendering into memory cannot fail: the results are io::Results of a Vec's writes.
-    let _ = clap_mangen::Man::new(command.clone()).render(&mut page);
+    let man = clap_mangen::Man::new(command.clone());
+    let _ = man.render_title(&mut page);
+    let _ = man.render_name_section(&mut page);
+    let _ = man.render_synopsis_section(&mut page);
+    let _ = man.render_description_section(&mut page);
+    let _ = man.render_options_section(&mut page);
+    page.extend_from_slice(b".SH SUBCOMMANDS\n");
+    for sub in command.get_subcommands() {
+        let name = format!("pvtc {}", sub.get_name());
+        let about = sub.get_about().map(|a| a.to_string()).unwrap_or_default();
+        let item = format!(
+            ".TP\n\\fB{}\\fR\n{} (see {} below)\n",
+            name,
+            roff_text(&about),
+            name.to_uppercase()
+        );
+        page.extend_from_slice(item.as_bytes());
+    }
+    let _ = man.render_version_section(&mut page);
     for sub in command.get_subcommands() {
         let name = format!("pvtc {}", sub.get_name());
         let about = sub.get_about().map(|a| a.to_string()).unwrap_or_default();

@@ -102,6 +102,9 @@ fn man_page_renders_and_names_every_subcommand_and_option() {
         "{page}"
     );
     assert_eq!(page.as_bytes(), pvtc::man_page_text());
+    // One page: no pointer to a `pvtc-compile(1)` page that does not exist.
+    assert!(!page.contains("(1)"), "{page}");
+    assert!(page.contains("(see PVTC COMPILE below)"), "{page}");
     for (name, longs) in common::long_options() {
         assert!(
             page.contains(&format!(".SH \"PVTC {}\"", name.to_uppercase())),
