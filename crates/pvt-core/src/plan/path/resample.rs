@@ -166,7 +166,7 @@ pub(super) struct Tolerances {
 /// once; at 1.0 a plan with few such pulses keeps its full acceleration, in a few rounds
 /// or not at all (its rounds are few: on a long contour each settles the whole plan
 /// again); 0.6 is for splines, whose interpolation adds more. All the rounds together
-/// stay within a fifth of [`MAX_ROUNDS`]; the samples' contours converge within 16.
+/// stay within a fifth of [`MAX_ROUNDS`].
 pub(super) const ACCELERATION_SHARES: [(f64, usize); 3] = [(0.75, 32), (1.0, 8), (0.6, 32)];
 
 const _: () = {
