@@ -160,6 +160,18 @@ fn check_follows_with(
         d.gap
     );
     if let Some(q) = quantum {
+        // `check` finds a piece's geometry by its source line: the grid's pieces must
+        // name lines whose elements they follow.
+        let report = pvt_core::check_program(
+            &program,
+            Some(&toolpath),
+            &pvt_core::CheckOptions::default(),
+        );
+        let checked = report.max_path_error().unwrap_or(0.0);
+        assert!(
+            checked <= tol + slack,
+            "{sample}: check finds the motion {checked} from the path > {tol}"
+        );
         for t in program.contours.iter().flat_map(|c| &c.durations) {
             let whole = (t / q).round();
             assert!(
@@ -290,6 +302,29 @@ fn dense_polylines_on_a_1ms_grid_keep_their_limits_and_nearly_their_time() {
             "{sample}: {t1} s on the grid > {ratio} x {t0} s without"
         );
     }
+}
+
+/// 500 chords of 0.2 mm whose slope in Z changes a little at every corner (as a
+/// surfacing program's), at F1500 on a 1 ms grid: the corner blends are long (almost
+/// half a chord), so a resampled piece can start inside one element's blend and end in
+/// the element after the next. `check`, which looks for a piece's motion near the
+/// elements of its source line and their neighbours, finds it within the tolerance.
+#[test]
+fn dense_chords_on_a_1ms_grid_name_the_lines_check_finds_them_on() {
+    let mut text = String::from("G21 G90 G94 G17\nG0 Z5\nG0 X0 Y0\nG1 Z-2.2 F1500\n");
+    for i in 1..=500 {
+        let i = f64::from(i);
+        let z = -2.2 - 0.0108 * i + 0.00002 * i * i;
+        text += &format!("X{:.4} Y0 Z{z:.4}\n", 0.2 * i);
+    }
+    let path = std::env::temp_dir().join(format!("pvtc-dense-chords-{}.ngc", std::process::id()));
+    std::fs::write(&path, text).unwrap();
+    let sample = path.to_str().unwrap().to_string();
+    let result = std::panic::catch_unwind(|| {
+        check_follows_on(&sample, Some("bench/toppra/machine.toml"), Some(0.001))
+    });
+    std::fs::remove_file(&path).unwrap();
+    result.unwrap();
 }
 
 fn norm(v: &[f64]) -> f64 {

@@ -136,7 +136,10 @@
 //!    difference's derivative vanishes); the Euclidean norm of the per-axis maxima bounds
 //!    the distance, and the motion is within `eᵢ + max|x_p − H|` of `c(φ(t))`. Where that
 //!    sum exceeds the path tolerance (a corner blend's: the corner tolerance) the interval
-//!    gets a grid knot in its middle; the sum is the piece's error bound.
+//!    gets a grid knot in its middle; the sum is the piece's error bound. An interval
+//!    over more than three elements is split too: a piece names one source line, the
+//!    middle element's, and `check` looks for its motion near that line's elements and
+//!    their neighbours.
 //! 5. Limits: every resampled piece's closed-form per-axis velocity and acceleration
 //!    peaks are checked as every other piece's. Where one is over (or an interval of one
 //!    quantum is over the tolerance), the planned knots its interval covers have their

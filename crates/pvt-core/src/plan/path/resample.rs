@@ -144,7 +144,8 @@ pub(super) struct Resampled {
 
 /// Why a grid interval's piece cannot be used.
 enum Over {
-    /// Over the tolerance: split it (when it spans two quanta or more) or slow it.
+    /// Over the tolerance, or over more than three elements: split it (when it spans
+    /// two quanta or more) or slow it.
     Tolerance,
     /// Over a limit by this factor of its speeds.
     Limit(f64),
@@ -357,6 +358,9 @@ fn interval(
     // the axes combine by the norm of their maxima, an upper bound.
     let h: Vec<HermiteSegment> = (0..dim).map(|ax| cubic(&piece, ax)).collect();
     let mut error: f64 = 0.0;
+    // The elements the interval's planned pieces run on (a corner blend: two), and a
+    // planned knot on each.
+    let mut elements: Vec<(usize, usize)> = Vec::with_capacity(4);
     let mut i = first;
     loop {
         let from = ta.max(motion.start(i));
@@ -377,7 +381,12 @@ fn interval(
                 squares += peak * peak;
             }
             let planned = &motion.pieces[i];
-            let limit = match knots.knots[planned.knot].blend {
+            let knot = &knots.knots[planned.knot];
+            elements.push((knot.after.element, planned.knot));
+            if knot.blend.is_some() {
+                elements.push((knot.after.element + 1, planned.knot + 1));
+            }
+            let limit = match knot.blend {
                 Some(_) => tolerances.corner,
                 None => tolerances.path,
             };
@@ -391,6 +400,18 @@ fn interval(
             break;
         }
         i += 1;
+    }
+    // A piece names one source line; a check looks for the motion near that line's
+    // elements and their neighbours. A piece over more than three elements is split
+    // (or its plan slowed) as one over the tolerance; otherwise it names the middle one.
+    let lo = elements.iter().map(|e| e.0).min().unwrap_or(0);
+    let hi = elements.iter().map(|e| e.0).max().unwrap_or(0);
+    if hi > lo + 2 {
+        return Err(Over::Tolerance);
+    }
+    let middle = lo + (hi - lo) / 2;
+    if let Some(&(_, knot)) = elements.iter().find(|e| e.0 == middle) {
+        piece.knot = knot;
     }
     piece.error = error;
     Ok(piece)
