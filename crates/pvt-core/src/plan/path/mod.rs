@@ -427,11 +427,18 @@ impl PathStream {
         }
         let mut pieces = settle(&mut knots, curves, bounds, tolerance).ok_or(not_met.clone())?;
         if let Some(quantum) = self.options.quantum {
-            let grid = on_grid(&mut knots, curves, bounds, tolerance, quantum, pieces);
+            // The stretched grid's pieces and speed change (its plan dropped before the
+            // second one is made).
+            let grid = on_grid(&mut knots, curves, bounds, tolerance, quantum, pieces).map(|g| {
+                (
+                    pieces::mid_speed_change(&g.planned, &g.grid.pieces),
+                    g.grid.pieces,
+                )
+            });
             // The resampled grid where it is faster by at least half a quantum (both
             // totals are whole quanta), else the stretched one.
-            let bar = grid.as_ref().map_or(f64::INFINITY, |g| {
-                g.grid.pieces.iter().map(|p| p.duration).sum::<f64>()
+            let bar = grid.as_ref().map_or(f64::INFINITY, |(_, g)| {
+                g.iter().map(|p| p.duration).sum::<f64>()
             });
             let resampled = if bounds.jerk_mode() {
                 None
@@ -443,10 +450,7 @@ impl PathStream {
                     knots = k;
                     (r.speed_change, r.pieces)
                 }
-                (None, Some(g)) => (
-                    pieces::mid_speed_change(&g.planned, &g.grid.pieces),
-                    g.grid.pieces,
-                ),
+                (None, Some(g)) => g,
                 (None, None) => return Err(not_met),
             };
             self.report.speed_change = self.report.speed_change.max(change);
