@@ -253,6 +253,14 @@ fn contour_takes_timed_points_as_feeds() {
     assert!((c.durations[0] - 1.5 * 5000.0 / 20000.0).abs() < 1e-12);
 }
 
+/// Distance from `p` to the segment from `a` to `b` (two axes).
+fn to_segment(p: &[f64], a: &[f64], b: &[f64]) -> f64 {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let u = (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (dx * dx + dy * dy)).clamp(0.0, 1.0);
+    let (x, y) = (a[0] + u * dx - p[0], a[1] + u * dy - p[1]);
+    (x * x + y * y).sqrt()
+}
+
 #[test]
 fn quantization_puts_every_piece_on_the_grid() {
     let pts = [0.0, 0.0, 3.0, 1.0, 5.0, -2.0, 9.0, 0.5, 12.0, 7.0];
@@ -265,6 +273,7 @@ fn quantization_puts_every_piece_on_the_grid() {
             ..options(planner)
         };
         let planned = plan(&input, &XY, &opts);
+        let tol = opts.path_options().tolerance;
         let plain = plan(
             &input,
             &XY,
@@ -285,6 +294,19 @@ fn quantization_puts_every_piece_on_the_grid() {
             // LSPB plans again on the grid: its blends start and end elsewhere along the
             // same lines, the run's end stays.
             assert_eq!(q.ends[q.ends.len() - 2..], p.ends[p.ends.len() - 2..]);
+        } else if planner == Planner::Path {
+            // The path planner may resample its motion in time onto the grid: its knots
+            // are points of the planned motion, within the path tolerance of the
+            // polyline, and the run's end stays.
+            assert_eq!(q.ends[q.ends.len() - 2..], p.ends[p.ends.len() - 2..]);
+            for end in q.ends.chunks(2) {
+                let d = pts
+                    .chunks(2)
+                    .zip(pts.chunks(2).skip(1))
+                    .map(|(a, b)| to_segment(end, a, b))
+                    .fold(f64::INFINITY, f64::min);
+                assert!(d <= tol, "{planner}: {end:?} is {d} from the polyline");
+            }
         } else {
             assert_eq!(q.ends, p.ends, "{planner}: positions must not move");
         }

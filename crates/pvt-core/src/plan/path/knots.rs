@@ -423,6 +423,20 @@ impl Knots {
         slowed
     }
 
+    /// Lowers the speed caps of knots `range` (never the fixed start) to `factor` of their
+    /// speeds, a little more as [`Knots::slow_over`] does: the resampled grid's repair of
+    /// a piece over a limit or the tolerance.
+    pub fn slow_knots(&mut self, range: std::ops::Range<usize>, factor: f64) {
+        let step = if factor > 0.9999 { 1.0 - 1e-3 } else { 0.98 };
+        let end = range.end.min(self.knots.len());
+        for knot in self.knots[range.start.min(end)..end]
+            .iter_mut()
+            .filter(|k| !k.fixed)
+        {
+            knot.cap = knot.cap.min(knot.speed * factor * step);
+        }
+    }
+
     /// In jerk mode, lowers the speed caps where the acceleration steps by more than
     /// `bounds.step` on an axis: between two consecutive pieces (or parts of one
     /// S-curve), and by more than half of it between rest and the contour's first and last

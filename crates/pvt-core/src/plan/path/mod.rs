@@ -110,10 +110,54 @@
 //! in the plan and the whole contour is planned and put on the grid again. With a
 //! quantum, [`PathStream`] holds the whole contour (no window): a window's first
 //! velocity, already written, could not be divided again.
+//!
+//! ## Resampling in time
+//! Without a jerk limit there is a second way onto the grid ([`resample`]); each contour
+//! takes the one with the shorter total time, the stretched grid above when they are
+//! within half a quantum of each other (both totals are whole quanta). Stretching each
+//! piece divides a knot's velocity by the larger stretch beside it, so on dense chords
+//! (pieces of a few quanta, corner blends under one) neighbouring stretches differ
+//! widely and the repairs slow the motion far below the plan; resampling keeps it:
+//! 1. The contour is planned again, settled and un-gridded, at
+//!    [`resample::RESAMPLE_SHARE`] (0.8) of the path and corner tolerances, and at each
+//!    of [`resample::ACCELERATION_SHARES`] of the acceleration limits in turn (the
+//!    shortest result wins). Its motion `x_p(t)` is C¹ piecewise cubic; each planned
+//!    piece is within its error bound `eᵢ` of the programmed point `c(φ(t))` at every
+//!    instant (as above).
+//! 2. It is scaled uniformly in time by `s = ⌈T/q⌉·q/T ≥ 1`, so that its total is whole
+//!    quanta: the same path, velocities divided by `s`, accelerations by `s²`, and the
+//!    same error bounds.
+//! 3. Grid knots are the planned knots' scaled times rounded to the nearest quantum,
+//!    duplicates dropped, with the contour's ends at 0 and `⌈T/q⌉`; each piece is the
+//!    cubic Hermite `H` through the position and velocity of the scaled `x_p` at its two
+//!    grid knots, over their whole quanta (so the motion stays C¹, from rest to rest).
+//! 4. Tolerance: on each sub-interval between planned knots both `x_p` and `H` are
+//!    cubics, so per axis the largest `|x_p − H|` is exact (at the ends or where the
+//!    difference's derivative vanishes); the Euclidean norm of the per-axis maxima bounds
+//!    the distance, and the motion is within `eᵢ + max|x_p − H|` of `c(φ(t))`. Where that
+//!    sum exceeds the path tolerance (a corner blend's: the corner tolerance) the interval
+//!    gets a grid knot in its middle; the sum is the piece's error bound. An interval
+//!    over more than three elements is split too: a piece names one source line, the
+//!    middle element's, and `check` looks for its motion near that line's elements and
+//!    their neighbours.
+//! 5. Limits: every resampled piece's closed-form per-axis velocity and acceleration
+//!    peaks are checked as every other piece's. Where one is over (or an interval of one
+//!    quantum is over the tolerance), the planned knots its interval covers have their
+//!    speed caps lowered by the excess, the plan is settled and resampled again. When no
+//!    share converges within its rounds (all together a fifth of [`MAX_ROUNDS`], so that
+//!    a contour that does not converge costs little) the contour takes the stretched
+//!    grid.
+//!
+//! Hermite resampling can ask more acceleration than the plan: where a short pulse of
+//! acceleration (a blend of 0.8 ms) lies near an interval's end its end acceleration
+//! reaches 4/3 of the pulse's. A plan at 0.75 of the acceleration limits absorbs that
+//! and rarely needs a repair; one at 1.0 keeps full acceleration where few pulses fall
+//! badly; 0.6 covers splines, whose interpolation adds more.
 
 mod curve;
 mod knots;
 mod pieces;
+mod resample;
 
 use super::PlanError;
 use crate::axis::Axis;
@@ -383,11 +427,34 @@ impl PathStream {
         }
         let mut pieces = settle(&mut knots, curves, bounds, tolerance).ok_or(not_met.clone())?;
         if let Some(quantum) = self.options.quantum {
-            let grid =
-                on_grid(&mut knots, curves, bounds, tolerance, quantum, pieces).ok_or(not_met)?;
-            let change = pieces::mid_speed_change(&grid.planned, &grid.grid.pieces);
+            // The stretched grid's pieces and speed change (its plan dropped before the
+            // second one is made).
+            let grid = on_grid(&mut knots, curves, bounds, tolerance, quantum, pieces).map(|g| {
+                (
+                    pieces::mid_speed_change(&g.planned, &g.grid.pieces),
+                    g.grid.pieces,
+                )
+            });
+            // The resampled grid where it is faster by at least half a quantum (both
+            // totals are whole quanta), else the stretched one.
+            let bar = grid.as_ref().map_or(f64::INFINITY, |(_, g)| {
+                g.iter().map(|p| p.duration).sum::<f64>()
+            });
+            let resampled = if bounds.jerk_mode() {
+                None
+            } else {
+                resample_contour(curves, bounds, &self.options, &self.start, quantum, bar)
+            };
+            let (change, chosen) = match (resampled, grid) {
+                (Some((k, r)), _) => {
+                    knots = k;
+                    (r.speed_change, r.pieces)
+                }
+                (None, Some(g)) => g,
+                (None, None) => return Err(not_met),
+            };
             self.report.speed_change = self.report.speed_change.max(change);
-            pieces = grid.grid.pieces;
+            pieces = chosen;
         }
         let count = if last {
             knots.knots.len() - 1
@@ -511,6 +578,54 @@ fn on_grid(
         planned = settle(knots, curves, bounds, tolerance)?;
     }
     None
+}
+
+/// The contour planned at [`resample::RESAMPLE_SHARE`] of the tolerances and at each of
+/// [`resample::ACCELERATION_SHARES`] of the acceleration limits in turn, resampled onto
+/// the grid of `quantum` (see "Quantization"): the last that is shorter in total time
+/// than `bar` and every one before by at least half a quantum, or `None`.
+fn resample_contour(
+    curves: &[Curve],
+    bounds: &AxisBounds,
+    options: &PathOptions,
+    start: &Start,
+    quantum: Quantum,
+    mut bar: f64,
+) -> Option<(Knots, resample::Resampled)> {
+    let share = resample::RESAMPLE_SHARE;
+    let tolerance = share * options.tolerance;
+    let corner = options.corner_tolerance.map(|c| share * c);
+    let tolerances = resample::Tolerances {
+        path: options.tolerance,
+        corner: options.corner_tolerance.unwrap_or(options.tolerance),
+    };
+    let mut best = None;
+    for (accel, rounds) in resample::ACCELERATION_SHARES {
+        let planning = AxisBounds {
+            acceleration: bounds.acceleration.iter().map(|a| a * accel).collect(),
+            ..bounds.clone()
+        };
+        let mut knots = Knots::new(curves, &planning, tolerance, corner, start, false);
+        if settle(&mut knots, curves, &planning, tolerance).is_none() {
+            continue;
+        }
+        knots.add_trapezoids(curves, &planning);
+        let Some(planned) = settle(&mut knots, curves, &planning, tolerance) else {
+            continue;
+        };
+        let limits = resample::Limits {
+            planning: &planning,
+            bounds,
+            tolerance,
+            tolerances,
+            rounds,
+        };
+        if let Some(r) = resample::resample(&mut knots, curves, &limits, quantum, bar, planned) {
+            bar = r.pieces.iter().map(|p| p.duration).sum();
+            best = Some((knots, r));
+        }
+    }
+    best
 }
 
 /// Refuses an element with a feed that is not positive or a coordinate that is not finite.

@@ -1,0 +1,444 @@
+//! The second way onto a quantum grid: resampling the planned motion in time.
+//!
+//! Owns the uniform time scaling of a settled, un-gridded plan to whole quanta, the grid
+//! knots (planned knot times rounded to the grid, split where the tolerance needs it),
+//! the cubic Hermite pieces through the planned motion at the grid knots, their exact
+//! deviation from the planned motion, and the rounds that slow the plan where a
+//! resampled piece is over a limit. It must not compute the planned pieces or choose
+//! between this grid and the stretched one: that is [`super::pieces`] and [`super`].
+
+use super::curve::Curve;
+use super::knots::Knots;
+use super::pieces::Piece;
+use super::{settle, AxisBounds, Vector, MAX_ROUNDS};
+use crate::hermite::{HermiteSegment, State};
+use crate::plan::quantize::{quanta_time, Quantum};
+
+/// Share of the path (and corner) tolerance the plan that is resampled is planned to: the
+/// rest is for the resampled pieces' deviation from it. On 1 ms grids that deviation is
+/// of the order of `q²·Δa/8` where the planned acceleration steps by `Δa` (a few µm at
+/// 1000 mm/s²), so a fifth of a tolerance of 0.01 mm or more rarely needs a split, while
+/// the plan loses little: arcs get about 6 % more pieces (the bound goes with `T⁴`) and
+/// corner blends are 0.8 as long.
+pub(super) const RESAMPLE_SHARE: f64 = 0.8;
+
+/// The planned motion scaled uniformly in time by `scale`: the same path, velocities
+/// divided by `scale`, accelerations by `scale²`.
+struct Motion<'a> {
+    pieces: &'a [Piece],
+    /// Planned (unscaled) start time of every piece, and the total at the end.
+    starts: Vec<f64>,
+    scale: f64,
+}
+
+impl<'a> Motion<'a> {
+    fn new(pieces: &'a [Piece], scale: f64) -> Motion<'a> {
+        let mut starts = Vec::with_capacity(pieces.len() + 1);
+        let mut t = 0.0;
+        starts.push(t);
+        for p in pieces {
+            t += p.duration;
+            starts.push(t);
+        }
+        Motion {
+            pieces,
+            starts,
+            scale,
+        }
+    }
+
+    /// The piece that holds scaled time `t` (the later one at a knot) and the planned
+    /// time into it.
+    fn locate(&self, t: f64) -> (usize, f64) {
+        let u = t / self.scale;
+        let n = self.pieces.len();
+        let i = self.starts[1..n].partition_point(|&s| s <= u);
+        (i, (u - self.starts[i]).clamp(0.0, self.pieces[i].duration))
+    }
+
+    /// Axis `axis` of piece `i` at planned time `u` into it, in scaled time.
+    fn axis_state(&self, i: usize, axis: usize, u: f64) -> State {
+        let p = &self.pieces[i];
+        let h = HermiteSegment::new(
+            p.start[axis],
+            p.start_velocity[axis],
+            p.end[axis],
+            p.end_velocity[axis],
+            p.duration,
+        );
+        let s = h.at(u);
+        let k = self.scale;
+        State {
+            position: s.position,
+            velocity: s.velocity / k,
+            acceleration: s.acceleration / (k * k),
+            jerk: s.jerk / (k * k * k),
+        }
+    }
+
+    /// Position and (scaled) velocity at grid time `t`; the contour's ends exactly.
+    fn at(&self, t: f64, last: bool) -> (Vector, Vector) {
+        let dim = self.pieces[0].start.len();
+        if t <= 0.0 {
+            let p = &self.pieces[0];
+            return (
+                p.start,
+                Vector::from_fn(dim, |a| p.start_velocity[a] / self.scale),
+            );
+        }
+        if last {
+            let p = &self.pieces[self.pieces.len() - 1];
+            return (
+                p.end,
+                Vector::from_fn(dim, |a| p.end_velocity[a] / self.scale),
+            );
+        }
+        let (i, u) = self.locate(t);
+        let states: Vec<State> = (0..dim).map(|a| self.axis_state(i, a, u)).collect();
+        (
+            Vector::from_fn(dim, |a| states[a].position),
+            Vector::from_fn(dim, |a| states[a].velocity),
+        )
+    }
+
+    /// Scaled time at which piece `i` starts.
+    fn start(&self, i: usize) -> f64 {
+        self.starts[i] * self.scale
+    }
+}
+
+/// Largest `|c₀ + c₁u + c₂u² + c₃u³|` on `[0, h]`: at an end or where the derivative
+/// vanishes inside.
+fn cubic_peak(c: [f64; 4], h: f64) -> f64 {
+    let f = |u: f64| c[0] + u * (c[1] + u * (c[2] + u * c[3]));
+    let mut peak = f(0.0).abs().max(f(h).abs());
+    // c₁ + 2c₂u + 3c₃u² = 0.
+    let (a, b, cc) = (3.0 * c[3], 2.0 * c[2], c[1]);
+    let mut roots = [f64::NAN; 2];
+    if a != 0.0 {
+        let disc = b * b - 4.0 * a * cc;
+        if disc >= 0.0 {
+            let r = disc.sqrt();
+            roots = [(-b - r) / (2.0 * a), (-b + r) / (2.0 * a)];
+        }
+    } else if b != 0.0 {
+        roots[0] = -cc / b;
+    }
+    for u in roots {
+        if u > 0.0 && u < h {
+            peak = peak.max(f(u).abs());
+        }
+    }
+    peak
+}
+
+/// The resampled contour.
+pub(super) struct Resampled {
+    pub pieces: Vec<Piece>,
+    /// Largest relative change of the speed at a resampled piece's mid-time against the
+    /// plan at the same point of the path, where the plan moves at 1 % of the contour's
+    /// fastest or more (near a stop a relative change says little: the grid times there
+    /// move by at most half a quantum).
+    pub speed_change: f64,
+}
+
+/// Why a grid interval's piece cannot be used.
+enum Over {
+    /// Over the tolerance, or over more than three elements: split it (when it spans
+    /// two quanta or more) or slow it.
+    Tolerance,
+    /// Over a limit by this factor of its speeds.
+    Limit(f64),
+}
+
+/// Tolerances the resampled pieces keep: the path tolerance, and a corner blend's.
+#[derive(Clone, Copy)]
+pub(super) struct Tolerances {
+    pub path: f64,
+    pub corner: f64,
+}
+
+/// Shares of the acceleration limits the plan that is resampled is planned to, each
+/// tried in turn, with the most rounds of slowing it may take. Hermite resampling of a
+/// motion whose acceleration is a short pulse (a corner blend under a millisecond) can
+/// ask up to 4/3 of the pulse's acceleration at an interval's end, depending on where
+/// the grid cuts it; with thousands of blends some always fall badly, and slowing those
+/// moves the others on the grid. Planned at 0.75 (≤ 3/4 · 4/3 = 1) nearly all fit at
+/// once; at 1.0 a plan with few such pulses keeps its full acceleration, in a few rounds
+/// or not at all (its rounds are few: on a long contour each settles the whole plan
+/// again); 0.6 is for splines, whose interpolation adds more. All the rounds together
+/// stay within a fifth of [`MAX_ROUNDS`].
+pub(super) const ACCELERATION_SHARES: [(f64, usize); 3] = [(0.75, 32), (1.0, 8), (0.6, 32)];
+
+const _: () = {
+    let (mut rounds, mut i) = (0, 0);
+    while i < ACCELERATION_SHARES.len() {
+        rounds += ACCELERATION_SHARES[i].1;
+        i += 1;
+    }
+    assert!(rounds <= MAX_ROUNDS / 5);
+};
+
+/// What the resampled pieces keep and how the plan is made.
+pub(super) struct Limits<'a> {
+    /// The bounds the plan is settled with.
+    pub planning: &'a AxisBounds,
+    /// The bounds every resampled piece keeps.
+    pub bounds: &'a AxisBounds,
+    /// The tolerance the plan is settled with.
+    pub tolerance: f64,
+    /// The tolerances the resampled pieces keep.
+    pub tolerances: Tolerances,
+    /// Most rounds of slowing.
+    pub rounds: usize,
+}
+
+/// Resamples the settled `planned` pieces of `knots` onto the grid of `quantum` (see
+/// "Quantization" in [`super`]); where a resampled piece is over a limit, or a piece of
+/// one quantum over the tolerance, the planned knots its interval covers are slowed, the
+/// plan is settled again and resampled again. `None` when that does not converge within
+/// `limits.rounds`, the plan cannot be settled, or its total on the grid is not under `bar`
+/// by half a quantum (slowing only lengthens it: it cannot win any more).
+pub(super) fn resample(
+    knots: &mut Knots,
+    curves: &[Curve],
+    limits: &Limits<'_>,
+    quantum: Quantum,
+    bar: f64,
+    mut planned: Vec<Piece>,
+) -> Option<Resampled> {
+    let q = quantum.seconds;
+    for _ in 0..limits.rounds {
+        if quanta_time(grid_count(&planned, q), q) >= bar - 0.5 * q {
+            return None;
+        }
+        match resample_once(knots, limits.bounds, limits.tolerances, q, &planned) {
+            Ok(resampled) => return Some(resampled),
+            Err(slow) => {
+                for (knot_range, factor) in slow {
+                    knots.slow_knots(knot_range, factor);
+                }
+                planned = settle(knots, curves, limits.planning, limits.tolerance)?;
+            }
+        }
+    }
+    None
+}
+
+/// Whole quanta of the planned total time, rounded up (at least one).
+fn grid_count(planned: &[Piece], q: f64) -> f64 {
+    let total: f64 = planned.iter().map(|p| p.duration).sum();
+    (total / q - 1e-9).ceil().max(1.0)
+}
+
+/// One resampling of `planned`: the pieces, or the planned knot ranges to slow and by
+/// what factor of their speeds.
+fn resample_once(
+    knots: &Knots,
+    bounds: &AxisBounds,
+    tolerances: Tolerances,
+    q: f64,
+    planned: &[Piece],
+) -> Result<Resampled, Vec<(std::ops::Range<usize>, f64)>> {
+    let total: f64 = planned.iter().map(|p| p.duration).sum();
+    let count = grid_count(planned, q);
+    let scale = quanta_time(count, q) / total;
+    let motion = Motion::new(planned, scale);
+    let last = count as u64;
+    // Grid knots: every planned knot's scaled time rounded to the grid, duplicates
+    // dropped; the contour's ends at 0 and `count`.
+    let mut grid: Vec<u64> = Vec::with_capacity(planned.len() + 1);
+    grid.push(0);
+    for i in 1..planned.len() {
+        let g = ((motion.start(i) / q).round() as u64).min(last);
+        if g > *grid.last().unwrap_or(&0) && g < last {
+            grid.push(g);
+        }
+    }
+    grid.push(last);
+    let mut pieces = Vec::with_capacity(grid.len());
+    let mut slow = Vec::new();
+    // Intervals still to resample, latest first.
+    let mut todo: Vec<(u64, u64)> = grid.windows(2).rev().map(|w| (w[0], w[1])).collect();
+    while let Some((a, b)) = todo.pop() {
+        match interval(knots, bounds, tolerances, q, &motion, (a, b), last) {
+            Ok(piece) => pieces.push(piece),
+            Err(Over::Tolerance) if b - a >= 2 => {
+                let mid = a + (b - a) / 2;
+                todo.push((mid, b));
+                todo.push((a, mid));
+            }
+            Err(Over::Tolerance) => slow.push((covered(&motion, a, b, q), 0.9)),
+            Err(Over::Limit(factor)) => slow.push((covered(&motion, a, b, q), factor)),
+        }
+    }
+    if !slow.is_empty() {
+        return Err(slow);
+    }
+    // Each piece's speed at mid-time against the plan's at the same point of the path.
+    let mut start = 0.0;
+    let speeds: Vec<(f64, f64)> = pieces
+        .iter()
+        .map(|p| {
+            let mid = start + 0.5 * p.duration;
+            start += p.duration;
+            let (i, u) = motion.locate(mid);
+            let dim = p.start.len();
+            let plan = Vector::from_fn(dim, |a| motion.axis_state(i, a, u).velocity * scale);
+            let now = Vector::from_fn(dim, |a| cubic(p, a).at(0.5 * p.duration).velocity);
+            (crate::vector::norm(&plan), crate::vector::norm(&now))
+        })
+        .collect();
+    let fastest = speeds.iter().fold(0.0_f64, |m, s| m.max(s.0));
+    let speed_change = speeds
+        .iter()
+        .filter(|(before, _)| *before > 0.01 * fastest)
+        .map(|(before, now)| (now - before).abs() / before)
+        .fold(0.0, f64::max);
+    Ok(Resampled {
+        pieces,
+        speed_change,
+    })
+}
+
+/// Axis `a` of piece `p`'s cubic.
+fn cubic(p: &Piece, a: usize) -> HermiteSegment {
+    HermiteSegment::new(
+        p.start[a],
+        p.start_velocity[a],
+        p.end[a],
+        p.end_velocity[a],
+        p.duration,
+    )
+}
+
+/// The planned knots whose pieces grid interval `[a, b]` covers.
+fn covered(motion: &Motion<'_>, a: u64, b: u64, q: f64) -> std::ops::Range<usize> {
+    let first = motion.locate(quanta_time(a as f64, q)).0;
+    let mut end = motion.locate(quanta_time(b as f64, q)).0;
+    if end > first && motion.start(end) >= quanta_time(b as f64, q) {
+        end -= 1;
+    }
+    motion.pieces[first].knot..motion.pieces[end].knot + 2
+}
+
+/// The resampled piece on grid interval `[a, b]` (quanta), and whether it keeps the
+/// tolerance and the limits.
+fn interval(
+    knots: &Knots,
+    bounds: &AxisBounds,
+    tolerances: Tolerances,
+    q: f64,
+    motion: &Motion<'_>,
+    (a, b): (u64, u64),
+    last: u64,
+) -> Result<Piece, Over> {
+    let (ta, tb) = (quanta_time(a as f64, q), quanta_time(b as f64, q));
+    let (start, start_velocity) = motion.at(ta, false);
+    let (end, end_velocity) = motion.at(tb, b == last);
+    let duration = quanta_time((b - a) as f64, q);
+    let (first, _) = motion.locate(ta);
+    let dim = start.len();
+    let mut piece = Piece {
+        start,
+        end,
+        start_velocity,
+        end_velocity,
+        duration,
+        error: 0.0,
+        knot: motion.pieces[first].knot,
+        part: None,
+    };
+    let factor = piece.limit_factor(bounds);
+    if factor < 1.0 {
+        return Err(Over::Limit(factor));
+    }
+    // The deviation from the plan on each sub-interval between planned knots: both are
+    // cubics there, so their difference is one (per axis, its largest magnitude);
+    // the axes combine by the norm of their maxima, an upper bound.
+    let h: Vec<HermiteSegment> = (0..dim).map(|ax| cubic(&piece, ax)).collect();
+    let mut error: f64 = 0.0;
+    // The elements the interval's planned pieces run on (a corner blend: two), and a
+    // planned knot on each.
+    let mut elements: Vec<(usize, usize)> = Vec::with_capacity(4);
+    let mut i = first;
+    loop {
+        let from = ta.max(motion.start(i));
+        let to = tb.min(motion.start(i + 1));
+        if to > from || i == first {
+            let u0 = (from / motion.scale - motion.starts[i]).max(0.0);
+            let mut squares = 0.0;
+            for (ax, hx) in h.iter().enumerate() {
+                let p = motion.axis_state(i, ax, u0);
+                let r = hx.at(from - ta);
+                let c = [
+                    p.position - r.position,
+                    p.velocity - r.velocity,
+                    0.5 * (p.acceleration - r.acceleration),
+                    (p.jerk - r.jerk) / 6.0,
+                ];
+                let peak = cubic_peak(c, (to - from).max(0.0));
+                squares += peak * peak;
+            }
+            let planned = &motion.pieces[i];
+            let knot = &knots.knots[planned.knot];
+            elements.push((knot.after.element, planned.knot));
+            if knot.blend.is_some() {
+                elements.push((knot.after.element + 1, planned.knot + 1));
+            }
+            let limit = match knot.blend {
+                Some(_) => tolerances.corner,
+                None => tolerances.path,
+            };
+            let sum = planned.error + squares.sqrt();
+            if sum > limit {
+                return Err(Over::Tolerance);
+            }
+            error = error.max(sum);
+        }
+        if i + 1 >= motion.pieces.len() || motion.start(i + 1) >= tb {
+            break;
+        }
+        i += 1;
+    }
+    // A piece names one source line; a check looks for the motion near that line's
+    // elements and their neighbours. A piece over more than three elements is split
+    // (or its plan slowed) as one over the tolerance; otherwise it names the middle one.
+    let lo = elements.iter().map(|e| e.0).min().unwrap_or(0);
+    let hi = elements.iter().map(|e| e.0).max().unwrap_or(0);
+    if hi > lo + 2 {
+        return Err(Over::Tolerance);
+    }
+    let middle = lo + (hi - lo) / 2;
+    if let Some(&(_, knot)) = elements.iter().find(|e| e.0 == middle) {
+        piece.knot = knot;
+    }
+    piece.error = error;
+    Ok(piece)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::cubic_peak;
+
+    /// The peak of a cubic's magnitude against dense sampling.
+    #[test]
+    fn cubic_peak_is_the_largest_magnitude() {
+        let cases = [
+            [0.1, -2.0, 0.5, 3.0],
+            [0.0, 1.0, -3.0, 1.5],
+            [-1.0, 0.0, 0.0, 0.0],
+            [0.2, 1.0, -1.0, 0.0],
+        ];
+        for c in cases {
+            let h = 2.0;
+            let f = |u: f64| c[0] + c[1] * u + c[2] * u * u + c[3] * u * u * u;
+            let sampled = (0..=100_000)
+                .map(|k| f(h * k as f64 / 100_000.0).abs())
+                .fold(0.0, f64::max);
+            let peak = cubic_peak(c, h);
+            assert!(peak >= sampled * (1.0 - 1e-12), "{c:?}: {peak} < {sampled}");
+            assert!(peak <= sampled * (1.0 + 1e-6), "{c:?}: {peak} > {sampled}");
+        }
+    }
+}
