@@ -261,6 +261,49 @@ fn samples_on_a_1ms_grid_with_a_machine_file_stay_within_its_limits_and_the_tole
     }
 }
 
+/// Under a jerk limit, the steps a controller computes from the PMAC text itself, whose
+/// positions are rounded to 10⁻⁶, stay within `max_jerk · servo_period`: the planner keeps
+/// room for the rounding beside every knot (on a 1 ms grid, up to 12 mm/s² of mill.toml's
+/// 25). Read back from the text, independently of the planner.
+#[test]
+fn pmac_text_on_a_1ms_grid_keeps_the_jerk_steps_of_the_mill() {
+    let machine = pvtc::machine::Machine::read(&root().join("samples/machines/mill.toml")).unwrap();
+    let bound = 50000.0 * machine.servo_period.unwrap();
+    for sample in samples("gcode", ".ngc")
+        .iter()
+        .chain(&samples("dxf", ".dxf"))
+    {
+        let mut options = options_for(sample, Format::Pmac);
+        if sample.ends_with(".dxf") {
+            options.feed = Some(6000.0);
+        }
+        options.quantize = Some(0.001);
+        options.machine = Some(machine.clone());
+        let text = String::from_utf8(compile_file(sample, &options)).unwrap();
+        let axes = pmac_axes(&text);
+        for contour in reference::pmac_contours(&text) {
+            for (k, step) in reference::knot_steps(&contour).into_iter().enumerate() {
+                if matches!(axes[k], 'X' | 'Y') {
+                    assert!(
+                        step <= bound * (1.0 + 1e-6),
+                        "{sample}: {} step {step} > {bound} from the PMAC text",
+                        axes[k]
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// The axis letters of PMAC text, in the order its pieces list them.
+fn pmac_axes(text: &str) -> Vec<char> {
+    let line = text.lines().find(|l| l.starts_with("TA")).expect("a piece");
+    line.split_whitespace()
+        .skip(1)
+        .map(|w| w.chars().next().unwrap())
+        .collect()
+}
+
 /// The mill without its jerk limits: the plain planner, whose 1 ms grid resamples the
 /// planned motion in time where that is faster than stretching each piece.
 fn mill_without_jerk() -> pvtc::machine::Machine {

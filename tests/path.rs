@@ -82,6 +82,7 @@ fn plan_on(
         limits: limits.clone(),
         quantum,
         servo_period: SERVO,
+        position_resolution: 0.0,
     };
     plan_path(c, &XYZ, &options).expect("plans").0
 }
@@ -353,6 +354,7 @@ fn a_corner_tolerance_blends_corners_without_a_machine_file() {
         limits: BTreeMap::new(),
         quantum: None,
         servo_period: SERVO,
+        position_resolution: 0.0,
     };
     let blended = plan_path(&c, &XYZ, &options).unwrap().0;
     let d = deviation(&c, &blended);
@@ -588,6 +590,7 @@ fn a_long_contour_on_a_grid_keeps_its_limits_and_tolerance_whatever_the_window()
             limits: lim.clone(),
             quantum: Some(MS),
             servo_period: SERVO,
+            position_resolution: 0.0,
         };
         let planned = plan_stream(&c, &options, window);
         assert_on_grid(&planned, 0.001);
@@ -611,6 +614,7 @@ fn plan_windowed(
         limits: lim.clone(),
         quantum: None,
         servo_period: SERVO,
+        position_resolution: 0.0,
     };
     plan_stream(c, &options, window)
 }
@@ -691,6 +695,7 @@ fn a_tolerance_no_piece_can_meet_is_an_error_naming_the_line() {
         limits: BTreeMap::new(),
         quantum: None,
         servo_period: SERVO,
+        position_resolution: 0.0,
     };
     let e = plan_path(&c, &XYZ, &options).unwrap_err();
     assert_eq!(e.code(), "pvtc::plan::path_not_met");

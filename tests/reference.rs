@@ -435,3 +435,38 @@ pub fn knot_steps(c: &PvtContour) -> Vec<f64> {
     }
     out
 }
+
+/// The contours of PMAC text as pvtc writes it, read back from the text alone: each
+/// `; contour N (KIND) from X… Y…` comment starts one at those positions, and each
+/// `TA<ms> X<p>:<v> …` line is a piece (velocities in units/s). Other lines are skipped.
+/// The numbers are the written ones, rounded as a controller receives them.
+pub fn pmac_contours(text: &str) -> Vec<PvtContour> {
+    let mut contours: Vec<PvtContour> = Vec::new();
+    for line in text.lines() {
+        if let Some(from) = line
+            .strip_prefix("; contour ")
+            .and_then(|rest| rest.split_once(" from "))
+            .map(|(_, from)| from)
+        {
+            let start: Vec<f64> = from
+                .split_whitespace()
+                .map(|w| w[1..].parse().expect("a start position"))
+                .collect();
+            contours.push(PvtContour::new(pvt_core::Motion::Feed, start));
+        } else if let Some(rest) = line.strip_prefix("TA") {
+            let mut words = rest.split_whitespace();
+            let ms: f64 = words.next().unwrap().parse().expect("a piece time");
+            let (mut p, mut v) = (Vec::new(), Vec::new());
+            for w in words {
+                let (pos, vel) = w[1..].split_once(':').expect("P:V");
+                p.push(pos.parse::<f64>().unwrap());
+                v.push(vel.parse::<f64>().unwrap());
+            }
+            let contour = contours
+                .last_mut()
+                .expect("a piece after a contour comment");
+            contour.push(&p, &v, ms / 1000.0, 0);
+        }
+    }
+    contours
+}

@@ -50,6 +50,16 @@ impl Format {
         }
     }
 
+    /// The resolution positions are written with, program units: PMAC text rounds them to
+    /// [`pmac::POSITION_DECIMALS`] decimals ([`pmac::POSITION_RESOLUTION`]); MovePVT and JSON write the shortest
+    /// round-trip number, exactly (0).
+    pub fn position_resolution(self) -> f64 {
+        match self {
+            Format::Pmac => pmac::POSITION_RESOLUTION,
+            Format::MovePvt | Format::Json => 0.0,
+        }
+    }
+
     /// The usual file extension of the format.
     pub fn extension(self) -> &'static str {
         match self {

@@ -191,6 +191,12 @@ impl PmacSettings {
 
 /// Decimals of positions and velocities.
 pub const POSITION_DECIMALS: usize = 6;
+/// The step of a written position: one unit of its last decimal.
+pub const POSITION_RESOLUTION: f64 = 1e-6;
+const _: () = assert!(
+    POSITION_DECIMALS == 6,
+    "POSITION_RESOLUTION is 10^-POSITION_DECIMALS"
+);
 /// Decimals of piece times in milliseconds.
 pub const TIME_DECIMALS: usize = 4;
 /// Longest piece time written, seconds: 4095 ms, the whole milliseconds of Turbo PMAC's

@@ -203,6 +203,7 @@ pub fn plan_options(
         quantize: options.quantize,
         quantize_rounding: options.quantize_rounding,
         servo_period: options.machine.as_ref().and_then(|m| m.servo_period),
+        position_resolution: options.format.position_resolution(),
     })
 }
 

@@ -174,6 +174,10 @@ pub struct PlanOptions {
     /// Servo period, seconds, over which the path planner bounds the acceleration step
     /// at a knot under a jerk limit (`None`: [`crate::defaults::SERVO_PERIOD_S`]).
     pub servo_period: Option<f64>,
+    /// The resolution positions are written with, program units (PMAC text: 10⁻⁶; 0 when
+    /// they are written exactly): under a jerk limit the path planner keeps room in each
+    /// knot's step for the rounding (see [`PathOptions::position_resolution`]).
+    pub position_resolution: f64,
 }
 
 impl PlanOptions {
@@ -189,6 +193,7 @@ impl PlanOptions {
                 rounding: self.quantize_rounding,
             }),
             servo_period: self.servo_period.unwrap_or(crate::defaults::SERVO_PERIOD_S),
+            position_resolution: self.position_resolution,
         }
     }
 
@@ -214,6 +219,7 @@ impl Default for PlanOptions {
             quantize: None,
             quantize_rounding: Rounding::Up,
             servo_period: None,
+            position_resolution: 0.0,
         }
     }
 }

@@ -440,7 +440,9 @@ impl Knots {
     /// In jerk mode, lowers the speed caps where the acceleration steps by more than
     /// `bounds.step` on an axis: between two consecutive pieces (or parts of one
     /// S-curve), and by more than half of it between rest and the contour's first and last
-    /// piece (two contours straight on then step within the whole). Every such step
+    /// piece (two contours straight on then step within the whole), less the room the
+    /// rounding of written positions needs beside the knot (`6·r/T²` for each piece of
+    /// `T` seconds beside it, see [`super::PathOptions::position_resolution`]). Every such step
     /// (a corner blend, a junction passed at speed, a change of curvature, the
     /// interpolation of a curve) grows with the square of the speeds, so the knot's cap
     /// goes down by the square root of the excess; a blend beside the knot, whose
@@ -467,10 +469,24 @@ impl Knots {
             } else {
                 1.0
             };
+            // Room for the rounding of the written positions beside the knot.
+            let rounding: f64 = [i.checked_sub(1), (i < pieces.len()).then_some(i)]
+                .into_iter()
+                .flatten()
+                .map(|p| {
+                    // A planned piece shorter than a quantum is one on the grid.
+                    let t = pieces[p].duration.max(bounds.quantum);
+                    6.0 * bounds.resolution / (t * t)
+                })
+                .sum();
             let mut factor: f64 = 1.0;
             for a in 0..dim {
-                let (step, bound) = ((after[a] - before[a]).abs(), share * bounds.step[a]);
-                if step > bound * (1.0 + 1e-9) {
+                let step = (after[a] - before[a]).abs();
+                let bound = share * bounds.step[a] - rounding;
+                if bound <= 0.0 {
+                    // Pieces too short for the rounding: longer ones, at lower speed.
+                    factor = factor.min(0.5);
+                } else if step > bound * (1.0 + 1e-9) {
                     factor = factor.min((bound / step).sqrt());
                 }
             }

@@ -204,6 +204,15 @@ pub struct PathOptions {
     /// Servo period, seconds: with a jerk limit `J`, the acceleration step at a knot is
     /// bounded by `J·servo_period` on each axis (see "Jerk").
     pub servo_period: f64,
+    /// The resolution `r` the positions are written with, program units (0: exactly).
+    /// Each written position is then within `r/2` of the planned one, which moves the
+    /// acceleration step a controller computes at a knot between pieces of `T_L` and
+    /// `T_R` seconds by up to `6·r·(1/T_L² + 1/T_R²)` (and a step against rest by up to
+    /// `6·r/T²`); under a jerk limit and on a quantum grid the planner keeps the planned
+    /// step that far inside the bound, for pieces of at least one quantum. Without a grid
+    /// it is not applied: a piece may be microseconds long, and a controller that takes
+    /// whole quanta (PMAC) needs `--quantize` anyway.
+    pub position_resolution: f64,
 }
 
 /// What the path planner achieved on a contour.
@@ -287,10 +296,16 @@ pub(super) struct AxisBounds {
     pub step: Vec<f64>,
     /// The servo period the steps are bounded over, seconds.
     pub servo_period: f64,
+    /// The resolution positions are written with ([`PathOptions::position_resolution`])
+    /// when piece times are on a grid, else 0 (see there).
+    pub resolution: f64,
+    /// The grid's quantum, seconds (0 without one): no piece on the grid is shorter.
+    pub quantum: f64,
 }
 
 impl AxisBounds {
-    fn new(axes: &[Axis], limits: &BTreeMap<Axis, AxisLimits>, servo_period: f64) -> AxisBounds {
+    fn new(axes: &[Axis], options: &PathOptions) -> AxisBounds {
+        let (limits, servo_period) = (&options.limits, options.servo_period);
         let get = |f: fn(&AxisLimits) -> Option<f64>| -> Vec<f64> {
             axes.iter()
                 .map(|a| {
@@ -308,6 +323,8 @@ impl AxisBounds {
             step: jerk.iter().map(|j| j * servo_period).collect(),
             jerk,
             servo_period,
+            resolution: options.quantum.map_or(0.0, |_| options.position_resolution),
+            quantum: options.quantum.map_or(0.0, |q| q.seconds),
         }
     }
 
@@ -359,7 +376,7 @@ impl PathStream {
         PathStream {
             window: window.max(2),
             axes: axes.to_vec(),
-            bounds: AxisBounds::new(axes, &options.limits, options.servo_period),
+            bounds: AxisBounds::new(axes, options),
             options: options.clone(),
             curves: Vec::new(),
             start: Start {
@@ -660,6 +677,7 @@ mod tests {
             limits: Default::default(),
             quantum: None,
             servo_period: crate::defaults::SERVO_PERIOD_S,
+            position_resolution: 0.0,
         };
         let mut stream = super::PathStream::new(&axes, &options);
         let mut end = [0.0; crate::axis::AXIS_COUNT];

@@ -219,14 +219,15 @@ fn bend(curve: &Curve, phi: &HermiteSegment) -> f64 {
 }
 
 /// In jerk mode, the least time of a smoothstep at rest at both ends whose acceleration
-/// at each end, `6·c/T²` on an axis moving `c`, is within half its step bound and its
+/// at each end, `6·c/T²` on an axis moving `c`, is within half its step bound (with room
+/// for `6·r/T²` of rounding of positions written to a resolution `r`) and its
 /// acceleration limit, and whose jerk `12·c/T³` is within its limit.
 fn rest_time(piece: &Piece, bounds: &AxisBounds) -> f64 {
     let mut t: f64 = 0.0;
     for i in 0..piece.start.len() {
         let c = (piece.end[i] - piece.start[i]).abs();
         t = t
-            .max((12.0 * c / bounds.step[i]).sqrt())
+            .max((12.0 * (c + bounds.resolution) / bounds.step[i]).sqrt())
             .max((6.0 * c / bounds.acceleration[i]).sqrt())
             .max(libm::cbrt(12.0 * c / bounds.jerk[i]));
     }
