@@ -259,36 +259,37 @@ struct EventDocument {
 }
 
 impl EventDocument {
-    /// The event this object spells, as [`EventKind::name`] names it; `None` when the name
-    /// is unknown or a value it needs is missing.
+    /// The event this object spells, as [`EventKind::name`] names it (the one place the
+    /// names are spelled); `None` when the name is unknown or a value it needs is missing.
     fn kind(&self) -> Option<EventKind> {
+        use CoolantState::{Flood, Mist};
+        use SpindleState::{Clockwise, CounterClockwise};
+        let without_value = [
+            EventKind::Pause { optional: false },
+            EventKind::Pause { optional: true },
+            EventKind::Spindle { state: Clockwise },
+            EventKind::Spindle {
+                state: CounterClockwise,
+            },
+            EventKind::Spindle {
+                state: SpindleState::Off,
+            },
+            EventKind::Coolant { state: Mist },
+            EventKind::Coolant { state: Flood },
+            EventKind::Coolant {
+                state: CoolantState::Off,
+            },
+            EventKind::ToolChange,
+        ];
+        if let Some(kind) = without_value.into_iter().find(|k| k.name() == self.event) {
+            return Some(kind);
+        }
         Some(match self.event.as_str() {
             "dwell" => EventKind::Dwell {
                 seconds: self.seconds.filter(|s| s.is_finite() && *s >= 0.0)?,
             },
-            "pause" => EventKind::Pause { optional: false },
-            "optional_pause" => EventKind::Pause { optional: true },
-            "spindle_cw" => EventKind::Spindle {
-                state: SpindleState::Clockwise,
-            },
-            "spindle_ccw" => EventKind::Spindle {
-                state: SpindleState::CounterClockwise,
-            },
-            "spindle_off" => EventKind::Spindle {
-                state: SpindleState::Off,
-            },
             "spindle_speed" => EventKind::SpindleSpeed { rpm: self.rpm? },
-            "coolant_mist" => EventKind::Coolant {
-                state: CoolantState::Mist,
-            },
-            "coolant_flood" => EventKind::Coolant {
-                state: CoolantState::Flood,
-            },
-            "coolant_off" => EventKind::Coolant {
-                state: CoolantState::Off,
-            },
             "tool_select" => EventKind::ToolSelect { tool: self.tool? },
-            "tool_change" => EventKind::ToolChange,
             "message" => EventKind::Message {
                 text: self.text.clone()?,
             },
