@@ -146,17 +146,7 @@ fn pvt_octagon_errs_most_in_first_and_last_segments() {
 }
 
 fn one_piece(p0: f64, v0: f64, p1: f64, v1: f64, t: f64) -> PvtProgram {
-    let mut c = PvtContour::new(Motion::Feed, vec![p0]);
-    c.push(&[p0], &[v0], 1.0, 1);
-    c.push(&[p1], &[v1], t, 2);
-    c.push(&[p1], &[0.0], 1.0, 3);
-    PvtProgram {
-        axes: vec![Axis::X],
-        units: Units::Millimetre,
-        interpolation: Interpolation::Pvt,
-        contours: vec![c],
-        events: Vec::new(),
-    }
+    pvt_x_from(p0, &[(p0, v0, 1.0, 1), (p1, v1, t, 2), (p1, 0.0, 1.0, 3)])
 }
 
 #[test]
@@ -272,7 +262,12 @@ fn straight_line_follows_its_source_at_the_feed() {
 
 /// One feed contour on X through `(end, velocity, time, line)` pieces from rest at 0.
 fn pvt_x(pieces: &[(f64, f64, f64, u32)]) -> PvtProgram {
-    let mut c = PvtContour::new(Motion::Feed, vec![0.0]);
+    pvt_x_from(0.0, pieces)
+}
+
+/// One feed contour on X through `(end, velocity, time, line)` pieces from rest at `start`.
+fn pvt_x_from(start: f64, pieces: &[(f64, f64, f64, u32)]) -> PvtProgram {
+    let mut c = PvtContour::new(Motion::Feed, vec![start]);
     for &(p, v, t, line) in pieces {
         c.push(&[p], &[v], t, line);
     }

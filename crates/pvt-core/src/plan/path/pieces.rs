@@ -316,20 +316,22 @@ fn blend_time(l: f64, va: f64, vb: f64) -> f64 {
 impl Piece {
     /// Each axis' acceleration at the start and at the end of the cubic.
     pub fn end_accelerations(&self) -> [Vector; 2] {
-        let cubic = |i: usize| {
-            HermiteSegment::new(
-                self.start[i],
-                self.start_velocity[i],
-                self.end[i],
-                self.end_velocity[i],
-                self.duration,
-            )
-        };
         let n = self.start.len();
         [
-            Vector::from_fn(n, |i| cubic(i).a0),
-            Vector::from_fn(n, |i| cubic(i).end().acceleration),
+            Vector::from_fn(n, |i| self.cubic(i).a0),
+            Vector::from_fn(n, |i| self.cubic(i).end().acceleration),
         ]
+    }
+
+    /// The cubic of axis `i`: from its start to its end state over the piece's time.
+    pub fn cubic(&self, i: usize) -> HermiteSegment {
+        HermiteSegment::new(
+            self.start[i],
+            self.start_velocity[i],
+            self.end[i],
+            self.end_velocity[i],
+            self.duration,
+        )
     }
 
     /// True when the piece starts and ends at rest.
@@ -345,13 +347,7 @@ impl Piece {
     pub fn limit_factor(&self, bounds: &AxisBounds) -> f64 {
         let mut factor: f64 = 1.0;
         for i in 0..self.start.len() {
-            let h = HermiteSegment::new(
-                self.start[i],
-                self.start_velocity[i],
-                self.end[i],
-                self.end_velocity[i],
-                self.duration,
-            );
+            let h = self.cubic(i);
             let (velocity, acceleration) = peaks(&h);
             let (vmax, amax) = (bounds.velocity[i], bounds.acceleration[i]);
             if velocity > vmax * (1.0 + 1e-9) {
@@ -765,17 +761,7 @@ pub(super) fn mid_speed_change(before: &[Piece], after: &[Piece]) -> f64 {
 /// The vector speed at the middle of each knot's piece (of the time of its parts).
 fn mid_speeds(pieces: &[Piece]) -> Vec<f64> {
     let speed = |p: &Piece, t: f64| {
-        let v = Vector::from_fn(p.start.len(), |i| {
-            HermiteSegment::new(
-                p.start[i],
-                p.start_velocity[i],
-                p.end[i],
-                p.end_velocity[i],
-                p.duration,
-            )
-            .at(t)
-            .velocity
-        });
+        let v = Vector::from_fn(p.start.len(), |i| p.cubic(i).at(t).velocity);
         crate::vector::norm(&v)
     };
     let mut out = Vec::new();

@@ -58,15 +58,7 @@ impl<'a> Motion<'a> {
 
     /// Axis `axis` of piece `i` at planned time `u` into it, in scaled time.
     fn axis_state(&self, i: usize, axis: usize, u: f64) -> State {
-        let p = &self.pieces[i];
-        let h = HermiteSegment::new(
-            p.start[axis],
-            p.start_velocity[axis],
-            p.end[axis],
-            p.end_velocity[axis],
-            p.duration,
-        );
-        let s = h.at(u);
+        let s = self.pieces[i].cubic(axis).at(u);
         let k = self.scale;
         State {
             position: s.position,
@@ -285,7 +277,7 @@ fn resample_once(
             let (i, u) = motion.locate(mid);
             let dim = p.start.len();
             let plan = Vector::from_fn(dim, |a| motion.axis_state(i, a, u).velocity * scale);
-            let now = Vector::from_fn(dim, |a| cubic(p, a).at(0.5 * p.duration).velocity);
+            let now = Vector::from_fn(dim, |a| p.cubic(a).at(0.5 * p.duration).velocity);
             (crate::vector::norm(&plan), crate::vector::norm(&now))
         })
         .collect();
@@ -299,17 +291,6 @@ fn resample_once(
         pieces,
         speed_change,
     })
-}
-
-/// Axis `a` of piece `p`'s cubic.
-fn cubic(p: &Piece, a: usize) -> HermiteSegment {
-    HermiteSegment::new(
-        p.start[a],
-        p.start_velocity[a],
-        p.end[a],
-        p.end_velocity[a],
-        p.duration,
-    )
 }
 
 /// The planned knots whose pieces grid interval `[a, b]` covers.
@@ -356,7 +337,7 @@ fn interval(
     // The deviation from the plan on each sub-interval between planned knots: both are
     // cubics there, so their difference is one (per axis, its largest magnitude);
     // the axes combine by the norm of their maxima, an upper bound.
-    let h: Vec<HermiteSegment> = (0..dim).map(|ax| cubic(&piece, ax)).collect();
+    let h: Vec<HermiteSegment> = (0..dim).map(|ax| piece.cubic(ax)).collect();
     let mut error: f64 = 0.0;
     // The elements the interval's planned pieces run on (a corner blend: two), and a
     // planned knot on each.
