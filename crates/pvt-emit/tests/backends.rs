@@ -113,6 +113,21 @@ fn json_reads_events_back() {
         err.contains("event 12: unknown event \"teleport\""),
         "{err}"
     );
+    // A dwell needs its seconds.
+    let bare = t.replacen(", \"seconds\": 0.25", "", 1);
+    assert_ne!(bare, t);
+    let err = json::read(&bare).unwrap_err().to_string();
+    assert!(
+        err.contains("event 1: unknown event \"dwell\" or a value it needs is missing"),
+        "{err}"
+    );
+    // Events come in the order of the contours they precede: the first moved after the
+    // second.
+    let first = "{\"before_contour\": 0, \"event\": \"dwell\"";
+    assert!(t.contains(first), "{t}");
+    let out_of_order = t.replacen(first, "{\"before_contour\": 1, \"event\": \"dwell\"", 1);
+    let err = json::read(&out_of_order).unwrap_err().to_string();
+    assert!(err.contains("event 2: before contour 0"), "{err}");
 }
 
 /// A piece time that is zero or negative is refused when read, not checked as an
