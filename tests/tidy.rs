@@ -337,3 +337,24 @@ fn pvtc_modules_import_each_other_without_a_cycle() {
     assert!(graph["front"].contains(&"options".to_string()), "{graph:?}");
     assert_eq!(find_cycle(&graph), None, "pvtc's module imports: {graph:?}");
 }
+
+#[test]
+fn the_command_line_writes_standard_error_only_through_its_reporter() {
+    const HOME: &str = "crates/pvtc/src/report.rs";
+    let found: Vec<String> = crate_sources()
+        .into_iter()
+        .filter(|(name, _)| name.starts_with("crates/pvtc/src/") && name != HOME)
+        .flat_map(|(name, text)| {
+            non_test_code(&name, &text)
+                .lines()
+                .enumerate()
+                .filter(|(_, line)| line.contains("eprintln!") || line.contains("eprint!"))
+                .map(|(i, _)| format!("{name}:{}", i + 1))
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    assert!(
+        found.is_empty(),
+        "standard error is written by {HOME} alone (one voice, one JSON mode): {found:?}"
+    );
+}

@@ -162,10 +162,10 @@ pub struct PipelineArgs {
     #[arg(long = "join-tolerance", value_name = "T", value_parser = positive_number)]
     pub join_tolerance: Option<f64>,
     /// DXF: where the machine starts, `X,Y`; the nearest contour is cut first [default: 0,0].
-    #[arg(long = "start-point", value_name = "X,Y", value_parser = point)]
+    #[arg(long = "start-point", value_name = "X,Y", value_parser = point, allow_hyphen_values = true)]
     pub start_point: Option<[f64; 2]>,
     /// DXF: travel between contours at this Z, plunging at the feed.
-    #[arg(long = "safe-z", value_name = "Z", value_parser = finite_number)]
+    #[arg(long = "safe-z", value_name = "Z", value_parser = finite_number, allow_hyphen_values = true)]
     pub safe_z: Option<f64>,
     /// DXF: most points a drawing may hold (it is read in memory, ~400 bytes per point)
     /// [default: 2000000].

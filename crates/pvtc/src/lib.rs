@@ -128,10 +128,11 @@ pub(crate) fn write_stdout(bytes: &[u8]) -> ExitCode {
     match out.write_all(bytes).and_then(|()| out.flush()) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: cannot write standard output: {e}");
-            ExitCode::from(EXIT_INPUT_ERROR)
-        }
+        Err(error) => Reporter::human().fail(&Failure::Io {
+            path: "<stdout>".into(),
+            action: "write",
+            error,
+        }),
     }
 }
 

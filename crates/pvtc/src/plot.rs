@@ -8,7 +8,6 @@ use crate::args::PlotArgs;
 use crate::output;
 use crate::pipeline::Failure;
 use crate::report::Reporter;
-use crate::EXIT_INPUT_ERROR;
 use std::path::Path;
 use std::process::ExitCode;
 
@@ -49,8 +48,8 @@ pub fn run(args: &PlotArgs) -> ExitCode {
     let bytes = match drawn {
         Ok(bytes) => bytes,
         Err(e) => {
-            eprintln!("error: cannot plot: {e}");
-            return ExitCode::from(EXIT_INPUT_ERROR);
+            let report = miette::miette!(code = "pvtc::plot::draw", "cannot plot: {e}");
+            return reporter.fail(&Failure::Input(vec![report]));
         }
     };
     match output::write(Some(&args.output), &bytes) {

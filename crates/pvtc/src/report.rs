@@ -223,6 +223,15 @@ impl Reporter {
         }
     }
 
+    /// A reporter for people, for the commands without diagnostics options
+    /// (`completions`, `man`).
+    pub fn human() -> Reporter {
+        Reporter {
+            json: false,
+            deny_warnings: false,
+        }
+    }
+
     /// Prints every diagnostic of `failure` and returns the exit status for it.
     pub fn fail(&self, failure: &Failure) -> ExitCode {
         match failure {
@@ -258,6 +267,12 @@ impl Reporter {
             }
         }
         ExitCode::from(EXIT_INPUT_ERROR)
+    }
+
+    /// Prints one diagnostic that fails a run whose output is already written (`check`'s
+    /// verdict), without the "nothing was written" line of [`Reporter::fail`].
+    pub fn error(&self, report: &Report) {
+        self.print(report);
     }
 
     /// Prints warnings; with `--deny-warnings` any warning fails the run.
@@ -305,6 +320,32 @@ impl Reporter {
             if items > MAX_PRINTED {
                 eprintln!("… and {} more diagnostics not shown", items - MAX_PRINTED);
             }
+        }
+    }
+
+    /// A batch's failed file in one line: its first diagnostic and how many more it has
+    /// (JSON: `pvtc::batch::failed` with `input`, `first` and `count`).
+    pub fn batch_failed(&self, input: &std::path::Path, first: &str, count: usize) {
+        let more = if count > 1 {
+            format!(" (and {} more)", count - 1)
+        } else {
+            String::new()
+        };
+        let text = format!("failed: {}: {first}{more}", input.display());
+        if self.json {
+            eprintln!(
+                "{}",
+                serde_json::json!({
+                    "code": "pvtc::batch::failed",
+                    "severity": "error",
+                    "message": text,
+                    "input": input.display().to_string(),
+                    "first": first,
+                    "count": count,
+                })
+            );
+        } else {
+            eprintln!("{text}");
         }
     }
 

@@ -1271,8 +1271,23 @@ fn check_max_path_error_fails_seed_000_on_a_square_and_passes_the_path_planner()
         "{}",
         stderr(&o)
     );
+    // The table says so too: it does not end on "none exceeded" alone.
+    let table = String::from_utf8_lossy(&o.stdout);
+    assert!(table.contains("PATH ERROR EXCEEDED: "), "{table}");
+    assert!(table.contains("> --max-path-error 0.001"), "{table}");
+    let json = ["--planner", "contour", "--diagnostics", "json"];
+    let o = pvtc(&[&args[..], &json].concat(), None);
+    let err = stderr(&o);
+    let values: Vec<serde_json::Value> = err
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("a JSON object per line"))
+        .collect();
+    assert_eq!(values.len(), 1, "{err}");
+    assert_eq!(values[0]["code"], "pvtc::check::path_error");
     let o = pvtc(&args, None);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let table = String::from_utf8_lossy(&o.stdout);
+    assert!(!table.contains("PATH ERROR EXCEEDED"), "{table}");
 }
 
 #[test]
@@ -1535,4 +1550,52 @@ fn toolpath_under_deny_warnings_writes_nothing() {
     assert!(to_pipe.stdout.is_empty(), "nothing on the pipe");
     let allowed = pvtc(&args[..4], None);
     assert!(allowed.status.success() && !allowed.stdout.is_empty());
+}
+
+#[test]
+fn negative_values_of_start_point_and_safe_z_read_as_separate_arguments() {
+    let joined = pvtc(
+        &[
+            "compile",
+            "samples/dxf/lines_arcs.dxf",
+            "--feed",
+            "1200",
+            "--start-point=-10,-10",
+            "--safe-z=-2",
+            "--format",
+            "json",
+        ],
+        None,
+    );
+    assert!(joined.status.success(), "{}", stderr(&joined));
+    let separate = pvtc(
+        &[
+            "compile",
+            "samples/dxf/lines_arcs.dxf",
+            "--feed",
+            "1200",
+            "--start-point",
+            "-10,-10",
+            "--safe-z",
+            "-2",
+            "--format",
+            "json",
+        ],
+        None,
+    );
+    assert!(separate.status.success(), "{}", stderr(&separate));
+    assert_eq!(joined.stdout, separate.stdout);
+    // The values reached the drawing: another start point and safe Z give another motion.
+    let plain = pvtc(
+        &[
+            "compile",
+            "samples/dxf/lines_arcs.dxf",
+            "--feed",
+            "1200",
+            "--format",
+            "json",
+        ],
+        None,
+    );
+    assert_ne!(plain.stdout, separate.stdout);
 }
