@@ -1599,3 +1599,58 @@ fn negative_values_of_start_point_and_safe_z_read_as_separate_arguments() {
     );
     assert_ne!(plain.stdout, separate.stdout);
 }
+
+#[test]
+fn a_machine_file_with_a_planner_that_cannot_keep_it_is_a_usage_error() {
+    let machine = ["--machine", "samples/machines/mill.toml"];
+    for planner in ["contour", "pt", "chord-forward", "spline", "lspb"] {
+        let mut args = vec!["compile", "samples/gcode/square.ngc", "--planner", planner];
+        if planner == "lspb" {
+            args.extend(["--accel", "1000"]);
+        }
+        args.extend(machine);
+        let o = pvtc(&args, None);
+        assert_eq!(o.status.code(), Some(2), "{planner}: {}", stderr(&o));
+        assert!(stderr(&o).contains("pvtc::usage"), "{}", stderr(&o));
+        assert!(
+            stderr(&o).contains("only by the path planner"),
+            "{}",
+            stderr(&o)
+        );
+        assert!(o.stdout.is_empty());
+    }
+    // The path planner keeps it; `check` still takes it with any planner, to verify.
+    let o = pvtc(
+        &[&["compile", "samples/gcode/square.ngc"][..], &machine].concat(),
+        None,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let check = [
+        "check",
+        "samples/gcode/square.ngc",
+        "--planner",
+        "contour",
+        "--machine",
+        "samples/machines/mill.toml",
+    ];
+    assert_eq!(pvtc(&check, None).status.code(), Some(1));
+}
+
+#[test]
+fn drawing_options_on_a_program_are_usage_errors() {
+    for option in [
+        &["--safe-z", "5"][..],
+        &["--start-point", "1,1"],
+        &["--join-tolerance", "0.1"],
+        &["--max-points", "10"],
+        &["--layer", "CUT"],
+    ] {
+        let o = pvtc(
+            &[&["compile", "samples/gcode/square.ngc"][..], option].concat(),
+            None,
+        );
+        assert_eq!(o.status.code(), Some(2), "{option:?}: {}", stderr(&o));
+        let expected = format!("{} does nothing here", option[0]);
+        assert!(stderr(&o).contains(&expected), "{}", stderr(&o));
+    }
+}
