@@ -307,6 +307,7 @@ impl<'a> Interpreter<'a> {
         self.check_p_word(request);
         self.check_words(request);
         self.run_motion(request, block);
+        self.reread_after_tool_change(request);
         match request.stop {
             Some((Stop::Pause(optional), _)) => {
                 self.event(EventKind::Pause { optional }, block.line);
@@ -489,7 +490,9 @@ impl<'a> Interpreter<'a> {
         if let Some((to_r, _)) = request.retract {
             self.cycle.to_r = to_r;
         }
-        if let (Some((PathMode::Continuous, _)), Some(p)) = (request.path_mode, request.p) {
+        // G64 P0 is plain G64, as rs274 reads it: no tolerance of its own.
+        let p = request.p.filter(|p| p.value != 0.0);
+        if let (Some((PathMode::Continuous, _)), Some(p)) = (request.path_mode, p) {
             let tolerance = p.value.abs() * self.scale();
             self.path_tolerance = Some(tolerance);
             self.sink.path_tolerance(tolerance);

@@ -140,8 +140,16 @@ impl Request {
                     let feature = codes::motion_feature(tenths.unwrap_or(0));
                     errors.push(unsupported(word, feature));
                 }
-                self.no_move |= self.motion.is_some();
-                put_mode(&mut self.motion, mode, word, errors, conflicting_motion);
+                // G80 beside another motion code is dropped, as rs274 drops it: the
+                // safety line `G0 G17 G40 G49 G80 G90` is a G0.
+                match self.motion {
+                    Some(_) if mode == MotionMode::Cancel => {}
+                    Some((MotionMode::Cancel, _)) => self.motion = Some((mode, word)),
+                    _ => {
+                        self.no_move |= self.motion.is_some();
+                        put_mode(&mut self.motion, mode, word, errors, conflicting_motion);
+                    }
+                }
             }
             GCode::Plane(p) => put_mode(&mut self.plane, p, word, errors, modes("plane")),
             GCode::Units(u) => put_mode(&mut self.units, u, word, errors, modes("length units")),

@@ -71,10 +71,21 @@ fn rs274() -> Result<&'static str, String> {
     Err(why)
 }
 
-/// A sidecar of `program` with another extension, if it exists.
+/// A sidecar of `program` with another extension, if it exists: beside the program, or
+/// for a program kept outside the project (LinuxCNC's installed examples) in
+/// `tests/dialect/linuxcnc/`.
 fn sidecar(program: &Path, extension: &str) -> Option<PathBuf> {
     let path = program.with_extension(extension);
-    path.exists().then_some(path)
+    let kept = program.file_name().map(|name| {
+        root()
+            .join("tests/dialect/linuxcnc")
+            .join(name)
+            .with_extension(extension)
+    });
+    [Some(path), kept]
+        .into_iter()
+        .flatten()
+        .find(|p| p.exists())
 }
 
 /// rs274's canonical motion for `program`, or its error message.
@@ -895,6 +906,40 @@ fn corpus_programs_move_as_rs274_moves() {
     let failures: Vec<String> = runs
         .iter()
         .filter_map(|name| compare(rs274, &dir.join(name)).err())
+        .collect();
+    assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+}
+
+/// LinuxCNC's example programs as installed with rs274 (`/usr/share/linuxcnc/ncfiles`,
+/// GPL-2.0, read where they are, not copied): polar canned cycles (`polar.ngc`,
+/// `hole-circle.ngc`) and a tool change with G43 in one block (`skeleton.ngc`) move as
+/// rs274 moves them.
+#[test]
+fn installed_linuxcnc_examples_move_as_rs274_moves() {
+    let rs274 = match rs274() {
+        Ok(rs274) => rs274,
+        Err(why) => {
+            eprintln!("SKIPPED: {why}");
+            return;
+        }
+    };
+    let dir = Path::new("/usr/share/linuxcnc/ncfiles");
+    let runs = ["polar.ngc", "hole-circle.ngc", "skeleton.ngc"];
+    let present: Vec<PathBuf> = runs
+        .iter()
+        .map(|n| dir.join(n))
+        .filter(|p| p.exists())
+        .collect();
+    if present.len() < runs.len() {
+        eprintln!(
+            "SKIPPED: LinuxCNC's examples are not all in {}",
+            dir.display()
+        );
+        return;
+    }
+    let failures: Vec<String> = present
+        .iter()
+        .filter_map(|path| compare(rs274, path).err())
         .collect();
     assert!(failures.is_empty(), "{}", failures.join("\n\n"));
 }

@@ -25,6 +25,11 @@ pub(crate) struct ToolState {
     pub current: u32,
     /// The tool length offset in effect, X Y Z A B C, output units (degrees).
     pub offset: Position,
+    /// The tool length offset in effect at the end of the last move.
+    pub moved_with: Position,
+    /// Where the machine is while the interpreter's position is rs274's re-reading after
+    /// M6 (see [`Interpreter::reread_after_tool_change`]); the next move starts here.
+    pub machine_at: Option<Position>,
 }
 
 impl Interpreter<'_> {
@@ -76,6 +81,27 @@ impl Interpreter<'_> {
                 }
             }
         }
+    }
+
+    /// After a block with M6, rs274 re-reads its position as its last move left it in
+    /// program coordinates, without the tool length offsets set since (in that block or
+    /// before): the offset change moves where the program is, not where the machine
+    /// is. The interpreter takes that position; the machine stays where it is until the
+    /// next move, which starts from there ([`ToolState::machine_at`]).
+    pub(super) fn reread_after_tool_change(&mut self, request: &Request) {
+        if request.tool_change.is_none() {
+            return;
+        }
+        let shift: Position =
+            std::array::from_fn(|i| self.tool.offset[i] - self.tool.moved_with[i]);
+        if shift.iter().all(|s| *s == 0.0) {
+            return;
+        }
+        self.tool.machine_at.get_or_insert(self.position);
+        for (p, s) in self.position.iter_mut().zip(shift) {
+            *p += s;
+        }
+        self.tool.moved_with = self.tool.offset;
     }
 
     /// The offsets of tool `number` in output units; H0 is none. `None` after reporting

@@ -179,21 +179,11 @@ impl Interpreter<'_> {
         }
         let scale = self.scale();
         let mut program = self.to_program(self.position);
-        let (x, y) = (program[0] / scale, program[1] / scale);
-        let (mut radius, mut angle) = (libm::hypot(x, y), libm::atan2(y, x));
-        let [r_word, a_word] = request.polar.map(|w| w.map(|w| w.value));
-        match self.modal.distance {
-            Distance::Absolute => {
-                radius = r_word.unwrap_or(radius);
-                angle = a_word.map_or(angle, f64::to_radians);
-            }
-            Distance::Incremental => {
-                radius += r_word.unwrap_or(0.0);
-                angle += a_word.map_or(0.0, f64::to_radians);
-            }
-        }
-        program[0] = radius * libm::cos(angle) * scale;
-        program[1] = radius * libm::sin(angle) * scale;
+        let words = request.polar.map(|w| w.map(|w| w.value));
+        let from = [program[0] / scale, program[1] / scale];
+        let [x, y] = polar_point(from, words, self.modal.distance);
+        program[0] = x * scale;
+        program[1] = y * scale;
         let placed = self.to_machine(program);
         end[..2].copy_from_slice(&placed[..2]);
         if end[0].is_finite() && end[1].is_finite() {
@@ -390,6 +380,31 @@ impl Interpreter<'_> {
         if motion == Motion::Rapid {
             self.end_contour();
         }
+        self.tool.moved_with = self.tool.offset;
+        let mut element = *element;
+        if let Some(at) = self.tool.machine_at.take() {
+            match element.kind {
+                ElementKind::Line => element.start = at,
+                // Off its plane (a Z offset under G17) the arc starts where the machine
+                // is, a helix; in its plane it keeps its start and the machine gets
+                // there first, straight.
+                ElementKind::Arc(arc)
+                    if arc.plane.project(&at) == arc.plane.project(&element.start) =>
+                {
+                    element.start = at;
+                }
+                ElementKind::Arc(_) => {
+                    let to_start = Element {
+                        kind: ElementKind::Line,
+                        start: at,
+                        end: element.start,
+                        ..element
+                    };
+                    self.sink.element(motion, &to_start);
+                }
+            }
+        }
+        let element = &element;
         self.sink.element(motion, element);
         self.open = true;
         self.moved = true;
@@ -522,6 +537,26 @@ impl Interpreter<'_> {
             },
         });
     }
+}
+
+/// The XY point that `@` radius and `^` angle (degrees; `None` where not given) set from
+/// `from`, program units about the program origin, as LinuxCNC sets it: a word not given
+/// keeps `from`'s radius or angle, and under G91 the words are added to them.
+pub(super) fn polar_point(from: [f64; 2], words: [Option<f64>; 2], distance: Distance) -> [f64; 2] {
+    let [x, y] = from;
+    let (mut radius, mut angle) = (libm::hypot(x, y), libm::atan2(y, x));
+    let [r_word, a_word] = words;
+    match distance {
+        Distance::Absolute => {
+            radius = r_word.unwrap_or(radius);
+            angle = a_word.map_or(angle, f64::to_radians);
+        }
+        Distance::Incremental => {
+            radius += r_word.unwrap_or(0.0);
+            angle += a_word.map_or(0.0, f64::to_radians);
+        }
+    }
+    [radius * libm::cos(angle), radius * libm::sin(angle)]
 }
 
 /// How a block gives its arc's centre: offsets in the plane's (first, second) order, or R.
