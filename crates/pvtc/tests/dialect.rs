@@ -89,11 +89,27 @@ fn sidecar(program: &Path, extension: &str) -> Option<PathBuf> {
 }
 
 /// rs274's canonical motion for `program`, or its error message.
+fn rs274_moves(rs274: &str, program: &Path) -> Result<Vec<Move>, String> {
+    let run = rs274_run(rs274, program)?;
+    match run.failure {
+        Some(failure) => Err(failure),
+        None => Ok(run.moves),
+    }
+}
+
+/// What rs274 did with a program: the motion it printed (up to its error, if any) and
+/// its error message.
+struct Rs274Run {
+    moves: Vec<Move>,
+    failure: Option<String>,
+}
+
+/// Runs rs274 on `program`; `Err` when it could not run it.
 ///
 /// Two rs274 processes at once can kill each other with SIGBUS (they share memory), so
 /// this test's runs take turns, and a run killed by a signal (another test process's
 /// rs274, say) is tried again.
-fn rs274_moves(rs274: &str, program: &Path) -> Result<Vec<Move>, String> {
+fn rs274_run(rs274: &str, program: &Path) -> Result<Rs274Run, String> {
     static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
     let _turn = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let _machine_turn = MachineTurn::take();
@@ -107,7 +123,7 @@ fn rs274_moves(rs274: &str, program: &Path) -> Result<Vec<Move>, String> {
                 std::thread::sleep(std::time::Duration::from_millis(50 * tries));
             }
             Err(Killed(why)) => return Err(why),
-            Ok(moves) => return moves,
+            Ok(run) => return run,
         }
     }
 }
@@ -150,7 +166,7 @@ impl Drop for MachineTurn {
 /// An rs274 run that a signal ended, or that lost its tool table to another run.
 struct Killed(String);
 
-fn rs274_once(rs274: &str, program: &Path) -> Result<Result<Vec<Move>, String>, Killed> {
+fn rs274_once(rs274: &str, program: &Path) -> Result<Result<Rs274Run, String>, Killed> {
     let dir = tempfile::tempdir().expect("temporary directory");
     let out = dir.path().join("canon.txt");
     let mut command = Command::new(rs274);
@@ -188,11 +204,14 @@ fn rs274_once(rs274: &str, program: &Path) -> Result<Result<Vec<Move>, String>, 
     if !output.status.success() && lost_table && sidecar(program, "tbl").is_some() {
         return Err(Killed(failure));
     }
-    if !output.status.success() {
+    let failed = !output.status.success();
+    let Ok(text) = std::fs::read_to_string(&out) else {
         return Ok(Err(failure));
-    }
-    let text = std::fs::read_to_string(&out).expect("rs274 wrote its output");
-    Ok(Ok(Canon::default().read(&text)))
+    };
+    Ok(Ok(Rs274Run {
+        moves: Canon::default().read(&text),
+        failure: failed.then_some(failure),
+    }))
 }
 
 /// The state of LinuxCNC's canonical layer that turns program into machine coordinates.
@@ -503,12 +522,84 @@ fn difference(ours: &[Move], theirs: &[Move]) -> Option<String> {
 
 /// Compares one program; the failure, described.
 fn compare(rs274: &str, program: &Path) -> Result<usize, String> {
+    if let Some(expected) = sidecar(program, "error") {
+        return compare_refusal(rs274, program, &expected);
+    }
     let theirs = rs274_moves(rs274, program)?;
     let ours = pvtc_moves(program)?;
     match difference(&ours, &theirs) {
         None => Ok(ours.len()),
         Some(d) => Err(format!("{}: {d}", program.display())),
     }
+}
+
+/// Compares a program rs274 refuses (`NAME.error`: rs274's message on its first line,
+/// pvtc's code on its second): rs274 fails with that message at a line, pvtc reports
+/// that code at the same line, and where pvtc still compiles (a warning), its motion is
+/// the motion rs274 printed.
+fn compare_refusal(rs274: &str, program: &Path, expected: &Path) -> Result<usize, String> {
+    let expected = std::fs::read_to_string(expected).expect("error sidecar");
+    let mut expected = expected.lines();
+    let (message, code) = (expected.next().unwrap_or(""), expected.next().unwrap_or(""));
+    let run = rs274_run(rs274, program)?;
+    let failure = run.failure.unwrap_or_default();
+    let what = |d: &str| format!("{}: {d}", program.display());
+    if !failure.contains(message) {
+        return Err(what(&format!("rs274 does not say {message:?}: {failure}")));
+    }
+    // rs274 echoes the block it stopped at after its message.
+    let block = failure.trim_end().lines().last().unwrap_or("").trim();
+    let text = std::fs::read_to_string(program).expect("program");
+    let (ok, diagnostics) = pvtc_diagnostics(program);
+    let line = diagnostics
+        .iter()
+        .find(|(c, _)| c == code)
+        .map(|(_, line)| *line)
+        .ok_or_else(|| what(&format!("pvtc does not report {code}: {diagnostics:?}")))?;
+    let pvtc_block = text
+        .lines()
+        .nth(line.saturating_sub(1))
+        .unwrap_or("")
+        .trim();
+    if pvtc_block != block {
+        return Err(what(&format!(
+            "pvtc reports {code} at {pvtc_block:?}, rs274 at {block:?}"
+        )));
+    }
+    if !ok {
+        return Ok(0);
+    }
+    let ours = pvtc_moves(program)?;
+    match difference(&ours, &run.moves) {
+        None => Ok(ours.len()),
+        Some(d) => Err(what(&d)),
+    }
+}
+
+/// Whether pvtc compiles `program`, and its diagnostics as (code, line).
+fn pvtc_diagnostics(program: &Path) -> (bool, Vec<(String, usize)>) {
+    let output = Command::new(env!("CARGO_BIN_EXE_pvtc"))
+        .arg("compile")
+        .arg(program)
+        .args([
+            "--format",
+            "toolpath",
+            "--diagnostics",
+            "json",
+            "-o",
+            "/dev/null",
+        ])
+        .output()
+        .expect("pvtc runs");
+    let diagnostics = String::from_utf8_lossy(&output.stderr)
+        .lines()
+        .filter_map(|l| serde_json::from_str::<serde_json::Value>(l).ok())
+        .map(|d| {
+            let code = d["code"].as_str().unwrap_or("").to_owned();
+            (code, d["line"].as_u64().unwrap_or(0) as usize)
+        })
+        .collect();
+    (output.status.success(), diagnostics)
 }
 
 /// Compares a program given as text (a generated one), written to a temporary file.

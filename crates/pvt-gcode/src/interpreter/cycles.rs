@@ -415,7 +415,7 @@ impl Interpreter<'_> {
                 end[i] = p[k] * scale + self.offset(i);
             }
         }
-        let start = self.position;
+        let start = self.machine_position();
         let feed = match motion {
             Motion::Rapid => Some(self.rapid_rate()),
             Motion::Feed => self.feed_rate(request, block, || 0.0),

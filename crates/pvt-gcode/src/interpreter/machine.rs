@@ -104,6 +104,11 @@ impl Interpreter<'_> {
         self.tool.moved_with = self.tool.offset;
     }
 
+    /// Where the machine is: the position, or where a move after M6 starts from.
+    pub(super) fn machine_position(&self) -> Position {
+        self.tool.machine_at.unwrap_or(self.position)
+    }
+
     /// The offsets of tool `number` in output units; H0 is none. `None` after reporting
     /// a tool the table lacks.
     fn table_offset(&mut self, number: u32, at: crate::block::Word) -> Option<Position> {
@@ -165,7 +170,7 @@ impl Interpreter<'_> {
                 }
                 let rate = self.rapid_rate();
                 for point in [via, end] {
-                    let start = self.position;
+                    let start = self.machine_position();
                     self.position = point;
                     if point != start {
                         self.straight(Motion::Rapid, start, point, rate, block);

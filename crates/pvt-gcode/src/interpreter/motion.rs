@@ -271,7 +271,7 @@ impl Interpreter<'_> {
             Ok(end) => end,
             Err(diagnostic) => return self.push(diagnostic),
         };
-        let start = self.position;
+        let start = self.machine_position();
         let (motion, feed) = match mode {
             MotionMode::Rapid => (Motion::Rapid, Some(self.rapid_rate())),
             _ => {
