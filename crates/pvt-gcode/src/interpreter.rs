@@ -398,6 +398,7 @@ impl<'a> Interpreter<'a> {
                 None => self.push(bad_value(t, "a tool number must be a whole number ≥ 0")),
             }
         }
+        self.code_event(request.io, request, line);
         if request.tool_change.is_some() {
             self.event(EventKind::ToolChange, line);
         }
@@ -407,6 +408,22 @@ impl<'a> Interpreter<'a> {
         }
         if let Some((state, _)) = request.coolant {
             self.event(EventKind::Coolant { state }, line);
+        }
+        self.code_event(request.user, request, line);
+    }
+
+    /// M62…M68 or M100…M199 as an event with the block's P, Q, E and L words.
+    fn code_event(&mut self, code: Option<(u16, Word)>, request: &Request, line: u32) {
+        let Some((code, _)) = code else { return };
+        let value = |w: Option<Word>| w.map(|w| w.value);
+        let words = pvt_core::CodeWords {
+            p: value(request.p),
+            q: value(request.q),
+            e: value(request.e),
+            l: value(request.l),
+        };
+        if let Some(kind) = EventKind::machine_code(code, words) {
+            self.event(kind, line);
         }
     }
 
@@ -433,6 +450,8 @@ impl<'a> Interpreter<'a> {
             Some((NonModal::Dwell | NonModal::SetTable, _))
         ) || matches!(request.path_mode, Some((PathMode::Continuous, _)))
             || request.overrides.is_some()
+            || request.io.is_some()
+            || request.user.is_some()
             || matches!(
                 self.modal.motion,
                 Some(MotionMode::Arc(_) | MotionMode::Cycle(_))

@@ -16,7 +16,8 @@
 //! (I/J/K under G90.1 or G91.1, R, P turns, helices), G4, G7/G8, G20/G21, G53, G54–G59.3,
 //! G61/G61.1/G64 (P, and Q recorded as LinuxCNC's naive-CAM tolerance, not applied),
 //! G80, G90/G91, G92/G92.1/G92.2/G92.3, G93/G94, F S T, X Y Z A B C, polar `@` `^`,
-//! M0 M1 M2 M30 M3 M4 M5 M6 M7 M8 M9, parameters (`#1`, `#<name>`) and expressions,
+//! M0 M1 M2 M30 M3 M4 M5 M6 M7 M8 M9, M62–M68 (E on M66–M68) and M100–M199 as events
+//! with their words, parameters (`#1`, `#<name>`) and expressions,
 //! `(MSG, …)`, `(DEBUG, …)`, `(PRINT, …)`, `*nn` checksums. Issue 16, as LinuxCNC's
 //! `rs274` runs them: canned cycles G73 G81–G89 with G98/G99 and L ([`interpreter`]'s
 //! `cycles`), tools (T, M6, G43/G43.1/G43.2/G49 from [`GcodeOptions::tool_table`]),

@@ -6,8 +6,9 @@
 
 mod common;
 
-use common::ok;
+use common::{errors, ok};
 use pvt_core::{plan_toolpath_report, PlanOptions, Planner};
+use pvt_gcode::compile;
 
 #[test]
 fn g64_p0_is_plain_g64() {
@@ -34,4 +35,77 @@ fn a_zero_path_tolerance_plans_an_arc_within_the_tolerance_in_force() {
         bound > 0.0 && bound <= pvt_core::defaults::TOLERANCE_MM,
         "{bound}"
     );
+}
+
+/// M62–M68 and M100–M199 are events with their words, in LinuxCNC's order within a
+/// block (I/O after T, before M6; user codes after coolant).
+#[test]
+fn io_and_user_m_codes_are_events_with_their_words() {
+    let c = ok(
+        "G21 F100\nG1 X1\nM62 P1\nM65 P2\nM66 E1 L0 Q2\nM67 E0 Q2.5\n\
+                M68 E1 Q-1\nT2 M6 M64 P3\nM8 M101 P4 Q5\nG1 X2\nM2\n",
+    );
+    let got: Vec<(String, Option<String>, u32)> = c
+        .toolpath
+        .events
+        .iter()
+        .map(|e| (e.kind.name().to_owned(), e.kind.code_written(), e.line))
+        .collect();
+    let want = [
+        ("digital_output_on_synced", Some("M62 P1"), 3),
+        ("digital_output_off", Some("M65 P2"), 4),
+        ("wait_input", Some("M66 E1 L0 Q2"), 5),
+        ("analog_output_synced", Some("M67 E0 Q2.5"), 6),
+        ("analog_output", Some("M68 E1 Q-1"), 7),
+        ("tool_select", None, 8),
+        ("digital_output_on", Some("M64 P3"), 8),
+        ("tool_change", None, 8),
+        ("coolant_flood", None, 9),
+        ("user_m_code", Some("M101 P4 Q5"), 9),
+    ];
+    let want: Vec<(String, Option<String>, u32)> = want
+        .iter()
+        .map(|(n, w, l)| (n.to_string(), w.map(str::to_owned), *l))
+        .collect();
+    assert_eq!(got, want);
+    assert!(
+        c.warnings.is_empty(),
+        "their words are used: {:?}",
+        c.warnings
+    );
+}
+
+/// E is a word of M66–M68 only; two I/O codes in one block conflict, as in rs274.
+#[test]
+fn e_words_and_io_conflicts() {
+    assert_eq!(errors("G21 F100\nG1 X1 E3\nM2\n"), [("unknown_word", 2, 7)]);
+    assert_eq!(
+        errors("G21 F100\nG1 X1\nM64 P1 E2\nM2\n"),
+        [("unknown_word", 3, 8)]
+    );
+    assert_eq!(
+        errors("G21 F100\nG1 X1\nM62 M64 P2\nM2\n"),
+        [("conflicting_modes", 3, 5)]
+    );
+}
+
+/// G6.2 and G71.1/G71.2 are features pvtc does not run, not unknown codes.
+#[test]
+fn g6_2_and_g71_1_are_unsupported() {
+    let c = compile(
+        "G21 F100\nG1 X1\nG6.2 X2\nG71.1 X3 Z-1\nG71.2 X1\nM2\n",
+        &Default::default(),
+    );
+    let found: Vec<_> = c
+        .expect_err("refused")
+        .diagnostics
+        .iter()
+        .map(|d| (d.code(), d.to_string()))
+        .collect();
+    assert_eq!(found.len(), 2, "{found:?}");
+    assert!(found
+        .iter()
+        .all(|(code, _)| *code == "pvtc::gcode::unsupported"));
+    assert!(found[0].1.contains("G6.2 (splines and NURBS)"), "{found:?}");
+    assert!(found[1].1.contains("G71.1 (lathe cycles)") && found[1].1.contains("2 places"));
 }

@@ -341,9 +341,12 @@ impl Interpreter<'_> {
             request.tool_length,
             Some((ToolLength::Table | ToolLength::Add, _))
         );
-        let q_used = cycle || matches!(request.path_mode, Some((PathMode::Continuous, _)));
+        let codes = request.io.is_some() || request.user.is_some();
+        let q_used = cycle || codes || matches!(request.path_mode, Some((PathMode::Continuous, _)));
         let d_used = self.surface_speed;
-        let l_used = cycle || matches!(request.non_modal, Some((NonModal::SetTable, _)));
+        let l_used = cycle
+            || matches!(request.io, Some((66, _)))
+            || matches!(request.non_modal, Some((NonModal::SetTable, _)));
         let checks = [
             (
                 request.h,
