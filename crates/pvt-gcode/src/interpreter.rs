@@ -125,6 +125,8 @@ pub(crate) struct Interpreter<'a> {
     pub origin: Option<crate::oword::Origin>,
     /// The last S number (`#<_rpm>`).
     rpm: f64,
+    /// Arc turns (P words) of the run so far.
+    arc_turns_run: u64,
 }
 
 impl<'a> Interpreter<'a> {
@@ -163,6 +165,7 @@ impl<'a> Interpreter<'a> {
             once: false,
             origin: None,
             rpm: 0.0,
+            arc_turns_run: 0,
         }
     }
 

@@ -99,6 +99,13 @@ pub const MAX_LOOP_ITERATIONS: u64 = 1_000_000;
 /// `pvtc::gcode::loop_limit` too.
 pub const MAX_TOTAL_ITERATIONS: u64 = 100_000_000;
 
+/// The most turns one arc block may make (`P`); more is `pvtc::gcode::turn_limit`.
+pub const MAX_ARC_TURNS: u64 = 1_000_000;
+
+/// The most arc turns a run may make in all (arcs in loops add up); more is
+/// `pvtc::gcode::turn_limit` too.
+pub const MAX_TOTAL_ARC_TURNS: u64 = 10_000_000;
+
 /// How many bytes of text the bodies of subroutines and of the main program's loops
 /// held in memory may take together (the rest of a program streams); more is
 /// `pvtc::gcode::body_too_large`.

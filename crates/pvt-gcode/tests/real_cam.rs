@@ -109,3 +109,71 @@ fn g6_2_and_g71_1_are_unsupported() {
     assert!(found[0].1.contains("G6.2 (splines and NURBS)"), "{found:?}");
     assert!(found[1].1.contains("G71.1 (lathe cycles)") && found[1].1.contains("2 places"));
 }
+
+/// Counts what a front end hands on, keeping nothing.
+#[derive(Default)]
+struct Count {
+    elements: u64,
+    turns: f64,
+}
+
+impl pvt_gcode::ToolpathSink for Count {
+    fn element(&mut self, _: pvt_core::Motion, element: &pvt_core::Element) {
+        self.elements += 1;
+        if let pvt_core::ElementKind::Arc(arc) = element.kind {
+            let sweep = arc.sweep(&element.start, &element.end).sweep;
+            self.turns += sweep.abs() / std::f64::consts::TAU;
+        }
+    }
+    fn end_contour(&mut self) {}
+    fn event(&mut self, _: &pvt_core::EventKind, _: u32) {}
+}
+
+/// An arc of many turns is handed on a turn at a time (so the planner's window bounds
+/// the memory), each turn a full circle from the start's ray, the last one ending at the
+/// programmed end; the turns add up to P.
+#[test]
+fn an_arc_of_many_turns_is_handed_on_a_turn_at_a_time() {
+    let mut count = Count::default();
+    let source = "G21 F600\nG1 X5\nG2 X0 Y5 I-5 J0 Z-7 P1000\nM2\n";
+    pvt_gcode::compile_into(source, &Default::default(), &mut count).expect("compiles");
+    assert_eq!(count.elements, 1 + 1000);
+    // 999 full turns and three quarters (clockwise from 0° to 90°).
+    assert!((count.turns - 999.75).abs() < 1e-6, "{}", count.turns);
+    let c = ok("G21 F600\nG1 X5\nG2 X0 Y5 I-5 J0 Z-7 P1000\nM2\n");
+    let arcs = &c.toolpath.contours[0].elements[1..];
+    assert_eq!(arcs[0].start, [5.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+    assert_eq!(arcs[999].end, [0.0, 5.0, -7.0, 0.0, 0.0, 0.0]);
+    for pair in arcs.windows(2) {
+        assert_eq!(pair[0].end, pair[1].start, "the turns join");
+    }
+    // The height rises linearly with angle: 7 mm over 999.75 turns.
+    let per_turn = 7.0 / 999.75;
+    assert!(
+        (arcs[0].end[2] + per_turn).abs() < 1e-12,
+        "{:?}",
+        arcs[0].end
+    );
+}
+
+/// More turns than a block (P) or a run may make is `turn_limit`, never hours of work.
+#[test]
+fn arc_turns_are_bounded_per_block_and_per_run() {
+    assert_eq!(
+        errors("G21 F600\nG1 X5\nG2 X5 Y0 I-5 J0 P1000001\nM2\n"),
+        [("turn_limit", 3, 17)]
+    );
+    let looped = "G21 F600\nG1 X5\no1 repeat [11]\nG2 X5 Y0 I-5 J0 P1000000\no1 endrepeat\nM2\n";
+    let mut count = Count::default();
+    let refused = pvt_gcode::compile_into(looped, &Default::default(), &mut count);
+    let codes: Vec<_> = refused
+        .expect_err("refused")
+        .diagnostics
+        .iter()
+        .map(|d| (d.code(), d.to_string()))
+        .collect();
+    assert_eq!(codes.len(), 1, "{codes:?}");
+    assert_eq!(codes[0].0, "pvtc::gcode::turn_limit");
+    assert!(codes[0].1.contains("10000000 turns in all"), "{codes:?}");
+    assert_eq!(count.elements, 1 + pvt_gcode::MAX_TOTAL_ARC_TURNS);
+}

@@ -415,6 +415,7 @@ fn toolpath_moves(text: &str) -> Vec<Move> {
         p
     };
     let mut moves = Vec::new();
+    let mut last_line = None;
     for line in &lines {
         let feed = line["feed"].as_f64().unwrap_or(0.0) * mm;
         match line["kind"].as_str() {
@@ -426,7 +427,7 @@ fn toolpath_moves(text: &str) -> Vec<Move> {
             }),
             Some("arc") => {
                 let turns = line["turns"].as_i64().expect("turns") + 1;
-                moves.push(Move::Arc {
+                let arc = Move::Arc {
                     plane: match line["plane"].as_str() {
                         Some("ZX") => "ZX",
                         Some("YZ") => "YZ",
@@ -444,15 +445,50 @@ fn toolpath_moves(text: &str) -> Vec<Move> {
                     },
                     feed,
                     unit: 0.0,
-                })
+                };
+                // pvtc hands an arc of many turns on a turn at a time: the parts of one
+                // block (one source line, one centre) are one arc, as rs274 prints it.
+                let part_of_last = last_line == Some(&line["line"]);
+                match (moves.last_mut(), part_of_last) {
+                    (Some(last @ Move::Arc { .. }), true) => join_turns(last, arc),
+                    _ => moves.push(arc),
+                }
             }
             Some("event") if line["event"] == "dwell" => {
                 moves.push(Move::Dwell(line["seconds"].as_f64().expect("seconds")))
             }
             _ => {}
         }
+        last_line = (line["kind"] == "arc").then_some(&line["line"]);
     }
     moves
+}
+
+/// `next`, the next turn of the arc `last` is part of, joined to it: its end and its turn.
+fn join_turns(last: &mut Move, next: Move) {
+    let (
+        Move::Arc {
+            end,
+            center,
+            rotation,
+            ..
+        },
+        Move::Arc {
+            end: next_end,
+            center: next_center,
+            rotation: next_rotation,
+            ..
+        },
+    ) = (last, next)
+    else {
+        return;
+    };
+    assert!(
+        close(center, &next_center, 1.0),
+        "the turns of one arc share its centre"
+    );
+    *end = next_end;
+    *rotation += next_rotation;
 }
 
 fn close(a: &[f64], b: &[f64], unit: f64) -> bool {
@@ -769,7 +805,7 @@ mod generated {
         prop_oneof![
             6 => (any::<bool>(), [coordinate(), coordinate(), coordinate()])
                 .prop_map(|(rapid, to)| Step::Straight { rapid, to }),
-            4 => (any::<bool>(), 1u32..400, 0u32..360, 1u32..359, -50i32..50, 0u32..2).prop_map(
+            4 => (any::<bool>(), 1u32..400, 0u32..360, 1u32..359, -50i32..50, 0u32..7).prop_map(
                 |(clockwise, r, from, sweep, rise, turns)| Step::Arc {
                     clockwise,
                     radius: f64::from(r) / 10.0,
