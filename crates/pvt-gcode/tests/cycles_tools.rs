@@ -252,7 +252,7 @@ fn fanuc_post_lines_compile() {
 
 #[test]
 fn modes_accepted_as_state() {
-    let c = ok("G21 G96 D2000 S200 M3\nG97 S1000\nM48\nM50 P0\nM51 P1\nM52 P1\nM53 P1\nG64 P0.254 Q0.025\nG1 X1 F100\n");
+    let c = ok("G21 G96 D2000 S200 M3\nG97 S1000\nM48\nM50 P0\nM51 P1\nM52 P1\nM53 P1\nG64 P0.254 Q0.025\nG1 X1 F100\nM2\n");
     assert!(c.warnings.is_empty(), "{:?}", c.warnings);
     let rpm: Vec<_> = c
         .toolpath

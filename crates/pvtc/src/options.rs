@@ -59,14 +59,29 @@ impl Source {
         }
     }
 
-    /// The source as text (invalid UTF-8 becomes U+FFFD) with its name, for diagnostics;
+    /// The source as text (invalid UTF-8 becomes U+FFFD, a `\r` inside a line a blank:
+    /// [`shown`]) with its name, for diagnostics;
     /// shared, so each diagnostic that clones it holds no copy of the text.
     pub fn named_text(&self) -> NamedSource<Arc<str>> {
-        NamedSource::new(
-            self.name.clone(),
-            Arc::from(String::from_utf8_lossy(&self.bytes)),
-        )
+        NamedSource::new(self.name.clone(), Arc::from(shown(&self.bytes)))
     }
+}
+
+/// Text as diagnostics show it: a `\r` that does not end a line (CR CR LF, as PyCAM 0.5
+/// writes, or a lone one mid-line) is a blank, as `rs274` reads it, so the renderer
+/// counts lines as the front ends do (at `\n`). The length stays.
+pub fn shown(bytes: &[u8]) -> String {
+    let text = String::from_utf8_lossy(bytes);
+    if !bytes.contains(&b'\r') {
+        return text.into_owned();
+    }
+    let mut chars = text.chars().peekable();
+    let mut out = String::with_capacity(text.len());
+    while let Some(c) = chars.next() {
+        let ends_line = chars.peek() == Some(&'\n');
+        out.push(if c == '\r' && !ends_line { ' ' } else { c });
+    }
+    out
 }
 
 /// The front ends.

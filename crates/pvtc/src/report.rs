@@ -62,13 +62,22 @@ pub fn group(reports: &[Report]) -> Vec<Item<'_>> {
 /// What repeats are grouped by: the code and the severity.
 type GroupKey = (String, Option<Severity>);
 
+/// Codes whose front end already makes one diagnostic per kind, with the count of its
+/// places: each stays its own (one `unsupported` per feature, never merged under the
+/// first feature's message).
+const COUNTED_BY_THE_FRONT_END: [&str; 1] = ["pvtc::gcode::unsupported"];
+
 /// The key of a report that can be grouped: one with a code, a label and a source.
 fn group_key(r: &Report) -> Option<GroupKey> {
     let labelled = r.labels().is_some_and(|mut l| l.next().is_some());
     if !labelled || r.source_code().is_none() {
         return None;
     }
-    Some((r.code()?.to_string(), r.severity()))
+    let code = r.code()?.to_string();
+    if COUNTED_BY_THE_FRONT_END.contains(&code.as_str()) {
+        return None;
+    }
+    Some((code, r.severity()))
 }
 
 /// Repeats of one diagnostic code in one input, rendered as one diagnostic.

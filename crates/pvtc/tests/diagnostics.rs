@@ -181,7 +181,7 @@ fn a_batch_prints_each_files_diagnostics_under_its_name_and_a_summary() {
         inputs.join("a_step.ngc"),
     )
     .unwrap();
-    std::fs::write(inputs.join("b_good.ngc"), "G21 G90\nG1 X1 F100\n").unwrap();
+    std::fs::write(inputs.join("b_good.ngc"), "G21 G90\nG1 X1 F100\nM2\n").unwrap();
     std::fs::write(
         inputs.join("c_bad.ngc"),
         "G21 G90\nG1 X1 Y1 F100\nG1 X2 E7 Y2\nG1 X3 Y3 E3\n",
