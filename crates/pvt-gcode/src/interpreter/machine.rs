@@ -311,8 +311,17 @@ impl Interpreter<'_> {
             Some((ToolLength::Table | ToolLength::Add, _))
         );
         let q_used = cycle || matches!(request.path_mode, Some((PathMode::Continuous, _)));
-        let d_used = self.surface_speed;
-        let l_used = cycle || matches!(request.non_modal, Some((NonModal::SetTable, _)));
+        let d_used = self.surface_speed
+            || matches!(
+                request.cutter_comp,
+                Some((crate::codes::CutterComp::On(..), _))
+            );
+        let l_used = cycle
+            || matches!(request.non_modal, Some((NonModal::SetTable, _)))
+            || matches!(
+                request.cutter_comp,
+                Some((crate::codes::CutterComp::On(..), _))
+            );
         let checks = [
             (
                 request.h,

@@ -281,7 +281,7 @@ impl Interpreter<'_> {
             Ok(end) => end,
             Err(diagnostic) => return self.push(diagnostic),
         };
-        let start = self.position;
+        let start = self.tool_start();
         let (motion, feed) = match mode {
             MotionMode::Rapid => (Motion::Rapid, Some(self.rapid_rate())),
             _ => {
@@ -317,7 +317,7 @@ impl Interpreter<'_> {
             feed,
             span: element_span(block),
         };
-        self.emit(motion, &element);
+        self.route(motion, element);
     }
 
     fn arc_move(&mut self, direction: ArcDirection, request: &Request, block: &Block) {
@@ -366,7 +366,7 @@ impl Interpreter<'_> {
             feed,
             span: element_span(block),
         };
-        self.emit(Motion::Feed, &element);
+        self.route(Motion::Feed, element);
     }
 
     /// Extra full turns from the P word (P1, the default, is none).
@@ -386,7 +386,7 @@ impl Interpreter<'_> {
 
     /// Sends an element to the sink: a rapid is a contour of its own; a feed move joins
     /// the open contour, which G61 ends after every move.
-    fn emit(&mut self, motion: Motion, element: &Element) {
+    pub(super) fn emit(&mut self, motion: Motion, element: &Element) {
         if motion == Motion::Rapid {
             self.end_contour();
         }
