@@ -144,7 +144,17 @@ pub struct Compensation {
     held: Vec<Held>,
     /// The start of the last held move, in the plane, while known.
     endpoint: Option<[f64; 2]>,
+    /// How far (radians) a held arc may sweep beyond its programmed sweep when its end
+    /// moves into a corner.
+    sweep_slack: f64,
 }
+
+/// The sweep slack LinuxCNC 2.9's `rs274` allows a held arc in a millimetre program
+/// (radians; it scales its inch value as a length).
+pub const SWEEP_SLACK_MM: f64 = 0.0254;
+
+/// The sweep slack in an inch program (radians).
+pub const SWEEP_SLACK_INCH: f64 = 0.001;
 
 impl Compensation {
     /// Compensation on `side` by a tool of `radius` (> 0) in `plane` (XY or ZX), the tool
@@ -160,7 +170,15 @@ impl Compensation {
             released_at: at,
             held: Vec::new(),
             endpoint: None,
+            sweep_slack: SWEEP_SLACK_INCH,
         }
+    }
+
+    /// The same compensation allowing a held arc `slack` radians beyond its programmed
+    /// sweep ([`SWEEP_SLACK_MM`], [`SWEEP_SLACK_INCH`]).
+    pub fn with_sweep_slack(mut self, slack: f64) -> Compensation {
+        self.sweep_slack = slack;
+        self
     }
 
     /// The same compensation with its first released move starting at `tool` (after an
@@ -654,6 +672,7 @@ impl Compensation {
             return Ok(());
         }
         let endpoint = self.endpoint;
+        let slack = self.sweep_slack;
         let (a, b, _) = self.plane.axes();
         for held in &mut self.held {
             let Held::Move(m) = held else { continue };
@@ -665,7 +684,7 @@ impl Compensation {
                 } => {
                     if let Some(start) = endpoint {
                         let new_sweep = find_sweep(start, center, turn, to);
-                        if sweep != 0.0 && new_sweep.abs() > sweep.abs() + 0.001 {
+                        if sweep != 0.0 && new_sweep.abs() > sweep.abs() + slack {
                             return Err(Gouge::ConcaveCorner(
                                 "the arc in the corner cannot be reached without gouging",
                             ));

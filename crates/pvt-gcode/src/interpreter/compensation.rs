@@ -8,7 +8,7 @@
 //! The interpreter's position stays the programmed point: incremental moves and
 //! parameters read it, as rs274 reads its programmed point under compensation.
 
-use pvt_core::compensate::{Compensation, Gouge, Programmed, Released, Side};
+use pvt_core::compensate::{self, Compensation, Gouge, Programmed, Released, Side};
 use pvt_core::{Element, ElementKind, EventKind, Motion, Plane, Position};
 
 use super::Interpreter;
@@ -78,7 +78,13 @@ impl Interpreter<'_> {
         if radius != 0.0 {
             let at = self.position;
             let tool = self.cutter.exit_from.take().unwrap_or(at);
-            let compensation = Compensation::new(side, radius.abs(), plane, at).released_from(tool);
+            let slack = match self.modal.units {
+                pvt_core::Units::Millimetre => compensate::SWEEP_SLACK_MM,
+                pvt_core::Units::Inch => compensate::SWEEP_SLACK_INCH,
+            };
+            let compensation = Compensation::new(side, radius.abs(), plane, at)
+                .released_from(tool)
+                .with_sweep_slack(slack);
             self.cutter.active = Some(compensation);
         }
     }
