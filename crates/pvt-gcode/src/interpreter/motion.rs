@@ -285,7 +285,9 @@ impl Interpreter<'_> {
         let (motion, feed) = match mode {
             MotionMode::Rapid => (Motion::Rapid, Some(self.rapid_rate())),
             _ => {
-                let length = || line_length(&start, &end);
+                // G93 times the programmed move, not the exit move after G40 (rs274).
+                let programmed = self.position;
+                let length = || line_length(&programmed, &end);
                 (Motion::Feed, self.feed_rate(request, block, length))
             }
         };
