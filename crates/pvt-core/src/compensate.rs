@@ -147,6 +147,9 @@ pub struct Compensation {
     /// How far (radians) a held arc may sweep beyond its programmed sweep when its end
     /// moves into a corner.
     sweep_slack: f64,
+    /// A lathe tool's orientation (1…8; 0: none): the point the machine moves lies off
+    /// the nose radius' centre by this, in the plane, added to every released position.
+    nose_offset: [f64; 2],
 }
 
 /// The sweep slack LinuxCNC 2.9's `rs274` allows a held arc in a millimetre program
@@ -171,7 +174,36 @@ impl Compensation {
             held: Vec::new(),
             endpoint: None,
             sweep_slack: SWEEP_SLACK_INCH,
+            nose_offset: [0.0; 2],
         }
+    }
+
+    /// The same compensation for a lathe tool of `orientation` (1…8, LinuxCNC's tool
+    /// table Q) in the ZX plane: compensation places the centre of the tool's nose
+    /// radius, the machine moves the tool's point, one radius off in Z and X (or in one
+    /// of them) as the orientation says. 0, 9 or another plane: no offset.
+    pub fn with_tool_orientation(mut self, orientation: u32) -> Compensation {
+        if self.plane != Plane::ZX {
+            return self;
+        }
+        let r = self.radius;
+        let x = match orientation {
+            1 | 2 | 6 => -r,
+            3 | 4 | 8 => r,
+            _ => 0.0,
+        };
+        let z = match orientation {
+            2 | 3 | 7 => -r,
+            1 | 4 | 5 => r,
+            _ => 0.0,
+        };
+        self.nose_offset = [z, x];
+        self
+    }
+
+    /// Whether the tool is a lathe tool whose point is off its nose radius' centre.
+    fn has_nose_offset(&self) -> bool {
+        self.nose_offset != [0.0; 2]
     }
 
     /// The same compensation allowing a held arc `slack` radians beyond its programmed
@@ -315,6 +347,23 @@ impl Compensation {
             });
         }
         let new_center = along(end, towards_center, half_chord / cos);
+        if self.has_nose_offset() {
+            // The tool's point moves to where the nose radius' centre stands first.
+            let to = self.tool;
+            let straight = Programmed {
+                kind: ElementKind::Line,
+                motion: Motion::Feed,
+                ..step
+            };
+            self.hold(
+                straight,
+                to,
+                Shape::Line {
+                    direction: [0.0; 2],
+                },
+            );
+            self.endpoint = Some(c);
+        }
         let sweep = find_sweep(c, new_center, turn, end);
         let arc = Arc {
             center: new_center,
@@ -711,20 +760,26 @@ impl Compensation {
         Ok(())
     }
 
+    /// A point of the nose radius' centre as the machine's tool point.
+    fn nosed(&self, p: [f64; 2]) -> [f64; 2] {
+        [p[0] + self.nose_offset[0], p[1] + self.nose_offset[1]]
+    }
+
     /// Releases everything held, in order; the start of every move is the end of the one
     /// before.
     fn release(&mut self, out: &mut Vec<Released>) {
         self.endpoint = None;
-        for held in self.held.drain(..) {
+        for held in std::mem::take(&mut self.held) {
             match held {
                 Held::Event(kind, line) => out.push(Released::Event(kind, line)),
                 Held::Move(m) => {
-                    let start = std::mem::replace(&mut self.released_at, m.end);
+                    let end = self.placed(m.end, self.nosed(self.point(&m.end)));
+                    let start = std::mem::replace(&mut self.released_at, end);
                     let kind = match m.shape {
                         Shape::Line { .. } => ElementKind::Line,
                         Shape::Arc { center, turn, .. } => ElementKind::Arc(Arc {
                             plane: self.plane,
-                            center,
+                            center: self.nosed(center),
                             direction: if turn > 0 {
                                 ArcDirection::CounterClockwise
                             } else {
@@ -733,13 +788,13 @@ impl Compensation {
                             extra_turns: turn.unsigned_abs().saturating_sub(1),
                         }),
                     };
-                    if start == m.end && kind == ElementKind::Line {
+                    if start == end && kind == ElementKind::Line {
                         continue;
                     }
                     let element = Element {
                         kind,
                         start,
-                        end: m.end,
+                        end,
                         feed: m.feed,
                         span: m.span,
                     };

@@ -6,9 +6,6 @@
 //! the profile's own geometry. (Which path LinuxCNC makes is `crates/pvtc/tests/dialect.rs`'s question.)
 //! Also the refusals, each with its code at its line.
 
-mod common;
-
-use common::errors;
 use proptest::prelude::*;
 use pvt_core::{ArcDirection, Element, ElementKind};
 use pvt_gcode::{compile, GcodeOptions};
@@ -314,9 +311,26 @@ fn the_measure_sees_a_path_off_the_radius() {
     assert!((arc.distance([-2.0, 0.0]) - 5f64.sqrt()).abs() < 1e-12);
 }
 
+/// The (code, line) of every error of a program that must fail.
+fn errors_with(source: &str, options: &GcodeOptions) -> Vec<(&'static str, usize)> {
+    let errors = compile(source, options).expect_err("the program must fail");
+    errors
+        .diagnostics
+        .iter()
+        .map(|d| {
+            let line = source[..d.span().start].matches('\n').count() + 1;
+            (d.code().trim_start_matches("pvtc::gcode::"), line)
+        })
+        .collect()
+}
+
 #[test]
 fn refusals_have_their_codes_at_their_lines() {
     let head = "G21 G90 G17 F100\nG0 X-10 Y-10\n";
+    let options = GcodeOptions {
+        tool_table: pvt_gcode::ToolTable::parse("T5 D0.4 Q2\n").expect("a table"),
+        ..GcodeOptions::default()
+    };
     let cases = [
         ("G41.1 D4\nG1 X-9 Y-10\n", ("compensation_entry", 4)),
         (
@@ -339,13 +353,15 @@ fn refusals_have_their_codes_at_their_lines() {
         ("G19 G41.1 D4\n", ("compensation_conflict", 3)),
         ("G41.1\n", ("missing_word", 3)),
         ("G41 D7\n", ("unknown_tool", 3)),
-        ("G41.1 D4 L3\n", ("unsupported", 3)),
+        ("G41 D5\n", ("compensation_conflict", 3)),
+        ("G41.1 D4 L3\n", ("compensation_conflict", 3)),
+        ("G18 G41.1 D4 L12\n", ("bad_value", 3)),
     ];
     for (body, (code, line)) in cases {
         let source = format!("{head}{body}M2\n");
-        let found = errors(&source);
+        let found = errors_with(&source, &options);
         assert!(
-            found.iter().any(|&(c, l, _)| c == code && l == line),
+            found.iter().any(|&(c, l)| c == code && l == line),
             "{source}: {found:?}, expected {code} at line {line}"
         );
     }

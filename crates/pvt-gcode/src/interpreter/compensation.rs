@@ -2,7 +2,7 @@
 //! G41.1/G42.1 with D a diameter) and the routing of moves and events through
 //! [`pvt_core::compensate::Compensation`] while it is on.
 //!
-//! Owns which side and radius are in effect, where the exit move after G40 starts, and
+//! Owns which side, radius and lathe tool orientation are in effect, where the exit move after G40 starts, and
 //! the codes refused while compensation is on (as LinuxCNC refuses them). The offset
 //! geometry and the one-move look-ahead are pvt-core's; this must not compute offsets.
 //! The interpreter's position stays the programmed point: incremental moves and
@@ -70,7 +70,7 @@ impl Interpreter<'_> {
         if !matches!(plane, Plane::XY | Plane::ZX) {
             return self.push(refuse("G41/G42 outside the XY (G17) and XZ (G18) planes"));
         }
-        let Some(radius) = self.compensation_radius(direct, request, word) else {
+        let Some((radius, orientation)) = self.compensation_tool(direct, request, word) else {
             return;
         };
         self.cutter.on = true;
@@ -84,30 +84,32 @@ impl Interpreter<'_> {
             };
             let compensation = Compensation::new(side, radius.abs(), plane, at)
                 .released_from(tool)
-                .with_sweep_slack(slack);
+                .with_sweep_slack(slack)
+                .with_tool_orientation(orientation);
             self.cutter.active = Some(compensation);
         }
     }
 
-    /// The tool radius in output units (negative: the other side), from D as a diameter
-    /// (G41.1/G42.1) or as a tool of the table (G41/G42; without D, the loaded tool).
-    fn compensation_radius(&mut self, direct: bool, request: &Request, word: Word) -> Option<f64> {
+    /// The tool radius in output units (negative: the other side) and a lathe tool's
+    /// orientation, from D as a diameter and L as the orientation (G41.1/G42.1) or D as a
+    /// tool of the table (G41/G42; without D, the loaded tool).
+    fn compensation_tool(
+        &mut self,
+        direct: bool,
+        request: &Request,
+        word: Word,
+    ) -> Option<(f64, u32)> {
         self.output_units.get_or_insert(self.modal.units);
         if direct {
-            if let Some(l) = request.l {
-                self.push(GcodeDiagnostic::Unsupported {
-                    code: format!("{} {}", word.name(), l.name()),
-                    feature: "lathe tool orientation",
-                    places: 1,
-                    span: span(l.span()),
-                });
-                return None;
-            }
             let Some(d) = request.d else {
                 self.push(super::missing(word, "a D word (the tool diameter)"));
                 return None;
             };
-            return Some(d.value * self.scale() / 2.0);
+            let orientation = match request.l {
+                None => 0,
+                Some(l) => self.lathe_orientation(l)?,
+            };
+            return Some((d.value * self.scale() / 2.0, orientation));
         }
         let number = match request.d {
             Some(d) => match super::whole(d.value) {
@@ -119,9 +121,9 @@ impl Interpreter<'_> {
             },
             None => self.tool.current,
         };
-        let diameter = match (self.tools.get(number), request.d) {
-            (Some(tool), _) => tool.diameter,
-            (None, None) => 0.0,
+        let (diameter, orientation) = match (self.tools.get(number), request.d) {
+            (Some(tool), _) => (tool.diameter, tool.orientation),
+            (None, None) => (0.0, 0),
             (None, Some(d)) => {
                 self.push(GcodeDiagnostic::UnknownTool {
                     tool: number,
@@ -130,7 +132,32 @@ impl Interpreter<'_> {
                 return None;
             }
         };
-        Some(self.output().from_mm(diameter) / 2.0)
+        if !matches!(orientation, 0 | 9) && self.modal.plane != Plane::ZX {
+            self.push(GcodeDiagnostic::CompensationConflict {
+                what: "a lathe tool (an orientation Q) outside the XZ plane (G18)",
+                span: span(word.span()),
+            });
+            return None;
+        }
+        Some((self.output().from_mm(diameter) / 2.0, orientation))
+    }
+
+    /// G41.1/G42.1 L: a lathe tool's orientation, in G18 only.
+    fn lathe_orientation(&mut self, l: Word) -> Option<u32> {
+        if self.modal.plane != Plane::ZX {
+            self.push(GcodeDiagnostic::CompensationConflict {
+                what: "an orientation L outside the XZ plane (G18)",
+                span: span(l.span()),
+            });
+            return None;
+        }
+        match super::whole(l.value).filter(|o| *o <= 9) {
+            Some(orientation) => Some(orientation),
+            None => {
+                self.push(super::bad_value(l, "an orientation 0…9"));
+                None
+            }
+        }
     }
 
     /// Codes LinuxCNC refuses while compensation is on (units, which rs274 rescales its
