@@ -9,8 +9,9 @@
 //! never leaves a partial output. It must not compile anything itself.
 
 use crate::args::CompileArgs;
+use crate::output;
 use crate::pipeline::Failure;
-use crate::{output, EXIT_INPUT_ERROR};
+use crate::report::EXIT_INPUT_ERROR;
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 use std::collections::BTreeMap;

@@ -7,7 +7,7 @@
 use crate::args::CheckArgs;
 use crate::pipeline::{plan, CompileOptions, Failure, Source};
 use crate::report::Reporter;
-use crate::EXIT_INPUT_ERROR;
+use crate::report::EXIT_INPUT_ERROR;
 use pvt_core::{check_program, CheckOptions, CheckReport, Peak, PvtProgram, Toolpath};
 use pvt_emit::Format;
 use std::fmt::Write as _;
@@ -43,7 +43,7 @@ pub fn run(args: &CheckArgs) -> ExitCode {
         table(&report, units, too_far)
     };
     // A reader that closed the pipe (`| head`) is not a failure of the check.
-    let written = crate::write_stdout(text.as_bytes());
+    let written = crate::output::write_stdout_status(text.as_bytes(), &reporter);
     if written != ExitCode::SUCCESS {
         return written;
     }

@@ -27,7 +27,11 @@ pub fn run(args: &PlotArgs) -> ExitCode {
     let limits = match &loaded.options.machine {
         Some(m) => match m.limits_in(program.units, &program.axes) {
             Ok(limits) => limits,
-            Err(e) => return reporter.fail(&crate::Failure::Input(vec![miette::Report::new(e)])),
+            Err(e) => {
+                return reporter.fail(&crate::options::Failure::Input(vec![miette::Report::new(
+                    e,
+                )]))
+            }
         },
         None => Default::default(),
     };

@@ -8,10 +8,14 @@
 
 use crate::args::{DiagnosticsArg, PipelineArgs};
 use crate::pipeline::Failure;
-use crate::{EXIT_INPUT_ERROR, EXIT_USAGE};
 use miette::{Diagnostic, LabeledSpan, Report, ReportHandler, Severity, SourceCode, SourceSpan};
 use std::fmt;
 use std::process::ExitCode;
+
+/// Exit status of a run whose input had errors (or whose check found a limit exceeded).
+pub const EXIT_INPUT_ERROR: u8 = 1;
+/// Exit status of a run whose command line asks for something impossible.
+pub const EXIT_USAGE: u8 = 2;
 
 /// Most diagnostics printed for one input; the rest are counted (a wrong file can have
 /// one error per line).
