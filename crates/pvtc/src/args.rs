@@ -113,11 +113,12 @@ pub struct PipelineArgs {
     pub input_format: Option<InputArg>,
     /// Planner: path (motion within --tolerance of the drawn geometry; default for G-code
     /// and DXF), contour (bisector velocities at the feed, mid-segment speed = mean of end
-    /// speeds; default for CSV), pt (constant velocity between points), chord-forward
+    /// speeds), pt (constant velocity between points), chord-forward
     /// (velocity = outgoing chord / time, as the quad-circle MovePVT example; `chord` is an
     /// alias), chord-back (velocity = incoming chord / time, as AN208), const-accel
-    /// (constant acceleration within each piece), spline (C2 cubic spline) or lspb (linear
-    /// segments with parabolic blends at --accel).
+    /// (constant acceleration within each piece), spline (C2 cubic spline through the
+    /// points at their times; default for CSV) or lspb (linear segments with parabolic
+    /// blends at --accel).
     #[arg(long, value_name = "NAME", value_parser = planner)]
     pub planner: Option<Planner>,
     /// Machine file (TOML) with per-axis velocity, acceleration and jerk limits that the
@@ -273,6 +274,9 @@ impl PipelineArgs {
                 )));
             }
         }
+        if input == InputKind::Csv {
+            self.check_series_options(planner)?;
+        }
         Ok(())
     }
 
@@ -287,6 +291,49 @@ impl PipelineArgs {
         ]
         .into_iter()
         .find_map(|(given, option)| given.then_some(option))
+    }
+
+    /// Refuses an option that does nothing for a CSV series (a usage error): the series
+    /// brings its own times and has no feed, rapid, arc or curve; `--tolerance` and
+    /// `--corner-tolerance` bound only the `path` planner there; drawing and G-code
+    /// options read no series.
+    fn check_series_options(&self, planner: Planner) -> Result<(), Failure> {
+        let path = planner == Planner::Path;
+        let unused = [
+            (
+                self.feed.is_some(),
+                "--feed",
+                "the series' times set every speed",
+            ),
+            (
+                self.rapid.is_some(),
+                "--rapid",
+                "a series has no rapid moves",
+            ),
+            (
+                self.tolerance.is_some() && !path,
+                "--tolerance",
+                "a series has no arcs or curves to divide (it bounds only --planner path)",
+            ),
+            (
+                self.corner_tolerance.is_some() && !path,
+                "--corner-tolerance",
+                "it rounds corners only with --planner path",
+            ),
+            (
+                self.offsets.is_some()
+                    || self.arc_abs_tolerance.is_some()
+                    || self.arc_rel_tolerance.is_some(),
+                "--offsets, --arc-abs-tolerance and --arc-rel-tolerance",
+                "they read G-code programs",
+            ),
+        ];
+        match unused.into_iter().find(|(given, _, _)| *given) {
+            Some((_, option, why)) => Err(Failure::Usage(format!(
+                "{option} does nothing for a CSV series: {why}"
+            ))),
+            None => Ok(()),
+        }
     }
 
     /// Reads the files the options name that hold the same for every input of a run

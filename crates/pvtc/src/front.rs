@@ -4,7 +4,7 @@
 //! end's diagnostics to printable reports. It must not plan or write output.
 
 use crate::options::{at_line, CompileOptions, Failure, InputKind, Source};
-use miette::Report;
+use miette::{Diagnostic, Report};
 use pvt_core::{Toolpath, Units};
 use pvt_csv::PointSeries;
 
@@ -40,6 +40,9 @@ pub fn read(source: &Source, options: &CompileOptions) -> FrontResult {
 }
 
 fn gcode(source: &Source, options: &CompileOptions) -> FrontResult {
+    if let Some(hint) = dxf_read_as_gcode(&source.bytes) {
+        return Err(hint);
+    }
     // Invalid UTF-8 (a Latin-1 comment, say) becomes U+FFFD; spans refer to this text.
     let named = source.named_text();
     let gcode_options = gcode_options(options);
@@ -105,7 +108,11 @@ fn dxf(source: &Source, options: &CompileOptions) -> FrontResult {
     match pvt_dxf::read_drawing(bytes, &dxf_options) {
         Ok(drawing) => Ok((
             Input::Toolpath(drawing.toolpath),
-            drawing.warnings.into_iter().map(Report::new).collect(),
+            drawing
+                .warnings
+                .into_iter()
+                .map(|w| dxf_warning(w, source))
+                .collect(),
         )),
         Err(errors) => Err(Failure::Input(
             errors
@@ -132,12 +139,102 @@ fn csv(source: &Source, options: &CompileOptions) -> FrontResult {
     }
 }
 
+/// A drawing's warning, labelling its line of the file where the line is known (a text
+/// DXF), so that repeats of one code group into one diagnostic with their places.
+fn dxf_warning(w: pvt_dxf::DxfDiagnostic, source: &Source) -> Report {
+    let line = w.span().line;
+    if line == 0 {
+        return Report::new(w);
+    }
+    let range = entity_lines(&source.bytes, w.span().start);
+    let help = w.help().map(|h| h.to_string()).unwrap_or_default();
+    miette::miette!(
+        severity = miette::Severity::Warning,
+        code = w.code_str(),
+        labels = vec![miette::LabeledSpan::at(range, "this entity")],
+        help = help,
+        "{w}"
+    )
+    .with_source_code(source.named_text())
+}
+
+/// Refuses a DXF drawing read as G-code (standard input has no name to tell the kind
+/// by): one `pvtc::input::dxf_as_gcode` error with the option to pass, instead of a
+/// syntax error on every line.
+pub(crate) fn dxf_read_as_gcode(start: &[u8]) -> Option<Failure> {
+    looks_like_dxf(start).then(|| {
+        Failure::Input(vec![miette::miette!(
+            code = "pvtc::input::dxf_as_gcode",
+            help = "pass --input-format dxf (and --feed F) to cut the drawing",
+            "this input is a DXF drawing, not G-code: it starts with a DXF header"
+        )])
+    })
+}
+
+/// True when the bytes start as a DXF file does: binary DXF's sentinel, or a text DXF's
+/// first group (`0` / `SECTION`, after any `999` comment group).
+pub(crate) fn looks_like_dxf(start: &[u8]) -> bool {
+    if start.starts_with(b"AutoCAD Binary DXF") {
+        return true;
+    }
+    let head = &start[..start.len().min(4096)];
+    let text = String::from_utf8_lossy(head);
+    let mut lines = text.lines().map(str::trim).skip_while(|l| l.is_empty());
+    let mut first = lines.next();
+    if first == Some("999") {
+        lines.next();
+        first = lines.next();
+    }
+    first == Some("0")
+        && lines
+            .next()
+            .is_some_and(|l| l.eq_ignore_ascii_case("SECTION"))
+}
+
+/// The byte range of an entity's first two lines: its group code `0` (the line its
+/// diagnostics name) and its type (`LINE`), so that the excerpt shows what the entity is,
+/// not a lone `0`.
+/// `start` is the byte offset of the `0` line, which the entity's span holds.
+fn entity_lines(bytes: &[u8], start: usize) -> std::ops::Range<usize> {
+    let start = start.min(bytes.len());
+    let end = bytes[start..]
+        .iter()
+        .enumerate()
+        .filter(|(_, &b)| b == b'\n')
+        .nth(1)
+        .map_or(bytes.len(), |(i, _)| start + i);
+    // The line end is not part of the label (a CR before the LF).
+    let end = if end > start && bytes[end - 1] == b'\r' {
+        end - 1
+    } else {
+        end
+    };
+    start..end
+}
+
 /// A drawing's error, labelling its line of the file where the line is known (a text
-/// DXF), as every other input's errors are labelled.
+/// DXF), as every other input's errors are labelled: an entity's error labels the entity
+/// ([`entity_lines`]). A binary file's errors have no line, and no excerpt.
 fn dxf_report(e: pvt_dxf::DxfError, source: &Source) -> Report {
     let line = e.span().line;
     if line == 0 {
         return Report::new(e);
     }
-    at_line(&e.code_str(), &e.to_string(), line, source).with_source_code(source.named_text())
+    let entity = matches!(
+        e,
+        pvt_dxf::DxfError::BadGeometry { .. } | pvt_dxf::DxfError::BadBlock { .. }
+    );
+    if !entity {
+        return at_line(&e.code_str(), &e.to_string(), line, source)
+            .with_source_code(source.named_text());
+    }
+    miette::miette!(
+        code = e.code_str(),
+        labels = vec![miette::LabeledSpan::at(
+            entity_lines(&source.bytes, e.span().start),
+            "this entity"
+        )],
+        "{e}"
+    )
+    .with_source_code(source.named_text())
 }

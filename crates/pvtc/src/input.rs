@@ -32,6 +32,16 @@ pub fn spool(input: &std::path::Path) -> Result<Spooled, Failure> {
     };
     let mut file = tempfile::NamedTempFile::new().map_err(failure)?;
     std::io::copy(&mut std::io::stdin().lock(), file.as_file_mut()).map_err(failure)?;
+    // Standard input has no name to tell a drawing by: a DXF header is refused with a hint.
+    let mut start = Vec::with_capacity(4096);
+    std::io::Read::read_to_end(
+        &mut std::io::Read::take(std::fs::File::open(file.path()).map_err(failure)?, 4096),
+        &mut start,
+    )
+    .map_err(failure)?;
+    if let Some(hint) = crate::front::dxf_read_as_gcode(&start) {
+        return Err(hint);
+    }
     Ok(Spooled {
         path: file.path().to_path_buf(),
         _copy: Some(file),

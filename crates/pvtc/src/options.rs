@@ -99,11 +99,12 @@ pub enum InputKind {
 
 impl InputKind {
     /// The planner used when none is asked for: `path` for geometry (G-code, DXF),
-    /// `contour` for a point-time series, whose points are the path.
+    /// `spline` for a point-time series, which keeps the series' times (and its velocity
+    /// columns, when it has them).
     pub fn default_planner(self) -> Planner {
         match self {
             InputKind::Gcode | InputKind::Dxf => Planner::Path,
-            InputKind::Csv => Planner::Contour,
+            InputKind::Csv => Planner::Spline,
         }
     }
 

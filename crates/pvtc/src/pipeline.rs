@@ -357,7 +357,8 @@ pub(crate) fn resolved_rapid(options: &CompileOptions, units: Units) -> f64 {
         .unwrap_or_else(|| units.from_mm(DEFAULT_RAPID_MM_PER_MIN))
 }
 
-/// The settings every output header names, in a fixed order.
+/// The settings every output header names, in a fixed order (a CSV series' header leaves
+/// out what it does not use: rapid, default feed and, but for `path`, the tolerance).
 pub(crate) fn settings(options: &CompileOptions, units: Units) -> Vec<(String, String)> {
     let u = units.name();
     let tolerance = match options.tolerance {
@@ -382,15 +383,19 @@ pub(crate) fn settings(options: &CompileOptions, units: Units) -> Vec<(String, S
         Planner::Path => "path tolerance",
         _ => "chord tolerance",
     };
-    let mut out = vec![
-        (
-            "planner".into(),
-            planner_description(options.planner).into(),
-        ),
-        (tolerance_name.into(), format!("{tolerance} {u}")),
-        ("rapid".into(), rapid),
-        ("default feed".into(), feed),
-    ];
+    let mut out = vec![(
+        "planner".into(),
+        planner_description(options.planner).into(),
+    )];
+    // A series has no rapid moves, no feed and no arcs: only `path` reads a tolerance.
+    let series = options.input == InputKind::Csv;
+    if !series || options.planner == Planner::Path {
+        out.push((tolerance_name.into(), format!("{tolerance} {u}")));
+    }
+    if !series {
+        out.push(("rapid".into(), rapid));
+        out.push(("default feed".into(), feed));
+    }
     if let Timing::TimeSlice(t) = options.timing {
         out.push(("time slice".into(), format!("{t} s")));
     }

@@ -570,7 +570,7 @@ fn options_that_would_do_nothing_are_usage_errors() {
     let ngc = "samples/gcode/an208_zigzag.ngc";
     let csv = "samples/csv/an208_step.csv";
     let dxf = "samples/dxf/lines_arcs.dxf";
-    // --time-slice: path (G-code default), contour (CSV default), any CSV series.
+    // --time-slice: path (G-code default), contour, any CSV series.
     assert_usage(
         &["compile", ngc, "--time-slice", "5ms"],
         "--time-slice does nothing",
@@ -591,7 +591,7 @@ fn options_that_would_do_nothing_are_usage_errors() {
     assert_usage(&["compile", ngc, "--accel", "1000"], "--accel does nothing");
     assert_usage(
         &["compile", csv, "--accel", "1000"],
-        "with the contour planner",
+        "with the spline planner",
     );
     let pt = ["compile", ngc, "--planner", "pt", "--accel", "1000"];
     assert_usage(&pt, "with the pt planner");

@@ -342,3 +342,83 @@ fn a_batch_whose_every_file_fails_leaves_no_output_folder() {
     );
     assert!(!out.exists(), "the failed batch created {}", out.display());
 }
+
+/// A drawing with `n` zero-length LINEs (from a point to itself) beside one real LINE.
+fn zero_length_drawing(n: usize) -> String {
+    let mut out = String::from("0\nSECTION\n2\nENTITIES\n");
+    out += "0\nLINE\n5\n10\n8\nCUT\n10\n0\n20\n0\n11\n10\n21\n0\n";
+    for i in 0..n {
+        out += &format!(
+            "0\nLINE\n5\n{:X}\n8\nCUT\n10\n5\n20\n{i}\n11\n5\n21\n{i}\n",
+            0x20 + i
+        );
+    }
+    out + "0\nENDSEC\n0\nEOF\n"
+}
+
+#[test]
+fn repeated_dxf_warnings_are_one_diagnostic_that_shows_the_entity() {
+    let dir = tempfile::tempdir().unwrap();
+    let drawing = dir.path().join("zero.dxf");
+    std::fs::write(&drawing, zero_length_drawing(4)).unwrap();
+    let path = drawing.to_str().unwrap();
+    let args = ["compile", path, "--feed", "100", "-o", "/dev/null"];
+    let json = pvtc(&[&args[..], &["--diagnostics", "json"]].concat());
+    assert!(json.status.success(), "{}", stderr(&json));
+    let zero: Vec<serde_json::Value> = json_lines(&json)
+        .into_iter()
+        .filter(|v| v["code"] == "pvtc::dxf::zero_length")
+        .collect();
+    assert_eq!(zero.len(), 1, "{zero:?}");
+    assert_eq!(zero[0]["count"], 4);
+    // Each place is the entity's `0` line, found here from the file: lines 19, 33, 47, 61.
+    let text = std::fs::read_to_string(&drawing).unwrap();
+    let lines: Vec<usize> = text
+        .lines()
+        .enumerate()
+        .filter(|(i, l)| *l == "LINE" && *i > 4)
+        .map(|(i, _)| i) // the 0-based index of LINE is the 1-based line of its `0`
+        .skip(1)
+        .collect();
+    let places: Vec<u64> = zero[0]["places"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["line"].as_u64().unwrap())
+        .collect();
+    assert_eq!(places, lines.iter().map(|&l| l as u64).collect::<Vec<_>>());
+    // The excerpt shows the entity's type, not a lone group code `0`.
+    let human = stderr(&pvtc(&args));
+    assert!(human.contains("(and 3 more like it"), "{human}");
+    assert!(human.contains("▶ LINE"), "{human}");
+}
+
+#[test]
+fn a_drawing_on_standard_input_read_as_gcode_is_one_error_with_a_hint() {
+    let drawing = std::fs::read(root().join("samples/dxf/lines_arcs.dxf")).unwrap();
+    let binary = std::fs::read(root().join("samples/dxf/cad_part_binary.dxf")).unwrap();
+    for bytes in [&drawing, &binary] {
+        for command in [
+            &["compile", "-"][..],
+            &["check", "-"],
+            &["compile", "-", "--format", "toolpath"],
+        ] {
+            let args = [command, &["--diagnostics", "json"]].concat();
+            let o = common::pvtc_bytes(&args, bytes);
+            assert_eq!(o.status.code(), Some(1), "{command:?}: {}", stderr(&o));
+            let codes: Vec<serde_json::Value> = json_lines(&o)
+                .into_iter()
+                .map(|v| v["code"].clone())
+                .collect();
+            assert_eq!(codes, ["pvtc::input::dxf_as_gcode"], "{command:?}");
+            assert!(stderr(&o).contains("--input-format dxf"));
+            assert!(o.stdout.is_empty());
+        }
+    }
+    // Told, it compiles.
+    let o = common::pvtc_bytes(
+        &["compile", "-", "--input-format", "dxf", "--feed", "100"],
+        &drawing,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+}

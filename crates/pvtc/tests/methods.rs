@@ -188,7 +188,10 @@ fn velocity_columns_are_used_or_ignored_as_asked_and_never_silently() {
 
 #[test]
 fn the_contour_planner_on_a_series_says_it_replaces_the_times() {
-    let o = compile_csv("samples/csv/an208_octagon.csv", &["--deny-warnings"]);
+    let o = compile_csv(
+        "samples/csv/an208_octagon.csv",
+        &["--planner", "contour", "--deny-warnings"],
+    );
     assert!(o.status.success(), "{}", text(&o.stderr));
     assert!(codes(&o).contains(&"advice pvtc::plan::times_replaced".to_string()));
     let o = compile_csv(
@@ -277,4 +280,91 @@ fn the_summary_of_a_series_has_no_feed_ratio() {
     let words = text(&program.stderr).replace('│', " ");
     let words: Vec<&str> = words.split_whitespace().collect();
     assert!(words.join(" ").contains("x length / feed"), "{words:?}");
+}
+
+/// The rows of a CSV series with a `t` column, read here: (t, positions, velocities).
+fn series_rows(sample: &str) -> Vec<Vec<f64>> {
+    let text = std::fs::read_to_string(common::root().join(sample)).unwrap();
+    text.lines()
+        .filter(|l| !l.starts_with('#') && !l.starts_with('t'))
+        .map(|l| l.split(',').map(|v| v.trim().parse().unwrap()).collect())
+        .collect()
+}
+
+#[test]
+fn a_series_keeps_its_times_and_velocities_by_default() {
+    // AN208's step: 8 points 0.25 s apart, at rest for 0.75 s, a step, at rest again.
+    let sample = "samples/csv/an208_step.csv";
+    let rows = series_rows(sample);
+    let o = compile_csv(sample, &[]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let program = pvt_emit::json::read(&text(&o.stdout)).unwrap();
+    let pieces: Vec<_> = program
+        .contours
+        .iter()
+        .flat_map(|c| (0..c.len()).map(move |i| c.segment(i)))
+        .collect();
+    assert_eq!(pieces.len(), rows.len() - 1);
+    for (piece, (before, row)) in pieces.iter().zip(rows.iter().zip(&rows[1..])) {
+        assert!((piece.duration - (row[0] - before[0])).abs() < 1e-12);
+        assert_eq!(piece.end[0], row[1]);
+        assert_eq!(piece.velocity[0], row[2], "the vx column, as given");
+    }
+    let total: f64 = pieces.iter().map(|p| p.duration).sum();
+    assert!((total - 1.75).abs() < 1e-12, "{total}");
+    // The header names the planner, and leaves out rapid and feed, which a series has not.
+    let header = text(&pvtc(&["compile", sample]).stdout);
+    assert!(header.contains("spline ("), "{header}");
+    assert!(!header.contains("rapid") && !header.contains("default feed"));
+    // contour stays one option away, and replaces the times.
+    let o = compile_csv(sample, &["--planner", "contour"]);
+    assert!(o.status.success() && codes(&o).iter().any(|c| c.ends_with("times_replaced")));
+}
+
+#[test]
+fn options_that_do_nothing_for_a_series_are_usage_errors() {
+    let sample = "samples/csv/an208_zigzag.csv";
+    let dir = tempfile::tempdir().unwrap();
+    let offsets = dir.path().join("offsets.txt");
+    std::fs::write(&offsets, "G54 X100 Y50 Z-20\n").unwrap();
+    for extra in [
+        &["--feed", "100"][..],
+        &["--rapid", "1000"],
+        &["--tolerance", "0.01"],
+        &["--tolerance", "0.01", "--planner", "chord-back"],
+        &["--corner-tolerance", "0.01"],
+        &["--safe-z", "5"],
+        &["--start-point", "1,2"],
+        &["--join-tolerance", "0.1"],
+        &["--max-points", "10"],
+        &["--arc-abs-tolerance", "0.1"],
+        &["--offsets", offsets.to_str().unwrap()],
+    ] {
+        let o = compile_csv(sample, extra);
+        assert_eq!(o.status.code(), Some(2), "{extra:?}: {}", text(&o.stderr));
+        assert!(o.stdout.is_empty());
+        assert!(
+            codes(&o).contains(&"error pvtc::usage".to_string()),
+            "{:?}",
+            codes(&o)
+        );
+        assert!(
+            text(&o.stderr).contains(extra[0]),
+            "{extra:?}: {}",
+            text(&o.stderr)
+        );
+    }
+    // The path planner reads a tolerance and a corner tolerance on a series too.
+    let o = compile_csv(
+        sample,
+        &[
+            "--planner",
+            "path",
+            "--tolerance",
+            "0.01",
+            "--corner-tolerance",
+            "0.01",
+        ],
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
 }

@@ -5,13 +5,19 @@
 //! closed form (projection clamped to the segment). An arc's nearest point is found from
 //! candidates (its two ends and every turn of the point's polar angle about the centre,
 //! which is exact for a flat circle) refined by golden-section search over the arc
-//! parameter within ±0.2 rad, which finds it on helices and spirals too. It must not
-//! evaluate the motion.
+//! parameter within ±0.2 rad, which finds it on helices and spirals too. The elements a
+//! piece may follow are found through a [`BoxTree`] per source line, so a line of many
+//! elements (a 4,000-vertex polyline, a loop's body) costs a piece a walk down a tree,
+//! not a scan. It must not evaluate the motion.
 
+use std::cell::OnceCell;
 use std::collections::BTreeMap;
 
+use super::boxes::{box_distance, BoxTree, ROUNDING};
+
 use crate::axis::Axis;
-use crate::toolpath::{Arc, Element, ElementKind, Toolpath};
+use crate::axis::AXIS_COUNT;
+use crate::toolpath::{Arc, ArcSweep, Element, ElementKind, Toolpath};
 use crate::vector::distance;
 
 /// The toolpath's elements, indexed by source line, on the program's axes.
@@ -20,6 +26,10 @@ pub(super) struct Source<'a> {
     /// Each element's box on the program columns (an arc's: its whole circle).
     bounds: Vec<(Vec<f64>, Vec<f64>)>,
     by_line: BTreeMap<u32, Vec<usize>>,
+    /// Per source line, the tree over the elements a piece from it should follow.
+    trees: BTreeMap<u32, BoxTree>,
+    /// The tree over every element, for a piece whose line has none.
+    all: OnceCell<BoxTree>,
     /// Axis index (into a `Position`) of every program column.
     columns: Vec<usize>,
 }
@@ -33,14 +43,25 @@ impl<'a> Source<'a> {
             by_line.entry(e.span.line).or_default().push(i);
         }
         let columns: Vec<usize> = axes.iter().map(|a| a.index()).collect();
-        let bounds = elements
+        let bounds: Vec<(Vec<f64>, Vec<f64>)> = elements
             .iter()
             .map(|e| element_bounds(e, &columns))
+            .collect();
+        let trees = by_line
+            .iter()
+            .map(|(&line, on_line)| {
+                (
+                    line,
+                    BoxTree::new(followed(on_line, elements.len()), &bounds),
+                )
+            })
             .collect();
         Source {
             elements,
             bounds,
             by_line,
+            trees,
+            all: OnceCell::new(),
             columns,
         }
     }
@@ -51,44 +72,35 @@ impl<'a> Source<'a> {
         (e.feed > 0.0).then_some(e.feed)
     }
 
-    /// Elements a piece from `line` should follow: those on the line and their neighbours
-    /// (a blend or a corner reaches into the next element); every element if none is.
-    pub fn candidates(&self, line: u32) -> Vec<usize> {
-        let Some(on_line) = self.by_line.get(&line) else {
-            return (0..self.elements.len()).collect();
-        };
-        let mut out: Vec<usize> = Vec::with_capacity(on_line.len() + 2);
-        for &i in on_line {
-            for j in [i.wrapping_sub(1), i, i + 1] {
-                if j < self.elements.len() && !out.contains(&j) {
-                    out.push(j);
-                }
-            }
-        }
+    /// Of the elements a piece from `line` should follow (those on the line and their
+    /// neighbours, since a blend or a corner reaches into the next element; every element
+    /// if none is on it), those that can hold the nearest element to any point of the box
+    /// `lo..hi`: `start` is a point in the box; an element farther from the box than
+    /// `start` is from its nearest element plus the box's diagonal cannot be nearest.
+    pub fn near(&self, line: u32, start: &[f64], lo: &[f64], hi: &[f64]) -> Vec<usize> {
+        let tree = self.trees.get(&line).unwrap_or_else(|| {
+            self.all
+                .get_or_init(|| BoxTree::new((0..self.elements.len()).collect(), &self.bounds))
+        });
+        let nearest = tree.nearest(start, |i| self.element_distance(self.elements[i], start));
+        let reach = nearest + distance(lo, hi);
+        let mut out = Vec::new();
+        tree.within(&self.bounds, lo, hi, reach, &mut out);
         out
     }
 
-    /// Of `candidates`, those that can hold the nearest element to any point of the box
-    /// `lo..hi`: `start` is a point in the box; an element farther from the box than
-    /// `start` is from its nearest candidate plus the box's diagonal cannot be nearest.
-    pub fn near(&self, candidates: &[usize], start: &[f64], lo: &[f64], hi: &[f64]) -> Vec<usize> {
-        let reach = self.distance(candidates, start) + distance(lo, hi);
-        candidates
-            .iter()
-            .copied()
-            .filter(|&i| {
-                let (elo, ehi) = &self.bounds[i];
-                (0..lo.len()).all(|k| elo[k] <= hi[k] + reach && lo[k] <= ehi[k] + reach)
-            })
-            .collect()
-    }
-
-    /// Distance from `point` (program columns) to the nearest of the given elements.
+    /// Distance from `point` (program columns) to the nearest of the given elements. An
+    /// element whose box is farther than the nearest found (with a margin for rounding)
+    /// cannot be nearer, and is not measured: the least value is the same.
     pub fn distance(&self, candidates: &[usize], point: &[f64]) -> f64 {
-        candidates
-            .iter()
-            .map(|&i| self.element_distance(self.elements[i], point))
-            .fold(f64::INFINITY, f64::min)
+        let scale = 1.0 + point.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        candidates.iter().fold(f64::INFINITY, |best, &i| {
+            let (lo, hi) = &self.bounds[i];
+            if box_distance(lo, hi, point) - ROUNDING * (scale + best) > best {
+                return best;
+            }
+            best.min(self.element_distance(self.elements[i], point))
+        })
     }
 
     fn element_distance(&self, e: &Element, point: &[f64]) -> f64 {
@@ -99,10 +111,13 @@ impl<'a> Source<'a> {
     }
 
     fn line_distance(&self, e: &Element, point: &[f64]) -> f64 {
-        let a: Vec<f64> = self.columns.iter().map(|&c| e.start[c]).collect();
-        let b: Vec<f64> = self.columns.iter().map(|&c| e.end[c]).collect();
+        let n = self.columns.len();
+        let (mut a, mut b) = ([0.0; AXIS_COUNT], [0.0; AXIS_COUNT]);
+        for (k, &c) in self.columns.iter().enumerate() {
+            (a[k], b[k]) = (e.start[c], e.end[c]);
+        }
         let (mut num, mut den) = (0.0, 0.0);
-        for k in 0..a.len() {
+        for k in 0..n {
             num += (point[k] - a[k]) * (b[k] - a[k]);
             den += (b[k] - a[k]) * (b[k] - a[k]);
         }
@@ -111,31 +126,38 @@ impl<'a> Source<'a> {
         } else {
             0.0
         };
-        let foot: Vec<f64> = a.iter().zip(&b).map(|(x, y)| x + (y - x) * f).collect();
-        distance(&foot, point)
+        let mut foot = [0.0; AXIS_COUNT];
+        for k in 0..n {
+            foot[k] = a[k] + (b[k] - a[k]) * f;
+        }
+        distance(&foot[..n], point)
     }
 
-    /// The point of an arc at parameter `f` in [0, 1], as discretization places it.
-    fn arc_point(&self, e: &Element, arc: &Arc, f: f64) -> Vec<f64> {
-        let sw = arc.sweep(&e.start, &e.end);
+    /// The point of an arc of sweep `sw` at parameter `f` in [0, 1], as discretization
+    /// places it, written into `out` (program columns).
+    fn arc_point(&self, e: &Element, arc: &Arc, sw: &ArcSweep, f: f64, out: &mut [f64]) {
         let (first, second, _) = arc.plane.axes();
         let angle = sw.start_angle + sw.sweep * f;
         let r = sw.start_radius + (sw.end_radius - sw.start_radius) * f;
         let (s, c) = libm::sincos(angle);
-        self.columns
-            .iter()
-            .map(|&col| match col {
+        for (slot, &col) in out.iter_mut().zip(&self.columns) {
+            *slot = match col {
                 x if x == first.index() => arc.center[0] + r * c,
                 x if x == second.index() => arc.center[1] + r * s,
                 x => e.start[x] + (e.end[x] - e.start[x]) * f,
-            })
-            .collect()
+            };
+        }
     }
 
     fn arc_distance(&self, e: &Element, arc: &Arc, point: &[f64]) -> f64 {
         let sw = arc.sweep(&e.start, &e.end);
         let (first, second, _) = arc.plane.axes();
-        let at = |f: f64| distance(&self.arc_point(e, arc, f), point);
+        let mut on_arc = [0.0; AXIS_COUNT];
+        let n = self.columns.len();
+        let mut at = |f: f64| {
+            self.arc_point(e, arc, &sw, f, &mut on_arc[..n]);
+            distance(&on_arc[..n], point)
+        };
         let mut starts = vec![0.0, 1.0];
         let col = |a: Axis| self.columns.iter().position(|&c| c == a.index());
         if let (Some(i), Some(j)) = (col(first), col(second)) {
@@ -185,6 +207,19 @@ pub(super) fn golden(mut lo: f64, mut hi: f64, mut g: impl FnMut(f64) -> f64) ->
     } else {
         x2
     }
+}
+
+/// The elements a piece from a line of elements `on_line` should follow: each of them and
+/// its neighbours, once each.
+fn followed(on_line: &[usize], count: usize) -> Vec<usize> {
+    let mut out: Vec<usize> = on_line
+        .iter()
+        .flat_map(|&i| [i.wrapping_sub(1), i, i + 1])
+        .filter(|&j| j < count)
+        .collect();
+    out.sort_unstable();
+    out.dedup();
+    out
 }
 
 /// An element's box on `columns`: its ends, and for an arc the square around its circle.

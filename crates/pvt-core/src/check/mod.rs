@@ -11,9 +11,10 @@
 //!
 //! Path error: every piece is sampled at 17 evenly spaced instants (ends included); the
 //! distance from each sample to the nearest source element on the piece's line (or its
-//! neighbours) is measured exactly (lines) or by refined search (arcs), and the worst
+//! neighbours, found through a tree of their boxes) is measured exactly (lines) or by refined search (arcs), and the worst
 //! sample is refined by golden-section search over the two sample intervals around it.
 
+mod boxes;
 mod geometry;
 mod peaks;
 mod servo;
@@ -308,7 +309,7 @@ fn path_error(tl: &Timeline<'_>, source: &Source<'_>) -> Peak {
         for (k, x) in point.iter_mut().enumerate() {
             *x = tl.position(p, k, 0.0);
         }
-        let candidates = source.near(&source.candidates(p.line), &point, &lo, &hi);
+        let candidates = source.near(p.line, &point, &lo, &hi);
         let mut gap = |t: f64| {
             for (k, x) in point.iter_mut().enumerate() {
                 *x = tl.position(p, k, t);
