@@ -605,7 +605,7 @@ fn golden_pmac_files_follow_the_pmac_grammar() {
 #[test]
 fn pmac_settings_and_event_commands_follow_the_pmac_grammar() {
     let text = "G21 G90\nT2 M6\nS12000 M3\nM8\nG1 X10 F600\n(MSG, check \"it\")\nM0\nG4 P0.5\n\
-                G1 Y10 Z-1\nM1\nM5 M9\nM30\n";
+                G1 Y10 Z-1\nM1\nM5 M9\nM64 P3\nM67 E0 Q-2.5\nM101 P4 Q5\nM30\n";
     let source = Source::from_text("events.ngc", text);
     let mut options = CompileOptions::new(Format::Pmac);
     options.pmac = pvt_emit::PmacSettings {
@@ -662,6 +662,9 @@ fn pmac_settings_and_event_commands_follow_the_pmac_grammar() {
             "M01 ; optional_pause from line 10",
             "M05 ; spindle_off from line 11",
             "M09 ; coolant_off from line 11",
+            "M64 P3 ; digital_output_on from line 12",
+            "M67 E0 Q-2.5 ; analog_output_synced from line 13",
+            "M101 P4 Q5 ; user_m_code from line 14",
             "CLOSE",
         ],
         "{out}"

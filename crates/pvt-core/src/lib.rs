@@ -46,6 +46,6 @@ pub use program::{Interpolation, PvtContour, PvtProgram, SegmentRef};
 pub use split::{split_long_pieces, PieceSplitter};
 pub use stream::{PieceSink, PlanStage, ToolpathSink};
 pub use toolpath::{
-    Arc, ArcDirection, Contour, CoolantState, Element, ElementKind, EventKind, Motion, Plane,
-    ProgramEvent, Span, SpindleState, Toolpath,
+    Arc, ArcDirection, CodeWords, Contour, CoolantState, Element, ElementKind, EventKind, Motion,
+    Plane, ProgramEvent, Span, SpindleState, Toolpath,
 };

@@ -309,8 +309,12 @@ impl<S: PieceSink> ToolpathSink for PlanStage<S> {
         self.close();
     }
 
+    /// A tolerance that is not positive (G64 P0) leaves the one in force: no motion is
+    /// within zero of an arc.
     fn path_tolerance(&mut self, tolerance: f64) {
-        self.options.path_tolerance = Some(tolerance);
+        if tolerance > 0.0 && tolerance.is_finite() {
+            self.options.path_tolerance = Some(tolerance);
+        }
     }
 
     fn event(&mut self, event: &EventKind, line: u32) {

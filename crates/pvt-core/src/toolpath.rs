@@ -268,6 +268,41 @@ pub enum EventKind {
         /// The text.
         text: String,
     },
+    /// An M code the machine's integrator implements: digital and analog I/O (M62–M68)
+    /// or a user-defined code (M100–M199), with the words given with it.
+    MachineCode {
+        /// The code number: 62…68 or 100…199 ([`EventKind::machine_code`]).
+        code: u16,
+        /// Its P, Q, E and L words.
+        words: CodeWords,
+    },
+}
+
+/// The words of a [`EventKind::MachineCode`], where given: P (an output or input
+/// number, or a user code's first value), Q (an analog value, a timeout, or a user
+/// code's second value), E (an analog channel), L (M66's wait mode).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct CodeWords {
+    /// P.
+    pub p: Option<f64>,
+    /// Q.
+    pub q: Option<f64>,
+    /// E.
+    pub e: Option<f64>,
+    /// L.
+    pub l: Option<f64>,
+}
+
+impl CodeWords {
+    /// The words as LinuxCNC's programs write them, in P E L Q order: `M67 E0 Q2.5`.
+    pub fn written(&self) -> String {
+        let words = [('P', self.p), ('E', self.e), ('L', self.l), ('Q', self.q)];
+        let written: Vec<String> = words
+            .iter()
+            .filter_map(|(letter, value)| value.map(|v| format!("{letter}{v}")))
+            .collect();
+        written.join(" ")
+    }
 }
 
 impl EventKind {
@@ -299,7 +334,36 @@ impl EventKind {
             EventKind::ToolSelect { .. } => "tool_select",
             EventKind::ToolChange => "tool_change",
             EventKind::Message { .. } => "message",
+            EventKind::MachineCode { code, .. } => match code {
+                62 => "digital_output_on_synced",
+                63 => "digital_output_off_synced",
+                64 => "digital_output_on",
+                65 => "digital_output_off",
+                66 => "wait_input",
+                67 => "analog_output_synced",
+                68 => "analog_output",
+                _ => "user_m_code",
+            },
         }
+    }
+
+    /// The event of M code `code` with its words, if it is one an integrator implements
+    /// (M62–M68, M100–M199).
+    pub fn machine_code(code: u16, words: CodeWords) -> Option<EventKind> {
+        matches!(code, 62..=68 | 100..=199).then_some(EventKind::MachineCode { code, words })
+    }
+
+    /// The event as a program line writes it, for one that has a code and words
+    /// (`M62 P1`); `None` for the others.
+    pub fn code_written(&self) -> Option<String> {
+        let EventKind::MachineCode { code, words } = self else {
+            return None;
+        };
+        let words = words.written();
+        Some(match words.is_empty() {
+            true => format!("M{code}"),
+            false => format!("M{code} {words}"),
+        })
     }
 }
 

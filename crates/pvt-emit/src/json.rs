@@ -35,8 +35,8 @@
 use crate::number::push_exact;
 use crate::stream::{Header, ProgramWriter, Totals};
 use pvt_core::{
-    Axis, CoolantState, EventKind, Interpolation, Motion, ProgramEvent, PvtContour, PvtProgram,
-    SegmentRef, SpindleState, Units,
+    Axis, CodeWords, CoolantState, EventKind, Interpolation, Motion, ProgramEvent, PvtContour,
+    PvtProgram, SegmentRef, SpindleState, Units,
 };
 use serde::Deserialize;
 use std::io::{self, Write};
@@ -168,6 +168,21 @@ impl<W: Write> ProgramWriter for JsonWriter<W> {
             }
             EventKind::ToolSelect { tool } => e.push_str(&format!(", \"tool\": {tool}")),
             EventKind::Message { text } => e.push_str(&format!(", \"text\": {}", quote(text))),
+            EventKind::MachineCode { code, words } => {
+                e.push_str(&format!(", \"code\": {code}"));
+                let named = [
+                    ("p", words.p),
+                    ("q", words.q),
+                    ("e", words.e),
+                    ("l", words.l),
+                ];
+                for (name, value) in named {
+                    if let Some(v) = value {
+                        e.push_str(&format!(", \"{name}\": "));
+                        push_exact(&mut e, v);
+                    }
+                }
+            }
             _ => {}
         }
         e.push('}');
@@ -256,6 +271,11 @@ struct EventDocument {
     rpm: Option<f64>,
     tool: Option<u32>,
     text: Option<String>,
+    code: Option<u16>,
+    p: Option<f64>,
+    q: Option<f64>,
+    e: Option<f64>,
+    l: Option<f64>,
 }
 
 impl EventDocument {
@@ -283,6 +303,18 @@ impl EventDocument {
         ];
         if let Some(kind) = without_value.into_iter().find(|k| k.name() == self.event) {
             return Some(kind);
+        }
+        let words = CodeWords {
+            p: self.p,
+            q: self.q,
+            e: self.e,
+            l: self.l,
+        };
+        if let Some(kind) = self
+            .code
+            .and_then(|code| EventKind::machine_code(code, words))
+        {
+            return (kind.name() == self.event).then_some(kind);
         }
         Some(match self.event.as_str() {
             "dwell" => EventKind::Dwell {

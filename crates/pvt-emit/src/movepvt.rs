@@ -182,6 +182,9 @@ impl<W: Write> ProgramWriter for MovePvtWriter<W> {
             EventKind::SpindleSpeed { rpm } => format!(" {rpm} rpm"),
             EventKind::ToolSelect { tool } => format!(" T{tool}"),
             EventKind::Message { text } => format!(" {}", c_comment(text)),
+            EventKind::MachineCode { .. } => {
+                format!(" {}", event.kind.code_written().unwrap_or_default())
+            }
             _ => String::new(),
         };
         self.text.push_str(&format!(

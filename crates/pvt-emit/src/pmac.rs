@@ -364,6 +364,9 @@ impl<W: Write> ProgramWriter for PmacWriter<W> {
                     EventKind::SpindleSpeed { rpm } => write!(t, ": {rpm} rpm")?,
                     EventKind::ToolSelect { tool } => write!(t, ": T{tool}")?,
                     EventKind::Message { text } => write!(t, ": {}", text.replace('\n', " "))?,
+                    EventKind::MachineCode { .. } => {
+                        write!(t, ": {}", kind.code_written().unwrap_or_default())?
+                    }
                     _ => {}
                 }
                 t.push(b'\n');
@@ -419,6 +422,8 @@ fn command(kind: &EventKind) -> Option<String> {
         .to_string(),
         EventKind::ToolSelect { tool } => format!("T{tool}"),
         EventKind::ToolChange => "M06".to_string(),
+        // Called as PROG 1001 N(code × 1000); the routine READs the words.
+        EventKind::MachineCode { .. } => return kind.code_written(),
         EventKind::Message { text } => {
             let text: String = text
                 .chars()

@@ -118,6 +118,20 @@ pub fn event_value(event: &EventKind, line: u32) -> Value {
         EventKind::SpindleSpeed { rpm } => value["rpm"] = json!(rpm),
         EventKind::ToolSelect { tool } => value["tool"] = json!(tool),
         EventKind::Message { text } => value["text"] = json!(text),
+        EventKind::MachineCode { code, words } => {
+            value["code"] = json!(code);
+            let named = [
+                ("p", words.p),
+                ("q", words.q),
+                ("e", words.e),
+                ("l", words.l),
+            ];
+            for (name, v) in named {
+                if let Some(v) = v {
+                    value[name] = json!(v);
+                }
+            }
+        }
         EventKind::Pause { .. }
         | EventKind::Spindle { .. }
         | EventKind::Coolant { .. }

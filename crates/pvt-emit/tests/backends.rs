@@ -95,6 +95,19 @@ fn json_reads_events_back() {
             text: "check \"part\" 1".into(),
         },
     ];
+    let code = |code, p, e, q| {
+        let words = pvt_core::CodeWords { p, e, q, l: None };
+        EventKind::machine_code(code, words).expect("an I/O or user M code")
+    };
+    let kinds = [
+        kinds.to_vec(),
+        vec![
+            code(62, Some(1.0), None, None),
+            code(67, None, Some(0.0), Some(-2.5)),
+            code(101, Some(4.0), None, Some(5.0)),
+        ],
+    ]
+    .concat();
     let mut p = program();
     p.events = kinds
         .iter()
@@ -113,6 +126,10 @@ fn json_reads_events_back() {
         err.contains("event 12: unknown event \"teleport\""),
         "{err}"
     );
+    // A code's name and number agree.
+    let renamed = t.replacen("\"event\": \"user_m_code\"", "\"event\": \"wait_input\"", 1);
+    assert_ne!(renamed, t);
+    assert!(json::read(&renamed).is_err(), "M101 is not wait_input");
     // A dwell needs its seconds.
     let bare = t.replacen(", \"seconds\": 0.25", "", 1);
     assert_ne!(bare, t);

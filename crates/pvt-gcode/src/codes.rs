@@ -280,7 +280,7 @@ pub(crate) fn g_code(tenths: u32) -> Option<GCode> {
         870 => Motion(MotionMode::Cycle(self::Cycle::BackBore)),
         880 => Motion(MotionMode::Cycle(self::Cycle::BoreManual)),
         890 => Motion(MotionMode::Cycle(self::Cycle::BoreDwell)),
-        50..=53 | 330 | 331 | 382..=385 | 760 => Motion(MotionMode::Unsupported),
+        50..=53 | 62 | 330 | 331 | 382..=385 | 760 => Motion(MotionMode::Unsupported),
         _ => return unsupported_g(tenths).map(Unsupported),
     })
 }
@@ -289,7 +289,7 @@ pub(crate) fn g_code(tenths: u32) -> Option<GCode> {
 fn unsupported_g(tenths: u32) -> Option<Feature> {
     Some(match tenths {
         171 | 181 | 191 => feature("UVW planes", false),
-        700 | 710 | 720 => feature("lathe cycles", true),
+        700 | 710 | 711 | 712 | 720 => feature("lathe cycles", true),
         950 => feature("feed per revolution", false),
         _ => return None,
     })
@@ -298,7 +298,7 @@ fn unsupported_g(tenths: u32) -> Option<Feature> {
 /// The feature of a motion-group code pvtc does not execute.
 pub(crate) fn motion_feature(tenths: u32) -> &'static str {
     match tenths {
-        50..=53 => "splines and NURBS",
+        50..=53 | 62 => "splines and NURBS",
         330 | 331 => "spindle-synchronized motion",
         382..=385 => "probing",
         760 => "lathe threading cycles",
@@ -321,6 +321,10 @@ pub(crate) enum MCode {
     End,
     /// M48…M53: override switches, accepted as state (pvtc plans at 100 %).
     Override,
+    /// M62…M68: digital and analog I/O, an event with its words.
+    Io(u16),
+    /// M100…M199: a user-defined code, an event with its P and Q.
+    User(u16),
     /// A known code pvtc does not execute.
     Unsupported(&'static str),
 }
@@ -343,9 +347,9 @@ pub(crate) fn m_code(tenths: u32) -> Option<MCode> {
         480..=530 if tenths.is_multiple_of(10) => Override,
         600 => Unsupported("pallet change"),
         610 => Unsupported("setting the current tool"),
-        620..=680 if tenths.is_multiple_of(10) => Unsupported("digital and analog outputs"),
+        620..=680 if tenths.is_multiple_of(10) => Io((tenths / 10) as u16),
         700..=730 if tenths.is_multiple_of(10) => Unsupported("saving and restoring modal state"),
-        1000..=1990 if tenths.is_multiple_of(10) => Unsupported("user-defined M codes"),
+        1000..=1990 if tenths.is_multiple_of(10) => User((tenths / 10) as u16),
         _ => return None,
     })
 }
@@ -353,7 +357,9 @@ pub(crate) fn m_code(tenths: u32) -> Option<MCode> {
 /// What a letter pvtc does not read means in RS274NGC (for `unknown_word`).
 pub(crate) fn letter_meaning(letter: u8) -> &'static str {
     match letter {
-        b'E' => "E is not an RS274NGC word (extruder or thread lead in other dialects)",
+        b'E' => {
+            "E is read only with M66, M67 and M68 (an extruder or a thread lead in other dialects)"
+        }
         b'O' => "O words (subroutines, program numbers) are not read by pvtc",
         b'U' | b'V' | b'W' => "U, V and W are secondary axes, which pvtc does not drive",
         _ => "pvtc does not know this letter",

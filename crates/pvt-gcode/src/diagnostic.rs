@@ -700,6 +700,67 @@ pub enum GcodeDiagnostic {
         span: SourceSpan,
     },
 
+    /// A `%` line that neither opens the program (its first line) nor closes one it
+    /// opened, or a `%` with text after it: `rs274` stops there ("Bad character '%'
+    /// used").
+    #[error("`%` is not a block: rs274 stops here (\"Bad character '%' used\")")]
+    #[diagnostic(
+        code(pvtc::gcode::percent_line),
+        help("`%` alone opens a program on its first line and closes it on a later one; make this line a comment `( … )` or remove it")
+    )]
+    PercentLine {
+        /// The `%`.
+        #[label("not the opening or closing `%`")]
+        span: SourceSpan,
+    },
+
+    /// The file ends without M2, M30 or the closing `%` of a program opened with `%`,
+    /// which `rs274` reports ("File ended with no percent sign or program end").
+    #[error("{}", no_end_message(*opened))]
+    #[diagnostic(
+        code(pvtc::gcode::no_program_end),
+        severity(Warning),
+        help("end the program with M2 or M30 (or close a program that starts with `%` with a `%` line)")
+    )]
+    NoProgramEnd {
+        /// The program opened with a `%` line.
+        opened: bool,
+        /// The end of the file.
+        #[label("the file ends here")]
+        span: SourceSpan,
+    },
+
+    /// A full-circle arc with more turns than one block may make, or arcs with more
+    /// turns than a run may make ([`crate::MAX_ARC_TURNS`], [`crate::MAX_TOTAL_ARC_TURNS`]).
+    #[error("{}", turn_message(*limit, *all))]
+    #[diagnostic(
+        code(pvtc::gcode::turn_limit),
+        help("pvtc stops at this many arc turns rather than run for hours; split the program")
+    )]
+    TurnLimit {
+        /// The limit, turns.
+        limit: u64,
+        /// The limit of all arcs of the run together (not of this block).
+        all: bool,
+        /// The P word.
+        #[label("too many turns")]
+        span: SourceSpan,
+    },
+
+    /// A probing move (G38.2…G38.5) without a result to continue with (`--probe-result`).
+    #[error("{code} probes: where it stops is only known on the machine")]
+    #[diagnostic(
+        code(pvtc::gcode::probe),
+        help("give the position the probe trips at with --probe-result X,Y,Z (the move then ends there), or remove the probing block")
+    )]
+    Probe {
+        /// The probing code, e.g. `G38.2`.
+        code: String,
+        /// The code.
+        #[label("probing move")]
+        span: SourceSpan,
+    },
+
     /// A program without any motion (empty, or only comments and modes).
     #[error("the program has no motion")]
     #[diagnostic(
@@ -759,6 +820,10 @@ impl GcodeDiagnostic {
             D::InSubroutineFile { .. } => "pvtc::gcode::in_subroutine_file",
             D::Cycle { .. } => "pvtc::gcode::cycle",
             D::UnknownTool { .. } => "pvtc::gcode::unknown_tool",
+            D::PercentLine { .. } => "pvtc::gcode::percent_line",
+            D::NoProgramEnd { .. } => "pvtc::gcode::no_program_end",
+            D::TurnLimit { .. } => "pvtc::gcode::turn_limit",
+            D::Probe { .. } => "pvtc::gcode::probe",
             D::CompensationEntry { .. } => "pvtc::gcode::compensation_entry",
             D::ToolRadiusOverArc { .. } => "pvtc::gcode::tool_radius_over_arc",
             D::ConcaveCorner { .. } => "pvtc::gcode::concave_corner",
@@ -782,6 +847,7 @@ impl GcodeDiagnostic {
             Self::ZeroLengthMove { .. }
                 | Self::RapidToCurrentPoint { .. }
                 | Self::AfterProgramEnd { .. }
+                | Self::NoProgramEnd { .. }
                 | Self::IgnoredWord { .. }
                 | Self::MoreWarnings { .. }
         )
@@ -830,6 +896,10 @@ impl GcodeDiagnostic {
             | D::BodyTooLarge { span, .. }
             | D::InSubroutineFile { span, .. } => span,
             D::Cycle { span, .. } | D::UnknownTool { span, .. } => span,
+            D::PercentLine { span }
+            | D::NoProgramEnd { span, .. }
+            | D::TurnLimit { span, .. }
+            | D::Probe { span, .. } => span,
             D::CompensationEntry { span, .. }
             | D::ToolRadiusOverArc { span, .. }
             | D::ConcaveCorner { span, .. }
@@ -869,6 +939,20 @@ fn loop_message(limit: u64, all: bool) -> String {
         format!("loops ran {limit} times in all")
     } else {
         format!("loop ran {limit} times without ending")
+    }
+}
+
+fn turn_message(limit: u64, all: bool) -> String {
+    match all {
+        true => format!("arcs of this run make more than {limit} turns in all"),
+        false => format!("an arc of more than {limit} turns"),
+    }
+}
+
+fn no_end_message(opened: bool) -> String {
+    match opened {
+        true => "the program opened with `%` ends without its closing `%`".to_owned(),
+        false => "the program ends without M2, M30 or a closing `%`".to_owned(),
     }
 }
 

@@ -126,6 +126,8 @@ pub(crate) struct Interpreter<'a> {
     pub origin: Option<crate::oword::Origin>,
     /// The last S number (`#<_rpm>`).
     rpm: f64,
+    /// Arc turns (P words) of the run so far.
+    arc_turns_run: u64,
     /// Cutter-radius compensation (G40/G41/G42).
     cutter: compensation::CutterState,
 }
@@ -166,6 +168,7 @@ impl<'a> Interpreter<'a> {
             once: false,
             origin: None,
             rpm: 0.0,
+            arc_turns_run: 0,
             cutter: compensation::CutterState::default(),
         }
     }
@@ -312,6 +315,7 @@ impl<'a> Interpreter<'a> {
         self.check_p_word(request);
         self.check_words(request);
         self.run_motion(request, block);
+        self.reread_after_tool_change(request);
         match request.stop {
             Some((Stop::Pause(optional), _)) => {
                 self.event(EventKind::Pause { optional }, block.line);
@@ -409,6 +413,7 @@ impl<'a> Interpreter<'a> {
                 None => self.push(bad_value(t, "a tool number must be a whole number ≥ 0")),
             }
         }
+        self.code_event(request.io, request, line);
         if request.tool_change.is_some() {
             self.event(EventKind::ToolChange, line);
         }
@@ -418,6 +423,22 @@ impl<'a> Interpreter<'a> {
         }
         if let Some((state, _)) = request.coolant {
             self.event(EventKind::Coolant { state }, line);
+        }
+        self.code_event(request.user, request, line);
+    }
+
+    /// M62…M68 or M100…M199 as an event with the block's P, Q, E and L words.
+    fn code_event(&mut self, code: Option<(u16, Word)>, request: &Request, line: u32) {
+        let Some((code, _)) = code else { return };
+        let value = |w: Option<Word>| w.map(|w| w.value);
+        let words = pvt_core::CodeWords {
+            p: value(request.p),
+            q: value(request.q),
+            e: value(request.e),
+            l: value(request.l),
+        };
+        if let Some(kind) = EventKind::machine_code(code, words) {
+            self.event(kind, line);
         }
     }
 
@@ -444,6 +465,8 @@ impl<'a> Interpreter<'a> {
             Some((NonModal::Dwell | NonModal::SetTable, _))
         ) || matches!(request.path_mode, Some((PathMode::Continuous, _)))
             || request.overrides.is_some()
+            || request.io.is_some()
+            || request.user.is_some()
             || matches!(
                 self.modal.motion,
                 Some(MotionMode::Arc(_) | MotionMode::Cycle(_))
@@ -501,7 +524,9 @@ impl<'a> Interpreter<'a> {
         if let Some((to_r, _)) = request.retract {
             self.cycle.to_r = to_r;
         }
-        if let (Some((PathMode::Continuous, _)), Some(p)) = (request.path_mode, request.p) {
+        // G64 P0 is plain G64, as rs274 reads it: no tolerance of its own.
+        let p = request.p.filter(|p| p.value != 0.0);
+        if let (Some((PathMode::Continuous, _)), Some(p)) = (request.path_mode, p) {
             let tolerance = p.value.abs() * self.scale();
             self.path_tolerance = Some(tolerance);
             self.sink.path_tolerance(tolerance);

@@ -16,7 +16,8 @@
 //! (I/J/K under G90.1 or G91.1, R, P turns, helices), G4, G7/G8, G20/G21, G53, G54–G59.3,
 //! G61/G61.1/G64 (P, and Q recorded as LinuxCNC's naive-CAM tolerance, not applied),
 //! G80, G90/G91, G92/G92.1/G92.2/G92.3, G93/G94, F S T, X Y Z A B C, polar `@` `^`,
-//! M0 M1 M2 M30 M3 M4 M5 M6 M7 M8 M9, parameters (`#1`, `#<name>`) and expressions,
+//! M0 M1 M2 M30 M3 M4 M5 M6 M7 M8 M9, M62–M68 (E on M66–M68) and M100–M199 as events
+//! with their words, parameters (`#1`, `#<name>`) and expressions,
 //! `(MSG, …)`, `(DEBUG, …)`, `(PRINT, …)`, `*nn` checksums. Issue 16, as LinuxCNC's
 //! `rs274` runs them: canned cycles G73 G81–G89 with G98/G99 and L ([`interpreter`]'s
 //! `cycles`), tools (T, M6, G43/G43.1/G43.2/G49 from [`GcodeOptions::tool_table`]),
@@ -74,7 +75,7 @@ mod value;
 
 pub use diagnostic::{GcodeDiagnostic, GcodeErrors};
 pub use kept::MAX_KEPT_DIAGNOSTICS;
-pub use lines::MAX_LINE_BYTES;
+pub use lines::{trailing_crs, MAX_LINE_BYTES};
 pub use offsets::{parse_offsets, OffsetsError};
 pub use oword::{SubroutineFile, SubroutineFiles};
 pub use prescan::{prescan, Prescan};
@@ -97,6 +98,13 @@ pub const MAX_LOOP_ITERATIONS: u64 = 1_000_000;
 /// How many loop iterations a run may make in all (nested loops multiply); one more is
 /// `pvtc::gcode::loop_limit` too.
 pub const MAX_TOTAL_ITERATIONS: u64 = 100_000_000;
+
+/// The most turns one arc block may make (`P`); more is `pvtc::gcode::turn_limit`.
+pub const MAX_ARC_TURNS: u64 = 1_000_000;
+
+/// The most arc turns a run may make in all (arcs in loops add up); more is
+/// `pvtc::gcode::turn_limit` too.
+pub const MAX_TOTAL_ARC_TURNS: u64 = 10_000_000;
 
 /// How many bytes of text the bodies of subroutines and of the main program's loops
 /// held in memory may take together (the rest of a program streams); more is
@@ -192,7 +200,7 @@ pub struct Compiled {
 /// Compiles G-code `source` into a toolpath, or returns every error in source order.
 ///
 /// Output units: see [`GcodeOptions::units`]. Element feeds are in output units per
-/// second. Reading stops at M2/M30 or at a second `%` line.
+/// second. Reading stops at M2/M30 or at the `%` that closes a program opened with `%`.
 pub fn compile(source: &str, options: &GcodeOptions) -> Result<Compiled, GcodeErrors> {
     let mut sink = contours::CollectingSink::default();
     let summary = compile_into(source, options, &mut sink)?;
@@ -258,7 +266,12 @@ pub struct Reader<'a> {
     interpreter: Interpreter<'a>,
     params: params::Parameters,
     block: block::Block,
-    percent_lines: u32,
+    /// The program opened with a `%` line (its first line that is not blank).
+    opened: bool,
+    /// No line with anything but blanks has been read before the current one.
+    at_start: bool,
+    /// Byte offset of the end of the last line read.
+    end_offset: usize,
     number: u32,
     /// Set once the program has ended (M2/M30, closing `%`): what ended it.
     ended: Option<String>,
@@ -275,7 +288,9 @@ impl<'a> Reader<'a> {
             interpreter: Interpreter::new(options, sink),
             params,
             block: block::Block::default(),
-            percent_lines: 0,
+            opened: false,
+            at_start: true,
+            end_offset: 0,
             number: 0,
             ended: None,
         }
@@ -326,6 +341,10 @@ impl<'a> Reader<'a> {
             return self.too_long_line(line.start, line.text.len());
         }
         self.number = line.number;
+        self.end_offset = line.start + line.text.len();
+        let blank = line.text.trim_matches([' ', '\t']).is_empty();
+        let first = self.at_start && !blank;
+        self.at_start &= blank;
         if self.ended.is_some() && self.subprogram_after_end(line) {
             return true;
         }
@@ -341,6 +360,10 @@ impl<'a> Reader<'a> {
         }
         if let Some(more) = self.flow_line(line) {
             return more;
+        }
+        if first && parser::percent_line(line.text).is_ok_and(|(_, rest)| is_bare(rest)) {
+            self.opened = true;
+            return true;
         }
         self.run_line(line);
         true
@@ -369,10 +392,7 @@ impl<'a> Reader<'a> {
         }
         let call = self.take_subprogram_words();
         self.ended = match parsed {
-            Ok(LineKind::Percent) => {
-                self.percent_lines += 1;
-                (self.percent_lines == 2).then(|| "the closing `%`".to_owned())
-            }
+            Ok(LineKind::Percent) => self.percent(line),
             Ok(LineKind::Block) => match self.interpreter.execute(&self.block) {
                 Flow::Continue => None,
                 Flow::End(word) => Some(word.name()),
@@ -393,12 +413,38 @@ impl<'a> Reader<'a> {
         self.ended.is_none()
     }
 
+    /// A `%` line after the first: the end of a program opened with `%` when it is
+    /// alone on its line; anything else is `percent_line`, as `rs274` refuses it.
+    fn percent(&mut self, line: SourceLine<'_>) -> Option<String> {
+        let (_, text) = parser::percent_line(line.text).unwrap_or_default();
+        if self.opened && is_bare(text) {
+            return Some("the closing `%`".to_owned());
+        }
+        let at = line.start + line.text.find('%').unwrap_or(0);
+        self.report(GcodeDiagnostic::PercentLine {
+            span: diagnostic::span(at..at + 1),
+        });
+        None
+    }
+
     /// Ends the program: its summary, or every error met.
     pub fn finish(mut self) -> Result<StreamSummary, GcodeErrors> {
+        if self.ended.is_none() {
+            let at = self.end_offset;
+            self.interpreter.warn(GcodeDiagnostic::NoProgramEnd {
+                opened: self.opened,
+                span: diagnostic::span(at..at),
+            });
+        }
         self.flow_finish();
         self.subprograms_finish();
         self.interpreter.finish()
     }
+}
+
+/// True when `text` (after a `%`) holds only blanks.
+fn is_bare(text: &str) -> bool {
+    text.trim_matches([' ', '\t']).is_empty()
 }
 
 /// A warning if `line`, after the program end, has any content.

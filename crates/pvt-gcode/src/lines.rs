@@ -93,8 +93,8 @@ struct Splitter {
     overlong: Option<usize>,
     /// Bytes of a BOM at the start of an over-long first line (not part of its length).
     bom: usize,
-    /// Whether the last byte of an over-long line so far is `\r` (not part of its length).
-    ends_cr: bool,
+    /// How many `\r` end an over-long line so far (not part of its length).
+    ends_cr: usize,
 }
 
 impl Splitter {
@@ -127,9 +127,11 @@ impl Splitter {
 
     /// Adds bytes to the line being read, letting go of them once it is over the limit.
     fn append(&mut self, piece: &[u8]) {
-        if let Some(&last) = piece.last() {
-            self.ends_cr = last == b'\r';
-        }
+        let crs = trailing_crs(piece);
+        self.ends_cr = match crs == piece.len() {
+            true => self.ends_cr + crs,
+            false => crs,
+        };
         if let Some(length) = &mut self.overlong {
             *length += piece.len();
             return;
@@ -162,13 +164,13 @@ impl Splitter {
         let go_on = match self.overlong.take() {
             Some(length) => each(Line::TooLong {
                 start: self.line_start + self.bom,
-                length: length - self.bom - usize::from(self.ends_cr),
+                length: length - self.bom - self.ends_cr,
             }),
             None => deliver(&self.pending, None, self.line_start, each),
         };
         self.pending.clear();
         self.bom = 0;
-        self.ends_cr = false;
+        self.ends_cr = 0;
         go_on
     }
 
@@ -195,7 +197,7 @@ fn deliver(
     } else {
         0
     };
-    let end = line.len() - usize::from(line.ends_with(b"\r") && line.len() > bom);
+    let end = line.len() - trailing_crs(&line[bom..]);
     let (line, start) = (&line[bom..end], start + bom);
     if line.len() > MAX_LINE_BYTES {
         return each(Line::TooLong {
@@ -207,6 +209,12 @@ fn deliver(
         Some(text) => each(Line::Text { text, start }),
         None => each(Line::Bytes { bytes: line, start }),
     }
+}
+
+/// How many `\r` end `bytes`: every one before a line's `\n` is part of its line end
+/// (CR CR LF, as PyCAM 0.5 writes, is one line end, as `rs274` reads it).
+pub fn trailing_crs(bytes: &[u8]) -> usize {
+    bytes.iter().rev().take_while(|b| **b == b'\r').count()
 }
 
 #[cfg(test)]
@@ -285,6 +293,7 @@ mod tests {
             3 => Just("\n".to_owned()),
             1 => Just("\r\n".to_owned()),
             1 => Just("\r".to_owned()),
+            1 => Just("\r\r\n".to_owned()),
             1 => Just("\u{feff}".to_owned()),
             1 => (MAX_LINE_BYTES - 3..MAX_LINE_BYTES + 4).prop_map(|n| "x".repeat(n)),
         ]

@@ -29,7 +29,7 @@ pub(crate) enum LineKind {
 /// One line of the source, without its line end.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct SourceLine<'a> {
-    /// The text, `\r\n` or `\n` removed.
+    /// The text, its line end (`\n` and every `\r` before it) removed.
     pub text: &'a str,
     /// Byte offset of `text` in the source.
     pub start: usize,
@@ -71,7 +71,7 @@ impl<'a> Iterator for SourceLines<'a> {
             None => (self.rest, ""),
         };
         let line = SourceLine {
-            text: text.strip_suffix('\r').unwrap_or(text),
+            text: text.trim_end_matches('\r'),
             start: self.offset,
             number: self.number.saturating_add(1),
         };
@@ -84,12 +84,12 @@ impl<'a> Iterator for SourceLines<'a> {
 
 // ---- productions (names as in grammars/gcode.ebnf) ----
 
-/// `newline = [ "\r" ] , "\n"`. [`SourceLines`] and the streaming reader split lines with
+/// `newline = { "\r" } , "\n"`. [`SourceLines`] and the streaming reader split lines with
 /// `memchr` instead; this production is what the grammar test holds them to.
 #[cfg(test)]
 pub(crate) fn newline(i: &str) -> IResult<&str, &str> {
-    use nom::combinator::{opt, recognize};
-    recognize((opt(char('\r')), char('\n'))).parse(i)
+    use nom::combinator::recognize;
+    recognize((take_while(|c| c == '\r'), char('\n'))).parse(i)
 }
 
 /// `blank = " " | "\t"` (any number of them).

@@ -47,6 +47,12 @@ pub(crate) struct Request {
     pub cutter_comp: Option<(codes::CutterComp, Word)>,
     /// M48…M53, accepted as state.
     pub overrides: Option<((), Word)>,
+    /// M62…M68 (digital and analog I/O).
+    pub io: Option<(u16, Word)>,
+    /// M100…M199 (user-defined).
+    pub user: Option<(u16, Word)>,
+    /// E: the analog channel of M66…M68.
+    pub e: Option<Word>,
     pub p: Option<Word>,
     pub q: Option<Word>,
     pub l: Option<Word>,
@@ -103,18 +109,20 @@ impl Request {
                 b'D' => put_word(&mut request.d, word, errors),
                 b'S' => put_word(&mut request.s, word, errors),
                 b'T' => put_word(&mut request.t, word, errors),
+                b'E' => put_word(&mut request.e, word, errors),
                 b'$' => errors.push(ignored(
                     word,
                     "spindle selection ($) is not part of a toolpath",
                 )),
                 // A program number (`O1000` alone on its line) names the program only.
                 b'O' => {}
-                letter => errors.push(GcodeDiagnostic::UnknownWord {
-                    word: word.name(),
-                    meaning: codes::letter_meaning(letter),
-                    span: span(word.span()),
-                }),
+                letter => errors.push(unknown_letter(word, letter)),
             }
+        }
+        // E belongs to M66…M68 only, as rs274 reads it.
+        let analog = matches!(request.io, Some((66..=68, _)));
+        if let Some(e) = request.e.filter(|_| !analog) {
+            errors.push(unknown_letter(e, b'E'));
         }
     }
 
@@ -142,8 +150,16 @@ impl Request {
                     let feature = codes::motion_feature(tenths.unwrap_or(0));
                     errors.push(unsupported(word, feature));
                 }
-                self.no_move |= self.motion.is_some();
-                put_mode(&mut self.motion, mode, word, errors, conflicting_motion);
+                // G80 beside another motion code is dropped, as rs274 drops it: the
+                // safety line `G0 G17 G40 G49 G80 G90` is a G0.
+                match self.motion {
+                    Some(_) if mode == MotionMode::Cancel => {}
+                    Some((MotionMode::Cancel, _)) => self.motion = Some((mode, word)),
+                    _ => {
+                        self.no_move |= self.motion.is_some();
+                        put_mode(&mut self.motion, mode, word, errors, conflicting_motion);
+                    }
+                }
             }
             GCode::Plane(p) => put_mode(&mut self.plane, p, word, errors, modes("plane")),
             GCode::Units(u) => put_mode(&mut self.units, u, word, errors, modes("length units")),
@@ -243,6 +259,14 @@ impl Request {
             Some(MCode::Override) => {
                 put_mode(&mut self.overrides, (), word, errors, modes("override"))
             }
+            Some(MCode::Io(code)) => put_mode(&mut self.io, code, word, errors, modes("I/O")),
+            Some(MCode::User(code)) => put_mode(
+                &mut self.user,
+                code,
+                word,
+                errors,
+                modes("user-defined M code"),
+            ),
             Some(MCode::Unsupported(feature)) => errors.push(unsupported(word, feature)),
             None => errors.push(unknown_code(word, "not an RS274NGC M code")),
         }
@@ -328,6 +352,14 @@ fn unsupported(word: Word, feature: &'static str) -> GcodeDiagnostic {
         code: word.name(),
         feature,
         places: 1,
+        span: span(word.span()),
+    }
+}
+
+fn unknown_letter(word: Word, letter: u8) -> GcodeDiagnostic {
+    GcodeDiagnostic::UnknownWord {
+        word: word.name(),
+        meaning: codes::letter_meaning(letter),
         span: span(word.span()),
     }
 }

@@ -186,7 +186,7 @@ fn warnings_do_not_fail() {
 #[test]
 fn a_rapid_to_the_current_point_is_a_note_and_a_feed_move_a_warning() {
     use miette::{Diagnostic, Severity};
-    let compiled = common::ok("G0 X0 Y0\nG1 X1 F100\nG1 X1\nG0 X1\n");
+    let compiled = common::ok("G0 X0 Y0\nG1 X1 F100\nG1 X1\nG0 X1\nM2\n");
     let found: Vec<_> = compiled
         .warnings
         .iter()
@@ -279,7 +279,7 @@ fn unsupported_features_are_reported_once_with_their_count() {
 #[test]
 fn ignored_words_are_warnings() {
     // A program number is a name, not a warning.
-    let source = "O10\nG21 G1 X1 F100 P2 $1\n";
+    let source = "O10\nG21 G1 X1 F100 P2 $1\nM2\n";
     let compiled = compile(source, &GcodeOptions::default()).unwrap();
     let warnings: Vec<_> = compiled
         .warnings

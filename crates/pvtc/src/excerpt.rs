@@ -76,7 +76,7 @@ pub fn line_span(input: &mut impl BufRead, line: u32) -> std::io::Result<Option<
         }
         if number == line {
             let body = buf.strip_suffix(b"\n").unwrap_or(&buf);
-            let body = body.strip_suffix(b"\r").unwrap_or(body);
+            let body = &body[..body.len() - pvt_gcode::trailing_crs(body)];
             return Ok(Some(offset..offset + body.len()));
         }
         offset += read;
@@ -124,7 +124,7 @@ pub fn cut(
             number += 1;
             continue;
         }
-        let text = String::from_utf8_lossy(&line).into_owned();
+        let text = crate::options::shown(&line);
         while let Some(index) = order.next_if(|&i| spans[i].start < offset) {
             let first = ring.front().map_or(start, |(at, _)| *at);
             let before: String = ring.iter().map(|(_, t)| t.as_str()).collect();

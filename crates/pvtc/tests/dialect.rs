@@ -71,18 +71,45 @@ fn rs274() -> Result<&'static str, String> {
     Err(why)
 }
 
-/// A sidecar of `program` with another extension, if it exists.
+/// A sidecar of `program` with another extension, if it exists: beside the program, or
+/// for a program kept outside the project (LinuxCNC's installed examples) in
+/// `tests/dialect/linuxcnc/`.
 fn sidecar(program: &Path, extension: &str) -> Option<PathBuf> {
     let path = program.with_extension(extension);
-    path.exists().then_some(path)
+    let kept = program.file_name().map(|name| {
+        root()
+            .join("tests/dialect/linuxcnc")
+            .join(name)
+            .with_extension(extension)
+    });
+    [Some(path), kept]
+        .into_iter()
+        .flatten()
+        .find(|p| p.exists())
 }
 
 /// rs274's canonical motion for `program`, or its error message.
+fn rs274_moves(rs274: &str, program: &Path) -> Result<Vec<Move>, String> {
+    let run = rs274_run(rs274, program)?;
+    match run.failure {
+        Some(failure) => Err(failure),
+        None => Ok(run.moves),
+    }
+}
+
+/// What rs274 did with a program: the motion it printed (up to its error, if any) and
+/// its error message.
+struct Rs274Run {
+    moves: Vec<Move>,
+    failure: Option<String>,
+}
+
+/// Runs rs274 on `program`; `Err` when it could not run it.
 ///
 /// Two rs274 processes at once can kill each other with SIGBUS (they share memory), so
 /// this test's runs take turns, and a run killed by a signal (another test process's
 /// rs274, say) is tried again.
-fn rs274_moves(rs274: &str, program: &Path) -> Result<Vec<Move>, String> {
+fn rs274_run(rs274: &str, program: &Path) -> Result<Rs274Run, String> {
     static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
     let _turn = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let _machine_turn = MachineTurn::take();
@@ -96,7 +123,7 @@ fn rs274_moves(rs274: &str, program: &Path) -> Result<Vec<Move>, String> {
                 std::thread::sleep(std::time::Duration::from_millis(50 * tries));
             }
             Err(Killed(why)) => return Err(why),
-            Ok(moves) => return moves,
+            Ok(run) => return run,
         }
     }
 }
@@ -139,7 +166,7 @@ impl Drop for MachineTurn {
 /// An rs274 run that a signal ended, or that lost its tool table to another run.
 struct Killed(String);
 
-fn rs274_once(rs274: &str, program: &Path) -> Result<Result<Vec<Move>, String>, Killed> {
+fn rs274_once(rs274: &str, program: &Path) -> Result<Result<Rs274Run, String>, Killed> {
     let dir = tempfile::tempdir().expect("temporary directory");
     let out = dir.path().join("canon.txt");
     let mut command = Command::new(rs274);
@@ -177,11 +204,14 @@ fn rs274_once(rs274: &str, program: &Path) -> Result<Result<Vec<Move>, String>, 
     if !output.status.success() && lost_table && sidecar(program, "tbl").is_some() {
         return Err(Killed(failure));
     }
-    if !output.status.success() {
+    let failed = !output.status.success();
+    let Ok(text) = std::fs::read_to_string(&out) else {
         return Ok(Err(failure));
-    }
-    let text = std::fs::read_to_string(&out).expect("rs274 wrote its output");
-    Ok(Ok(Canon::default().read(&text)))
+    };
+    Ok(Ok(Rs274Run {
+        moves: Canon::default().read(&text),
+        failure: failed.then_some(failure),
+    }))
 }
 
 /// The state of LinuxCNC's canonical layer that turns program into machine coordinates.
@@ -385,6 +415,7 @@ fn toolpath_moves(text: &str) -> Vec<Move> {
         p
     };
     let mut moves = Vec::new();
+    let mut last_line = None;
     for line in &lines {
         let feed = line["feed"].as_f64().unwrap_or(0.0) * mm;
         match line["kind"].as_str() {
@@ -396,7 +427,7 @@ fn toolpath_moves(text: &str) -> Vec<Move> {
             }),
             Some("arc") => {
                 let turns = line["turns"].as_i64().expect("turns") + 1;
-                moves.push(Move::Arc {
+                let arc = Move::Arc {
                     plane: match line["plane"].as_str() {
                         Some("ZX") => "ZX",
                         Some("YZ") => "YZ",
@@ -414,15 +445,57 @@ fn toolpath_moves(text: &str) -> Vec<Move> {
                     },
                     feed,
                     unit: 0.0,
-                })
+                };
+                // pvtc hands an arc of many turns on a turn at a time: the parts of one
+                // block (one source line, one centre) are one arc, as rs274 prints it.
+                // (Two arcs of one line with two centres, a compensated arc and the arc
+                // around the corner after it, stay two.)
+                let part_of_last = last_line == Some(&line["line"]);
+                match (moves.last_mut(), part_of_last) {
+                    (Some(last), true) if same_centre(last, &arc) => join_turns(last, arc),
+                    _ => moves.push(arc),
+                }
             }
             Some("event") if line["event"] == "dwell" => {
                 moves.push(Move::Dwell(line["seconds"].as_f64().expect("seconds")))
             }
             _ => {}
         }
+        last_line = (line["kind"] == "arc").then_some(&line["line"]);
     }
     moves
+}
+
+/// Whether `last` is an arc about the centre of the arc `next`.
+fn same_centre(last: &Move, next: &Move) -> bool {
+    match (last, next) {
+        (Move::Arc { center: a, .. }, Move::Arc { center: b, .. }) => close(a, b, 1.0),
+        _ => false,
+    }
+}
+
+/// `next`, the next turn of the arc `last` is part of, joined to it: its end and its turn.
+fn join_turns(last: &mut Move, next: Move) {
+    let (
+        Move::Arc {
+            end,
+            center,
+            rotation,
+            ..
+        },
+        Move::Arc {
+            end: next_end,
+            center: next_center,
+            rotation: next_rotation,
+            ..
+        },
+    ) = (last, next)
+    else {
+        return;
+    };
+    debug_assert!(close(center, &next_center, 1.0));
+    *end = next_end;
+    *rotation += next_rotation;
 }
 
 fn close(a: &[f64], b: &[f64], unit: f64) -> bool {
@@ -492,12 +565,84 @@ fn difference(ours: &[Move], theirs: &[Move]) -> Option<String> {
 
 /// Compares one program; the failure, described.
 fn compare(rs274: &str, program: &Path) -> Result<usize, String> {
+    if let Some(expected) = sidecar(program, "error") {
+        return compare_refusal(rs274, program, &expected);
+    }
     let theirs = rs274_moves(rs274, program)?;
     let ours = pvtc_moves(program)?;
     match difference(&ours, &theirs) {
         None => Ok(ours.len()),
         Some(d) => Err(format!("{}: {d}", program.display())),
     }
+}
+
+/// Compares a program rs274 refuses (`NAME.error`: rs274's message on its first line,
+/// pvtc's code on its second): rs274 fails with that message at a line, pvtc reports
+/// that code at the same line, and where pvtc still compiles (a warning), its motion is
+/// the motion rs274 printed.
+fn compare_refusal(rs274: &str, program: &Path, expected: &Path) -> Result<usize, String> {
+    let expected = std::fs::read_to_string(expected).expect("error sidecar");
+    let mut expected = expected.lines();
+    let (message, code) = (expected.next().unwrap_or(""), expected.next().unwrap_or(""));
+    let run = rs274_run(rs274, program)?;
+    let failure = run.failure.unwrap_or_default();
+    let what = |d: &str| format!("{}: {d}", program.display());
+    if !failure.contains(message) {
+        return Err(what(&format!("rs274 does not say {message:?}: {failure}")));
+    }
+    // rs274 echoes the block it stopped at after its message.
+    let block = failure.trim_end().lines().last().unwrap_or("").trim();
+    let text = std::fs::read_to_string(program).expect("program");
+    let (ok, diagnostics) = pvtc_diagnostics(program);
+    let line = diagnostics
+        .iter()
+        .find(|(c, _)| c == code)
+        .map(|(_, line)| *line)
+        .ok_or_else(|| what(&format!("pvtc does not report {code}: {diagnostics:?}")))?;
+    let pvtc_block = text
+        .lines()
+        .nth(line.saturating_sub(1))
+        .unwrap_or("")
+        .trim();
+    if pvtc_block != block {
+        return Err(what(&format!(
+            "pvtc reports {code} at {pvtc_block:?}, rs274 at {block:?}"
+        )));
+    }
+    if !ok {
+        return Ok(0);
+    }
+    let ours = pvtc_moves(program)?;
+    match difference(&ours, &run.moves) {
+        None => Ok(ours.len()),
+        Some(d) => Err(what(&d)),
+    }
+}
+
+/// Whether pvtc compiles `program`, and its diagnostics as (code, line).
+fn pvtc_diagnostics(program: &Path) -> (bool, Vec<(String, usize)>) {
+    let output = Command::new(env!("CARGO_BIN_EXE_pvtc"))
+        .arg("compile")
+        .arg(program)
+        .args([
+            "--format",
+            "toolpath",
+            "--diagnostics",
+            "json",
+            "-o",
+            "/dev/null",
+        ])
+        .output()
+        .expect("pvtc runs");
+    let diagnostics = String::from_utf8_lossy(&output.stderr)
+        .lines()
+        .filter_map(|l| serde_json::from_str::<serde_json::Value>(l).ok())
+        .map(|d| {
+            let code = d["code"].as_str().unwrap_or("").to_owned();
+            (code, d["line"].as_u64().unwrap_or(0) as usize)
+        })
+        .collect();
+    (output.status.success(), diagnostics)
 }
 
 /// Compares a program given as text (a generated one), written to a temporary file.
@@ -667,7 +812,7 @@ mod generated {
         prop_oneof![
             6 => (any::<bool>(), [coordinate(), coordinate(), coordinate()])
                 .prop_map(|(rapid, to)| Step::Straight { rapid, to }),
-            4 => (any::<bool>(), 1u32..400, 0u32..360, 1u32..359, -50i32..50, 0u32..2).prop_map(
+            4 => (any::<bool>(), 1u32..400, 0u32..360, 1u32..359, -50i32..50, 0u32..7).prop_map(
                 |(clockwise, r, from, sweep, rise, turns)| Step::Arc {
                     clockwise,
                     radius: f64::from(r) / 10.0,
@@ -895,6 +1040,40 @@ fn corpus_programs_move_as_rs274_moves() {
     let failures: Vec<String> = runs
         .iter()
         .filter_map(|name| compare(rs274, &dir.join(name)).err())
+        .collect();
+    assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+}
+
+/// LinuxCNC's example programs as installed with rs274 (`/usr/share/linuxcnc/ncfiles`,
+/// GPL-2.0, read where they are, not copied): polar canned cycles (`polar.ngc`,
+/// `hole-circle.ngc`) and a tool change with G43 in one block (`skeleton.ngc`) move as
+/// rs274 moves them.
+#[test]
+fn installed_linuxcnc_examples_move_as_rs274_moves() {
+    let rs274 = match rs274() {
+        Ok(rs274) => rs274,
+        Err(why) => {
+            eprintln!("SKIPPED: {why}");
+            return;
+        }
+    };
+    let dir = Path::new("/usr/share/linuxcnc/ncfiles");
+    let runs = ["polar.ngc", "hole-circle.ngc", "skeleton.ngc"];
+    let present: Vec<PathBuf> = runs
+        .iter()
+        .map(|n| dir.join(n))
+        .filter(|p| p.exists())
+        .collect();
+    if present.len() < runs.len() {
+        eprintln!(
+            "SKIPPED: LinuxCNC's examples are not all in {}",
+            dir.display()
+        );
+        return;
+    }
+    let failures: Vec<String> = present
+        .iter()
+        .filter_map(|path| compare(rs274, path).err())
         .collect();
     assert!(failures.is_empty(), "{}", failures.join("\n\n"));
 }

@@ -256,9 +256,11 @@ impl Interpreter<'_> {
     }
 
     /// Where the next straight move starts: the tool's centre after G40 (the exit move),
-    /// else the current position.
+    /// else the machine position (after M6, rs274's re-read one).
     pub(super) fn tool_start(&self) -> Position {
-        self.cutter.exit_from.unwrap_or(self.position)
+        self.cutter
+            .exit_from
+            .unwrap_or_else(|| self.machine_position())
     }
 
     /// An event: held with the move before it while compensation holds that move.

@@ -7,8 +7,9 @@
 //! normal axis (Z in G17, Y in G18, X in G19), as LinuxCNC does, so peck depths step
 //! identically. It must not read words (that is [`crate::request`]) nor change modes.
 
-use pvt_core::{Motion, SpindleState, Units};
+use pvt_core::{Motion, Plane, SpindleState, Units};
 
+use super::motion::polar_point;
 use super::Interpreter;
 use crate::block::{cover, Block};
 use crate::codes::{Cycle, Distance, FeedMode, NonModal};
@@ -143,12 +144,17 @@ impl Interpreter<'_> {
         // G99; G91's R counts from the initial level in both.
         let start_level = if self.cycle.to_r { current[2] } else { initial };
         let word = |i: usize| request.axes[i].map(|w| w.value);
+        let polar = self.cycle_polar(request)?;
         let (start, step, r, bottom) = match self.modal.distance {
             Distance::Absolute => {
                 let start = [
                     word(a.index()).unwrap_or(current[0]),
                     word(b.index()).unwrap_or(current[1]),
                 ];
+                let start = match polar {
+                    Some(words) => polar_point(start, words, Distance::Absolute),
+                    None => start,
+                };
                 (start, [0.0, 0.0], r_word, bottom_word)
             }
             Distance::Incremental => {
@@ -161,7 +167,11 @@ impl Interpreter<'_> {
             }
         };
         let far = |v: f64| !v.is_finite() || v.abs() > 1e9;
+        let polar_words = polar.into_iter().flatten().flatten();
         if far(r) || far(bottom) || start.iter().chain(&step).any(|&v| far(v)) {
+            return Err("a level or position is out of range (beyond 1e9)".into());
+        }
+        if polar_words.into_iter().any(far) {
             return Err("a level or position is out of range (beyond 1e9)".into());
         }
         let pecks = match q.filter(|_| matches!(cycle, Cycle::ChipBreak | Cycle::Peck)) {
@@ -213,7 +223,24 @@ impl Interpreter<'_> {
             p: p.unwrap_or(0.0),
             q: q.unwrap_or(0.0),
             middle,
+            polar: polar.filter(|_| self.modal.distance == Distance::Incremental),
         })
+    }
+
+    /// The block's polar words (`@`, `^`), which place its holes in G17 instead of X
+    /// and Y; `None` without them.
+    fn cycle_polar(&self, request: &Request) -> Result<Option<[Option<f64>; 2]>, String> {
+        let words = request.polar.map(|w| w.map(|w| w.value));
+        if words.iter().all(Option::is_none) {
+            return Ok(None);
+        }
+        if request.axes[0].is_some() || request.axes[1].is_some() {
+            return Err("polar words (@, ^) replace X and Y; give one or the other".into());
+        }
+        if self.modal.plane != Plane::XY {
+            return Err("polar words (@, ^) work in G17 only".into());
+        }
+        Ok(Some(words))
     }
 
     fn run_cycle(&mut self, cycle: Cycle, plan: &Plan, request: &Request, block: &Block) {
@@ -229,8 +256,7 @@ impl Interpreter<'_> {
         }
         let clear = if self.cycle.to_r { r } else { old };
         for _ in 0..plan.repeats {
-            x += plan.step[0];
-            y += plan.step[1];
+            [x, y] = plan.next_hole([x, y]);
             if !self.cycle_line(Motion::Rapid, [x, y, old], request, block) {
                 return;
             }
@@ -389,7 +415,7 @@ impl Interpreter<'_> {
                 end[i] = p[k] * scale + self.offset(i);
             }
         }
-        let start = self.position;
+        let start = self.machine_position();
         let feed = match motion {
             Motion::Rapid => Some(self.rapid_rate()),
             Motion::Feed => self.feed_rate(request, block, || 0.0),
@@ -420,4 +446,17 @@ struct Plan {
     q: f64,
     /// G87: the top of the back bore and the I/J shift of the retract position.
     middle: Option<(f64, [f64; 2])>,
+    /// The polar words (`@`, `^`) of a G17 block under G91, which step from hole to hole.
+    polar: Option<[Option<f64>; 2]>,
+}
+
+impl Plan {
+    /// The hole after the one at `at`: one step on (none in G90), or under G91 with polar
+    /// words `@` added to its radius and `^` to its angle.
+    fn next_hole(&self, at: [f64; 2]) -> [f64; 2] {
+        match self.polar {
+            Some(words) => polar_point(at, words, Distance::Incremental),
+            None => [at[0] + self.step[0], at[1] + self.step[1]],
+        }
+    }
 }

@@ -25,6 +25,11 @@ pub(crate) struct ToolState {
     pub current: u32,
     /// The tool length offset in effect, X Y Z A B C, output units (degrees).
     pub offset: Position,
+    /// The tool length offset in effect at the end of the last move.
+    pub moved_with: Position,
+    /// Where the machine is while the interpreter's position is rs274's re-reading after
+    /// M6 (see [`Interpreter::reread_after_tool_change`]); the next move starts here.
+    pub machine_at: Option<Position>,
 }
 
 impl Interpreter<'_> {
@@ -76,6 +81,32 @@ impl Interpreter<'_> {
                 }
             }
         }
+    }
+
+    /// After a block with M6, rs274 re-reads its position as its last move left it in
+    /// program coordinates, without the tool length offsets set since (in that block or
+    /// before): the offset change moves where the program is, not where the machine
+    /// is. The interpreter takes that position; the machine stays where it is until the
+    /// next move, which starts from there ([`ToolState::machine_at`]).
+    pub(super) fn reread_after_tool_change(&mut self, request: &Request) {
+        if request.tool_change.is_none() {
+            return;
+        }
+        let shift: Position =
+            std::array::from_fn(|i| self.tool.offset[i] - self.tool.moved_with[i]);
+        if shift.iter().all(|s| *s == 0.0) {
+            return;
+        }
+        self.tool.machine_at.get_or_insert(self.position);
+        for (p, s) in self.position.iter_mut().zip(shift) {
+            *p += s;
+        }
+        self.tool.moved_with = self.tool.offset;
+    }
+
+    /// Where the machine is: the position, or where a move after M6 starts from.
+    pub(super) fn machine_position(&self) -> Position {
+        self.tool.machine_at.unwrap_or(self.position)
     }
 
     /// The offsets of tool `number` in output units; H0 is none. `None` after reporting
@@ -139,7 +170,7 @@ impl Interpreter<'_> {
                 }
                 let rate = self.rapid_rate();
                 for point in [via, end] {
-                    let start = self.position;
+                    let start = self.machine_position();
                     self.position = point;
                     if point != start {
                         self.straight(Motion::Rapid, start, point, rate, block);
@@ -310,18 +341,17 @@ impl Interpreter<'_> {
             request.tool_length,
             Some((ToolLength::Table | ToolLength::Add, _))
         );
-        let q_used = cycle || matches!(request.path_mode, Some((PathMode::Continuous, _)));
-        let d_used = self.surface_speed
-            || matches!(
-                request.cutter_comp,
-                Some((crate::codes::CutterComp::On(..), _))
-            );
+        let codes = request.io.is_some() || request.user.is_some();
+        let compensation_on = matches!(
+            request.cutter_comp,
+            Some((crate::codes::CutterComp::On(..), _))
+        );
+        let q_used = cycle || codes || matches!(request.path_mode, Some((PathMode::Continuous, _)));
+        let d_used = self.surface_speed || compensation_on;
         let l_used = cycle
-            || matches!(request.non_modal, Some((NonModal::SetTable, _)))
-            || matches!(
-                request.cutter_comp,
-                Some((crate::codes::CutterComp::On(..), _))
-            );
+            || compensation_on
+            || matches!(request.io, Some((66, _)))
+            || matches!(request.non_modal, Some((NonModal::SetTable, _)));
         let checks = [
             (
                 request.h,

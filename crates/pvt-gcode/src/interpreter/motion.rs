@@ -179,21 +179,11 @@ impl Interpreter<'_> {
         }
         let scale = self.scale();
         let mut program = self.to_program(self.position);
-        let (x, y) = (program[0] / scale, program[1] / scale);
-        let (mut radius, mut angle) = (libm::hypot(x, y), libm::atan2(y, x));
-        let [r_word, a_word] = request.polar.map(|w| w.map(|w| w.value));
-        match self.modal.distance {
-            Distance::Absolute => {
-                radius = r_word.unwrap_or(radius);
-                angle = a_word.map_or(angle, f64::to_radians);
-            }
-            Distance::Incremental => {
-                radius += r_word.unwrap_or(0.0);
-                angle += a_word.map_or(0.0, f64::to_radians);
-            }
-        }
-        program[0] = radius * libm::cos(angle) * scale;
-        program[1] = radius * libm::sin(angle) * scale;
+        let words = request.polar.map(|w| w.map(|w| w.value));
+        let from = [program[0] / scale, program[1] / scale];
+        let [x, y] = polar_point(from, words, self.modal.distance);
+        program[0] = x * scale;
+        program[1] = y * scale;
         let placed = self.to_machine(program);
         end[..2].copy_from_slice(&placed[..2]);
         if end[0].is_finite() && end[1].is_finite() {
@@ -368,22 +358,43 @@ impl Interpreter<'_> {
             feed,
             span: element_span(block),
         };
-        self.route(Motion::Feed, element);
+        if arc.extra_turns < TURNS_HANDED_ON_WHOLE {
+            return self.route(Motion::Feed, element);
+        }
+        for part in turn_by_turn(&element, arc) {
+            self.route(Motion::Feed, part);
+        }
     }
 
-    /// Extra full turns from the P word (P1, the default, is none).
+    /// Extra full turns from the P word (P1, the default, is none); at most
+    /// [`crate::MAX_ARC_TURNS`] in a block and [`crate::MAX_TOTAL_ARC_TURNS`] in a run.
     fn arc_turns(&mut self, request: &Request) -> Option<u32> {
         let Some(p) = request.p else { return Some(0) };
         let rounded = p.value.round();
-        if (p.value - rounded).abs() < 1e-6 && (1.0..=1e6).contains(&rounded) {
-            return Some(rounded as u32 - 1);
+        if (p.value - rounded).abs() >= 1e-6 || rounded < 1.0 {
+            self.push(GcodeDiagnostic::BadValue {
+                word: p.name(),
+                expected: "the turns of an arc must be a whole number from 1",
+                span: span(p.span()),
+            });
+            return None;
         }
-        self.push(GcodeDiagnostic::BadValue {
-            word: p.name(),
-            expected: "the turns of an arc must be a whole number from 1",
-            span: span(p.span()),
-        });
-        None
+        let all = self.arc_turns_run.saturating_add(rounded as u64) > crate::MAX_TOTAL_ARC_TURNS;
+        if rounded > crate::MAX_ARC_TURNS as f64 || all {
+            let limit = match all {
+                true => crate::MAX_TOTAL_ARC_TURNS,
+                false => crate::MAX_ARC_TURNS,
+            };
+            let at = span(p.span());
+            self.push(GcodeDiagnostic::TurnLimit {
+                limit,
+                all,
+                span: at,
+            });
+            return None;
+        }
+        self.arc_turns_run += rounded as u64;
+        Some(rounded as u32 - 1)
     }
 
     /// Sends an element to the sink: a rapid is a contour of its own; a feed move joins
@@ -392,6 +403,31 @@ impl Interpreter<'_> {
         if motion == Motion::Rapid {
             self.end_contour();
         }
+        self.tool.moved_with = self.tool.offset;
+        let mut element = *element;
+        if let Some(at) = self.tool.machine_at.take() {
+            match element.kind {
+                ElementKind::Line => element.start = at,
+                // Off its plane (a Z offset under G17) the arc starts where the machine
+                // is, a helix; in its plane it keeps its start and the machine gets
+                // there first, straight.
+                ElementKind::Arc(arc)
+                    if arc.plane.project(&at) == arc.plane.project(&element.start) =>
+                {
+                    element.start = at;
+                }
+                ElementKind::Arc(_) => {
+                    let to_start = Element {
+                        kind: ElementKind::Line,
+                        start: at,
+                        end: element.start,
+                        ..element
+                    };
+                    self.sink.element(motion, &to_start);
+                }
+            }
+        }
+        let element = &element;
         self.sink.element(motion, element);
         self.open = true;
         self.moved = true;
@@ -524,6 +560,66 @@ impl Interpreter<'_> {
             },
         });
     }
+}
+
+/// The XY point that `@` radius and `^` angle (degrees; `None` where not given) set from
+/// `from`, program units about the program origin, as LinuxCNC sets it: a word not given
+/// keeps `from`'s radius or angle, and under G91 the words are added to them.
+pub(super) fn polar_point(from: [f64; 2], words: [Option<f64>; 2], distance: Distance) -> [f64; 2] {
+    let [x, y] = from;
+    let (mut radius, mut angle) = (libm::hypot(x, y), libm::atan2(y, x));
+    let [r_word, a_word] = words;
+    match distance {
+        Distance::Absolute => {
+            radius = r_word.unwrap_or(radius);
+            angle = a_word.map_or(angle, f64::to_radians);
+        }
+        Distance::Incremental => {
+            radius += r_word.unwrap_or(0.0);
+            angle += a_word.map_or(0.0, f64::to_radians);
+        }
+    }
+    [radius * libm::cos(angle), radius * libm::sin(angle)]
+}
+
+/// Arcs of this many extra turns or more are handed on a turn at a time ([`turn_by_turn`]), so
+/// that the planner's window of elements bounds the memory whatever the P word.
+const TURNS_HANDED_ON_WHOLE: u32 = 4;
+
+/// `element`, an arc of many turns, as its turns: one element per full turn from its
+/// start, then the rest of its sweep. Each boundary lies on the ray of the start point
+/// (so each full turn's start and end angles agree exactly), at the radius and height
+/// the whole arc has there (the radius and the other axes change linearly with angle).
+fn turn_by_turn(element: &Element, arc: Arc) -> impl Iterator<Item = Element> + '_ {
+    let sweep = arc.sweep(&element.start, &element.end);
+    let total = sweep.sweep.abs();
+    let (first, second, _) = arc.plane.axes();
+    let at = move |k: u32| -> Position {
+        let share = std::f64::consts::TAU * f64::from(k) / total;
+        let radius = sweep.start_radius + (sweep.end_radius - sweep.start_radius) * share;
+        let scale = radius / sweep.start_radius;
+        let mut p: Position =
+            std::array::from_fn(|i| element.start[i] + (element.end[i] - element.start[i]) * share);
+        for (axis, centre) in [first, second].into_iter().zip(arc.center) {
+            let i = axis.index();
+            p[i] = centre + (element.start[i] - centre) * scale;
+        }
+        p
+    };
+    let part = Arc {
+        extra_turns: 0,
+        ..arc
+    };
+    (0..=arc.extra_turns).map(move |k| Element {
+        kind: ElementKind::Arc(part),
+        start: at(k),
+        end: if k == arc.extra_turns {
+            element.end
+        } else {
+            at(k + 1)
+        },
+        ..*element
+    })
 }
 
 /// How a block gives its arc's centre: offsets in the plane's (first, second) order, or R.

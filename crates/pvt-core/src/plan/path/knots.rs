@@ -665,11 +665,20 @@ fn tangential_accel(curve: &Curve, from: f64, to: f64, bounds: &AxisBounds, spee
 /// Parameters inside `curve` where knots go at first: an arc's equal pieces by the error
 /// bound at constant speed (at least two). Pieces beside a junction passed at speed are
 /// split later, where their bound needs it.
+/// The most pieces one arc is cut into before its error is checked.
+const MAX_ARC_PIECES: f64 = 65_536.0;
+
 fn inner_params(curve: &Curve, tolerance: f64) -> Vec<f64> {
     let Some(angle) = curve.arc_piece_angle(tolerance) else {
         return Vec::new();
     };
-    let n = ((curve.span / angle - 1e-9).ceil() as usize).max(2);
+    // A tolerance of zero (or one so small that no count of pieces meets it) gives no
+    // finite count: the knots stop at the bound and the error check refuses the plan.
+    let pieces = (curve.span / angle - 1e-9).ceil();
+    let n = match pieces.is_finite() {
+        true => pieces.clamp(2.0, MAX_ARC_PIECES) as usize,
+        false => MAX_ARC_PIECES as usize,
+    };
     (1..n).map(|i| curve.span * i as f64 / n as f64).collect()
 }
 

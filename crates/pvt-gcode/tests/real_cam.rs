@@ -1,0 +1,179 @@
+//! Issue 24: real CAM output read as LinuxCNC's `rs274` reads it, through the library.
+//!
+//! The differential programs (`tests/dialect/`, compared with `rs274` by
+//! `crates/pvtc/tests/dialect.rs`) pin the motion; these tests pin what the comparison
+//! cannot see: diagnostics and their codes, options, events and memory bounds.
+
+mod common;
+
+use common::{errors, ok};
+use pvt_core::{plan_toolpath_report, PlanOptions, Planner};
+use pvt_gcode::compile;
+
+#[test]
+fn g64_p0_is_plain_g64() {
+    let c = ok("G21 G64 P0 F100\nG1 X1\nG3 X0 Y1 I-1 J0\nG64 P0.02\nM2\n");
+    assert_eq!(c.path_tolerance, Some(0.02));
+    let c = ok("G21 G64 P0 F100\nG1 X1\nG3 X0 Y1 I-1 J0\nM2\n");
+    assert_eq!(c.path_tolerance, None, "G64 P0 sets no tolerance");
+}
+
+/// A zero path tolerance from a source (a front end that reads G64 P0 literally) is
+/// no tolerance of its own: the arc is planned within the one in force (it overflowed a
+/// capacity computing the arc's knots).
+#[test]
+fn a_zero_path_tolerance_plans_an_arc_within_the_tolerance_in_force() {
+    let mut c = ok("G21 F600\nG1 X10\nG3 X0 Y10 I-10 J0\nM2\n");
+    c.toolpath.path_tolerances = vec![(0, 0.0)];
+    let options = PlanOptions {
+        planner: Planner::Path,
+        ..PlanOptions::default()
+    };
+    let planned = plan_toolpath_report(&c.toolpath, &options).expect("planned");
+    let bound = planned.report.path_error.expect("a path error bound");
+    assert!(
+        bound > 0.0 && bound <= pvt_core::defaults::TOLERANCE_MM,
+        "{bound}"
+    );
+}
+
+/// M62–M68 and M100–M199 are events with their words, in LinuxCNC's order within a
+/// block (I/O after T, before M6; user codes after coolant).
+#[test]
+fn io_and_user_m_codes_are_events_with_their_words() {
+    let c = ok(
+        "G21 F100\nG1 X1\nM62 P1\nM65 P2\nM66 E1 L0 Q2\nM67 E0 Q2.5\n\
+                M68 E1 Q-1\nT2 M6 M64 P3\nM8 M101 P4 Q5\nG1 X2\nM2\n",
+    );
+    let got: Vec<(String, Option<String>, u32)> = c
+        .toolpath
+        .events
+        .iter()
+        .map(|e| (e.kind.name().to_owned(), e.kind.code_written(), e.line))
+        .collect();
+    let want = [
+        ("digital_output_on_synced", Some("M62 P1"), 3),
+        ("digital_output_off", Some("M65 P2"), 4),
+        ("wait_input", Some("M66 E1 L0 Q2"), 5),
+        ("analog_output_synced", Some("M67 E0 Q2.5"), 6),
+        ("analog_output", Some("M68 E1 Q-1"), 7),
+        ("tool_select", None, 8),
+        ("digital_output_on", Some("M64 P3"), 8),
+        ("tool_change", None, 8),
+        ("coolant_flood", None, 9),
+        ("user_m_code", Some("M101 P4 Q5"), 9),
+    ];
+    let want: Vec<(String, Option<String>, u32)> = want
+        .iter()
+        .map(|(n, w, l)| (n.to_string(), w.map(str::to_owned), *l))
+        .collect();
+    assert_eq!(got, want);
+    assert!(
+        c.warnings.is_empty(),
+        "their words are used: {:?}",
+        c.warnings
+    );
+}
+
+/// E is a word of M66–M68 only; two I/O codes in one block conflict, as in rs274.
+#[test]
+fn e_words_and_io_conflicts() {
+    assert_eq!(errors("G21 F100\nG1 X1 E3\nM2\n"), [("unknown_word", 2, 7)]);
+    assert_eq!(
+        errors("G21 F100\nG1 X1\nM64 P1 E2\nM2\n"),
+        [("unknown_word", 3, 8)]
+    );
+    assert_eq!(
+        errors("G21 F100\nG1 X1\nM62 M64 P2\nM2\n"),
+        [("conflicting_modes", 3, 5)]
+    );
+}
+
+/// G6.2 and G71.1/G71.2 are features pvtc does not run, not unknown codes.
+#[test]
+fn g6_2_and_g71_1_are_unsupported() {
+    let c = compile(
+        "G21 F100\nG1 X1\nG6.2 X2\nG71.1 X3 Z-1\nG71.2 X1\nM2\n",
+        &Default::default(),
+    );
+    let found: Vec<_> = c
+        .expect_err("refused")
+        .diagnostics
+        .iter()
+        .map(|d| (d.code(), d.to_string()))
+        .collect();
+    assert_eq!(found.len(), 2, "{found:?}");
+    assert!(found
+        .iter()
+        .all(|(code, _)| *code == "pvtc::gcode::unsupported"));
+    assert!(found[0].1.contains("G6.2 (splines and NURBS)"), "{found:?}");
+    assert!(found[1].1.contains("G71.1 (lathe cycles)") && found[1].1.contains("2 places"));
+}
+
+/// Counts what a front end hands on, keeping nothing.
+#[derive(Default)]
+struct Count {
+    elements: u64,
+    turns: f64,
+}
+
+impl pvt_gcode::ToolpathSink for Count {
+    fn element(&mut self, _: pvt_core::Motion, element: &pvt_core::Element) {
+        self.elements += 1;
+        if let pvt_core::ElementKind::Arc(arc) = element.kind {
+            let sweep = arc.sweep(&element.start, &element.end).sweep;
+            self.turns += sweep.abs() / std::f64::consts::TAU;
+        }
+    }
+    fn end_contour(&mut self) {}
+    fn event(&mut self, _: &pvt_core::EventKind, _: u32) {}
+}
+
+/// An arc of many turns is handed on a turn at a time (so the planner's window bounds
+/// the memory), each turn a full circle from the start's ray, the last one ending at the
+/// programmed end; the turns add up to P.
+#[test]
+fn an_arc_of_many_turns_is_handed_on_a_turn_at_a_time() {
+    let mut count = Count::default();
+    let source = "G21 F600\nG1 X5\nG2 X0 Y5 I-5 J0 Z-7 P1000\nM2\n";
+    pvt_gcode::compile_into(source, &Default::default(), &mut count).expect("compiles");
+    assert_eq!(count.elements, 1 + 1000);
+    // 999 full turns and three quarters (clockwise from 0° to 90°).
+    assert!((count.turns - 999.75).abs() < 1e-6, "{}", count.turns);
+    let c = ok("G21 F600\nG1 X5\nG2 X0 Y5 I-5 J0 Z-7 P1000\nM2\n");
+    let arcs = &c.toolpath.contours[0].elements[1..];
+    assert_eq!(arcs[0].start, [5.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+    assert_eq!(arcs[999].end, [0.0, 5.0, -7.0, 0.0, 0.0, 0.0]);
+    for pair in arcs.windows(2) {
+        assert_eq!(pair[0].end, pair[1].start, "the turns join");
+    }
+    // The height rises linearly with angle: 7 mm over 999.75 turns.
+    let per_turn = 7.0 / 999.75;
+    assert!(
+        (arcs[0].end[2] + per_turn).abs() < 1e-12,
+        "{:?}",
+        arcs[0].end
+    );
+}
+
+/// More turns than a block (P) or a run may make is `turn_limit`, never hours of work.
+#[test]
+fn arc_turns_are_bounded_per_block_and_per_run() {
+    assert_eq!(
+        errors("G21 F600\nG1 X5\nG2 X5 Y0 I-5 J0 P1000001\nM2\n"),
+        [("turn_limit", 3, 17)]
+    );
+    let looped = "G21 F600\nG1 X5\no1 repeat [11]\nG2 X5 Y0 I-5 J0 P1000000\no1 endrepeat\nM2\n";
+    let mut count = Count::default();
+    let refused = pvt_gcode::compile_into(looped, &Default::default(), &mut count);
+    let codes: Vec<_> = refused
+        .expect_err("refused")
+        .diagnostics
+        .iter()
+        .map(|d| (d.code(), d.to_string()))
+        .collect();
+    assert_eq!(codes.len(), 1, "{codes:?}");
+    assert_eq!(codes[0].0, "pvtc::gcode::turn_limit");
+    assert!(codes[0].1.contains("10000000 turns in all"), "{codes:?}");
+    assert_eq!(count.elements, 1 + pvt_gcode::MAX_TOTAL_ARC_TURNS);
+}

@@ -1,0 +1,108 @@
+//! Issue 24 through the command line: what real CAM output and LinuxCNC's programs need
+//! beyond the motion `tests/dialect/` compares with `rs274` (line numbers of files with
+//! odd line ends, `%` lines, a missing program end, HAL pins, I/O events, probing,
+//! grouped diagnostics, arc turns).
+
+mod common;
+
+use common::{pvtc_bytes, text};
+
+/// Every diagnostic of a run as (code, line), from `--diagnostics json`.
+fn diagnostics(args: &[&str], program: &[u8]) -> (bool, Vec<(String, u64)>) {
+    let mut all = vec![
+        "compile",
+        "-",
+        "--format",
+        "toolpath",
+        "--diagnostics",
+        "json",
+    ];
+    all.extend_from_slice(&["-o", "/dev/null"]);
+    all.extend_from_slice(args);
+    let out = pvtc_bytes(&all, program);
+    let found = text(&out.stderr)
+        .lines()
+        .filter(|l| l.starts_with('{'))
+        .map(|l| serde_json::from_str::<serde_json::Value>(l).expect("JSON"))
+        .map(|d| {
+            let code = d["code"].as_str().unwrap_or_default().to_owned();
+            (code, d["line"].as_u64().unwrap_or(0))
+        })
+        .collect();
+    (out.status.success(), found)
+}
+
+/// CR CR LF line ends (PyCAM 0.5) are one line end: no `\r` word, and a diagnostic names
+/// the line it is on, in the JSON and in the rendered excerpt.
+#[test]
+fn cr_cr_lf_lines_are_read_and_counted_as_lines() {
+    let program = b"G21 G90\r\r\nG1 X1 F100\r\r\nG1 X2 Q\r\r\nM2\r\r\n";
+    let (ok, found) = diagnostics(&[], program);
+    assert!(!ok);
+    assert_eq!(found, [("pvtc::gcode::syntax".to_owned(), 3)]);
+    let out = pvtc_bytes(&["compile", "-", "-o", "/dev/null"], program);
+    assert!(
+        text(&out.stderr).contains("<stdin>:3:7"),
+        "{}",
+        text(&out.stderr)
+    );
+    let (ok, found) = diagnostics(&[], b"G21 G90\r\r\nG1 X1 F100\r\r\nM2\r\r\n");
+    assert!(
+        ok && found.iter().all(|(c, _)| !c.contains("unknown_word")),
+        "{found:?}"
+    );
+}
+
+/// A file that ends without M2, M30 or `%` warns (`no_program_end`, at its last line),
+/// so `--deny-warnings` refuses it; with M2 it compiles silently.
+#[test]
+fn a_missing_program_end_is_a_warning_that_deny_warnings_refuses() {
+    let program = b"G21 G90 F300\nG1 X5 Y2\nG1 X10\n";
+    let (ok, found) = diagnostics(&[], program);
+    assert!(ok);
+    assert!(
+        found.contains(&("pvtc::gcode::no_program_end".to_owned(), 3)),
+        "{found:?}"
+    );
+    let (ok, _) = diagnostics(&["--deny-warnings"], program);
+    assert!(!ok, "--deny-warnings refuses a program without its end");
+    let (ok, found) = diagnostics(&["--deny-warnings"], b"G21 G90 F300\nG1 X5 Y2\nM2\n");
+    assert!(ok, "{found:?}");
+}
+
+/// A `%` line that neither opens nor closes the program is an error at that line, as
+/// rs274 stops there; a program opened with `%` ends at its closing `%`.
+#[test]
+fn a_percent_line_mid_program_is_an_error_at_its_line() {
+    let program = b"G21 G90 F300\nG1 X5 Y2\n% vfd enable\nG1 X10\nM2\n";
+    let (ok, found) = diagnostics(&[], program);
+    assert!(!ok);
+    assert_eq!(found, [("pvtc::gcode::percent_line".to_owned(), 3)]);
+    let (ok, found) = diagnostics(&["--deny-warnings"], b"\n%\nG21 G1 X5 F300\n%\n");
+    assert!(ok, "{found:?}");
+    let (_, found) = diagnostics(&[], b"%\nG21 G1 X5 F300\n");
+    assert!(
+        found.contains(&("pvtc::gcode::no_program_end".to_owned(), 2)),
+        "{found:?}"
+    );
+}
+
+/// Each unsupported feature is its own diagnostic with its own message and count, not
+/// merged under the first feature's message; E on M67 is read.
+#[test]
+fn unsupported_features_are_reported_one_per_feature() {
+    let program =
+        b"G21 G1 X1 F100\nM61 Q1\nM61 Q2\nG6.2 X1\nG1 X#<_hal[motion.x]>\nM67 E0 Q2\nM2\n";
+    let out = pvtc_bytes(&["compile", "-", "--format", "toolpath"], program);
+    let err = text(&out.stderr);
+    let heads: Vec<&str> = err.lines().filter(|l| l.contains("× ")).collect();
+    assert_eq!(heads.len(), 3, "{err}");
+    assert!(heads[0].contains("M61 (setting the current tool)"), "{err}");
+    assert!(heads[1].contains("G6.2 (splines and NURBS)"), "{err}");
+    assert!(heads[2].contains("HAL pins"), "{err}");
+    assert!(err.contains("(2 places;"), "{err}");
+    assert!(
+        !err.contains("more like it") && !err.contains("unknown word"),
+        "{err}"
+    );
+}
