@@ -112,6 +112,32 @@ enum Held {
     Event(EventKind, u32),
 }
 
+/// The corner before a move, as the tool meets it.
+#[derive(Debug, Clone, Copy)]
+struct LineCorner {
+    /// How far the path turns at the corner, towards the tool's side (radians, −π/2…3π/2
+    /// on arcs): below 0 an inside corner, above it an outside one.
+    turn: f64,
+    /// Lines: the direction back along the last move from the tool; arcs: the direction
+    /// square to the last move, away from the tool.
+    back: f64,
+    /// The direction from the programmed path to the tool at the corner, for the move.
+    aside: f64,
+    /// The tool's centre at the corner.
+    c: [f64; 2],
+}
+
+/// How the tool passes a programmed corner.
+#[derive(Debug, Clone, Copy)]
+enum Join {
+    /// An outside corner: an arc about it.
+    Round,
+    /// An inside corner: the held moves end at this point.
+    Cut([f64; 2]),
+    /// Straight on (within the corner angle).
+    Straight,
+}
+
 /// A programmed move handed to [`Compensation::feed`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Programmed {
@@ -323,63 +349,61 @@ impl Compensation {
                 radius: self.radius,
             });
         }
-        let center = arc.center;
+        let (end, center) = self.entry_arc_geometry(c, p, arc.center, turn)?;
+        if self.has_nose_offset() {
+            // The tool's point moves to where the nose radius' centre stands first.
+            let straight = Programmed {
+                kind: ElementKind::Line,
+                motion: Motion::Feed,
+                ..step
+            };
+            let direction = [0.0; 2];
+            self.hold(straight, self.tool, Shape::Line { direction });
+            self.endpoint = Some(c);
+        }
+        let shape = Shape::Arc {
+            center,
+            turn,
+            sweep: find_sweep(c, center, turn, end),
+        };
+        let kind = ElementKind::Arc(Arc { center, ..arc });
+        self.hold(
+            Programmed { kind, ..step },
+            self.placed(step.end, end),
+            shape,
+        );
+        Ok(())
+    }
+
+    /// The end and centre of the entry arc from the tool at `c` towards the arc about
+    /// `center` ending at `p`: it ends one radius aside of `p`, its centre on the line from
+    /// there towards `center`, as far from the tool as from the end.
+    fn entry_arc_geometry(
+        &self,
+        c: [f64; 2],
+        p: [f64; 2],
+        center: [f64; 2],
+        turn: i32,
+    ) -> Result<([f64; 2], [f64; 2]), Gouge> {
+        let too_large = Gouge::ToolLargerThanArc {
+            radius: self.radius,
+        };
         let inside = self.side.inside(turn);
         if inside && distance(center, c) <= self.radius {
-            return Err(Gouge::ToolLargerThanArc {
-                radius: self.radius,
-            });
+            return Err(too_large);
         }
         let gamma = match inside {
             true => angle(p, center),
             false => angle(center, p),
         };
         let end = along(p, gamma, self.radius);
-        // The new centre lies on the line from the end towards the programmed centre, as
-        // far from the tool as from the end.
         let half_chord = distance(c, end) / 2.0;
         let towards_center = angle(end, center);
-        let corner = angle(end, c) - towards_center;
-        let cos = libm::cos(corner);
+        let cos = libm::cos(angle(end, c) - towards_center);
         if cos.abs() < 1e-4 {
-            return Err(Gouge::ToolLargerThanArc {
-                radius: self.radius,
-            });
+            return Err(too_large);
         }
-        let new_center = along(end, towards_center, half_chord / cos);
-        if self.has_nose_offset() {
-            // The tool's point moves to where the nose radius' centre stands first.
-            let to = self.tool;
-            let straight = Programmed {
-                kind: ElementKind::Line,
-                motion: Motion::Feed,
-                ..step
-            };
-            self.hold(
-                straight,
-                to,
-                Shape::Line {
-                    direction: [0.0; 2],
-                },
-            );
-            self.endpoint = Some(c);
-        }
-        let sweep = find_sweep(c, new_center, turn, end);
-        let arc = Arc {
-            center: new_center,
-            ..arc
-        };
-        let step = Programmed {
-            kind: ElementKind::Arc(arc),
-            ..step
-        };
-        let shape = Shape::Arc {
-            center: new_center,
-            turn,
-            sweep,
-        };
-        self.hold(step, self.placed(step.end, end), shape);
-        Ok(())
+        Ok((end, along(end, towards_center, half_chord / cos)))
     }
 
     /// A straight move after the first: one radius aside of the programmed line, joined to
@@ -389,21 +413,40 @@ impl Compensation {
         let c = self.point(&self.tool);
         let op = self.point(&self.programmed);
         let p = self.point(&step.end);
+        let direction = [p[0] - op[0], p[1] - op[1]];
         if p == op {
             // No motion in the plane: the tool moves along the normal axis where it is.
-            let end = self.placed(step.end, c);
-            self.hold(
-                step,
-                end,
-                Shape::Line {
-                    direction: [0.0; 2],
-                },
-            );
+            self.hold(step, self.placed(step.end, c), Shape::Line { direction });
             return Ok(());
         }
+        let corner = self.line_corner(c, op, p);
+        let aside = corner.aside;
+        match self.line_join(corner, op, p)? {
+            Join::Round => {
+                self.move_end_and_release(c, out)?;
+                self.round_corner(&step, op, along(op, aside, self.radius), out);
+            }
+            Join::Cut(at) => self.move_end_and_release(at, out)?,
+            Join::Straight => {
+                self.release(out);
+                self.endpoint = Some(c);
+            }
+        }
+        let end = self.placed(step.end, along(p, aside, self.radius));
+        let step = Programmed {
+            kind: ElementKind::Line,
+            ..step
+        };
+        self.hold(step, end, Shape::Line { direction });
+        Ok(())
+    }
+
+    /// The corner between the tool's last move (ending at `c`, about the programmed point
+    /// `op`) and a line from `op` to `p`.
+    fn line_corner(&self, c: [f64; 2], op: [f64; 2], p: [f64; 2]) -> LineCorner {
         let mut theta = angle(op, c);
         let mut alpha = angle(op, p);
-        let (beta, gamma) = match self.side {
+        let (turn, gamma) = match self.side {
             Side::Left => {
                 if theta < alpha {
                     theta += TAU;
@@ -417,70 +460,73 @@ impl Compensation {
                 (alpha - theta - FRAC_PI_2, -FRAC_PI_2)
             }
         };
-        let end = along(p, alpha + gamma, self.radius);
-        let mid = along(op, alpha + gamma, self.radius);
+        LineCorner {
+            turn,
+            back: theta + gamma,
+            aside: alpha + gamma,
+            c,
+        }
+    }
+
+    /// How a line joins the held move: round an outside corner, cut an inside one, or
+    /// run straight on.
+    fn line_join(&self, corner: LineCorner, op: [f64; 2], p: [f64; 2]) -> Result<Join, Gouge> {
+        let beta = corner.turn;
         let front_arc = self.front_arc();
         let over_round = front_arc.is_some_and(|(_, turn, _)| !self.side.inside(turn));
         let concave = !(-CORNER_ANGLE..=PI + CORNER_ANGLE).contains(&beta)
             || (beta > PI - CORNER_ANGLE && over_round);
-        if !concave && beta > CORNER_ANGLE {
-            self.move_end_and_release(c, out)?;
-            let corner_end = self.corner_end(&step.end, mid);
-            let kind = match step.motion {
-                // No rapid arc: a straight rapid to the arc's end, nearly along the path.
-                Motion::Rapid => (
-                    ElementKind::Line,
-                    Shape::Line {
-                        direction: [0.0; 2],
-                    },
-                ),
-                Motion::Feed => {
-                    let arc = self.corner_arc(op);
-                    let turn = turns(&arc);
-                    let shape = Shape::Arc {
-                        center: op,
-                        turn,
-                        sweep: 0.0,
-                    };
-                    (ElementKind::Arc(arc), shape)
-                }
-            };
-            let corner = Programmed {
-                kind: kind.0,
-                ..step
-            };
-            self.hold(corner, corner_end, kind.1);
-            self.release(out);
-            self.endpoint = Some(mid);
-        } else if concave {
-            let cut = match front_arc {
-                None => {
-                    let half_corner = (beta + PI) / 2.0;
-                    if half_corner == 0.0 {
-                        return Err(Gouge::ConcaveCorner("a zero degree inside corner"));
-                    }
-                    let retreat = self.radius / libm::tan(half_corner);
-                    along(c, theta + gamma, retreat)
-                }
-                Some((center, turn, end)) => self.arc_to_line_corner(op, p, center, turn, end)?,
-            };
-            self.move_end_and_release(cut, out)?;
-        } else {
-            self.release(out);
-            self.endpoint = Some(c);
+        if !concave {
+            return Ok(if beta > CORNER_ANGLE {
+                Join::Round
+            } else {
+                Join::Straight
+            });
         }
-        let end_position = self.placed(step.end, end);
-        self.hold(
-            Programmed {
-                kind: ElementKind::Line,
-                ..step
-            },
-            end_position,
-            Shape::Line {
-                direction: [p[0] - op[0], p[1] - op[1]],
-            },
-        );
-        Ok(())
+        let cut = match front_arc {
+            None => {
+                let half_corner = (beta + PI) / 2.0;
+                if half_corner == 0.0 {
+                    return Err(Gouge::ConcaveCorner("a zero degree inside corner"));
+                }
+                along(corner.c, corner.back, self.radius / libm::tan(half_corner))
+            }
+            Some((center, turn, end)) => self.arc_to_line_corner(op, p, center, turn, end)?,
+        };
+        Ok(Join::Cut(cut))
+    }
+
+    /// Takes the tool around the outside corner at `op` to `mid`: an arc about the
+    /// corner, or a straight rapid (there is no rapid arc); nothing else is held.
+    fn round_corner(
+        &mut self,
+        step: &Programmed,
+        op: [f64; 2],
+        mid: [f64; 2],
+        out: &mut Vec<Released>,
+    ) {
+        let end = self.corner_end(&step.end, mid);
+        let (kind, shape) = match step.motion {
+            Motion::Rapid => (
+                ElementKind::Line,
+                Shape::Line {
+                    direction: [0.0; 2],
+                },
+            ),
+            Motion::Feed => {
+                let arc = self.corner_arc(op);
+                let turn = turns(&arc);
+                let shape = Shape::Arc {
+                    center: op,
+                    turn,
+                    sweep: 0.0,
+                };
+                (ElementKind::Arc(arc), shape)
+            }
+        };
+        self.hold(Programmed { kind, ..*step }, end, shape);
+        self.release(out);
+        self.endpoint = Some(mid);
     }
 
     /// The arc about the programmed corner `op` that takes the tool around an outside
@@ -544,16 +590,50 @@ impl Compensation {
         let c = self.point(&self.tool);
         let op = self.point(&self.programmed);
         let p = self.point(&step.end);
-        let center = arc.center;
-        let turn = turns(&arc);
-        let r = self.radius;
+        let (center, turn) = (arc.center, turns(&arc));
         let arc_radius = distance(center, p);
+        let inside = self.side.inside(turn);
+        if inside && arc_radius <= self.radius {
+            return Err(Gouge::ToolLargerThanArc {
+                radius: self.radius,
+            });
+        }
+        let corner = self.arc_corner(c, op, center, turn);
+        match self.arc_join(&corner, center, turn, arc_radius)? {
+            Join::Round => {
+                self.release(out);
+                self.round_corner(&step, op, along(op, corner.aside, self.radius), out);
+            }
+            Join::Cut(at) => self.move_end_and_release(at, out)?,
+            Join::Straight => {
+                self.release(out);
+                self.endpoint = Some(c);
+            }
+        }
+        let gamma = if inside {
+            angle(p, center)
+        } else {
+            angle(center, p)
+        };
+        let new_end = along(p, gamma, self.radius);
+        let shape = Shape::Arc {
+            center,
+            turn,
+            sweep: find_sweep(op, center, turn, p),
+        };
+        self.hold(step, self.placed(step.end, new_end), shape);
+        Ok(())
+    }
+
+    /// The corner between the tool's last move (ending at `c`, about the programmed point
+    /// `op`) and an arc about `center` turning `turn`.
+    fn arc_corner(&self, c: [f64; 2], op: [f64; 2], center: [f64; 2], turn: i32) -> LineCorner {
         let theta = angle(op, c)
             + match self.side {
                 Side::Left => -FRAC_PI_2,
                 Side::Right => FRAC_PI_2,
             };
-        let mut delta = angle(op, center);
+        let delta = angle(op, center);
         let alpha = if turn > 0 {
             delta - FRAC_PI_2
         } else {
@@ -568,57 +648,45 @@ impl Compensation {
         } else if beta < -FRAC_PI_2 {
             beta += TAU;
         }
-        let inside = self.side.inside(turn);
-        let gamma = if inside {
-            if arc_radius <= r {
-                return Err(Gouge::ToolLargerThanArc {
-                    radius: self.radius,
-                });
-            }
-            angle(p, center)
+        // The tool stands towards the centre when inside the arc, away from it outside.
+        let aside = if self.side.inside(turn) {
+            delta
         } else {
-            delta += PI;
-            angle(center, p)
+            delta + PI
         };
-        let new_end = along(p, gamma, r);
-        let sweep = find_sweep(op, center, turn, p);
-        let concave = !(-CORNER_ANGLE..=PI + CORNER_ANGLE).contains(&beta)
-            || ((beta - PI).abs() < CORNER_ANGLE && !inside);
-        if concave {
-            let cut = match self.front_arc() {
-                None => self.line_to_arc_corner(beta, theta, center, turn, arc_radius)?,
-                Some((old_center, old_turn, old_end)) => {
-                    self.arc_to_arc_corner(center, turn, arc_radius, old_center, old_turn, old_end)?
-                }
-            };
-            self.move_end_and_release(cut, out)?;
-        } else if beta > CORNER_ANGLE {
-            let mid = along(op, delta, r);
-            self.release(out);
-            let corner = self.corner_arc(op);
-            let corner_step = Programmed {
-                kind: ElementKind::Arc(corner),
-                ..step
-            };
-            let shape = Shape::Arc {
-                center: op,
-                turn: turns(&corner),
-                sweep: 0.0,
-            };
-            self.hold(corner_step, self.corner_end(&step.end, mid), shape);
-            self.release(out);
-            self.endpoint = Some(mid);
-        } else {
-            self.release(out);
-            self.endpoint = Some(c);
+        LineCorner {
+            turn: beta,
+            back: theta,
+            aside,
+            c,
         }
-        let shape = Shape::Arc {
-            center,
-            turn,
-            sweep,
+    }
+
+    /// How an arc joins the held move (see [`Self::line_join`]).
+    fn arc_join(
+        &self,
+        corner: &LineCorner,
+        center: [f64; 2],
+        turn: i32,
+        arc_radius: f64,
+    ) -> Result<Join, Gouge> {
+        let beta = corner.turn;
+        let concave = !(-CORNER_ANGLE..=PI + CORNER_ANGLE).contains(&beta)
+            || ((beta - PI).abs() < CORNER_ANGLE && !self.side.inside(turn));
+        if !concave {
+            return Ok(if beta > CORNER_ANGLE {
+                Join::Round
+            } else {
+                Join::Straight
+            });
+        }
+        let cut = match self.front_arc() {
+            None => self.line_to_arc_corner(beta, corner.back, center, turn, arc_radius)?,
+            Some((old_center, old_turn, old_end)) => {
+                self.arc_to_arc_corner(center, turn, arc_radius, old_center, old_turn, old_end)?
+            }
         };
-        self.hold(step, self.placed(step.end, new_end), shape);
-        Ok(())
+        Ok(Join::Cut(cut))
     }
 
     /// Where the held line meets the offset arc at an inside corner.

@@ -321,7 +321,10 @@ impl<'a> Interpreter<'a> {
                 self.event(EventKind::Pause { optional }, block.line);
                 Flow::Continue
             }
-            Some((Stop::End, word)) => Flow::End(word),
+            Some((Stop::End, word)) => {
+                self.finish_compensation(word.span());
+                Flow::End(word)
+            }
             None => Flow::Continue,
         }
     }
@@ -336,7 +339,7 @@ impl<'a> Interpreter<'a> {
 
     /// Ends the last contour; the summary, or every error in source order.
     pub fn finish(mut self) -> Result<StreamSummary, GcodeErrors> {
-        self.finish_compensation();
+        self.finish_compensation(0..0);
         self.end_contour();
         if self.errors.is_empty() && !self.moved {
             self.errors

@@ -350,6 +350,18 @@ fn refusals_have_their_codes_at_their_lines() {
             ("compensation_conflict", 6),
         ),
         ("G41.1 D4\nG1 X0 Y0\nG19\n", ("compensation_conflict", 5)),
+        ("G41.1 D4\nG1 X0 Y0\nG55\n", ("compensation_conflict", 5)),
+        ("G41.1 D4\nG1 X0 Y0\nT5 M6\n", ("compensation_conflict", 5)),
+        ("G41.1 D4\nG1 X0 Y0\nG43 H5\n", ("compensation_conflict", 5)),
+        (
+            "G41.1 D4\nG1 X0 Y0\nG53 G0 X0\n",
+            ("compensation_conflict", 5),
+        ),
+        ("G41.1 D4\nG1 X0 Y0\nG28\n", ("compensation_conflict", 5)),
+        (
+            "G41.1 D4\nG1 X0 Y0\nG81 X1 Y1 Z-1 R1\n",
+            ("compensation_conflict", 5),
+        ),
         ("G19 G41.1 D4\n", ("compensation_conflict", 3)),
         ("G41.1\n", ("missing_word", 3)),
         ("G41 D7\n", ("unknown_tool", 3)),

@@ -274,14 +274,15 @@ impl Interpreter<'_> {
         None
     }
 
-    /// The end of the program: held moves are released as G40 releases them.
-    pub(super) fn finish_compensation(&mut self) {
+    /// The end of the program (M2/M30 at `at`, or the end of the text): held moves are
+    /// released as G40 releases them.
+    pub(super) fn finish_compensation(&mut self, at: std::ops::Range<usize>) {
         if let Some(compensation) = self.cutter.active.take() {
             let mut out = Vec::new();
             let result = compensation.finish(&mut out);
             self.deliver(out);
             if let Err(gouge) = result {
-                self.report_gouge(gouge, 0..0);
+                self.report_gouge(gouge, at);
             }
         }
     }
