@@ -27,9 +27,13 @@ fn golden_name(sample: &str, format: Format) -> String {
     format!("tests/golden/{kind}/{stem}.{}", format.extension())
 }
 
-/// The options a sample is compiled with: defaults, and for drawings a feed of 1200.
+/// The options a sample is compiled with: defaults, for drawings a feed of 1200, and for
+/// formats written in counts 1000 counts per unit on every axis.
 fn options_for(sample: &str, format: Format) -> CompileOptions {
     let mut options = CompileOptions::new(format);
+    if format.caps().scaled {
+        options.counts_per_unit = pvt_core::Axis::ALL.iter().map(|a| (*a, 1000.0)).collect();
+    }
     if sample.ends_with(".dxf") {
         options.input = pvtc::InputKind::Dxf;
         options.feed = Some(1200.0);
@@ -658,7 +662,7 @@ fn pmac_settings_and_event_commands_follow_the_pmac_grammar() {
             "SEND\"check 'it'\" ; message from line 6",
             "STOP ; pause from line 7",
             "DWELL500.0000 ; G4 from line 8",
-            "PVT1507.4813",
+            "PVT1508.0000",
             "M01 ; optional_pause from line 10",
             "M05 ; spindle_off from line 11",
             "M09 ; coolant_off from line 11",

@@ -203,6 +203,24 @@ pub const TIME_DECIMALS: usize = 4;
 /// PVT time range under `I42 = 0` (0–4095.9998 ms; `I42 = 1` allows more).
 pub const MAX_PIECE_SECONDS: f64 = 4.095;
 
+/// Turbo PMAC's rules: piece times in whole milliseconds (`TA` rounds to them, seed 003),
+/// so `--quantize` is 1 ms by default; none under 0.5 ms (which `TA` would round to no
+/// time at all) or over [`MAX_PIECE_SECONDS`]; absolute positions in program units.
+pub const CAPS: crate::rules::Caps = crate::rules::Caps {
+    controller: "Turbo PMAC",
+    time_quantum: Some(0.001),
+    quantum_required: false,
+    default_quantum: Some(0.001),
+    min_piece_seconds: 0.0005,
+    max_piece_seconds: Some(MAX_PIECE_SECONDS),
+    positions: crate::rules::Positions::Absolute,
+    position_unit: "program units",
+    velocity_unit: "program units/s (Ix90 = 1000)",
+    scaled: false,
+    buffer_depth: None,
+    verifies: false,
+};
+
 /// Bytes of text gathered before they are written.
 const LINE_BATCH: usize = 64 * 1024;
 
@@ -372,8 +390,8 @@ impl<W: Write> ProgramWriter for PmacWriter<W> {
         self.flush_line()
     }
 
-    fn max_piece_seconds(&self) -> Option<f64> {
-        Some(MAX_PIECE_SECONDS)
+    fn caps(&self) -> crate::rules::Caps {
+        crate::Format::Pmac.caps()
     }
 
     fn finish(&mut self) -> io::Result<()> {
