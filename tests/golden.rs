@@ -620,6 +620,7 @@ fn pmac_settings_and_event_commands_follow_the_pmac_grammar() {
             .map(|d| pvt_emit::AxisDefinition::parse(d).unwrap())
             .collect(),
         events: pvt_emit::PmacEvents::Commands,
+        rotary: None,
     };
     let out = String::from_utf8(pvtc::compile(&source, &options).unwrap().bytes).unwrap();
     let (grammar, lines) = pmac_grammar();
@@ -865,4 +866,28 @@ fn streaming_rewrites_when_the_prescan_guess_is_wrong() {
             "{name}"
         );
     }
+}
+
+#[test]
+fn a_rotary_pmac_program_follows_the_pmac_grammar_with_the_same_moves() {
+    let sample = "samples/gcode/linuxcnc_helix.ngc";
+    let mut options = options_for(sample, Format::Pmac);
+    options.pmac.rotary = Some(4000);
+    let text = String::from_utf8(compile_file(sample, &options)).unwrap();
+    let (grammar, lines) = pmac_grammar();
+    assert!(grammar.matches("program", &text), "{text}");
+    for line in text.lines() {
+        assert!(pmac_line_matches_grammar(&grammar, &lines, line), "{line}");
+    }
+    assert!(text.contains("\n&1\nDEFINE ROT 4000\nB0\nOPEN ROT\nCLEAR\nABS\n"));
+    assert!(!text.contains("OPEN PROG"));
+    let plain =
+        String::from_utf8(compile_file(sample, &options_for(sample, Format::Pmac))).unwrap();
+    let moves = |t: &str| -> Vec<String> {
+        t.lines()
+            .filter(|l| l.starts_with("TA") || l.starts_with("PVT") || l.starts_with("DWELL"))
+            .map(str::to_owned)
+            .collect()
+    };
+    assert_eq!(moves(&text), moves(&plain));
 }

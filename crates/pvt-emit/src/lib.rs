@@ -4,7 +4,8 @@
 //! as C source ([`movepvt`]), the versioned pvtc JSON document ([`json`]), the Newport
 //! XPS trajectory file ([`xps`]), Galil PV commands ([`galil`]), Zaber ASCII PVT commands
 //! ([`zaber`]), Power PMAC PVT program text ([`powerpmac`]) and a CSV table ([`table`]),
-//! each controller's rules in one table ([`Format::caps`], checked by [`rules`]), and the
+//! each controller's rules in one table ([`Format::caps`], checked by [`rules`]), the
+//! readers of what they emit for `pvtc check` ([`readback`]), and the
 //! interpreted toolpath before planning as JSON lines ([`toolpath`]). Each back end of
 //! motion is a [`ProgramWriter`] fed one piece at a time ([`stream`]), so output of any length goes
 //! out in constant memory; [`Checked`] validates every value before a back end sees it,
@@ -21,6 +22,7 @@ mod number;
 pub mod plot;
 pub mod pmac;
 pub mod powerpmac;
+pub mod readback;
 pub mod rules;
 pub mod stream;
 pub mod table;

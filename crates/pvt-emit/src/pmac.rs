@@ -22,7 +22,11 @@
 //!   (`pvt_core::split`) and [`crate::Checked`] refuses any that reaches this writer.
 //!
 //! Every contour starts and ends at rest; consecutive contours chain, so the whole program
-//! is one `OPEN PROG n CLEAR … CLOSE` block ([`PmacSettings::program`], 1 by default).
+//! is one `OPEN PROG n CLEAR … CLOSE` block ([`PmacSettings::program`], 1 by default), or
+//! with [`PmacSettings::rotary`] the coordinate system's rotary buffer (`DEFINE ROT n`,
+//! `B0`, `OPEN ROT`, `CLEAR` … `CLOSE`, then `R`), which the host streams as it empties:
+//! a program of any length in a buffer of fixed size (Turbo PMAC User Manual, "Rotary
+//! Motion Program Buffers"; PMAC Software Reference, `OPEN ROTARY`, `DEFINE ROTARY`).
 //! With [`PmacSettings::coord`] the block is preceded by the on-line commands that address
 //! the coordinate system (`&1`) and define its axes (`#1->1000X`).
 //!
@@ -127,6 +131,8 @@ pub struct PmacSettings {
     pub axes: Vec<AxisDefinition>,
     /// How events are written.
     pub events: PmacEvents,
+    /// A rotary buffer of this many words instead of `OPEN PROG`, streamed by the host.
+    pub rotary: Option<u32>,
 }
 
 impl Default for PmacSettings {
@@ -136,6 +142,7 @@ impl Default for PmacSettings {
             coord: None,
             axes: Vec::new(),
             events: PmacEvents::Comments,
+            rotary: None,
         }
     }
 }
@@ -305,13 +312,24 @@ impl<W: Write> ProgramWriter for PmacWriter<W> {
                 b"; events: PMAC commands; M-codes call PROG 1001, T-codes PROG 1002 (machine-specific)\n",
             );
         }
-        if let Some(cs) = pmac.coord {
+        if let Some(words) = pmac.rotary {
+            writeln!(
+                t,
+                "; rotary buffer of {words} words (one per value): no gather buffer may exist (DELETE GATHER);\n\
+                 ; send the lines after OPEN ROT as the buffer empties (PR: lines ahead; I16/I17: BREQ), then R"
+            )?;
+        }
+        // A rotary buffer belongs to a coordinate system: &1 unless one is given.
+        if let Some(cs) = pmac.coord.or(pmac.rotary.map(|_| 1)) {
             writeln!(t, "&{cs}")?;
             for def in &pmac.axes {
                 writeln!(t, "{def}")?;
             }
         }
-        writeln!(t, "OPEN PROG {} CLEAR\nABS", pmac.program)?;
+        match pmac.rotary {
+            Some(words) => writeln!(t, "DEFINE ROT {words}\nB0\nOPEN ROT\nCLEAR\nABS")?,
+            None => writeln!(t, "OPEN PROG {} CLEAR\nABS", pmac.program)?,
+        }
         self.flush_line()
     }
 

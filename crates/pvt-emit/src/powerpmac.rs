@@ -20,7 +20,8 @@
 //! `pvt` statement), other events are comments.
 //!
 //! Assumed, not found in the pages searched: Power PMAC's own PVT time range; none is
-//! assumed (no shortest or longest piece beyond a positive time).
+//! assumed (no shortest or longest piece beyond a positive time). `--quantize` defaults
+//! to 1 ms all the same ([`CAPS`]).
 
 use crate::lines::Lines;
 use crate::rules::{Caps, Positions};
@@ -28,12 +29,15 @@ use crate::stream::{Header, ProgramWriter};
 use pvt_core::{Axis, EventKind, Motion, ProgramEvent, SegmentRef};
 use std::io::{self, Write};
 
-/// Power PMAC's rules: absolute program units, any positive time.
+/// Power PMAC's rules: absolute program units, any positive time. `--quantize` defaults
+/// to 1 ms, pvtc's choice rather than the controller's: a piece of a few µs (a
+/// jerk-limited plan makes some) turns the 6-decimal rounding of its positions into
+/// accelerations far over the limits.
 pub const CAPS: Caps = Caps {
     controller: "Power PMAC",
     time_quantum: None,
     quantum_required: false,
-    default_quantum: None,
+    default_quantum: Some(0.001),
     min_piece_seconds: 0.0,
     max_piece_seconds: None,
     positions: Positions::Absolute,
@@ -91,9 +95,14 @@ impl<W: Write> ProgramWriter for PowerPmacWriter<W> {
         l.end_line()
     }
 
-    fn contour(&mut self, motion: Motion, _: &[f64]) -> io::Result<()> {
-        self.lines.str(&format!("// {} contour", motion.name()));
-        self.lines.end_line()
+    fn contour(&mut self, motion: Motion, start: &[f64]) -> io::Result<()> {
+        let l = &mut self.lines;
+        l.str(&format!("// {} contour from", motion.name()));
+        for (axis, p) in self.axes.iter().zip(start) {
+            l.str(&format!(" {axis}"));
+            l.fixed::<DECIMALS>(*p);
+        }
+        l.end_line()
     }
 
     fn segment(&mut self, seg: &SegmentRef<'_>) -> io::Result<()> {

@@ -36,12 +36,13 @@ use pvt_core::{EventKind, Motion, ProgramEvent, SegmentRef};
 use std::io::{self, Write};
 
 /// The XPS's rules: relative positions, verification of the whole trajectory, no time
-/// grid; the shortest element (100 µs) is assumed.
+/// grid of its own; the shortest element (100 µs) is assumed, and `--quantize` defaults to
+/// it so that shorter pieces (a jerk-limited plan makes some of a few µs) are merged.
 pub const CAPS: Caps = Caps {
     controller: "Newport XPS",
     time_quantum: None,
     quantum_required: false,
-    default_quantum: None,
+    default_quantum: Some(1e-4),
     min_piece_seconds: 1e-4,
     max_piece_seconds: None,
     positions: Positions::Relative,

@@ -156,7 +156,7 @@ pub struct PipelineArgs {
     #[arg(long, value_name = "A", value_parser = positive_number)]
     pub accel: Option<f64>,
     /// Make every piece time a whole multiple of this, e.g. 1ms, or `off` [default: the
-    /// output format's: pmac 1ms, galil 1/512 s (2 samples), zaber 0.1ms, others off].
+    /// output format's: pmac and powerpmac 1ms, xps 100us, galil 1/512 s (2 samples), zaber 0.1ms, others off].
     #[arg(long, value_name = "T|off", value_parser = quantum)]
     pub quantize: Option<Quantum>,
     /// Which way --quantize rounds piece times: up (never faster than planned) or
@@ -447,6 +447,11 @@ pub struct PmacArgs {
     /// counts per unit); repeatable; every moved axis then needs one. Needs --pmac-coord.
     #[arg(long = "pmac-axis", value_name = "#M->SA", requires = "coord", value_parser = pvt_emit::AxisDefinition::parse)]
     pub axes: Vec<pvt_emit::AxisDefinition>,
+    /// PMAC: write the program into the coordinate system's rotary buffer of this many
+    /// words (DEFINE ROT), streamed by the host, instead of OPEN PROG: for programs larger
+    /// than the controller's memory.
+    #[arg(long = "pmac-rotary", value_name = "WORDS", conflicts_with = "program", value_parser = clap::value_parser!(u32).range(1..))]
+    pub rotary: Option<u32>,
     /// PMAC: write events (spindle, coolant, tool, pause, message) as comments or as PMAC
     /// commands [default: comments].
     #[arg(long = "pmac-events", value_enum, value_name = "comments|commands")]
@@ -460,15 +465,16 @@ impl PmacArgs {
         let given = self.program.is_some()
             || self.coord.is_some()
             || !self.axes.is_empty()
-            || self.events.is_some();
+            || self.events.is_some()
+            || self.rotary.is_some();
         if given && format != FormatArg::Pmac {
             let name = format
                 .to_possible_value()
                 .map(|v| v.get_name().to_string())
                 .unwrap_or_default();
             return Err(Failure::Usage(format!(
-                "--pmac-program, --pmac-coord, --pmac-axis and --pmac-events do nothing with \
-                 --format {name}: they set up PMAC output"
+                "--pmac-program, --pmac-coord, --pmac-axis, --pmac-events and --pmac-rotary do \
+                 nothing with --format {name}: they set up PMAC output"
             )));
         }
         let settings = pvt_emit::PmacSettings {
@@ -479,6 +485,7 @@ impl PmacArgs {
                 Some(PmacEventsArg::Commands) => pvt_emit::PmacEvents::Commands,
                 Some(PmacEventsArg::Comments) | None => pvt_emit::PmacEvents::Comments,
             },
+            rotary: self.rotary,
         };
         settings.validate().map_err(Failure::Usage)?;
         Ok(settings)

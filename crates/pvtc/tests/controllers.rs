@@ -86,11 +86,11 @@ fn a_move_past_the_travel_limit_is_refused_at_its_line_in_every_format() {
 }
 
 #[test]
-fn lspb_pieces_under_the_xps_shortest_are_refused_or_merged_by_a_grid() {
+fn lspb_pieces_under_the_xps_shortest_are_merged_by_its_grid_or_refused_without() {
     let sample = "samples/gcode/grbl_r_arcs.ngc";
     let base = ["compile", sample, "--planner", "lspb", "--accel", "1e5"];
     let mut args = base.to_vec();
-    args.extend(["--format", "xps"]);
+    args.extend(["--format", "xps", "--quantize", "off"]);
     let o = pvtc(&args, None);
     assert_eq!(o.status.code(), Some(1));
     assert!(
@@ -98,13 +98,14 @@ fn lspb_pieces_under_the_xps_shortest_are_refused_or_merged_by_a_grid() {
         "{}",
         stderr(&o)
     );
-    args.extend(["--quantize", "1ms"]);
+    // By default the XPS output is on a grid of its shortest element, 100 µs.
+    let mut args = base.to_vec();
+    args.extend(["--format", "xps"]);
     let o = pvtc(&args, None);
     assert!(o.status.success(), "{}", stderr(&o));
-    // Each element read back lasts at least the XPS's 100 µs.
     for line in String::from_utf8(o.stdout).unwrap().lines() {
         let t: f64 = line.split(',').next().unwrap().trim().parse().unwrap();
-        assert!(t >= 1e-4, "{line}");
+        assert!(t >= 1e-4 * (1.0 - 1e-9), "{line}");
     }
 }
 
@@ -130,4 +131,38 @@ fn a_grid_the_galil_cannot_take_is_refused_and_off_is_no_grid() {
     );
     let o = pvtc(&["compile", "-", "--quantize", "2"], Some(PROGRAM));
     assert_eq!(o.status.code(), Some(2), "a bare number is a usage error");
+}
+
+#[test]
+fn check_reads_the_emitted_pmac_text_and_names_a_line_it_cannot_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("zigzag.pmac");
+    let out = out.display().to_string();
+    let o = pvtc(
+        &["compile", "samples/gcode/an208_zigzag.ngc", "-o", &out],
+        None,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    // The time the controller runs: the sum of the TA times in the text.
+    let text = std::fs::read_to_string(&out).unwrap();
+    let written: f64 = text
+        .lines()
+        .filter_map(|l| l.strip_prefix("TA"))
+        .map(|l| l.split(' ').next().unwrap().parse::<f64>().unwrap() / 1000.0)
+        .sum();
+    let o = pvtc(&["check", &out, "--json"], None);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let total = report["total_time"].as_f64().unwrap();
+    assert!((total - written).abs() < 1e-9, "{total} for {written}");
+    // A broken move line is refused with its line.
+    let line = text.lines().position(|l| l.starts_with("TA")).unwrap();
+    let mut lines: Vec<String> = text.lines().map(str::to_owned).collect();
+    lines[line] = lines[line].replacen(':', ":1x", 1);
+    std::fs::write(&out, lines.join("\n")).unwrap();
+    let o = pvtc(&["check", &out], None);
+    assert_eq!(o.status.code(), Some(1));
+    let e = stderr(&o);
+    assert!(e.contains("pvtc::check::read_back"), "{e}");
+    assert!(e.contains(&format!("line {}:", line + 1)), "{e}");
 }
