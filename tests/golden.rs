@@ -27,7 +27,8 @@ fn golden_name(sample: &str, format: Format) -> String {
     format!("tests/golden/{kind}/{stem}.{}", format.extension())
 }
 
-/// The options a sample is compiled with: defaults, for drawings a feed of 1200, and for
+/// The options a sample is compiled with: defaults, for drawings a feed of 1200, for
+/// series the input's default planner, and for
 /// formats written in counts 1000 counts per unit on every axis.
 fn options_for(sample: &str, format: Format) -> CompileOptions {
     let mut options = CompileOptions::new(format);
@@ -37,6 +38,10 @@ fn options_for(sample: &str, format: Format) -> CompileOptions {
     if sample.ends_with(".dxf") {
         options.input = pvtc::InputKind::Dxf;
         options.feed = Some(1200.0);
+    }
+    if sample.ends_with(".csv") {
+        options.input = pvtc::InputKind::Csv;
+        options.planner = options.input.default_planner();
     }
     options
 }
@@ -433,6 +438,13 @@ fn gcode_samples_match_their_golden_files() {
 fn gcode_samples_under_contour_are_exact_at_the_points_and_at_mid_segment() {
     for sample in samples("gcode", ".ngc") {
         check_motion(&sample);
+    }
+}
+
+#[test]
+fn csv_samples_match_their_golden_files() {
+    for sample in samples("csv", ".csv") {
+        check_golden(&sample);
     }
 }
 

@@ -28,7 +28,7 @@
 //! notes and Galil's command reference as remembered; the examples use even `t`), so the
 //! time quantum is 2 samples (1/512 s) and the longest piece 2 s.
 
-use crate::lines::{counts, scales, Lines};
+use crate::lines::{all_counts, scales, Lines};
 use crate::rules::{Caps, Positions};
 use crate::stream::{Header, ProgramWriter};
 use pvt_core::{EventKind, Motion, ProgramEvent, SegmentRef};
@@ -148,11 +148,7 @@ impl<W: Write> ProgramWriter for GalilWriter<W> {
     }
 
     fn contour(&mut self, motion: Motion, start: &[f64]) -> io::Result<()> {
-        let here: Vec<i64> = start
-            .iter()
-            .zip(&self.scales)
-            .map(|(p, s)| counts(*p, *s))
-            .collect();
+        let here = all_counts(start, &self.scales, 1.0);
         if !self.started {
             self.started = true;
             self.last = here.clone();
@@ -169,19 +165,9 @@ impl<W: Write> ProgramWriter for GalilWriter<W> {
     }
 
     fn segment(&mut self, seg: &SegmentRef<'_>) -> io::Result<()> {
-        let ends: Vec<i64> = seg
-            .end
-            .iter()
-            .zip(&self.scales)
-            .map(|(p, s)| counts(*p, *s))
-            .collect();
+        let ends = all_counts(seg.end, &self.scales, 1.0);
         let p: Vec<i64> = ends.iter().zip(&self.last).map(|(e, l)| e - l).collect();
-        let v: Vec<i64> = seg
-            .velocity
-            .iter()
-            .zip(&self.scales)
-            .map(|(v, s)| counts(*v, *s))
-            .collect();
+        let v = all_counts(seg.velocity, &self.scales, 1.0);
         self.last = ends;
         let samples = libm::round(seg.duration * SAMPLES_PER_SECOND) as i64;
         self.segment_counts(&p, &v, samples)

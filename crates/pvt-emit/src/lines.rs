@@ -119,6 +119,15 @@ pub(crate) fn scales(header: &Header<'_>) -> Vec<f64> {
 }
 
 /// `x` program units at `scale` counts per unit, to the nearest whole count.
-pub(crate) fn counts(x: f64, scale: f64) -> i64 {
+fn counts(x: f64, scale: f64) -> i64 {
     libm::round(x * scale) as i64
+}
+
+/// Every axis' value in whole counts at its scale times `factor`.
+pub(crate) fn all_counts(values: &[f64], scales: &[f64], factor: f64) -> Vec<i64> {
+    values
+        .iter()
+        .zip(scales)
+        .map(|(x, s)| counts(*x, s * factor))
+        .collect()
 }

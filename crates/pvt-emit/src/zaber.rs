@@ -26,7 +26,7 @@
 //! decimal the EPICS driver writes), which is also the shortest point; no longest time
 //! and no buffer size are assumed.
 
-use crate::lines::{counts, scales, Lines};
+use crate::lines::{all_counts, scales, Lines};
 use crate::rules::{Caps, Positions};
 use crate::stream::{Header, ProgramWriter};
 use pvt_core::{EventKind, Motion, ProgramEvent, SegmentRef};
@@ -105,22 +105,13 @@ impl<W: Write> ProgramWriter for ZaberWriter<W> {
     }
 
     fn contour(&mut self, _: Motion, start: &[f64]) -> io::Result<()> {
-        for ((last, p), s) in self.last.iter_mut().zip(start).zip(&self.scales) {
-            *last = counts(*p, *s);
-        }
+        self.last = all_counts(start, &self.scales, 1.0);
         Ok(())
     }
 
     fn segment(&mut self, seg: &SegmentRef<'_>) -> io::Result<()> {
-        for ((last, p), s) in self.last.iter_mut().zip(seg.end).zip(&self.scales) {
-            *last = counts(*p, *s);
-        }
-        let v: Vec<i64> = seg
-            .velocity
-            .iter()
-            .zip(&self.scales)
-            .map(|(v, s)| counts(*v, s * NATIVE_VELOCITY))
-            .collect();
+        self.last = all_counts(seg.end, &self.scales, 1.0);
+        let v = all_counts(seg.velocity, &self.scales, NATIVE_VELOCITY);
         self.point(&v, seg.duration * 1000.0)
     }
 
