@@ -13,8 +13,9 @@
 //! - piece time: `TA` in milliseconds with 4 decimals, written *before* the axis words.
 //!   Seed 000 prints `TA` after them, but PMAC takes each piece's time from the most
 //!   recently executed `PVT` or `TA` statement, so a trailing `TA` would time the next
-//!   piece. PMAC rounds `TA` to whole milliseconds without an error (seed 003); the count
-//!   of times that are not whole is stated at the end of the program. On Turbo PMAC, `TA`
+//!   piece. PMAC rounds `TA` to whole milliseconds without an error (seed 003), so pvtc
+//!   plans on a 1 ms grid unless told otherwise ([`CAPS`]); the count of times that are
+//!   not whole is stated at the end of the program. On Turbo PMAC, `TA`
 //!   times PVT pieces only with `I42 = 1` (then 1 ms resolution); under the default
 //!   `I42 = 0` only `PVT` and `TM` do, with a range of 0–4095.9998 ms.
 //! - no piece is longer than [`MAX_PIECE_SECONDS`] (4095 ms, within Turbo PMAC's range
