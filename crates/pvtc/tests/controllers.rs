@@ -166,3 +166,46 @@ fn check_reads_the_emitted_pmac_text_and_names_a_line_it_cannot_read() {
     assert!(e.contains("pvtc::check::read_back"), "{e}");
     assert!(e.contains(&format!("line {}:", line + 1)), "{e}");
 }
+
+#[test]
+fn check_takes_a_csv_table_as_the_pieces_it_holds() {
+    let dir = tempfile::tempdir().unwrap();
+    let table = dir.path().join("zigzag.csv").display().to_string();
+    let o = pvtc(
+        &[
+            "compile",
+            "samples/gcode/an208_zigzag.ngc",
+            "--format",
+            "csv",
+            "-o",
+            &table,
+        ],
+        None,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    // From the table itself: the last row's time, and the largest |vX| of any row.
+    let text = std::fs::read_to_string(&table).unwrap();
+    let rows: Vec<Vec<f64>> = text
+        .lines()
+        .skip(1)
+        .map(|r| r.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    let end = rows.last().unwrap()[0];
+    let vx = rows.iter().map(|r| r[2].abs()).fold(0.0, f64::max);
+    let args = [
+        "check",
+        &table,
+        "--planner",
+        "chord-forward",
+        "--velocities",
+        "file",
+        "--json",
+    ];
+    let o = pvtc(&args, None);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let total = report["total_time"].as_f64().unwrap();
+    assert!((total - end).abs() < 1e-9, "{total} for {end}");
+    let peak = report["peaks"]["X"]["velocity"].as_f64().unwrap();
+    assert!(peak >= vx * (1.0 - 1e-12), "{peak} below a knot's {vx}");
+}
