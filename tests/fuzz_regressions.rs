@@ -1,12 +1,13 @@
 //! Inputs that once broke an invariant under fuzzing (fuzz/), kept as regressions: each
 //! is run the way its fuzz target runs it, and whatever plans must pass the back ends'
 //! validation (no NaN, infinity or non-positive time) in every format, its pieces cut
-//! for the format as the pipeline cuts them; only a piece too long to cut may be refused.
+//! for the format as the pipeline cuts them; only a piece too long to cut, or one that
+//! breaks a controller rule (refused with that rule's code), may be refused.
 
 use pvt_core::{
     plan_timed, plan_toolpath, split_long_pieces, PlanOptions, Planner, PvtProgram, Units,
 };
-use pvt_emit::{emit_to_vec, EmitOptions, Format, StreamError};
+use pvt_emit::{emit_to_vec, AxisSetup, EmitOptions, Format, InvalidProgram, StreamError};
 use pvtc_tests::root;
 
 fn assert_valid(name: &str, program: &PvtProgram) {
@@ -18,8 +19,25 @@ fn assert_valid(name: &str, program: &PvtProgram) {
                 *c = split_long_pieces(c, max, format.piece_time_quantum());
             }
         }
-        match emit_to_vec(&program, format, &EmitOptions::default()) {
+        // Formats written in counts get 1000 per unit on every axis.
+        let options = EmitOptions {
+            axes: pvt_core::Axis::ALL
+                .iter()
+                .map(|a| {
+                    let setup = AxisSetup {
+                        counts_per_unit: Some(1000.0),
+                        ..AxisSetup::default()
+                    };
+                    (*a, setup)
+                })
+                .collect(),
+            ..EmitOptions::default()
+        };
+        match emit_to_vec(&program, format, &options) {
             Ok(_) | Err(StreamError::Unsupported(_)) => {}
+            // A controller rule (a piece under the shortest, off the grid), refused with
+            // its own code: the fuzz target plans without the format's grid.
+            Err(StreamError::Invalid(e)) if e.code != InvalidProgram::CODE => {}
             Err(StreamError::Invalid(e)) if !e.internal => {
                 let uncut = pvt_core::split::MAX_SUB_PIECES as f64 * max.unwrap_or(f64::INFINITY);
                 let too_long = program.contours.iter().flat_map(|c| &c.durations);

@@ -27,12 +27,21 @@ fn golden_name(sample: &str, format: Format) -> String {
     format!("tests/golden/{kind}/{stem}.{}", format.extension())
 }
 
-/// The options a sample is compiled with: defaults, and for drawings a feed of 1200.
+/// The options a sample is compiled with: defaults, for drawings a feed of 1200, for
+/// series the input's default planner, and for
+/// formats written in counts 1000 counts per unit on every axis.
 fn options_for(sample: &str, format: Format) -> CompileOptions {
     let mut options = CompileOptions::new(format);
+    if format.caps().scaled {
+        options.counts_per_unit = pvt_core::Axis::ALL.iter().map(|a| (*a, 1000.0)).collect();
+    }
     if sample.ends_with(".dxf") {
         options.input = pvtc::InputKind::Dxf;
         options.feed = Some(1200.0);
+    }
+    if sample.ends_with(".csv") {
+        options.input = pvtc::InputKind::Csv;
+        options.planner = options.input.default_planner();
     }
     options
 }
@@ -433,6 +442,13 @@ fn gcode_samples_under_contour_are_exact_at_the_points_and_at_mid_segment() {
 }
 
 #[test]
+fn csv_samples_match_their_golden_files() {
+    for sample in samples("csv", ".csv") {
+        check_golden(&sample);
+    }
+}
+
+#[test]
 fn dxf_samples_match_their_golden_files() {
     let list = samples("dxf", ".dxf");
     assert!(
@@ -616,6 +632,7 @@ fn pmac_settings_and_event_commands_follow_the_pmac_grammar() {
             .map(|d| pvt_emit::AxisDefinition::parse(d).unwrap())
             .collect(),
         events: pvt_emit::PmacEvents::Commands,
+        rotary: None,
     };
     let out = String::from_utf8(pvtc::compile(&source, &options).unwrap().bytes).unwrap();
     let (grammar, lines) = pmac_grammar();
@@ -658,7 +675,7 @@ fn pmac_settings_and_event_commands_follow_the_pmac_grammar() {
             "SEND\"check 'it'\" ; message from line 6",
             "STOP ; pause from line 7",
             "DWELL500.0000 ; G4 from line 8",
-            "PVT1507.4813",
+            "PVT1508.0000",
             "M01 ; optional_pause from line 10",
             "M05 ; spindle_off from line 11",
             "M09 ; coolant_off from line 11",
@@ -864,4 +881,28 @@ fn streaming_rewrites_when_the_prescan_guess_is_wrong() {
             "{name}"
         );
     }
+}
+
+#[test]
+fn a_rotary_pmac_program_follows_the_pmac_grammar_with_the_same_moves() {
+    let sample = "samples/gcode/linuxcnc_helix.ngc";
+    let mut options = options_for(sample, Format::Pmac);
+    options.pmac.rotary = Some(4000);
+    let text = String::from_utf8(compile_file(sample, &options)).unwrap();
+    let (grammar, lines) = pmac_grammar();
+    assert!(grammar.matches("program", &text), "{text}");
+    for line in text.lines() {
+        assert!(pmac_line_matches_grammar(&grammar, &lines, line), "{line}");
+    }
+    assert!(text.contains("\n&1\nDEFINE ROT 4000\nB0\nOPEN ROT\nCLEAR\nABS\n"));
+    assert!(!text.contains("OPEN PROG"));
+    let plain =
+        String::from_utf8(compile_file(sample, &options_for(sample, Format::Pmac))).unwrap();
+    let moves = |t: &str| -> Vec<String> {
+        t.lines()
+            .filter(|l| l.starts_with("TA") || l.starts_with("PVT") || l.starts_with("DWELL"))
+            .map(str::to_owned)
+            .collect()
+    };
+    assert_eq!(moves(&text), moves(&plain));
 }

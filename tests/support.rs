@@ -1,6 +1,7 @@
 //! Shared helpers of the end-to-end tests: paths, compiling samples, and an independent
 //! implementation of seed 000 written from the document's own steps.
 
+pub mod controllers;
 pub mod ebnf;
 pub mod reference;
 

@@ -1,7 +1,11 @@
 //! pvt-emit: the back ends that turn PVT motion into what a controller takes.
 //!
-//! Owns the output formats: PMAC PVT motion program text ([`pmac`]), MovePVT arrays as C
-//! source ([`movepvt`]) and the versioned pvtc JSON document ([`json`]), and the
+//! Owns the output formats: Turbo PMAC PVT motion program text ([`pmac`]), MovePVT arrays
+//! as C source ([`movepvt`]), the versioned pvtc JSON document ([`json`]), the Newport
+//! XPS trajectory file ([`xps`]), Galil PV commands ([`galil`]), Zaber ASCII PVT commands
+//! ([`zaber`]), Power PMAC PVT program text ([`powerpmac`]) and a CSV table ([`table`]),
+//! each controller's rules in one table ([`Format::caps`], checked by [`rules`]), the
+//! readers of what they emit for `pvtc check` ([`readback`]), and the
 //! interpreted toolpath before planning as JSON lines ([`toolpath`]). Each back end of
 //! motion is a [`ProgramWriter`] fed one piece at a time ([`stream`]), so output of any length goes
 //! out in constant memory; [`Checked`] validates every value before a back end sees it,
@@ -10,36 +14,65 @@
 //! Architecture invariants: back ends never plan, never read files and never change a
 //! number's value; the same program and options always give byte-identical output.
 
+pub mod galil;
 pub mod json;
+mod lines;
 pub mod movepvt;
 mod number;
 pub mod plot;
 pub mod pmac;
+pub mod powerpmac;
+pub mod readback;
+pub mod rules;
 pub mod stream;
+pub mod table;
 pub mod toolpath;
 pub mod validate;
+pub mod xps;
+pub mod zaber;
 
-use pvt_core::PvtProgram;
+use pvt_core::{Axis, PvtProgram};
+use std::collections::BTreeMap;
 use std::io::Write;
 
 pub use pmac::{AxisDefinition, PmacEvents, PmacSettings};
+pub use rules::{AxisSetup, Caps, Positions};
 pub use stream::{Checked, Header, ProgramWriter, StreamError};
 pub use validate::{validate, InvalidProgram};
 
 /// The output formats.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Format {
-    /// PMAC motion program in PVT mode.
+    /// Turbo PMAC motion program in PVT mode.
     Pmac,
     /// MovePVT position/velocity/time arrays as C source.
     MovePvt,
     /// The pvtc JSON document.
     Json,
+    /// Newport XPS PVT trajectory file.
+    Xps,
+    /// Galil DMC PVT mode (`PVA=p,v,t`) commands.
+    Galil,
+    /// Zaber ASCII protocol PVT sequence commands.
+    Zaber,
+    /// Power PMAC motion program in PVT mode.
+    PowerPmac,
+    /// A table `t, X, vX, …` with absolute time.
+    Csv,
 }
 
 impl Format {
     /// Every format, in the order the CLI lists them.
-    pub const ALL: [Format; 3] = [Format::Pmac, Format::MovePvt, Format::Json];
+    pub const ALL: [Format; 8] = [
+        Format::Pmac,
+        Format::MovePvt,
+        Format::Json,
+        Format::Xps,
+        Format::Galil,
+        Format::Zaber,
+        Format::PowerPmac,
+        Format::Csv,
+    ];
 
     /// The name used on the command line.
     pub fn name(self) -> &'static str {
@@ -47,16 +80,46 @@ impl Format {
             Format::Pmac => "pmac",
             Format::MovePvt => "movepvt",
             Format::Json => "json",
+            Format::Xps => "xps",
+            Format::Galil => "galil",
+            Format::Zaber => "zaber",
+            Format::PowerPmac => "powerpmac",
+            Format::Csv => "csv",
         }
     }
 
-    /// The resolution positions are written with, program units: PMAC text rounds them to
-    /// [`pmac::POSITION_DECIMALS`] decimals ([`pmac::POSITION_RESOLUTION`]); MovePVT and JSON write the shortest
-    /// round-trip number, exactly (0).
+    /// What the format's controller accepts: the one table of controller rules (each
+    /// back end's module doc cites where each number comes from).
+    pub fn caps(self) -> Caps {
+        match self {
+            Format::Pmac => pmac::CAPS,
+            Format::MovePvt => Caps {
+                controller: "MovePVT",
+                ..Caps::FREE
+            },
+            Format::Json => Caps {
+                controller: "pvtc JSON",
+                ..Caps::FREE
+            },
+            Format::Xps => xps::CAPS,
+            Format::Galil => galil::CAPS,
+            Format::Zaber => zaber::CAPS,
+            Format::PowerPmac => powerpmac::CAPS,
+            Format::Csv => Caps {
+                controller: "CSV table",
+                ..Caps::FREE
+            },
+        }
+    }
+
+    /// The resolution positions are written with, program units: PMAC and Power PMAC
+    /// text round them to [`pmac::POSITION_DECIMALS`] decimals
+    /// ([`pmac::POSITION_RESOLUTION`]); the other formats write the shortest round-trip
+    /// number, exactly (0), or counts, whose size depends on the axis' scale (0 here).
     pub fn position_resolution(self) -> f64 {
         match self {
-            Format::Pmac => pmac::POSITION_RESOLUTION,
-            Format::MovePvt | Format::Json => 0.0,
+            Format::Pmac | Format::PowerPmac => pmac::POSITION_RESOLUTION,
+            _ => 0.0,
         }
     }
 
@@ -66,25 +129,24 @@ impl Format {
             Format::Pmac => "pmac",
             Format::MovePvt => "c",
             Format::Json => "json",
+            Format::Xps => "trj",
+            Format::Galil => "dmc",
+            Format::Zaber => "zaber",
+            Format::PowerPmac => "pmc",
+            Format::Csv => "csv",
         }
     }
 
     /// The longest piece time the format can express, seconds (`None`: no limit); longer
     /// pieces must be cut first ([`pvt_core::split_long_pieces`]).
     pub fn max_piece_seconds(self) -> Option<f64> {
-        match self {
-            Format::Pmac => Some(pmac::MAX_PIECE_SECONDS),
-            Format::MovePvt | Format::Json => None,
-        }
+        self.caps().max_piece_seconds
     }
 
     /// The time its controller rounds piece times to, seconds (PMAC: whole milliseconds);
     /// a long piece whose time is whole is cut into pieces whose times are whole.
     pub fn piece_time_quantum(self) -> Option<f64> {
-        match self {
-            Format::Pmac => Some(0.001),
-            Format::MovePvt | Format::Json => None,
-        }
+        self.caps().time_quantum
     }
 
     /// A streaming writer of this format into `out`.
@@ -93,6 +155,11 @@ impl Format {
             Format::Pmac => Box::new(pmac::PmacWriter::new(out)),
             Format::MovePvt => Box::new(movepvt::MovePvtWriter::new(out)),
             Format::Json => Box::new(json::JsonWriter::new(out)),
+            Format::Xps => Box::new(xps::XpsWriter::new(out)),
+            Format::Galil => Box::new(galil::GalilWriter::new(out)),
+            Format::Zaber => Box::new(zaber::ZaberWriter::new(out)),
+            Format::PowerPmac => Box::new(powerpmac::PowerPmacWriter::new(out)),
+            Format::Csv => Box::new(table::TableWriter::new(out)),
         }
     }
 }
@@ -106,6 +173,9 @@ pub struct EmitOptions {
     pub settings: Vec<(String, String)>,
     /// PMAC program number, coordinate system, axis definitions and event commands.
     pub pmac: pmac::PmacSettings,
+    /// Per axis: travel limits (checked for every format), the limits a verifying
+    /// controller checks, and counts per unit for formats written in counts.
+    pub axes: BTreeMap<Axis, AxisSetup>,
 }
 
 /// Validates the whole of `program`, then writes it in `format` to `out`.

@@ -13,8 +13,9 @@
 //! - piece time: `TA` in milliseconds with 4 decimals, written *before* the axis words.
 //!   Seed 000 prints `TA` after them, but PMAC takes each piece's time from the most
 //!   recently executed `PVT` or `TA` statement, so a trailing `TA` would time the next
-//!   piece. PMAC rounds `TA` to whole milliseconds without an error (seed 003); the count
-//!   of times that are not whole is stated at the end of the program. On Turbo PMAC, `TA`
+//!   piece. PMAC rounds `TA` to whole milliseconds without an error (seed 003), so pvtc
+//!   plans on a 1 ms grid unless told otherwise ([`CAPS`]); the count of times that are
+//!   not whole is stated at the end of the program. On Turbo PMAC, `TA`
 //!   times PVT pieces only with `I42 = 1` (then 1 ms resolution); under the default
 //!   `I42 = 0` only `PVT` and `TM` do, with a range of 0–4095.9998 ms.
 //! - no piece is longer than [`MAX_PIECE_SECONDS`] (4095 ms, within Turbo PMAC's range
@@ -22,7 +23,11 @@
 //!   (`pvt_core::split`) and [`crate::Checked`] refuses any that reaches this writer.
 //!
 //! Every contour starts and ends at rest; consecutive contours chain, so the whole program
-//! is one `OPEN PROG n CLEAR … CLOSE` block ([`PmacSettings::program`], 1 by default).
+//! is one `OPEN PROG n CLEAR … CLOSE` block ([`PmacSettings::program`], 1 by default), or
+//! with [`PmacSettings::rotary`] the coordinate system's rotary buffer (`DEFINE ROT n`,
+//! `B0`, `OPEN ROT`, `CLEAR` … `CLOSE`, then `R`), which the host streams as it empties:
+//! a program of any length in a buffer of fixed size (Turbo PMAC User Manual, "Rotary
+//! Motion Program Buffers"; PMAC Software Reference, `OPEN ROTARY`, `DEFINE ROTARY`).
 //! With [`PmacSettings::coord`] the block is preceded by the on-line commands that address
 //! the coordinate system (`&1`) and define its axes (`#1->1000X`).
 //!
@@ -127,6 +132,8 @@ pub struct PmacSettings {
     pub axes: Vec<AxisDefinition>,
     /// How events are written.
     pub events: PmacEvents,
+    /// A rotary buffer of this many words instead of `OPEN PROG`, streamed by the host.
+    pub rotary: Option<u32>,
 }
 
 impl Default for PmacSettings {
@@ -136,6 +143,7 @@ impl Default for PmacSettings {
             coord: None,
             axes: Vec::new(),
             events: PmacEvents::Comments,
+            rotary: None,
         }
     }
 }
@@ -202,6 +210,24 @@ pub const TIME_DECIMALS: usize = 4;
 /// Longest piece time written, seconds: 4095 ms, the whole milliseconds of Turbo PMAC's
 /// PVT time range under `I42 = 0` (0–4095.9998 ms; `I42 = 1` allows more).
 pub const MAX_PIECE_SECONDS: f64 = 4.095;
+
+/// Turbo PMAC's rules: piece times in whole milliseconds (`TA` rounds to them, seed 003),
+/// so `--quantize` is 1 ms by default; none under 0.5 ms (which `TA` would round to no
+/// time at all) or over [`MAX_PIECE_SECONDS`]; absolute positions in program units.
+pub const CAPS: crate::rules::Caps = crate::rules::Caps {
+    controller: "Turbo PMAC",
+    time_quantum: Some(0.001),
+    quantum_required: false,
+    default_quantum: Some(0.001),
+    min_piece_seconds: 0.0005,
+    max_piece_seconds: Some(MAX_PIECE_SECONDS),
+    positions: crate::rules::Positions::Absolute,
+    position_unit: "program units",
+    velocity_unit: "program units/s (Ix90 = 1000)",
+    scaled: false,
+    buffer_depth: None,
+    verifies: false,
+};
 
 /// Bytes of text gathered before they are written.
 const LINE_BATCH: usize = 64 * 1024;
@@ -287,13 +313,24 @@ impl<W: Write> ProgramWriter for PmacWriter<W> {
                 b"; events: PMAC commands; M-codes call PROG 1001, T-codes PROG 1002 (machine-specific)\n",
             );
         }
-        if let Some(cs) = pmac.coord {
+        if let Some(words) = pmac.rotary {
+            writeln!(
+                t,
+                "; rotary buffer of {words} words (one per value): no gather buffer may exist (DELETE GATHER);\n\
+                 ; send the lines after OPEN ROT as the buffer empties (PR: lines ahead; I16/I17: BREQ), then R"
+            )?;
+        }
+        // A rotary buffer belongs to a coordinate system: &1 unless one is given.
+        if let Some(cs) = pmac.coord.or(pmac.rotary.map(|_| 1)) {
             writeln!(t, "&{cs}")?;
             for def in &pmac.axes {
                 writeln!(t, "{def}")?;
             }
         }
-        writeln!(t, "OPEN PROG {} CLEAR\nABS", pmac.program)?;
+        match pmac.rotary {
+            Some(words) => writeln!(t, "DEFINE ROT {words}\nB0\nOPEN ROT\nCLEAR\nABS")?,
+            None => writeln!(t, "OPEN PROG {} CLEAR\nABS", pmac.program)?,
+        }
         self.flush_line()
     }
 
@@ -375,8 +412,8 @@ impl<W: Write> ProgramWriter for PmacWriter<W> {
         self.flush_line()
     }
 
-    fn max_piece_seconds(&self) -> Option<f64> {
-        Some(MAX_PIECE_SECONDS)
+    fn caps(&self) -> crate::rules::Caps {
+        crate::Format::Pmac.caps()
     }
 
     fn finish(&mut self) -> io::Result<()> {

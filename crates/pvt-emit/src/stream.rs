@@ -5,6 +5,7 @@
 //! called, so a program of any length goes out in constant memory; it checks each value
 //! before writing it ([`crate::validate`]). It must not plan or look ahead.
 
+use crate::rules::{Caps, RuleCheck};
 use crate::validate::{check_piece_time, check_segment, check_start, InvalidProgram};
 use crate::EmitOptions;
 use pvt_core::{Axis, Interpolation, Motion, ProgramEvent, SegmentRef, Units};
@@ -73,19 +74,21 @@ pub trait ProgramWriter {
     fn supports(&self, interpolation: Interpolation) -> bool {
         interpolation == Interpolation::Pvt
     }
-    /// The longest piece time the format can express, seconds (`None`: no limit).
-    fn max_piece_seconds(&self) -> Option<f64> {
-        None
+    /// What the format's controller accepts ([`crate::Format::caps`]).
+    fn caps(&self) -> Caps {
+        Caps::FREE
     }
 }
 
-/// A writer that validates every value before its back end sees it, and that passes a
-/// contour on only when its first segment arrives, so back ends never see an empty one.
+/// A writer that validates every value before its back end sees it, checks every piece
+/// against the format's controller rules ([`RuleCheck`]), and passes a contour on only
+/// when its first segment arrives, so back ends never see an empty one.
 pub struct Checked<W> {
     inner: W,
     contour: usize,
     segment: usize,
     pending: Option<(Motion, Vec<f64>)>,
+    rules: Option<RuleCheck>,
 }
 
 /// A failure while streaming: a bad value or an I/O error.
@@ -100,6 +103,9 @@ pub enum StreamError {
     /// The format cannot express the program's interpolation.
     #[error("this output format cannot express {0:?} interpolation")]
     Unsupported(Interpolation),
+    /// The format writes counts and the axis has no counts per unit.
+    #[error("the {0} writes positions in counts, and axis {1} has no counts per unit")]
+    MissingScale(&'static str, Axis),
 }
 
 impl<W: ProgramWriter> Checked<W> {
@@ -110,6 +116,7 @@ impl<W: ProgramWriter> Checked<W> {
             contour: 0,
             segment: 0,
             pending: None,
+            rules: None,
         }
     }
 
@@ -118,6 +125,12 @@ impl<W: ProgramWriter> Checked<W> {
         if !self.inner.supports(header.interpolation) {
             return Err(StreamError::Unsupported(header.interpolation));
         }
+        let caps = self.inner.caps();
+        let rules = RuleCheck::new(caps, header.axes, &header.options.axes);
+        if let Some(axis) = rules.missing_scale() {
+            return Err(StreamError::MissingScale(caps.controller, axis));
+        }
+        self.rules = Some(rules);
         Ok(self.inner.begin(header)?)
     }
 
@@ -133,12 +146,18 @@ impl<W: ProgramWriter> Checked<W> {
         if let Some((motion, start)) = self.pending.take() {
             self.contour += 1;
             self.segment = 0;
+            if let Some(rules) = self.rules.as_mut() {
+                rules.contour(&start, self.contour)?;
+            }
             self.inner.contour(motion, &start)?;
         }
         self.segment += 1;
         check_segment(segment, self.contour, self.segment)?;
-        if let Some(max) = self.inner.max_piece_seconds() {
+        if let Some(max) = self.inner.caps().max_piece_seconds {
             check_piece_time(segment, max, self.contour, self.segment)?;
+        }
+        if let Some(rules) = self.rules.as_mut() {
+            rules.piece(segment, self.contour, self.segment)?;
         }
         Ok(self.inner.segment(segment)?)
     }
@@ -150,6 +169,9 @@ impl<W: ProgramWriter> Checked<W> {
 
     /// Ends the program and returns the back end.
     pub fn finish(mut self) -> Result<W, StreamError> {
+        if let Some(rules) = self.rules.as_mut() {
+            rules.finish(self.contour)?;
+        }
         self.inner.finish()?;
         Ok(self.inner)
     }
@@ -174,7 +196,7 @@ impl<T: ProgramWriter + ?Sized> ProgramWriter for Box<T> {
     fn supports(&self, interpolation: Interpolation) -> bool {
         (**self).supports(interpolation)
     }
-    fn max_piece_seconds(&self) -> Option<f64> {
-        (**self).max_piece_seconds()
+    fn caps(&self) -> Caps {
+        (**self).caps()
     }
 }

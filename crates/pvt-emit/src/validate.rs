@@ -23,6 +23,9 @@ pub struct InvalidProgram {
     pub what: String,
     /// A planner's fault (NaN, infinity, a non-positive time), not the input's.
     pub internal: bool,
+    /// Stable code: [`InvalidProgram::CODE`], or the controller rule broken
+    /// ([`crate::rules`]).
+    pub code: &'static str,
 }
 
 impl InvalidProgram {
@@ -41,6 +44,7 @@ pub fn check_start(start: &[f64], contour: usize, line: u32) -> Result<(), Inval
         line,
         what: "a start position that is not finite".into(),
         internal: true,
+        code: InvalidProgram::CODE,
     })
 }
 
@@ -56,9 +60,13 @@ pub fn check_segment(
         line: seg.line,
         what,
         internal: true,
+        code: InvalidProgram::CODE,
     };
     if !(seg.duration.is_finite() && seg.duration > 0.0) {
-        return Err(fail(format!("piece time {} s", seg.duration)));
+        return Err(fail(format!(
+            "piece time {} s (a trajectory the XPS refuses with -75: non-positive time)",
+            seg.duration
+        )));
     }
     if seg.end.iter().chain(seg.velocity).any(|x| !x.is_finite()) {
         return Err(fail("a position or velocity that is not finite".into()));
@@ -86,6 +94,7 @@ pub fn check_piece_time(
             seg.duration
         ),
         internal: false,
+        code: InvalidProgram::CODE,
     })
 }
 

@@ -45,12 +45,22 @@ pub enum Command {
 /// Output format names on the command line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum FormatArg {
-    /// PMAC motion program in PVT mode (`TA<ms> X<pos>:<vel> …`).
+    /// Turbo PMAC motion program in PVT mode (`TA<ms> X<pos>:<vel> …`), whole ms.
     Pmac,
     /// MovePVT (or, for --planner pt, MovePT) arrays as C source.
     Movepvt,
     /// The pvtc JSON document, version 1.
     Json,
+    /// Newport XPS PVT trajectory file (`dt, dX, vX, …`, relative).
+    Xps,
+    /// Galil DMC PVT mode commands (`PVA=p,v,t` in counts and samples); needs counts per unit.
+    Galil,
+    /// Zaber ASCII PVT sequence commands (`pvt 1 point abs p … v … t …`); needs counts per unit.
+    Zaber,
+    /// Power PMAC motion program in PVT mode (`pvt<ms>`, `X<pos>:<vel>`).
+    Powerpmac,
+    /// A CSV table `t,X,vX,…` with absolute time.
+    Csv,
     /// The interpreted elements and events as JSON lines, before planning (one input).
     Toolpath,
 }
@@ -61,11 +71,20 @@ impl From<FormatArg> for Format {
             FormatArg::Pmac => Format::Pmac,
             FormatArg::Movepvt => Format::MovePvt,
             FormatArg::Json => Format::Json,
+            FormatArg::Xps => Format::Xps,
+            FormatArg::Galil => Format::Galil,
+            FormatArg::Zaber => Format::Zaber,
+            FormatArg::Powerpmac => Format::PowerPmac,
+            FormatArg::Csv => Format::Csv,
             // `toolpath` stops before planning (crate::toolpath): no back end sees it.
             FormatArg::Toolpath => Format::Json,
         }
     }
 }
+
+/// `--quantize`: a piece-time quantum in seconds, or `off` (none).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Quantum(pub Option<f64>);
 
 /// Input kind names on the command line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -138,17 +157,22 @@ pub struct PipelineArgs {
     /// Acceleration for lspb blends, program units/s².
     #[arg(long, value_name = "A", value_parser = positive_number)]
     pub accel: Option<f64>,
-    /// Make every piece time a whole multiple of this, e.g. 1ms (PMAC takes whole ms).
-    #[arg(long, value_name = "T", value_parser = duration)]
-    pub quantize: Option<f64>,
+    /// Make every piece time a whole multiple of this, e.g. 1ms, or `off` [default: the
+    /// output format's: pmac and powerpmac 1ms, xps 100us, galil 1/512 s (2 samples), zaber 0.1ms, others off].
+    #[arg(long, value_name = "T|off", value_parser = quantum)]
+    pub quantize: Option<Quantum>,
     /// Which way --quantize rounds piece times: up (never faster than planned) or
     /// nearest (as PMAC rounds TA) [default: up].
-    #[arg(long = "quantize-rounding", value_name = "up|nearest", requires = "quantize", value_parser = rounding)]
+    #[arg(long = "quantize-rounding", value_name = "up|nearest", value_parser = rounding)]
     pub quantize_rounding: Option<Rounding>,
     /// Feed, program units per minute: for moves before the first F word; required for
     /// drawings, which have none.
     #[arg(long, value_name = "F", value_parser = positive_number)]
     pub feed: Option<f64>,
+    /// Counts (galil) or microsteps (zaber) per program unit of an axis, `AXIS=N`
+    /// (repeatable); overrides the machine file's `counts_per_unit`.
+    #[arg(long = "counts-per-unit", value_name = "AXIS=N", value_parser = axis_limit)]
+    pub counts_per_unit: Vec<(pvt_core::Axis, f64)>,
     /// Rapid (G0) rate, program units per minute [default: 5000 mm/min in program units].
     #[arg(long, value_name = "F", value_parser = positive_number)]
     pub rapid: Option<f64>,
@@ -402,7 +426,11 @@ impl PipelineArgs {
             planner,
             timing: self.time_slice.map_or(Timing::FromFeed, Timing::TimeSlice),
             accel: self.accel,
-            quantize: self.quantize,
+            quantize: match self.quantize {
+                Some(Quantum(q)) => q,
+                None => format.caps().default_quantum,
+            },
+            counts_per_unit: self.counts_per_unit.clone(),
             quantize_rounding: self.quantize_rounding.unwrap_or_default(),
             work_offsets,
             subroutine_path: self.subroutine_path.clone(),
@@ -482,6 +510,11 @@ pub struct PmacArgs {
     /// counts per unit); repeatable; every moved axis then needs one. Needs --pmac-coord.
     #[arg(long = "pmac-axis", value_name = "#M->SA", requires = "coord", value_parser = pvt_emit::AxisDefinition::parse)]
     pub axes: Vec<pvt_emit::AxisDefinition>,
+    /// PMAC: write the program into the coordinate system's rotary buffer of this many
+    /// words (DEFINE ROT), streamed by the host, instead of OPEN PROG: for programs larger
+    /// than the controller's memory.
+    #[arg(long = "pmac-rotary", value_name = "WORDS", conflicts_with = "program", value_parser = clap::value_parser!(u32).range(1..))]
+    pub rotary: Option<u32>,
     /// PMAC: write events (spindle, coolant, tool, pause, message) as comments or as PMAC
     /// commands [default: comments].
     #[arg(long = "pmac-events", value_enum, value_name = "comments|commands")]
@@ -495,15 +528,16 @@ impl PmacArgs {
         let given = self.program.is_some()
             || self.coord.is_some()
             || !self.axes.is_empty()
-            || self.events.is_some();
+            || self.events.is_some()
+            || self.rotary.is_some();
         if given && format != FormatArg::Pmac {
             let name = format
                 .to_possible_value()
                 .map(|v| v.get_name().to_string())
                 .unwrap_or_default();
             return Err(Failure::Usage(format!(
-                "--pmac-program, --pmac-coord, --pmac-axis and --pmac-events do nothing with \
-                 --format {name}: they set up PMAC output"
+                "--pmac-program, --pmac-coord, --pmac-axis, --pmac-events and --pmac-rotary do \
+                 nothing with --format {name}: they set up PMAC output"
             )));
         }
         let settings = pvt_emit::PmacSettings {
@@ -514,6 +548,7 @@ impl PmacArgs {
                 Some(PmacEventsArg::Commands) => pvt_emit::PmacEvents::Commands,
                 Some(PmacEventsArg::Comments) | None => pvt_emit::PmacEvents::Comments,
             },
+            rotary: self.rotary,
         };
         settings.validate().map_err(Failure::Usage)?;
         Ok(settings)
@@ -647,6 +682,14 @@ fn planner(text: &str) -> Result<Planner, String> {
 
 fn rounding(text: &str) -> Result<Rounding, String> {
     text.parse::<Rounding>()
+}
+
+/// `--quantize`'s value: a [`duration`] or `off`.
+fn quantum(text: &str) -> Result<Quantum, String> {
+    match text.trim() {
+        "off" => Ok(Quantum(None)),
+        t => duration(t).map(|q| Quantum(Some(q))),
+    }
 }
 
 /// A duration: a number with `s`, `ms` or `us`. A bare number is refused (`pvtc::usage`)

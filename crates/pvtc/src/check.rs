@@ -1,7 +1,8 @@
 //! `pvtc check`: compiles (or reads) a program and prints what its motion will do.
 //!
-//! Owns loading the program to check (a source through the pipeline, or a pvtc JSON
-//! program) and rendering pvt-core's [`CheckReport`] as a table or as JSON. It must not
+//! Owns loading the program to check (a source through the pipeline, a pvtc JSON
+//! program, or an emitted controller program read back by `pvt_emit::readback`, chosen
+//! by extension: `.pmac`, `.pmc`, `.c`, `.trj`, `.dmc`, `.zaber`) and rendering pvt-core's [`CheckReport`] as a table or as JSON. It must not
 //! compute any of the numbers.
 
 use crate::args::CheckArgs;
@@ -136,6 +137,23 @@ pub fn load(
     let options = pipeline
         .compile_options(&source.name, Format::Json)
         .map_err(|f| reporter.fail(&f))?;
+    let emitted = pvt_emit::readback::format_of(&source.name);
+    if let (None, Some(format)) = (pipeline.input_format, emitted) {
+        let text = String::from_utf8_lossy(&source.bytes);
+        return match pvt_emit::readback::read_back(format, &text, &read_hint(&options)) {
+            Ok(program) => Ok(Loaded {
+                program,
+                toolpath: None,
+                options,
+            }),
+            Err(e) => Err(reporter.fail(&Failure::Input(vec![miette::miette!(
+                code = pvt_emit::readback::ReadBackError::CODE,
+                "{}: {e} (read as {} output)",
+                source.name,
+                format.name()
+            )]))),
+        };
+    }
     if pipeline.input_format.is_none() && source.name.to_ascii_lowercase().ends_with(".json") {
         let text = String::from_utf8_lossy(&source.bytes);
         return match pvt_emit::json::read(&text) {
@@ -158,6 +176,25 @@ pub fn load(
         toolpath: Some(toolpath),
         options,
     })
+}
+
+/// What an emitted text does not say: `--units` (default mm) and counts per unit, from
+/// `--counts-per-unit` over the machine file's.
+fn read_hint(options: &CompileOptions) -> pvt_emit::readback::ReadHint {
+    let units = options.drawing.units.unwrap_or(pvt_core::Units::Millimetre);
+    let mut counts: std::collections::BTreeMap<_, _> = options
+        .machine
+        .as_ref()
+        .map(|m| m.setup_in(units))
+        .unwrap_or_default()
+        .into_iter()
+        .filter_map(|(a, s)| s.counts_per_unit.map(|c| (a, c)))
+        .collect();
+    counts.extend(options.counts_per_unit.iter().copied());
+    pvt_emit::readback::ReadHint {
+        units,
+        counts_per_unit: counts,
+    }
 }
 
 fn peak_json(p: &Peak) -> serde_json::Value {

@@ -1,8 +1,10 @@
-//! The machine file: per-axis velocity, acceleration and jerk limits in TOML.
+//! The machine file: per-axis velocity, acceleration and jerk limits, travel limits and
+//! counts per unit in TOML.
 //!
 //! Owns reading and validating `--machine FILE` (with the `toml` and `serde` crates) and
-//! converting its limits into a program's units. It must not plan or check motion: the
-//! limits it returns go to the path planner and to `check`.
+//! converting its numbers into a program's units. It must not plan or check motion: the
+//! limits it returns go to the path planner, to `check` and to the back ends' rule check
+//! (`pvt_emit::rules`: travel for every format, counts for Galil and Zaber).
 //!
 //! ```toml
 //! units = "mm"              # units of the numbers below: "mm" or "in" (rotary axes: degrees)
@@ -11,10 +13,14 @@
 //! max_velocity = 100.0      # units/s
 //! max_acceleration = 1000.0 # units/s²
 //! max_jerk = 50000.0        # units/s³, optional
+//! min_position = -10.0      # units, optional: travel, checked for every output format
+//! max_position = 300.0      # units, optional
+//! counts_per_unit = 1000.0  # counts (Galil) or microsteps (Zaber) per unit, optional
 //! ```
 
 use miette::{Diagnostic, NamedSource, SourceSpan};
 use pvt_core::{Axis, AxisLimits, Units};
+use pvt_emit::AxisSetup;
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -32,6 +38,8 @@ pub struct Machine {
     pub servo_period: Option<f64>,
     /// Limits per axis, in the file's units.
     pub axes: BTreeMap<Axis, AxisLimits>,
+    /// Travel and counts per unit per axis, in the file's units (limits not filled).
+    pub setup: BTreeMap<Axis, AxisSetup>,
     text: Arc<str>,
 }
 
@@ -100,6 +108,9 @@ struct AxisShape {
     max_velocity: Spanned<f64>,
     max_acceleration: Spanned<f64>,
     max_jerk: Option<Spanned<f64>>,
+    min_position: Option<Spanned<f64>>,
+    max_position: Option<Spanned<f64>>,
+    counts_per_unit: Option<Spanned<f64>>,
 }
 
 impl Machine {
@@ -137,6 +148,7 @@ impl Machine {
             }
         };
         let mut axes = BTreeMap::new();
+        let mut setup = BTreeMap::new();
         for (letter, limits) in shape.axes.get_ref() {
             let axis = single_letter(letter)
                 .and_then(Axis::from_letter)
@@ -165,6 +177,35 @@ impl Machine {
                 Some(j) => Some(positive("max_jerk", j)?),
                 None => None,
             };
+            let finite = |v: &Option<Spanned<f64>>| match v {
+                Some(x) if !x.get_ref().is_finite() => Err(invalid(
+                    format!("a position of axis {axis} must be a finite number"),
+                    Some(x.span()),
+                )),
+                x => Ok(x.as_ref().map(|x| *x.get_ref())),
+            };
+            let (min, max) = (finite(&l.min_position)?, finite(&l.max_position)?);
+            if let (Some(lo), Some(hi), Some(span)) = (min, max, l.max_position.as_ref()) {
+                if lo >= hi {
+                    return Err(invalid(
+                        format!("max_position of axis {axis} must be above its min_position"),
+                        Some(span.span()),
+                    ));
+                }
+            }
+            let counts_per_unit = match &l.counts_per_unit {
+                Some(c) => Some(positive("counts_per_unit", c)?),
+                None => None,
+            };
+            setup.insert(
+                axis,
+                AxisSetup {
+                    min_position: min,
+                    max_position: max,
+                    counts_per_unit,
+                    ..AxisSetup::default()
+                },
+            );
             axes.insert(
                 axis,
                 AxisLimits {
@@ -188,6 +229,7 @@ impl Machine {
             units,
             servo_period,
             axes,
+            setup,
             text: shared,
         })
     }
@@ -222,6 +264,29 @@ impl Machine {
                 (axis, limits)
             })
             .collect())
+    }
+}
+
+impl Machine {
+    /// Per axis, in `units`: travel, velocity and acceleration limits, and counts per
+    /// `units` (linear axes converted; rotary axes stay in degrees).
+    pub fn setup_in(&self, units: Units) -> BTreeMap<Axis, AxisSetup> {
+        let scale = self.units.mm_per_unit() / units.mm_per_unit();
+        self.setup
+            .iter()
+            .map(|(&axis, s)| {
+                let k = if axis.is_rotary() { 1.0 } else { scale };
+                let limits = self.axes.get(&axis).copied().unwrap_or_default();
+                let setup = AxisSetup {
+                    min_position: s.min_position.map(|p| p * k),
+                    max_position: s.max_position.map(|p| p * k),
+                    max_velocity: limits.velocity.map(|v| v * k),
+                    max_acceleration: limits.acceleration.map(|a| a * k),
+                    counts_per_unit: s.counts_per_unit.map(|c| c / k),
+                };
+                (axis, setup)
+            })
+            .collect()
     }
 }
 
@@ -283,6 +348,52 @@ mod tests {
             .limits_in(Units::Millimetre, &[Axis::X, Axis::Z])
             .unwrap_err();
         assert_eq!(code(&e), "pvtc::machine::missing_axis");
+    }
+
+    #[test]
+    fn travel_and_counts_are_read_and_converted() {
+        let text = GOOD.replace(
+            "max_acceleration = 1000.0\n",
+            "max_acceleration = 1000.0\nmin_position = -25.4\nmax_position = 254\ncounts_per_unit = 1000\n",
+        );
+        let m = Machine::parse("m.toml", &text).unwrap();
+        let inch = m.setup_in(Units::Inch);
+        let x = inch[&Axis::X];
+        assert!((x.min_position.unwrap() + 1.0).abs() < 1e-12);
+        assert!((x.max_position.unwrap() - 10.0).abs() < 1e-12);
+        // 1000 counts per mm are 25400 per inch.
+        assert!((x.counts_per_unit.unwrap() - 25_400.0).abs() < 1e-9);
+        assert!((x.max_velocity.unwrap() - 100.0 / 25.4).abs() < 1e-12);
+        assert_eq!(inch[&Axis::Y].min_position, None);
+    }
+
+    #[test]
+    fn bad_travel_and_counts_are_refused_at_their_line() {
+        let crossed = GOOD.replace(
+            "max_acceleration = 1000.0\n",
+            "max_acceleration = 1000.0\nmin_position = 5\nmax_position = 5\n",
+        );
+        let e = Machine::parse("m.toml", &crossed).unwrap_err();
+        assert_eq!(code(&e), "pvtc::machine::invalid");
+        let MachineError::Invalid { span, .. } = &e else {
+            panic!("{e:?}")
+        };
+        assert_eq!(
+            pvt_core::text::line_of(crossed.as_bytes(), span.unwrap().offset()),
+            6
+        );
+        let zero = GOOD.replace(
+            "max_acceleration = 1000.0\n",
+            "max_acceleration = 1000.0\ncounts_per_unit = 0\n",
+        );
+        let e = Machine::parse("m.toml", &zero).unwrap_err();
+        assert_eq!(code(&e), "pvtc::machine::bad_limit");
+        let infinite = GOOD.replace(
+            "max_acceleration = 1000.0\n",
+            "max_acceleration = 1000.0\nmax_position = inf\n",
+        );
+        let e = Machine::parse("m.toml", &infinite).unwrap_err();
+        assert_eq!(code(&e), "pvtc::machine::invalid");
     }
 
     #[test]

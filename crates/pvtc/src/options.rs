@@ -161,8 +161,10 @@ pub struct CompileOptions {
     pub timing: Timing,
     /// Acceleration for lspb, units/s².
     pub accel: Option<f64>,
-    /// Piece-time quantum, seconds.
+    /// Piece-time quantum, seconds (by default the format's, [`pvt_emit::Caps`]).
     pub quantize: Option<f64>,
+    /// Counts per program unit of axes (`--counts-per-unit`), over the machine file's.
+    pub counts_per_unit: Vec<(pvt_core::Axis, f64)>,
     /// Which way piece times go onto the quantum grid.
     pub quantize_rounding: Rounding,
     /// G-code work offsets, G54…G59.3 rows of X Y Z (mm) A B C (degrees).
@@ -205,7 +207,7 @@ impl CompileOptions {
         }
     }
 
-    /// Default options writing `format`.
+    /// Default options writing `format` (with the format's default `--quantize`).
     pub fn new(format: Format) -> CompileOptions {
         CompileOptions {
             format,
@@ -218,7 +220,8 @@ impl CompileOptions {
             planner: Planner::Path,
             timing: Timing::FromFeed,
             accel: None,
-            quantize: None,
+            quantize: format.caps().default_quantum,
+            counts_per_unit: Vec::new(),
             quantize_rounding: Rounding::Up,
             work_offsets: [[0.0; 6]; 9],
             subroutine_path: Vec::new(),

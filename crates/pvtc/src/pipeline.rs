@@ -215,11 +215,7 @@ pub fn compile(source: &Source, options: &CompileOptions) -> Result<Compiled, Fa
     let program = fit_pieces(planned.program, options);
     let totals = totals_of(&program);
     warnings.extend(summary_note(&planned.report, &totals, program.units));
-    let emit_options = EmitOptions {
-        source: source.name.clone(),
-        settings: header,
-        pmac: options.pmac.clone(),
-    };
+    let emit_options = emit_options(options, &source.name, header, program.units);
     let bytes = emit_to_vec(&program, options.format, &emit_options)
         .map_err(|e| emit_failure(e, options, Some(source)))?;
     if options.format == Format::Pmac && options.quantize.is_none() {
@@ -232,6 +228,31 @@ pub fn compile(source: &Source, options: &CompileOptions) -> Result<Compiled, Fa
         report: planned.report,
         warnings,
     })
+}
+
+/// What the back end is told besides the motion: the source, the header's settings, the
+/// PMAC settings and, per axis in `units`, the machine file's travel, limits and counts
+/// per unit with `--counts-per-unit` over them.
+pub(crate) fn emit_options(
+    options: &CompileOptions,
+    name: &str,
+    settings: Vec<(String, String)>,
+    units: Units,
+) -> EmitOptions {
+    let mut axes = options
+        .machine
+        .as_ref()
+        .map(|m| m.setup_in(units))
+        .unwrap_or_default();
+    for (axis, counts) in &options.counts_per_unit {
+        axes.entry(*axis).or_default().counts_per_unit = Some(*counts);
+    }
+    EmitOptions {
+        source: name.to_owned(),
+        settings,
+        pmac: options.pmac.clone(),
+        axes,
+    }
 }
 
 /// `program` with every piece longer than the format takes cut along its own cubic (the
@@ -265,13 +286,13 @@ pub(crate) fn emit_failure(
         StreamError::Invalid(invalid) => {
             let report = match source {
                 Some(source) => at_line(
-                    pvt_emit::InvalidProgram::CODE,
+                    invalid.code,
                     &invalid.to_string(),
                     invalid.line,
                     source,
                 )
                 .with_source_code(source.named_text()),
-                None => miette::miette!(code = pvt_emit::InvalidProgram::CODE, "{invalid}"),
+                None => miette::miette!(code = invalid.code, "{invalid}"),
             };
             Failure::Input(vec![report])
         }
@@ -280,6 +301,11 @@ pub(crate) fn emit_failure(
             action: "write",
             error,
         },
+        StreamError::MissingScale(..) => Failure::Input(vec![miette::miette!(
+            code = "pvtc::emit::no_scale",
+            help = "give --counts-per-unit AXIS=N for each moved axis, or counts_per_unit in the machine file's [axes.AXIS]",
+            "{e}"
+        )]),
         StreamError::Unsupported(interpolation) => Failure::Input(vec![miette::miette!(
             code = "pvtc::emit::unsupported_interpolation",
             help =

@@ -406,11 +406,12 @@ fn write_pass(
     let plan_options = crate::pipeline::plan_options(options, layout.units, &layout.axes)?;
     crate::pipeline::check_pmac_axes(options, &layout.axes)?;
     let interpolation = plan_options.interpolation();
-    let emit_options = pvt_emit::EmitOptions {
-        source: name.to_owned(),
-        settings: crate::pipeline::settings(options, layout.units),
-        pmac: options.pmac.clone(),
-    };
+    let emit_options = crate::pipeline::emit_options(
+        options,
+        name,
+        crate::pipeline::settings(options, layout.units),
+        layout.units,
+    );
     let buffered = std::io::BufWriter::with_capacity(1 << 16, out);
     let mut writer = Checked::new(options.format.writer(buffered));
     let header = pvt_emit::Header {

@@ -300,22 +300,23 @@ fn deny_warnings_turns_a_warning_into_a_failure() {
 }
 
 #[test]
-fn pmac_warns_about_fractional_milliseconds_unless_quantized() {
-    let o = pvtc(&["compile", "samples/gcode/an208_zigzag.ngc"], None);
+fn pmac_times_whole_milliseconds_unless_quantize_is_off() {
+    let o = pvtc(
+        &[
+            "compile",
+            "samples/gcode/an208_zigzag.ngc",
+            "--quantize",
+            "off",
+        ],
+        None,
+    );
     assert!(
         stderr(&o).contains("pvtc::emit::fractional_ms"),
         "{}",
         stderr(&o)
     );
-    let q = pvtc(
-        &[
-            "compile",
-            "samples/gcode/an208_zigzag.ngc",
-            "--quantize",
-            "1ms",
-        ],
-        None,
-    );
+    // By default PMAC output is on the 1 ms grid: no --quantize needed.
+    let q = pvtc(&["compile", "samples/gcode/an208_zigzag.ngc"], None);
     assert!(q.status.success(), "{}", stderr(&q));
     assert!(!stderr(&q).contains("fractional_ms"));
     assert!(stderr(&q).contains("pvtc::plan::quantized"));
@@ -1404,7 +1405,15 @@ fn deny_warnings_on_standard_input_writes_nothing() {
     // PMAC output of times that are not whole ms warns.
     let odd = "G21 G90\nG1 X10.123 F777\nM2\n";
     let o = pvtc(
-        &["compile", "-", "--deny-warnings", "--diagnostics", "json"],
+        &[
+            "compile",
+            "-",
+            "--deny-warnings",
+            "--diagnostics",
+            "json",
+            "--quantize",
+            "off",
+        ],
         Some(odd),
     );
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));

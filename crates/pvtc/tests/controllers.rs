@@ -1,0 +1,211 @@
+//! The controller formats from the command line: their rules as coded errors naming the
+//! source line, counts per unit, travel limits from the machine file, `--quantize off`.
+
+use std::process::Output;
+
+mod common;
+use common::pvtc;
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn machine(dir: &std::path::Path, extra: &str) -> String {
+    let path = dir.join("m.toml");
+    let text = format!(
+        "units = \"mm\"\n[axes.X]\nmax_velocity = 100.0\nmax_acceleration = 1000.0\n{extra}\n\
+         [axes.Y]\nmax_velocity = 100.0\nmax_acceleration = 1000.0\n"
+    );
+    std::fs::write(&path, text).unwrap();
+    path.display().to_string()
+}
+
+const PROGRAM: &str = "G21 G90\nG1 X5 Y0 F600\nG1 X10 Y2\nM2\n";
+
+#[test]
+fn counts_formats_without_counts_per_unit_fail_with_nothing_written() {
+    for format in ["galil", "zaber"] {
+        let o = pvtc(&["compile", "-", "--format", format], Some(PROGRAM));
+        assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+        assert!(
+            stderr(&o).contains("pvtc::emit::no_scale"),
+            "{}",
+            stderr(&o)
+        );
+        assert!(o.stdout.is_empty());
+        let o = pvtc(
+            &[
+                "compile",
+                "-",
+                "--format",
+                format,
+                "--counts-per-unit",
+                "X=1000",
+                "--counts-per-unit",
+                "Y=1000",
+            ],
+            Some(PROGRAM),
+        );
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+}
+
+#[test]
+fn a_move_past_the_travel_limit_is_refused_at_its_line_in_every_format() {
+    let dir = tempfile::tempdir().unwrap();
+    let m = machine(dir.path(), "max_position = 8\ncounts_per_unit = 1000");
+    let input = dir.path().join("p.ngc");
+    std::fs::write(&input, PROGRAM).unwrap();
+    let input = input.display().to_string();
+    for format in ["pmac", "xps", "galil", "csv", "powerpmac", "json"] {
+        let mut args = vec![
+            "compile",
+            input.as_str(),
+            "--machine",
+            &m,
+            "--format",
+            format,
+        ];
+        if format == "galil" {
+            args.extend(["--counts-per-unit", "Y=1000"]);
+        }
+        let o = pvtc(&args, None);
+        assert_eq!(o.status.code(), Some(1), "{format}: {}", stderr(&o));
+        let e = stderr(&o);
+        assert!(e.contains("pvtc::emit::travel_limit"), "{format}: {e}");
+        assert!(e.contains("source line 3"), "{format}: {e}");
+        assert!(o.stdout.is_empty());
+    }
+    // Within the travel it compiles.
+    let roomy = machine(dir.path(), "max_position = 10.5");
+    let o = pvtc(
+        &["compile", &input, "--machine", &roomy, "--format", "xps"],
+        None,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+#[test]
+fn lspb_pieces_under_the_xps_shortest_are_merged_by_its_grid_or_refused_without() {
+    let sample = "samples/gcode/grbl_r_arcs.ngc";
+    let base = ["compile", sample, "--planner", "lspb", "--accel", "1e5"];
+    let mut args = base.to_vec();
+    args.extend(["--format", "xps", "--quantize", "off"]);
+    let o = pvtc(&args, None);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        stderr(&o).contains("pvtc::emit::piece_too_short"),
+        "{}",
+        stderr(&o)
+    );
+    // By default the XPS output is on a grid of its shortest element, 100 µs.
+    let mut args = base.to_vec();
+    args.extend(["--format", "xps"]);
+    let o = pvtc(&args, None);
+    assert!(o.status.success(), "{}", stderr(&o));
+    for line in String::from_utf8(o.stdout).unwrap().lines() {
+        let t: f64 = line.split(',').next().unwrap().trim().parse().unwrap();
+        assert!(t >= 1e-4 * (1.0 - 1e-9), "{line}");
+    }
+}
+
+#[test]
+fn a_grid_the_galil_cannot_take_is_refused_and_off_is_no_grid() {
+    let counts = ["--counts-per-unit", "X=1000", "--counts-per-unit", "Y=1000"];
+    let mut args = vec!["compile", "-", "--format", "galil", "--quantize", "1ms"];
+    args.extend(counts);
+    let o = pvtc(&args, Some(PROGRAM));
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        stderr(&o).contains("pvtc::emit::piece_time_off_grid"),
+        "{}",
+        stderr(&o)
+    );
+    // PMAC with --quantize off plans freely, and warns that PMAC rounds TA.
+    let o = pvtc(&["compile", "-", "--quantize", "off"], Some(PROGRAM));
+    assert!(o.status.success());
+    assert!(
+        stderr(&o).contains("pvtc::emit::fractional_ms"),
+        "{}",
+        stderr(&o)
+    );
+    let o = pvtc(&["compile", "-", "--quantize", "2"], Some(PROGRAM));
+    assert_eq!(o.status.code(), Some(2), "a bare number is a usage error");
+}
+
+#[test]
+fn check_reads_the_emitted_pmac_text_and_names_a_line_it_cannot_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("zigzag.pmac");
+    let out = out.display().to_string();
+    let o = pvtc(
+        &["compile", "samples/gcode/an208_zigzag.ngc", "-o", &out],
+        None,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    // The time the controller runs: the sum of the TA times in the text.
+    let text = std::fs::read_to_string(&out).unwrap();
+    let written: f64 = text
+        .lines()
+        .filter_map(|l| l.strip_prefix("TA"))
+        .map(|l| l.split(' ').next().unwrap().parse::<f64>().unwrap() / 1000.0)
+        .sum();
+    let o = pvtc(&["check", &out, "--json"], None);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let total = report["total_time"].as_f64().unwrap();
+    assert!((total - written).abs() < 1e-9, "{total} for {written}");
+    // A broken move line is refused with its line.
+    let line = text.lines().position(|l| l.starts_with("TA")).unwrap();
+    let mut lines: Vec<String> = text.lines().map(str::to_owned).collect();
+    lines[line] = lines[line].replacen(':', ":1x", 1);
+    std::fs::write(&out, lines.join("\n")).unwrap();
+    let o = pvtc(&["check", &out], None);
+    assert_eq!(o.status.code(), Some(1));
+    let e = stderr(&o);
+    assert!(e.contains("pvtc::check::read_back"), "{e}");
+    assert!(e.contains(&format!("line {}:", line + 1)), "{e}");
+}
+
+#[test]
+fn check_takes_a_csv_table_as_the_pieces_it_holds() {
+    let dir = tempfile::tempdir().unwrap();
+    let table = dir.path().join("zigzag.csv").display().to_string();
+    let o = pvtc(
+        &[
+            "compile",
+            "samples/gcode/an208_zigzag.ngc",
+            "--format",
+            "csv",
+            "-o",
+            &table,
+        ],
+        None,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    // From the table itself: the last row's time, and the largest |vX| of any row.
+    let text = std::fs::read_to_string(&table).unwrap();
+    let rows: Vec<Vec<f64>> = text
+        .lines()
+        .skip(1)
+        .map(|r| r.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    let end = rows.last().unwrap()[0];
+    let vx = rows.iter().map(|r| r[2].abs()).fold(0.0, f64::max);
+    let args = [
+        "check",
+        &table,
+        "--planner",
+        "chord-forward",
+        "--velocities",
+        "file",
+        "--json",
+    ];
+    let o = pvtc(&args, None);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let total = report["total_time"].as_f64().unwrap();
+    assert!((total - end).abs() < 1e-9, "{total} for {end}");
+    let peak = report["peaks"]["X"]["velocity"].as_f64().unwrap();
+    assert!(peak >= vx * (1.0 - 1e-12), "{peak} below a knot's {vx}");
+}
