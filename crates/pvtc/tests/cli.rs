@@ -1536,3 +1536,37 @@ fn toolpath_under_deny_warnings_writes_nothing() {
     let allowed = pvtc(&args[..4], None);
     assert!(allowed.status.success() && !allowed.stdout.is_empty());
 }
+
+/// The passes a compile takes over its G-code input, counted on this thread: one into a
+/// file or the null device (`-o /dev/null` is no slower than a file), two into a pipe
+/// (a checking pass first), and the same bytes either way.
+#[cfg(unix)]
+#[test]
+fn null_device_and_files_take_one_pass_and_a_stream_two() {
+    use clap::Parser;
+    let dir = tempfile::tempdir().unwrap();
+    let program = common::root().join("samples/gcode/an208_zigzag.ngc");
+    let program = program.to_str().unwrap();
+    let passes = |output: &str| {
+        let before = pvtc::stream::front_end_passes();
+        let cli = pvtc::Cli::parse_from(["pvtc", "compile", program, "-o", output]);
+        assert_eq!(pvtc::run(cli), std::process::ExitCode::SUCCESS);
+        pvtc::stream::front_end_passes() - before
+    };
+    let file = dir.path().join("out.pmac");
+    assert_eq!(passes("/dev/null"), 1);
+    assert_eq!(passes(file.to_str().unwrap()), 1);
+
+    let args = pvtc::Cli::parse_from(["pvtc", "compile", program]);
+    let pvtc::Command::Compile(args) = args.command else {
+        unreachable!("a compile command")
+    };
+    let options = args.compile_options(program).unwrap();
+    let mut piped = Vec::new();
+    let before = pvtc::stream::front_end_passes();
+    let mut stream = pvtc::output::Target::Stream(&mut piped);
+    let warnings = pvtc::stream::compile_to(program.as_ref(), &options, false, &mut stream);
+    assert!(warnings.is_ok());
+    assert_eq!(pvtc::stream::front_end_passes() - before, 2);
+    assert_eq!(piped, std::fs::read(&file).unwrap());
+}
