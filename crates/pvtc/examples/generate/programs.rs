@@ -22,12 +22,18 @@ fn surface(x: f64, y: f64) -> f64 {
     -2.0 + libm::sin(x * 0.05) * libm::cos(y * 0.07) - 0.001 * (x - 50.0) * (y - 40.0) / 10.0
 }
 
-fn surfacing(out: &mut impl Write, lines: usize) -> io::Result<()> {
-    writeln!(out, "(surfacing benchmark program, {lines} lines)")?;
+/// The first five lines of a raster program: a comment, the modes, and the plunge to the
+/// surface at the origin.
+fn raster_start(out: &mut impl Write, kind: &str, lines: usize) -> io::Result<()> {
+    writeln!(out, "({kind} benchmark program, {lines} lines)")?;
     writeln!(out, "G21 G90 G94 G17")?;
     writeln!(out, "G0 Z5.0000")?;
     writeln!(out, "G0 X0.0000 Y0.0000")?;
-    writeln!(out, "G1 Z{:.4} F1500", surface(0.0, 0.0))?;
+    writeln!(out, "G1 Z{:.4} F1500", surface(0.0, 0.0))
+}
+
+fn surfacing(out: &mut impl Write, lines: usize) -> io::Result<()> {
+    raster_start(out, "surfacing", lines)?;
     let per_row = 500;
     let step = 0.2;
     let mut written = 5;
@@ -57,11 +63,7 @@ fn surfacing(out: &mut impl Write, lines: usize) -> io::Result<()> {
 /// point (centre 1 mm above the chord's middle, about 11°); a row's first move, which
 /// also steps in Y, is never one, as CAM arc fitting leaves it.
 fn arcs(out: &mut impl Write, lines: usize) -> io::Result<()> {
-    writeln!(out, "(arcs benchmark program, {lines} lines)")?;
-    writeln!(out, "G21 G90 G94 G17")?;
-    writeln!(out, "G0 Z5.0000")?;
-    writeln!(out, "G0 X0.0000 Y0.0000")?;
-    writeln!(out, "G1 Z{:.4} F1500", surface(0.0, 0.0))?;
+    raster_start(out, "arcs", lines)?;
     let (per_row, step) = (500, 0.2);
     let mut written = 5;
     let mut row = 0usize;
