@@ -519,7 +519,7 @@ fn step_is_one_rest_to_rest_move_at_the_feed() {
 }
 
 /// The limits grammars/pmac.ebnf states in comments, which EBNF cannot: every time
-/// (`time_ms` of a `PVT` or `TA`) above 0 and at most 4095 ms, no `fixed6` a negative
+/// (`time_ms` of a `PVT` or `TA`) above 0 and at most 4095 ms, no `fixed9` a negative
 /// zero. Only called on a line the grammar accepts.
 fn pmac_values_in_range(line: &str) -> bool {
     let time = line
@@ -584,14 +584,15 @@ fn golden_pmac_files_follow_the_pmac_grammar() {
     }
     // The check rejects what the grammar (or its stated limits) excludes.
     for bad in [
-        "TA1.0000 X-0.000000:1.000000",
-        "TA1.000 X1.000000:0.000000",
+        "TA1.0000 X-0.000000000:1.000000000",
+        "TA1.000 X1.000000000:0.000000000",
+        "TA1.0000 X1.000000:0.000000",
         "TA1.0000",
-        "TA4095.0001 X1.000000:0.000000",
+        "TA4095.0001 X1.000000000:0.000000000",
         "PVT4096.0000",
         "PVT0.0000",
-        "X1.000000:0.000000 TA1.0000",
-        "TA1.0000 W1.000000:0.000000",
+        "X1.000000000:0.000000000 TA1.0000",
+        "TA1.0000 W1.000000000:0.000000000",
         "DWELL1.0000",
         "OPEN PROG CLEAR",
         "&",
@@ -605,7 +606,7 @@ fn golden_pmac_files_follow_the_pmac_grammar() {
         assert!(!pmac_line_matches_grammar(&grammar, &lines, bad), "{bad}");
     }
     for good in [
-        "TA1.0000 X-1.000000:0.000000 Y0.000000:0.000000",
+        "TA1.0000 X-1.000000000:0.000000000 Y0.000000000:0.000000000",
         "; any text",
     ] {
         assert!(pmac_line_matches_grammar(&grammar, &lines, good), "{good}");

@@ -166,11 +166,58 @@ fn round_half_away(x: f64) -> i64 {
     t + i64::from(fraction >= 0.5) - i64::from(fraction <= -0.5)
 }
 
-/// Appends the shortest text that reads back as exactly `x` (ryu), never as `-0.0`.
+/// Appends the shortest text that reads back as exactly `x` (ryu's text), never as `-0.0`.
+///
+/// A value that is a decimal of at most 9 places between 10⁻⁵ and 10⁶ (a programmed
+/// coordinate, a round feed) is written by [`push_short_decimal`] at fixed-point speed;
+/// any other goes to ryu. Both give the same bytes (tested on random values).
 pub fn push_exact(out: &mut String, x: f64) {
     let x = if x == 0.0 { 0.0 } else { x };
+    if push_short_decimal(out, x) {
+        return;
+    }
     let mut buffer = ryu::Buffer::new();
     out.push_str(buffer.format_finite(x));
+}
+
+/// Appends `x` as ryu would and returns true when `x` is the double nearest a decimal
+/// `m·10⁻⁹` with `10⁻⁵ ≤ |x| < 10⁶`; otherwise appends nothing and returns false.
+///
+/// Why the text is ryu's: such a decimal has at most 15 significant digits, and two
+/// distinct decimals of at most 15 significant digits are never the same double, so
+/// `m·10⁻⁹` without its trailing zeros is the one shortest text that reads back as `x`;
+/// in this range ryu writes it without an exponent, with `.0` after a whole number.
+/// Whether `x` is such a double is checked exactly: `m` and `10⁹` are exact doubles, so
+/// `m / 10⁹` is correctly rounded, the double that reading `m·10⁻⁹` gives.
+fn push_short_decimal(out: &mut String, x: f64) -> bool {
+    const UNIT: u64 = 1_000_000_000;
+    let magnitude = x.abs();
+    if !(1e-5..1e6).contains(&magnitude) {
+        return false;
+    }
+    let m = round_half_away(magnitude * 1e9) as u64;
+    if m as f64 / 1e9 != magnitude {
+        return false;
+    }
+    let (int, mut fraction, mut places) = (m / UNIT, m % UNIT, 9);
+    if fraction == 0 {
+        places = 1;
+    } else {
+        while fraction % 10 == 0 {
+            fraction /= 10;
+            places -= 1;
+        }
+    }
+    let mut text = [0u8; 32];
+    let mut len = usize::from(x < 0.0);
+    text[0] = b'-';
+    len += write_integer(&mut text[len..], int);
+    text[len] = b'.';
+    write_fraction(&mut text[len + 1..len + 1 + places], fraction as u32);
+    len += 1 + places;
+    // Only ASCII digits, a sign and a point were written.
+    out.push_str(std::str::from_utf8(&text[..len]).unwrap_or_default());
+    true
 }
 
 #[cfg(test)]
@@ -347,6 +394,42 @@ mod tests {
         assert_eq!(fixed(1e300, 2).len(), 304);
         assert_eq!(fixed(-0.25, 0), "0");
         assert_eq!(fixed(12.5, 0), "13");
+    }
+
+    fn ryu_text(x: f64) -> String {
+        ryu::Buffer::new().format_finite(x).to_string()
+    }
+
+    /// The fast path writes ryu's bytes: on random doubles of every size, on short
+    /// decimals (a random integer over a power of ten, as programs and feeds are), on
+    /// their neighbours one ulp away, and at the edges of its range.
+    #[test]
+    fn exact_is_ryu_on_random_values() {
+        let mut values = vec![1e-5, 0.99999e-5, 1e6, 999_999.999_999_999, 5000.0, 0.1, 0.5];
+        for state in xorshift(0x5851_f42d_4c95_7f2d).take(300_000) {
+            let digits = state % 16;
+            let places = (state >> 8) % 12;
+            let integer = (state >> 16) % 10u64.pow(digits as u32).max(1);
+            let decimal = integer as f64 / 10f64.powi(places as i32);
+            let sign = if state & 1 == 0 { 1.0 } else { -1.0 };
+            let scale = [1e-6, 1e-3, 1.0, 1e3, 1e6, 1e9][(state >> 4) as usize % 6];
+            let random = centred(state) * scale;
+            for x in [decimal, random, random * 1e-12] {
+                let x = sign * x;
+                values.extend([
+                    x,
+                    f64::from_bits(x.to_bits() + 1),
+                    f64::from_bits(x.to_bits().wrapping_sub(1)),
+                ]);
+            }
+        }
+        let mut short = 0;
+        for x in values.into_iter().filter(|x| x.is_finite() && *x != 0.0) {
+            assert_eq!(exact(x), ryu_text(x), "{x:e}");
+            short += usize::from(push_short_decimal(&mut String::new(), x));
+        }
+        // The fast path is taken often: the short decimals in range.
+        assert!(short > 150_000, "{short} short decimals");
     }
 
     #[test]

@@ -3,13 +3,24 @@
 //! Owns the PMAC spelling of a program. One line per segment:
 //!
 //! ```text
-//! TA12.3456 X10.000000:100.000000 Y0.000000:0.000000
+//! TA12.3456 X10.000000000:100.000000000 Y0.000000000:0.000000000
 //! ```
 //!
-//! - positions: absolute (`ABS`), program units, 6 decimals;
-//! - velocities: signed, units per second, 6 decimals — this assumes the coordinate
+//! - positions: absolute (`ABS`), program units, 9 decimals;
+//! - velocities: signed, units per second, 9 decimals — this assumes the coordinate
 //!   system's feedrate time unit `Ix90 = 1000` (ms per time unit: PMAC's default; `Isx90`
 //!   on Turbo PMAC);
+//! - why 9 decimals: a constant sent to PMAC is decimal ASCII text, and Turbo PMAC stores
+//!   every motion-program constant as a 48-bit floating-point value, a 36-bit mantissa and
+//!   a 12-bit exponent (Turbo PMAC User Manual, "Turbo PMAC Computational Features":
+//!   "All constants used in these statements are stored as 48-bit floating-point values";
+//!   "Receiving Values"); Power PMAC reads IEEE doubles. Neither section gives a limit on
+//!   the digits of a constant's decimal text. At 9 decimals the text rounds a position by at most
+//!   5·10⁻¹⁰ units, which is below the 48-bit float's own step (2⁻³⁵ of the value) at
+//!   every position above about 17 units, so the text's rounding does not matter to the
+//!   motion: [`crate::Format::position_resolution`] is [`POSITION_RESOLUTION`] (10⁻⁹),
+//!   and the room the planner keeps for it at a knot's acceleration step on a 1 ms grid
+//!   is 10⁻⁹·6·2/T² = 0.012 units/s², a thousandth of what 6 decimals needed;
 //! - piece time: `TA` in milliseconds with 4 decimals, written *before* the axis words.
 //!   Seed 000 prints `TA` after them, but PMAC takes each piece's time from the most
 //!   recently executed `PVT` or `TA` statement, so a trailing `TA` would time the next
@@ -197,12 +208,12 @@ impl PmacSettings {
     }
 }
 
-/// Decimals of positions and velocities.
-pub const POSITION_DECIMALS: usize = 6;
+/// Decimals of positions and velocities (see the module doc for why 9).
+pub const POSITION_DECIMALS: usize = 9;
 /// The step of a written position: one unit of its last decimal.
-pub const POSITION_RESOLUTION: f64 = 1e-6;
+pub const POSITION_RESOLUTION: f64 = 1e-9;
 const _: () = assert!(
-    POSITION_DECIMALS == 6,
+    POSITION_DECIMALS == 9,
     "POSITION_RESOLUTION is 10^-POSITION_DECIMALS"
 );
 /// Decimals of piece times in milliseconds.

@@ -86,6 +86,9 @@ pub enum Target<'a> {
         /// Where this output begins in it.
         start: u64,
     },
+    /// The null device (`-o /dev/null`, `> /dev/null`): it keeps nothing, so starting
+    /// over costs nothing and a compile writes into it in one pass, as into a file.
+    Discard(&'a mut std::fs::File),
     /// A stream: what is written stays written.
     Stream(&'a mut dyn Write),
 }
@@ -115,7 +118,7 @@ impl Target<'_> {
                 file.seek(std::io::SeekFrom::Start(*start))?;
                 file.set_len(*start)
             }
-            Target::Stream(_) => Ok(()),
+            Target::Discard(_) | Target::Stream(_) => Ok(()),
         }
     }
 }
@@ -128,6 +131,7 @@ impl Write for Target<'_> {
                 let _held = redirected_stdout();
                 file.write(buf)
             }
+            Target::Discard(file) => file.write(buf),
             Target::Stream(out) => out.write(buf),
         }
     }
@@ -139,6 +143,7 @@ impl Write for Target<'_> {
                 let _held = redirected_stdout();
                 file.write_all(buf)
             }
+            Target::Discard(file) => file.write_all(buf),
             Target::Stream(out) => out.write_all(buf),
         }
     }
@@ -146,6 +151,7 @@ impl Write for Target<'_> {
     fn flush(&mut self) -> std::io::Result<()> {
         match self {
             Target::File { file, .. } | Target::RedirectedStdout { file, .. } => file.flush(),
+            Target::Discard(file) => file.flush(),
             Target::Stream(out) => out.flush(),
         }
     }
@@ -194,8 +200,13 @@ pub fn write_file_with<T>(
         error,
     };
     if let Some(mut device) = special_file(path).map_err(fail)? {
-        // A device or a pipe (`-o /dev/null`, a FIFO) is written in place, as a stream:
-        // renaming a temporary file onto it would replace it with a regular file.
+        // A device or a pipe (`-o /dev/null`, a FIFO) is written in place: renaming a
+        // temporary file onto it would replace it with a regular file. The null device
+        // keeps nothing, so it is written as a file that can start over; anything else
+        // as a stream.
+        if is_null_device(&device) {
+            return write(&mut Target::Discard(&mut device));
+        }
         return write(&mut Target::Stream(&mut device));
     }
     let dir = match path.parent() {
@@ -245,6 +256,9 @@ pub fn write_with<T>(
             if let Some(file) = regular_file(&out) {
                 return write_stdout_file(file, write);
             }
+            if let Some(mut null) = null_device(&out) {
+                return write(&mut Target::Discard(&mut null));
+            }
             let value = write(&mut Target::Stream(&mut out))?;
             out.flush().map_err(stdout_failure)?;
             Ok(value)
@@ -274,6 +288,36 @@ fn regular_file(out: &std::io::StdoutLock<'_>) -> Option<std::fs::File> {
 #[cfg(not(unix))]
 fn regular_file(_: &std::io::StdoutLock<'_>) -> Option<std::fs::File> {
     None
+}
+
+/// Standard output as a file, when it is redirected to the null device.
+#[cfg(unix)]
+fn null_device(out: &std::io::StdoutLock<'_>) -> Option<std::fs::File> {
+    use std::os::fd::AsFd;
+    let file = std::fs::File::from(out.as_fd().try_clone_to_owned().ok()?);
+    is_null_device(&file).then_some(file)
+}
+
+#[cfg(not(unix))]
+fn null_device(_: &std::io::StdoutLock<'_>) -> Option<std::fs::File> {
+    None
+}
+
+/// Whether `file` is the null device: a character device with `/dev/null`'s device
+/// number, which discards every write (terminals and serial lines, also character
+/// devices, are not: what they are sent stays sent).
+#[cfg(unix)]
+pub fn is_null_device(file: &std::fs::File) -> bool {
+    use std::os::unix::fs::{FileTypeExt, MetadataExt};
+    let (Ok(this), Ok(null)) = (file.metadata(), std::fs::metadata("/dev/null")) else {
+        return false;
+    };
+    this.file_type().is_char_device() && this.rdev() == null.rdev()
+}
+
+#[cfg(not(unix))]
+pub fn is_null_device(_: &std::fs::File) -> bool {
+    false
 }
 
 /// Lets `write` write standard output redirected to a regular file: from the file's end

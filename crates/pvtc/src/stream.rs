@@ -171,6 +171,18 @@ fn read_failure(path: &std::path::Path, error: std::io::Error) -> crate::options
     }
 }
 
+thread_local! {
+    /// Passes of the G-code front end over an input run on this thread.
+    static PASSES: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
+}
+
+/// How many passes of the G-code front end over an input (each a parse, and a plan
+/// where one is made) this thread has run: the evidence tests take of the route a
+/// compile took (one pass into a file or the null device, two into a pipe).
+pub fn front_end_passes() -> usize {
+    PASSES.with(std::cell::Cell::get)
+}
+
 /// One pass of the G-code front end over the file into `sink`; its errors as reports.
 pub(crate) fn compile_read(
     path: &std::path::Path,
@@ -178,6 +190,7 @@ pub(crate) fn compile_read(
     gcode: &pvt_gcode::GcodeOptions,
     sink: &mut dyn pvt_gcode::ToolpathSink,
 ) -> Result<pvt_gcode::StreamSummary, crate::options::Failure> {
+    PASSES.with(|passes| passes.set(passes.get() + 1));
     pvt_gcode::compile_read(&mut open(path)?, gcode, sink)
         .map_err(|error| read_failure(path, error))?
         .map_err(|errors| crate::options::Failure::Input(reports(path, name, errors.diagnostics)))
@@ -297,9 +310,9 @@ pub fn compile_to(
 /// The header needs the moved axes and the units before the first piece. Into a file
 /// (an output file, or standard output redirected to one), a lexical
 /// [`pvt_gcode::prescan`] guesses them and one pass plans and writes; when the compile
-/// finds otherwise, the file is cut back and a second pass writes again. Into a stream
-/// (a pipe, a terminal), which cannot start over, a first pass finds them and a second
-/// writes.
+/// finds otherwise, the file is cut back and a second pass writes again. The null device
+/// is such a file. Into a stream (a pipe, a terminal), which cannot start over, a first
+/// pass plans into nothing, checking the program and finding them, and a second writes.
 pub fn compile_streaming(
     path: &std::path::Path,
     name: &str,
@@ -314,25 +327,22 @@ pub fn compile_streaming(
         )));
     }
     let gcode = crate::front::gcode_options(options);
-    let layout = if out.can_restart() {
-        let prescan = pvt_gcode::prescan(&mut open(path)?).map_err(|e| read_failure(path, e))?;
-        Layout::guess(&prescan, &gcode)
-    } else {
-        // A stream cannot start over: a first pass finds the axes and units, a second
-        // plans the whole program into nothing, so that a pipe never receives a program
-        // that an error, or a warning under --deny-warnings, would cut short.
-        let mut moved = MovedAxes::default();
-        let summary = compile_read(path, name, &gcode, &mut moved)?;
-        let layout = Layout {
-            axes: moved.axes(),
-            units: summary.units,
-        };
+    let prescan = pvt_gcode::prescan(&mut open(path)?).map_err(|e| read_failure(path, e))?;
+    let mut layout = Layout::guess(&prescan, &gcode);
+    if !out.can_restart() {
+        // A stream cannot start over: a first pass plans the whole program into nothing,
+        // so that a pipe never receives a program that an error, or a warning under
+        // --deny-warnings, would cut short. It finds the axes and units too (checking
+        // again under them when the prescan guessed otherwise).
         let mut nothing = std::io::sink();
         let mut null = Target::Stream(&mut nothing);
-        let check = write_pass(path, name, options, &gcode, &layout, &mut null)?;
+        let mut check = write_pass(path, name, options, &gcode, &layout, &mut null)?;
+        if check.layout != layout {
+            layout = check.layout.clone();
+            check = write_pass(path, name, options, &gcode, &layout, &mut null)?;
+        }
         deny(outcome_warnings(path, name, options, check)?, deny_warnings)?;
-        layout
-    };
+    }
     let mut pass = write_pass(path, name, options, &gcode, &layout, out)?;
     if pass.layout != layout {
         let restart = |error| crate::options::Failure::Io {

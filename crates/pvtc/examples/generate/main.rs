@@ -8,6 +8,7 @@
 //!
 //! - `surfacing`: a 3D raster of short G1 moves over a smooth surface, as CAM 3D
 //!   finishing posts emit it (X Y Z on every line, 4 decimals);
+//! - `arcs`: the same raster with one move in ten a shallow G2/G3 helical arc;
 //! - `pocket`: concentric G2/G3 arcs and G1 step-overs (I/J centre offsets);
 //! - `mixed`: N words, comments, `;` comments, modal words and feed changes between
 //!   G1/G2/G3 moves, and the occasional G0 retract.
@@ -23,7 +24,7 @@ fn main() -> io::Result<()> {
     let (kind, lines) = match args.as_slice() {
         [kind, n] => (kind.as_str(), n.parse::<usize>().expect("line count")),
         _ => {
-            eprintln!("usage: generate surfacing|pocket|mixed LINES");
+            eprintln!("usage: generate surfacing|arcs|pocket|mixed LINES");
             std::process::exit(2);
         }
     };

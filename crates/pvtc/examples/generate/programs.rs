@@ -3,10 +3,11 @@
 
 use std::io::{self, Write};
 
-/// Writes a program of `kind` (`surfacing`, `pocket`, `mixed`) with about `lines` lines.
+/// Writes a program of `kind` (`surfacing`, `arcs`, `pocket`, `mixed`) with about `lines` lines.
 pub fn write(kind: &str, lines: usize, out: &mut impl Write) -> io::Result<()> {
     match kind {
         "surfacing" => surfacing(out, lines),
+        "arcs" => arcs(out, lines),
         "pocket" => pocket(out, lines),
         "mixed" => mixed(out, lines),
         _ => Err(io::Error::new(
@@ -21,12 +22,18 @@ fn surface(x: f64, y: f64) -> f64 {
     -2.0 + libm::sin(x * 0.05) * libm::cos(y * 0.07) - 0.001 * (x - 50.0) * (y - 40.0) / 10.0
 }
 
-fn surfacing(out: &mut impl Write, lines: usize) -> io::Result<()> {
-    writeln!(out, "(surfacing benchmark program, {lines} lines)")?;
+/// The first five lines of a raster program: a comment, the modes, and the plunge to the
+/// surface at the origin.
+fn raster_start(out: &mut impl Write, kind: &str, lines: usize) -> io::Result<()> {
+    writeln!(out, "({kind} benchmark program, {lines} lines)")?;
     writeln!(out, "G21 G90 G94 G17")?;
     writeln!(out, "G0 Z5.0000")?;
     writeln!(out, "G0 X0.0000 Y0.0000")?;
-    writeln!(out, "G1 Z{:.4} F1500", surface(0.0, 0.0))?;
+    writeln!(out, "G1 Z{:.4} F1500", surface(0.0, 0.0))
+}
+
+fn surfacing(out: &mut impl Write, lines: usize) -> io::Result<()> {
+    raster_start(out, "surfacing", lines)?;
     let per_row = 500;
     let step = 0.2;
     let mut written = 5;
@@ -44,6 +51,39 @@ fn surfacing(out: &mut impl Write, lines: usize) -> io::Result<()> {
             };
             let x = k as f64 * step;
             writeln!(out, "X{x:.4} Y{y:.4} Z{:.4}", surface(x, y))?;
+            written += 1;
+        }
+        row += 1;
+    }
+    writeln!(out, "G0 Z5.0000")?;
+    writeln!(out, "M2")
+}
+
+/// The surfacing raster with one move in ten a shallow helical arc in XY to the same
+/// point (centre 1 mm above the chord's middle, about 11°); a row's first move, which
+/// also steps in Y, is never one, as CAM arc fitting leaves it.
+fn arcs(out: &mut impl Write, lines: usize) -> io::Result<()> {
+    raster_start(out, "arcs", lines)?;
+    let (per_row, step) = (500, 0.2);
+    let mut written = 5;
+    let mut row = 0usize;
+    while written < lines {
+        let y = row as f64 * 0.5;
+        let forward = row.is_multiple_of(2);
+        for i in 1..=per_row {
+            if written >= lines {
+                break;
+            }
+            let k = if forward { i } else { per_row - i };
+            let x = k as f64 * step;
+            let z = surface(x, y);
+            if written.is_multiple_of(10) {
+                // The centre 1 mm above the chord's middle: counterclockwise going +X.
+                let (g, i_offset) = if forward { (3, 0.1) } else { (2, -0.1) };
+                writeln!(out, "G{g} X{x:.4} Y{y:.4} Z{z:.4} I{i_offset:.4} J1.0000")?;
+            } else {
+                writeln!(out, "G1 X{x:.4} Y{y:.4} Z{z:.4}")?;
+            }
             written += 1;
         }
         row += 1;

@@ -47,6 +47,8 @@ struct ArcShape {
     radius_rate: f64,
     /// d/dφ of every projected axis that moves linearly (zero on the plane's two axes).
     linear_rate: Vector,
+    /// The last angle interval [`ArcShape::largest_sin_cos`] was asked, and its answer.
+    last_extremes: std::cell::Cell<[f64; 4]>,
 }
 
 impl Curve {
@@ -187,13 +189,11 @@ impl Curve {
                     let y = a.start_angle + a.turn * to;
                     (x.min(y), x.max(y))
                 };
-                let (sin, cos) = (
-                    max_abs_sin(lo, hi),
-                    max_abs_sin(lo + FRAC_PI_2, hi + FRAC_PI_2),
-                );
                 let (d1, d2) = if i == a.first {
+                    let (sin, cos) = a.largest_sin_cos(lo, hi);
                     (k + r * sin, 2.0 * k + r * cos)
                 } else if i == a.second {
+                    let (sin, cos) = a.largest_sin_cos(lo, hi);
                     (k + r * cos, 2.0 * k + r * sin)
                 } else {
                     (a.linear_rate[i].abs(), 0.0)
@@ -206,6 +206,24 @@ impl Curve {
     fn max_radius(&self, a: &ArcShape) -> f64 {
         a.start_radius
             .max(a.start_radius + a.radius_rate * self.span)
+    }
+}
+
+impl ArcShape {
+    /// The largest |sin| and |cos| of the angle over `[lo, hi]`, kept for the last
+    /// interval asked: the planner asks for both plane axes of one piece in turn, so
+    /// each piece takes its sines once, with the same values.
+    fn largest_sin_cos(&self, lo: f64, hi: f64) -> (f64, f64) {
+        let [last_lo, last_hi, sin, cos] = self.last_extremes.get();
+        if (last_lo, last_hi) == (lo, hi) {
+            return (sin, cos);
+        }
+        let (sin, cos) = (
+            max_abs_sin(lo, hi),
+            max_abs_sin(lo + FRAC_PI_2, hi + FRAC_PI_2),
+        );
+        self.last_extremes.set([lo, hi, sin, cos]);
+        (sin, cos)
     }
 }
 
@@ -246,6 +264,7 @@ fn arc_shape(
         start_radius: sweep.start_radius,
         radius_rate: (sweep.end_radius - sweep.start_radius) / span,
         linear_rate,
+        last_extremes: std::cell::Cell::new([f64::NAN; 4]),
     };
     Some((shape, span))
 }

@@ -94,6 +94,27 @@ pub(super) struct Knots {
     /// a time grid, else 0): a shorter one would be stretched to whole quanta, and the
     /// velocities beside it divided by that stretch.
     pub min_cruise: f64,
+    /// The knots before the last rebuild, whose storage the next rebuild reuses.
+    spare: Vec<Knot>,
+}
+
+/// The storage of a window's knots, kept for the next window's (see [`Knots::new`]).
+#[derive(Debug, Default)]
+pub(super) struct KnotStorage {
+    knots: Vec<Knot>,
+    junctions: Vec<Junction>,
+    spare: Vec<Knot>,
+}
+
+impl Knots {
+    /// The vectors of these knots, emptied by the next [`Knots::new`] that takes them.
+    pub fn into_storage(self) -> KnotStorage {
+        KnotStorage {
+            knots: self.knots,
+            junctions: self.junctions,
+            spare: self.spare,
+        }
+    }
 }
 
 impl Knot {
@@ -120,6 +141,7 @@ impl Knots {
         corner: Option<f64>,
         start: &Start,
         narrow: bool,
+        storage: KnotStorage,
     ) -> Knots {
         let mut first = Knot::at(
             Place {
@@ -131,41 +153,41 @@ impl Knots {
         first.fixed = true;
         // Room for a line's blend knot and end knot, and its junction: a knot vector
         // grown one push at a time copied itself about twice per window.
-        let mut knots = Vec::with_capacity(2 * curves.len() + 1);
+        let KnotStorage {
+            mut knots,
+            mut junctions,
+            spare,
+        } = storage;
+        knots.clear();
+        knots.reserve(2 * curves.len() + 1);
         knots.push(first);
+        junctions.clear();
+        junctions.reserve(curves.len());
         let mut this = Knots {
             knots,
-            junctions: Vec::with_capacity(curves.len()),
+            junctions,
             accelerates: bounds.accelerates() || bounds.jerk_mode(),
             jerk_mode: bounds.jerk_mode(),
             min_cruise: 0.0,
+            spare,
         };
         if let Some(j) = &start.junction {
             this.knots[0].junction = Some(0);
             this.junctions.push(j.clone());
         }
-        let junctions: Vec<Option<(Junction, [f64; 2])>> = (0..curves.len() - 1)
-            .map(|e| {
-                junction(
-                    &curves[e],
-                    &curves[e + 1],
-                    bounds,
-                    tolerance,
-                    corner,
-                    narrow,
-                )
-            })
-            .collect();
+        // Each junction is made as its element comes, and kept for the next one.
+        let mut before: Option<(Junction, [f64; 2])> = None;
         for (e, curve) in curves.iter().enumerate() {
-            let before = e.checked_sub(1).and_then(|j| junctions[j].as_ref());
-            let after = junctions.get(e).and_then(Option::as_ref);
-            if let Some(l) = before.and_then(|j| j.0.blend) {
+            let after = curves
+                .get(e + 1)
+                .and_then(|next| junction(curve, next, bounds, tolerance, corner, narrow));
+            if let Some(l) = before.as_ref().and_then(|j| j.0.blend) {
                 let place = Place {
                     element: e,
                     param: l,
                 };
                 this.knots
-                    .push(Knot::at(place, before.map_or(0.0, |j| j.0.cap)));
+                    .push(Knot::at(place, before.as_ref().map_or(0.0, |j| j.0.cap)));
             }
             let from = if e == 0 { start.param } else { 0.0 };
             for param in inner_params(curve, tolerance)
@@ -175,7 +197,8 @@ impl Knots {
                 this.knots
                     .push(Knot::at(Place { element: e, param }, f64::INFINITY));
             }
-            this.push_end(curves, e, after);
+            this.push_end(curves, e, after.as_ref());
+            before = after;
         }
         this
     }
@@ -296,7 +319,7 @@ impl Knots {
         if !self.accelerates {
             return;
         }
-        let mut out = Vec::with_capacity(self.knots.len());
+        let mut out = self.take_spare();
         for k in 0..self.knots.len() {
             out.push(self.knots[k]);
             if k + 1 == self.knots.len() {
@@ -350,7 +373,15 @@ impl Knots {
                 add(d - fall);
             }
         }
-        self.knots = out;
+        self.spare = std::mem::replace(&mut self.knots, out);
+    }
+
+    /// An empty knot vector with the storage of the last rebuild's old knots.
+    fn take_spare(&mut self) -> Vec<Knot> {
+        let mut out = std::mem::take(&mut self.spare);
+        out.clear();
+        out.reserve(self.knots.len());
+        out
     }
 
     /// The element and parameter range of piece `k` (from knot `k` to knot `k + 1`).
@@ -365,7 +396,7 @@ impl Knots {
     /// a corner blend over its tolerance instead gets both end speeds capped at the
     /// slower one (at equal speeds it meets it). Returns whether any changed.
     pub fn split_over(&mut self, curves: &[Curve], pieces: &[Piece], tolerance: f64) -> bool {
-        let mut out = Vec::with_capacity(self.knots.len());
+        let mut out = self.take_spare();
         let mut split = false;
         // The largest error of each knot's piece (of its S-curve parts in jerk mode).
         let mut errors = vec![0.0_f64; self.knots.len() - 1];
@@ -397,7 +428,7 @@ impl Knots {
             }
         }
         out.push(self.knots[self.knots.len() - 1]);
-        self.knots = out;
+        self.spare = std::mem::replace(&mut self.knots, out);
         split
     }
 

@@ -170,7 +170,7 @@ use std::ops::{Deref, DerefMut};
 
 use crate::toolpath::Element;
 use curve::Curve;
-use knots::{Knots, Start};
+use knots::{KnotStorage, Knots, Start};
 
 /// Largest angle between two elements' tangents that is passed at the feed when no
 /// acceleration limits are given (2°); a sharper corner is an exact stop.
@@ -360,6 +360,10 @@ pub struct PathStream {
     options: PathOptions,
     bounds: AxisBounds,
     curves: Vec<Curve>,
+    /// The pieces of the window's last round and its knots' vectors, kept so that the
+    /// next window's rounds reuse their storage rather than allocate it again.
+    pieces: Vec<pieces::Piece>,
+    knot_storage: KnotStorage,
     window: usize,
     start: Start,
     report: PathReport,
@@ -379,6 +383,8 @@ impl PathStream {
             bounds: AxisBounds::new(axes, options),
             options: options.clone(),
             curves: Vec::new(),
+            pieces: Vec::new(),
+            knot_storage: KnotStorage::default(),
             start: Start {
                 param: 0.0,
                 speed: 0.0,
@@ -430,19 +436,34 @@ impl PathStream {
         let least = self.least_acceleration();
         let corner = self.options.corner_tolerance;
         let narrow = self.options.quantum.is_some();
-        let mut knots = Knots::new(curves, bounds, tolerance, corner, &self.start, narrow);
+        let storage = std::mem::take(&mut self.knot_storage);
+        let mut knots = Knots::new(
+            curves,
+            bounds,
+            tolerance,
+            corner,
+            &self.start,
+            narrow,
+            storage,
+        );
         if bounds.jerk_mode() {
             knots.min_cruise = self.options.quantum.map_or(0.0, |q| 3.0 * q.seconds);
         }
         if !last {
             knots.cap_for_window(curves, least);
         }
-        settle(&mut knots, curves, bounds, tolerance).ok_or(not_met.clone())?;
+        // The pieces' storage of the last window, reused by every round of this one.
+        let mut pieces = std::mem::take(&mut self.pieces);
+        if !settle_into(&mut knots, curves, bounds, tolerance, &mut pieces) {
+            return Err(not_met);
+        }
         knots.add_trapezoids(curves, bounds);
         if !last {
             knots.cap_for_window(curves, least);
         }
-        let mut pieces = settle(&mut knots, curves, bounds, tolerance).ok_or(not_met.clone())?;
+        if !settle_into(&mut knots, curves, bounds, tolerance, &mut pieces) {
+            return Err(not_met);
+        }
         if let Some(quantum) = self.options.quantum {
             // The stretched grid's pieces and speed change (its plan dropped before the
             // second one is made).
@@ -478,7 +499,11 @@ impl PathStream {
         } else {
             match knots.cut(curves, self.stopping_distance()) {
                 Some(k) => k,
-                None => return Ok(()),
+                None => {
+                    self.pieces = pieces;
+                    self.knot_storage = knots.into_storage();
+                    return Ok(());
+                }
             }
         };
         let worst = pieces
@@ -488,11 +513,13 @@ impl PathStream {
             .fold(0.0, f64::max);
         self.report.error_bound = self.report.error_bound.max(worst);
         knots.emit(curves, &pieces, count, emit);
+        self.pieces = pieces;
         if !last {
             let (element, start) = knots.start_after(count);
             self.curves.drain(..element);
             self.start = start;
         }
+        self.knot_storage = knots.into_storage();
         Ok(())
     }
 
@@ -550,21 +577,31 @@ fn settle(
     bounds: &AxisBounds,
     tolerance: f64,
 ) -> Option<Vec<pieces::Piece>> {
+    let mut pieces = Vec::new();
+    settle_into(knots, curves, bounds, tolerance, &mut pieces).then_some(pieces)
+}
+
+/// [`settle`] into `pieces`, whose storage every round reuses (and the next window, where
+/// the stream keeps it); false after [`MAX_ROUNDS`].
+fn settle_into(
+    knots: &mut Knots,
+    curves: &[Curve],
+    bounds: &AxisBounds,
+    tolerance: f64,
+    pieces: &mut Vec<pieces::Piece>,
+) -> bool {
     for _ in 0..MAX_ROUNDS {
         knots.plan_speeds(curves, bounds);
-        let pieces = knots.pieces(curves, bounds);
-        if knots.split_over(curves, &pieces, tolerance) {
+        knots.pieces_into(curves, bounds, pieces);
+        if knots.split_over(curves, pieces, tolerance)
+            || knots.slow_over(pieces, bounds)
+            || knots.step_over(pieces, bounds)
+        {
             continue;
         }
-        if knots.slow_over(&pieces, bounds) {
-            continue;
-        }
-        if knots.step_over(&pieces, bounds) {
-            continue;
-        }
-        return Some(pieces);
+        return true;
     }
-    None
+    false
 }
 
 /// The planned pieces and the same on the grid.
@@ -622,7 +659,8 @@ fn resample_contour(
             acceleration: bounds.acceleration.iter().map(|a| a * accel).collect(),
             ..bounds.clone()
         };
-        let mut knots = Knots::new(curves, &planning, tolerance, corner, start, false);
+        let storage = KnotStorage::default();
+        let mut knots = Knots::new(curves, &planning, tolerance, corner, start, false, storage);
         if settle(&mut knots, curves, &planning, tolerance).is_none() {
             continue;
         }

@@ -39,19 +39,19 @@ pub(super) struct Part {
 }
 
 impl Knots {
-    /// The piece between every two consecutive knots, in order; in jerk mode a piece
-    /// that changes speed is its S-curve's two or three parts.
-    pub fn pieces(&self, curves: &[Curve], bounds: &AxisBounds) -> Vec<Piece> {
-        let mut out = Vec::with_capacity(self.knots.len());
+    /// The piece between every two consecutive knots, in order, into `out` (emptied
+    /// first: its storage is reused); in jerk mode a piece that changes speed is its
+    /// S-curve's two or three parts.
+    pub fn pieces_into(&self, curves: &[Curve], bounds: &AxisBounds, out: &mut Vec<Piece>) {
+        out.clear();
         for k in 0..self.knots.len() - 1 {
             let piece = self.piece(curves, bounds, k);
             if self.jerk_mode {
-                self.scurve(curves, bounds, k, piece, &mut out);
+                self.scurve(curves, bounds, k, piece, out);
             } else {
                 out.push(piece);
             }
         }
-        out
     }
 
     fn piece(&self, curves: &[Curve], bounds: &AxisBounds, k: usize) -> Piece {
