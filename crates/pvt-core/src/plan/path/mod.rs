@@ -62,8 +62,9 @@
 //! acceleration is continuous. A piece whose whole speed change at constant
 //! acceleration would step the acceleration by at most a quarter of `j·Tₛ` stays one
 //! cubic. The passes and the trapezoid knots use the S-curve's shortest distance from
-//! `va` to `vb`, `(va + vb)/2·(Δv/a + a/j)` when `Δv ≥ a²/j`, else `(va + vb)·√(Δv/j)`,
-//! inverted by a fixed number of bisections. A corner blend is one cubic: it changes
+//! `va` to `vb`, `(va + vb)/2·(Δv/a + a/j)` when `Δv ≥ a²/j`, else `(va + vb)·√(Δv/j)`:
+//! the passes invert it in closed form (a cubic in `√Δv`, a quadratic in `Δv`), the
+//! trapezoid's peak by a fixed number of bisections. A corner blend is one cubic: it changes
 //! speed at most at half the least step bound.
 //!
 //! What still steps (a corner blend's turn, a junction passed at speed, a change of
