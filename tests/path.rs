@@ -704,8 +704,9 @@ fn a_tolerance_no_piece_can_meet_is_an_error_naming_the_line() {
 
 /// A 100 mm line from rest to rest under `samples/machines/mill.toml`'s X limits
 /// (100 mm/s, 1000 mm/s², 50000 mm/s³), worked by hand. The planner plans to
-/// (1 − 10⁻⁵) of each limit and gives its S-curves 0.9 of the jerk: V = 100·s,
-/// A = 1000·s, J = 45000·s with s = 1 − 10⁻⁵. V ≥ A²/J, so each speed change reaches A:
+/// (1 − 10⁻⁵) of each limit, and a line's S-curves take 0.99 of the jerk: V = 100·s,
+/// A = 1000·s, J = 49500·s with s = 1 − 10⁻⁵ (Ruckig's optimum at the whole limits:
+/// 1.12 s). V ≥ A²/J, so each speed change reaches A:
 /// a ramp of A/J, a constant-acceleration middle of V/A − A/J and a ramp down, over
 /// (V/2)·(V/A + A/J) mm each; the cruise covers the rest at V.
 #[test]
@@ -714,7 +715,7 @@ fn a_line_from_rest_to_rest_is_two_s_curves_and_a_cruise() {
     let share: f64 = 1.0 - 1e-5;
     let lim = limits_with_jerk(100.0, 1000.0, Some(50000.0));
     let planned = plan(&c, 0.001, &lim);
-    let (v, a, j) = (100.0 * share, 1000.0 * share, 0.9 * 50000.0 * share);
+    let (v, a, j) = (100.0 * share, 1000.0 * share, 0.99 * 50000.0 * share);
     let (ramp, middle) = (a / j, v / a - a / j);
     let change = v / 2.0 * (v / a + a / j);
     let cruise = (100.0 - 2.0 * change) / v;
@@ -756,7 +757,7 @@ fn a_short_line_is_two_triangular_s_curves() {
     let share: f64 = 1.0 - 1e-5;
     let lim = limits_with_jerk(100.0, 1000.0, Some(50000.0));
     let planned = plan(&c, 0.001, &lim);
-    let (a, j) = (1000.0 * share, 0.9 * 50000.0 * share);
+    let (a, j) = (1000.0 * share, 0.99 * 50000.0 * share);
     let peak = (0.1 * j.sqrt()).powf(2.0 / 3.0);
     assert!(peak < a * a / j, "the case is triangular: {peak}");
     let ramp = (peak / j).sqrt();

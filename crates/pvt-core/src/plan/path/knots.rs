@@ -774,13 +774,20 @@ fn blend_cap(j: &Junction, l: f64, bounds: &AxisBounds) -> f64 {
     cap
 }
 
-/// Share of the least jerk limit per unit of tangent that a piece's S-curve uses as its
-/// path jerk: on a curve the turn adds jerk of its own, and the closed-form check slows
-/// what is still over.
+/// Share of the least jerk limit per unit of tangent that a piece's S-curve on an arc
+/// uses as its path jerk: on a curve the turn adds jerk of its own, and the closed-form
+/// check slows what is still over. On a line there is no turn: [`LINE_JERK_SHARE`].
 const JERK_SHARE: f64 = 0.9;
 
-/// The path jerk of the S-curves on `[from, to]` of `curve`: [`JERK_SHARE`] of the least
-/// `jerk_i / |t_i|` over the axes (infinite when no axis the piece moves has a limit).
+/// Share of the least jerk limit per unit of tangent that a piece's S-curve on a line
+/// uses: the rest keeps the parts' jerk, computed from their rounded times and speeds,
+/// clear of the closed-form check's margin (at the whole limit some contours slow in
+/// ever smaller steps and do not settle).
+const LINE_JERK_SHARE: f64 = 0.99;
+
+/// The path jerk of the S-curves on `[from, to]` of `curve`: the least `jerk_i / |t_i|`
+/// over the axes, [`LINE_JERK_SHARE`] of it on a line and [`JERK_SHARE`] on an arc
+/// (infinite when no axis the piece moves has a limit).
 pub(super) fn path_jerk(curve: &Curve, from: f64, to: f64, bounds: &AxisBounds) -> f64 {
     let mut jerk = f64::INFINITY;
     for i in 0..bounds.jerk.len() {
@@ -789,7 +796,11 @@ pub(super) fn path_jerk(curve: &Curve, from: f64, to: f64, bounds: &AxisBounds) 
             jerk = jerk.min(bounds.jerk[i] / tangent);
         }
     }
-    JERK_SHARE * jerk
+    if curve.is_line() {
+        LINE_JERK_SHARE * jerk
+    } else {
+        JERK_SHARE * jerk
+    }
 }
 
 /// The shortest path length over which the speed goes from `va` to `vb`, at zero

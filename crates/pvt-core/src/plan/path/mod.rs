@@ -55,8 +55,8 @@
 //! S-curve in its parameter over the same time `T = 2·span/(wa + wb)`: jerk `+j`,
 //! constant acceleration `A`, jerk `−j`, with `A` the smaller root of `T = Δw/A + A/j`
 //! (two ramps of jerk `4·Δw/T²` when the middle would be under 1 % of `T`). The path jerk
-//! `j` is 0.9 of the least `Jᵢ/|tᵢ|` over the axes the piece moves (`tᵢ` its share of
-//! the tangent). Each part's reference motion `φ(t)` is a cubic, and the part's cubic
+//! `j` is 0.99 (on a line) or 0.9 (on an arc, whose turn adds jerk) of the least
+//! `Jᵢ/|tᵢ|` over the axes the piece moves (`tᵢ` its share of the tangent). Each part's reference motion `φ(t)` is a cubic, and the part's cubic
 //! runs from the exact position and velocity of `c(φ)` at its ends, with the error bound
 //! of "Quantization" below; on a line the parts are the S-curve itself, so the
 //! acceleration is continuous. A piece whose whole speed change at constant
@@ -700,6 +700,10 @@ fn resample_contour(
         if let Some(r) = r {
             bar = r.pieces.iter().map(|p| p.duration).sum();
             best = Some((knots, r));
+            if bounds.jerk_mode() {
+                // The later tries take lower shares: the first that converges.
+                break;
+            }
         }
     }
     best

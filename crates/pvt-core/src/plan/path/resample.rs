@@ -181,13 +181,14 @@ pub(super) struct Try {
 pub(super) const ACCELERATION_SHARES: [(f64, usize); 3] = [(0.75, 32), (1.0, 8), (0.6, 32)];
 
 /// Under a jerk limit: shares of the acceleration step bound (left after the room for
-/// rounding, see [`planned_step`]) tried in turn, the first two at the acceleration share
-/// of [`Shares::new`], the first at the full jerk and the later ones at a jerk low
-/// enough for the grid (see there), the last at 0.75 of the acceleration limits. A
+/// rounding, see [`planned_step`]) tried in turn until one converges, all but the last
+/// at the acceleration share of [`Shares::new`], the first at the whole jerk, the second
+/// at [`FIRST_JERK_SHARE`] of it and the later ones at a jerk low enough for the grid
+/// (see there), the last at 0.75 of the acceleration limits. A
 /// planned knot at full step whose acceleration pulse the grid cuts badly comes out up
 /// to 4/3 of it on the grid: most fit at once, and where slowing does not converge the
 /// lower shares do.
-const JERK_TRIES: [(f64, usize); 3] = [(1.0, 32), (0.7, 16), (0.5, 32)];
+const JERK_TRIES: [(f64, usize); 4] = [(1.0, 8), (1.0, 24), (0.7, 16), (0.5, 32)];
 
 const _: () = {
     let (mut rounds, mut i) = (0, 0);
@@ -203,6 +204,13 @@ const _: () = {
     }
     assert!(rounds <= MAX_ROUNDS / 5);
 };
+
+/// Under a jerk limit, the share of the jerk limits the second plan takes (the first
+/// takes the whole limits, which suits a few long pieces): a line's S-curves then use
+/// 0.9 of the limit (see `knots::path_jerk`), whose jerk changes the grid resamples
+/// within the step bound at most knots on 1 ms grids with a 0.5 ms servo period; at the
+/// whole limit dense chords do not converge.
+const FIRST_JERK_SHARE: f64 = 0.91;
 
 /// Under a jerk limit, the share of the path tolerance the plan keeps: the motion the
 /// grid resamples is acceleration-continuous along each S-curve, so the resampled
@@ -259,6 +267,7 @@ impl Shares {
                 step,
                 jerk: match i {
                     0 => 1.0,
+                    1 => FIRST_JERK_SHARE,
                     _ if i < last => fitting,
                     _ => (1.0 - step) * fitting,
                 },
