@@ -700,10 +700,6 @@ fn resample_contour(
         if let Some(r) = r {
             bar = r.pieces.iter().map(|p| p.duration).sum();
             best = Some((knots, r));
-            if bounds.jerk_mode() {
-                // The later tries take lower shares: the first that converges.
-                break;
-            }
         }
     }
     best

@@ -181,7 +181,7 @@ pub(super) struct Try {
 pub(super) const ACCELERATION_SHARES: [(f64, usize); 3] = [(0.75, 32), (1.0, 8), (0.6, 32)];
 
 /// Under a jerk limit: shares of the acceleration step bound (left after the room for
-/// rounding, see [`planned_step`]) tried in turn until one converges, all but the last
+/// rounding, see [`planned_step`]) tried in turn (the fastest wins), all but the last
 /// at the acceleration share of [`Shares::new`], the first at the whole jerk, the second
 /// at [`FIRST_JERK_SHARE`] of it and the later ones at a jerk low enough for the grid
 /// (see there), the last at 0.75 of the acceleration limits. A
