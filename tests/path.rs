@@ -704,8 +704,9 @@ fn a_tolerance_no_piece_can_meet_is_an_error_naming_the_line() {
 
 /// A 100 mm line from rest to rest under `samples/machines/mill.toml`'s X limits
 /// (100 mm/s, 1000 mm/s², 50000 mm/s³), worked by hand. The planner plans to
-/// (1 − 10⁻⁵) of each limit and gives its S-curves 0.9 of the jerk: V = 100·s,
-/// A = 1000·s, J = 45000·s with s = 1 − 10⁻⁵. V ≥ A²/J, so each speed change reaches A:
+/// (1 − 10⁻⁵) of each limit, and a line's S-curves take 0.99 of the jerk: V = 100·s,
+/// A = 1000·s, J = 49500·s with s = 1 − 10⁻⁵ (Ruckig's optimum at the whole limits:
+/// 1.12 s). V ≥ A²/J, so each speed change reaches A:
 /// a ramp of A/J, a constant-acceleration middle of V/A − A/J and a ramp down, over
 /// (V/2)·(V/A + A/J) mm each; the cruise covers the rest at V.
 #[test]
@@ -714,7 +715,7 @@ fn a_line_from_rest_to_rest_is_two_s_curves_and_a_cruise() {
     let share: f64 = 1.0 - 1e-5;
     let lim = limits_with_jerk(100.0, 1000.0, Some(50000.0));
     let planned = plan(&c, 0.001, &lim);
-    let (v, a, j) = (100.0 * share, 1000.0 * share, 0.9 * 50000.0 * share);
+    let (v, a, j) = (100.0 * share, 1000.0 * share, 0.99 * 50000.0 * share);
     let (ramp, middle) = (a / j, v / a - a / j);
     let change = v / 2.0 * (v / a + a / j);
     let cruise = (100.0 - 2.0 * change) / v;
@@ -756,7 +757,7 @@ fn a_short_line_is_two_triangular_s_curves() {
     let share: f64 = 1.0 - 1e-5;
     let lim = limits_with_jerk(100.0, 1000.0, Some(50000.0));
     let planned = plan(&c, 0.001, &lim);
-    let (a, j) = (1000.0 * share, 0.9 * 50000.0 * share);
+    let (a, j) = (1000.0 * share, 0.99 * 50000.0 * share);
     let peak = (0.1 * j.sqrt()).powf(2.0 / 3.0);
     assert!(peak < a * a / j, "the case is triangular: {peak}");
     let ramp = (peak / j).sqrt();
@@ -807,4 +808,85 @@ fn a_jerk_limit_plans_the_contour_whole_whatever_the_window() {
     }
     assert_follows(&c, &windowed, 0.001);
     assert_within(&windowed, 100.0, 1000.0);
+}
+
+/// Asserts every piece's jerk within `j` and every knot's acceleration step within
+/// `j · SERVO`, both recomputed from the written end states by the reference.
+fn assert_jerk_within(planned: &PvtContour, j: f64) {
+    for jerk in reference::jerks(planned) {
+        assert!(jerk <= j * (1.0 + 1e-6), "jerk {jerk} > {j}");
+    }
+    for step in reference::knot_steps(planned) {
+        let bound = j * SERVO;
+        assert!(
+            step <= bound * (1.0 + 1e-6),
+            "acceleration step {step} > {bound}"
+        );
+    }
+}
+
+/// Single lines of 0.2 to 100 mm under mill.toml's X limits on a 1 ms grid: the
+/// jerk-limited plan resampled onto the grid takes at most two quanta more than the plan
+/// itself (stretching each S-curve part to whole quanta, at least three, took 0.142 s
+/// for the 2 mm line against 0.112 s), within every limit.
+#[test]
+fn single_lines_on_a_1ms_grid_under_a_jerk_limit_lose_at_most_two_quanta() {
+    let lim = limits_with_jerk(100.0, 1000.0, Some(50000.0));
+    for length in [0.2, 0.5, 2.0, 10.0, 100.0] {
+        let c = contour(vec![line(
+            pos(0.0, 0.0, 0.0),
+            pos(length, 0.0, 0.0),
+            6000.0,
+        )]);
+        let free = plan(&c, 0.001, &lim);
+        let grid = plan_on(&c, 0.001, &lim, Some(MS));
+        assert_on_grid(&grid, MS.seconds);
+        assert_follows(&c, &grid, 0.001);
+        assert_within(&grid, 100.0, 1000.0);
+        assert_jerk_within(&grid, 50000.0);
+        let (t0, t1) = (free.total_time(), grid.total_time());
+        assert!(
+            t1 <= t0 + 2.0 * MS.seconds + 1e-9,
+            "{length} mm: {t1} s on the grid against {t0} s planned"
+        );
+    }
+}
+
+/// A circle of R 30 as 360 chords at F6000 under mill.toml's X and Y limits, on grids
+/// of 1, 2 and 0.442 ms: the jerk-limited plan is resampled, not stretched piece by
+/// piece (which took 5.3, 5.2 and 5.5 times as long), so the grid's time stays near the
+/// un-gridded plan's. On 2 ms, four servo periods, a jerk change inside a quantum can
+/// step the acceleration more than one period allows, and on 0.442 ms an acceleration
+/// step inside a quantum asks more jerk than the limit: those grids take the lower
+/// jerks and steps of the later plans. Every limit, step and the tolerance hold,
+/// recomputed independently.
+#[test]
+fn dense_chords_on_grids_under_a_jerk_limit_keep_the_planned_time() {
+    let points: Vec<Position> = (0..=360)
+        .map(|i| {
+            let a = std::f64::consts::TAU * f64::from(i % 360) / 360.0;
+            pos(30.0 * a.cos(), 30.0 * a.sin(), 0.0)
+        })
+        .collect();
+    let c = contour(
+        points
+            .windows(2)
+            .map(|w| line(w[0], w[1], 6000.0))
+            .collect(),
+    );
+    let lim = limits_with_jerk(100.0, 1000.0, Some(50000.0));
+    let free = plan(&c, 0.001, &lim);
+    for (ms, most) in [(1.0, 1.05), (2.0, 1.25), (0.442, 1.5)] {
+        let q = Quantum {
+            seconds: ms / 1000.0,
+            rounding: Rounding::Up,
+        };
+        let grid = plan_on(&c, 0.001, &lim, Some(q));
+        assert_on_grid(&grid, q.seconds);
+        assert_follows(&c, &grid, 0.001);
+        assert_within(&grid, 100.0, 1000.0);
+        assert_jerk_within(&grid, 50000.0);
+        let ratio = grid.total_time() / free.total_time();
+        assert!(ratio <= most, "{ms} ms: {ratio} of the un-gridded time");
+    }
 }

@@ -814,13 +814,20 @@ fn blend_cap(j: &Junction, l: f64, bounds: &AxisBounds) -> f64 {
     cap
 }
 
-/// Share of the least jerk limit per unit of tangent that a piece's S-curve uses as its
-/// path jerk: on a curve the turn adds jerk of its own, and the closed-form check slows
-/// what is still over.
+/// Share of the least jerk limit per unit of tangent that a piece's S-curve on an arc
+/// uses as its path jerk: on a curve the turn adds jerk of its own, and the closed-form
+/// check slows what is still over. On a line there is no turn: [`LINE_JERK_SHARE`].
 const JERK_SHARE: f64 = 0.9;
 
-/// The path jerk of the S-curves on `[from, to]` of `curve`: [`JERK_SHARE`] of the least
-/// `jerk_i / |t_i|` over the axes (infinite when no axis the piece moves has a limit).
+/// Share of the least jerk limit per unit of tangent that a piece's S-curve on a line
+/// uses: the rest keeps the parts' jerk, computed from their rounded times and speeds,
+/// clear of the closed-form check's margin (at the whole limit some contours slow in
+/// ever smaller steps and do not settle).
+const LINE_JERK_SHARE: f64 = 0.99;
+
+/// The path jerk of the S-curves on `[from, to]` of `curve`: the least `jerk_i / |t_i|`
+/// over the axes, [`LINE_JERK_SHARE`] of it on a line and [`JERK_SHARE`] on an arc
+/// (infinite when no axis the piece moves has a limit).
 pub(super) fn path_jerk(curve: &Curve, from: f64, to: f64, bounds: &AxisBounds) -> f64 {
     let mut jerk = f64::INFINITY;
     for i in 0..bounds.jerk.len() {
@@ -829,7 +836,11 @@ pub(super) fn path_jerk(curve: &Curve, from: f64, to: f64, bounds: &AxisBounds) 
             jerk = jerk.min(bounds.jerk[i] / tangent);
         }
     }
-    JERK_SHARE * jerk
+    if curve.is_line() {
+        LINE_JERK_SHARE * jerk
+    } else {
+        JERK_SHARE * jerk
+    }
 }
 
 /// The shortest path length over which the speed goes from `va` to `vb`, at zero
@@ -851,28 +862,38 @@ pub(super) fn scurve_distance(va: f64, vb: f64, a: f64, j: f64) -> f64 {
     }
 }
 
-/// Bisection steps of the S-curve inversions: a fixed count, so the result is the same
-/// on every run.
+/// Bisection steps of [`scurve_peak`]: a fixed count, so the result is the same on every
+/// run.
 const BISECTIONS: usize = 64;
 
 /// The fastest speed at the end of a piece of length `d` entered at `v` by an S-curve
-/// (see [`scurve_distance`]).
+/// (see [`scurve_distance`]), in closed form. The distance grows with the speed change
+/// `Δ`; while `Δ < a²/j` it is `(2v + Δ)·√(Δ/j)`, so `s = √Δ` is the one real root of
+/// `s³ + 2v·s = d·√j` (Cardano, `p = 2v ≥ 0`); beyond, `(2v + Δ)/2·(Δ/a + a/j) = d`
+/// is a quadratic in `Δ`.
 fn scurve_reachable(v: f64, a: f64, j: f64, d: f64) -> f64 {
-    // Δv ≤ ∛(d²·j): d ≥ (va + vb)/2 · 2·√(Δv/j) ≥ Δv·√(Δv/j) in both cases.
-    let hi = reachable(v, a, d).min(v + libm::cbrt(d * d * j));
-    if !hi.is_finite() {
-        return f64::INFINITY;
+    if !j.is_finite() {
+        return reachable(v, a, d);
     }
-    let (mut lo, mut hi) = (v, hi);
-    for _ in 0..BISECTIONS {
-        let mid = 0.5 * (lo + hi);
-        if scurve_distance(v, mid, a, j) <= d {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
+    if d <= 0.0 {
+        return v;
     }
-    lo
+    let (p, q) = (2.0 * v, d * j.sqrt());
+    let root = (0.25 * q * q + p * p * p / 27.0).sqrt();
+    let u = libm::cbrt(0.5 * q + root);
+    // u − p/(3u) loses digits when p is large against q: the same root as q/(u² + p/3 +
+    // p²/(9u²)), from (u − p/(3u))·(u² + p/3 + p²/(9u²)) = u³ − p³/(27u³) = q.
+    let s = q / (u * u + p / 3.0 + p * p / (9.0 * u * u));
+    let delta = s * s;
+    if !a.is_finite() || delta * j < a * a {
+        return v + delta;
+    }
+    // Δ²/a + Δ·(2v/a + a/j) + 2v·a/j − 2d = 0, the positive root.
+    let b = p / a + a / j;
+    let c = p * a / j - 2.0 * d;
+    let disc = (b * b - 4.0 * c / a).max(0.0);
+    // The root (−b + √disc)·a/2 as 2·(−c)/(b + √disc), without cancellation.
+    v + (-2.0 * c / (b + disc.sqrt())).max(0.0)
 }
 
 /// The highest cruise speed (at most `cap`) of a line of length `d` from `va` to `vb` by
@@ -900,4 +921,32 @@ fn scurve_peak(va: f64, vb: f64, cap: f64, a: f64, j: f64, d: f64) -> (f64, f64,
         scurve_distance(va, lo, a, j),
         scurve_distance(lo, vb, a, j),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{scurve_distance, scurve_reachable};
+
+    /// The closed-form inversion against the distance it inverts: a speed a little
+    /// under the one reached covers at most the length and one a little over at least
+    /// it (the margin, 10⁻¹² of the speed, is a few units in the last place of `v + Δ`),
+    /// on both sides of the branch point `Δ = a²/j`, from rest and at speed.
+    #[test]
+    fn scurve_reachable_inverts_the_distance() {
+        let (a, j) = (1000.0, 45000.0);
+        for v in [0.0, 0.01, 1.0, 20.0, 100.0] {
+            for d in [1e-6, 1e-3, 0.01, 0.1, 0.5, 2.0, 10.0, 100.0] {
+                let r = scurve_reachable(v, a, j, d);
+                assert!(r > v, "{v} {d}: {r}");
+                let margin = 1e-12 * r;
+                let under = scurve_distance(v, (r - margin).max(v), a, j);
+                let over = scurve_distance(v, r + margin, a, j);
+                assert!(under <= d && over >= d, "{v} {d}: {under} {over}");
+            }
+        }
+        // Without an acceleration limit: the triangular profile only.
+        let r = scurve_reachable(5.0, f64::INFINITY, j, 1.0);
+        let covered = scurve_distance(5.0, r, f64::INFINITY, j);
+        assert!((covered - 1.0).abs() <= 1e-9, "{covered}");
+    }
 }

@@ -55,15 +55,16 @@
 //! S-curve in its parameter over the same time `T = 2·span/(wa + wb)`: jerk `+j`,
 //! constant acceleration `A`, jerk `−j`, with `A` the smaller root of `T = Δw/A + A/j`
 //! (two ramps of jerk `4·Δw/T²` when the middle would be under 1 % of `T`). The path jerk
-//! `j` is 0.9 of the least `Jᵢ/|tᵢ|` over the axes the piece moves (`tᵢ` its share of
-//! the tangent). Each part's reference motion `φ(t)` is a cubic, and the part's cubic
+//! `j` is 0.99 (on a line) or 0.9 (on an arc, whose turn adds jerk) of the least
+//! `Jᵢ/|tᵢ|` over the axes the piece moves (`tᵢ` its share of the tangent). Each part's reference motion `φ(t)` is a cubic, and the part's cubic
 //! runs from the exact position and velocity of `c(φ)` at its ends, with the error bound
 //! of "Quantization" below; on a line the parts are the S-curve itself, so the
 //! acceleration is continuous. A piece whose whole speed change at constant
 //! acceleration would step the acceleration by at most a quarter of `j·Tₛ` stays one
 //! cubic. The passes and the trapezoid knots use the S-curve's shortest distance from
-//! `va` to `vb`, `(va + vb)/2·(Δv/a + a/j)` when `Δv ≥ a²/j`, else `(va + vb)·√(Δv/j)`,
-//! inverted by a fixed number of bisections. A corner blend is one cubic: it changes
+//! `va` to `vb`, `(va + vb)/2·(Δv/a + a/j)` when `Δv ≥ a²/j`, else `(va + vb)·√(Δv/j)`:
+//! the passes invert it in closed form (a cubic in `√Δv`, a quadratic in `Δv`), the
+//! trapezoid's peak by a fixed number of bisections. A corner blend is one cubic: it changes
 //! speed at most at half the least step bound.
 //!
 //! What still steps (a corner blend's turn, a junction passed at speed, a change of
@@ -77,16 +78,20 @@
 //! `R` at most at `√(Jᵢ·Tₛ·R)`). A contour under a jerk limit is planned whole, not in a
 //! window: a window's first knot, already written, could not be matched to the next.
 //!
-//! On a quantum grid each knot's piece (its S-curve's parts joined) gets whole quanta,
-//! at least three when it spans 1.5 quanta or more, and each knot's velocity is divided
-//! by the larger stretch beside it, as without a jerk limit. A piece that is not a blend
-//! and not at rest is then three parts of whole quanta (ramp, middle, ramp) whose
-//! parameter acceleration is linear on each part, zero at both knots, and takes the two
-//! inner values that meet the new end rates and the span in the new time: the motion
-//! stays C² in the parameter, each part's `φ(t)` is a cubic with the bound below, and
-//! the same step check and repairs run on the grid. Trapezoid cruises shorter than three
-//! quanta are left out there (the piece decelerates from its peak instead), since a
-//! shorter piece would be stretched, and the velocities beside it divided, by far more.
+//! On a quantum grid the jerk-limited plan is resampled in time (see "Resampling in
+//! time" below), and the resampled pieces are checked against the same bounds: each
+//! piece's jerk and every grid knot's acceleration step, from the cubics beside it.
+//! Where only the stretched grid converges, each knot's piece (its S-curve's parts
+//! joined) gets whole quanta, at least three when it spans 1.5 quanta or more, and each
+//! knot's velocity is divided by the larger stretch beside it, as without a jerk limit.
+//! A piece that is not a blend and not at rest is then three parts of whole quanta
+//! (ramp, middle, ramp) whose parameter acceleration is linear on each part, zero at
+//! both knots, and takes the two inner values that meet the new end rates and the span
+//! in the new time: the motion stays C² in the parameter, each part's `φ(t)` is a cubic
+//! with the bound below, and the same step check and repairs run on the grid. Trapezoid
+//! cruises shorter than three quanta are left out there (the piece decelerates from its
+//! peak instead), since a shorter piece would be stretched, and the velocities beside
+//! it divided, by far more.
 //!
 //! # Quantization
 //! With a quantum `q` (`--quantize`), the planned pieces go onto the grid here, before
@@ -112,18 +117,21 @@
 //! velocity, already written, could not be divided again.
 //!
 //! ## Resampling in time
-//! Without a jerk limit there is a second way onto the grid ([`resample`]); each contour
+//! There is a second way onto the grid ([`resample`]). Without a jerk limit each contour
 //! takes the one with the shorter total time, the stretched grid above when they are
-//! within half a quantum of each other (both totals are whole quanta). Stretching each
-//! piece divides a knot's velocity by the larger stretch beside it, so on dense chords
-//! (pieces of a few quanta, corner blends under one) neighbouring stretches differ
-//! widely and the repairs slow the motion far below the plan; resampling keeps it:
+//! within half a quantum of each other (both totals are whole quanta); under a jerk
+//! limit the resampled grid is tried first and the stretched one only where it does not
+//! converge. Stretching each piece divides a knot's velocity by the larger stretch
+//! beside it, so on dense chords (pieces of a few quanta, corner blends under one)
+//! neighbouring stretches differ widely and the repairs slow the motion far below the
+//! plan; resampling keeps it:
 //! 1. The contour is planned again, settled and un-gridded, at
 //!    [`resample::RESAMPLE_SHARE`] (0.8) of the path and corner tolerances, and at each
 //!    of [`resample::ACCELERATION_SHARES`] of the acceleration limits in turn (the
-//!    shortest result wins). Its motion `x_p(t)` is C¹ piecewise cubic; each planned
-//!    piece is within its error bound `eᵢ` of the programmed point `c(φ(t))` at every
-//!    instant (as above).
+//!    shortest result wins); under a jerk limit at 0.95 of the tolerances and with
+//!    [`resample::Shares`]' shares of the acceleration limits, the step bound and the
+//!    jerk. Its motion `x_p(t)` is C¹ piecewise cubic; each planned piece is within its
+//!    error bound `eᵢ` of the programmed point `c(φ(t))` at every instant (as above).
 //! 2. It is scaled uniformly in time by `s = ⌈T/q⌉·q/T ≥ 1`, so that its total is whole
 //!    quanta: the same path, velocities divided by `s`, accelerations by `s²`, and the
 //!    same error bounds.
@@ -141,12 +149,27 @@
 //!    middle element's, and `check` looks for its motion near that line's elements and
 //!    their neighbours.
 //! 5. Limits: every resampled piece's closed-form per-axis velocity and acceleration
-//!    peaks are checked as every other piece's. Where one is over (or an interval of one
-//!    quantum is over the tolerance), the planned knots its interval covers have their
-//!    speed caps lowered by the excess, the plan is settled and resampled again. When no
+//!    peaks (and jerk) are checked as every other piece's. Under a jerk limit so is the
+//!    acceleration step at every grid knot (against rest at the contour's ends by half
+//!    the bound), less the room the written positions' rounding takes beside it: a
+//!    Hermite piece through a motion whose jerk changes by `Δj` inside it misses the
+//!    motion's end acceleration by at most `4/27·|Δj|·T`, so a knot over its bound gets
+//!    grid knots one quantum away on each side (intervals of two quanta or more), and
+//!    where both intervals beside it are one quantum the plan is slowed there. Where
+//!    one is over (or an interval of one quantum is over the tolerance), the planned
+//!    knots its interval covers have their speed caps lowered by the excess, the plan is
+//!    settled and resampled again. When no
 //!    share converges within its rounds (all together a fifth of [`MAX_ROUNDS`], so that
 //!    a contour that does not converge costs little) the contour takes the stretched
 //!    grid.
+//!
+//! Under a jerk limit the plan's acceleration is continuous along each S-curve and
+//! steps at knots only by what the step bound allows, so the resampled acceleration
+//! stays within `8/27·Jᵢ·q` of it (the first plans take that share of the acceleration
+//! limits off); a step `Δa` inside a quantum adds up to `1.5·Δa/q` to a resampled
+//! piece's jerk, and a jerk change up to `16/27·Δj·q` to a grid knot's step. Where the
+//! first plan does not converge (grids of several servo periods, or finer than one),
+//! the later ones take a lower jerk and step bound so that these fit.
 //!
 //! Hermite resampling can ask more acceleration than the plan: where a short pulse of
 //! acceleration (a blend of 0.8 ms) lies near an interval's end its end acceleration
@@ -465,32 +488,7 @@ impl PathStream {
             return Err(not_met);
         }
         if let Some(quantum) = self.options.quantum {
-            // The stretched grid's pieces and speed change (its plan dropped before the
-            // second one is made).
-            let grid = on_grid(&mut knots, curves, bounds, tolerance, quantum, pieces).map(|g| {
-                (
-                    pieces::mid_speed_change(&g.planned, &g.grid.pieces),
-                    g.grid.pieces,
-                )
-            });
-            // The resampled grid where it is faster by at least half a quantum (both
-            // totals are whole quanta), else the stretched one.
-            let bar = grid.as_ref().map_or(f64::INFINITY, |(_, g)| {
-                g.iter().map(|p| p.duration).sum::<f64>()
-            });
-            let resampled = if bounds.jerk_mode() {
-                None
-            } else {
-                resample_contour(curves, bounds, &self.options, &self.start, quantum, bar)
-            };
-            let (change, chosen) = match (resampled, grid) {
-                (Some((k, r)), _) => {
-                    knots = k;
-                    (r.speed_change, r.pieces)
-                }
-                (None, Some(g)) => g,
-                (None, None) => return Err(not_met),
-            };
+            let (change, chosen) = self.on_quantum_grid(&mut knots, pieces, quantum)?;
             self.report.speed_change = self.report.speed_change.max(change);
             pieces = chosen;
         }
@@ -521,6 +519,55 @@ impl PathStream {
         }
         self.knot_storage = knots.into_storage();
         Ok(())
+    }
+
+    /// The settled `pieces` of `knots` on the grid of `quantum` (see "Quantization"):
+    /// resampled, or stretched piece by piece, whichever is shorter by half a quantum
+    /// (the stretched one on a tie). Under a jerk limit the resampled grid is tried first
+    /// and the stretched one only where it fails. Returns the speed change and the pieces;
+    /// `knots` become those of the chosen plan.
+    fn on_quantum_grid(
+        &self,
+        knots: &mut Knots,
+        pieces: Vec<pieces::Piece>,
+        quantum: Quantum,
+    ) -> Result<(f64, Vec<pieces::Piece>), PlanError> {
+        let (curves, bounds, tolerance) = (&self.curves, &self.bounds, self.options.tolerance);
+        let not_met = PlanError::PathNotMet {
+            line: curves[0].line,
+        };
+        let resample =
+            |bar| resample_contour(curves, bounds, &self.options, &self.start, quantum, bar);
+        if bounds.jerk_mode() {
+            if let Some((k, r)) = resample(f64::INFINITY) {
+                *knots = k;
+                return Ok((r.speed_change, r.pieces));
+            }
+        }
+        // The stretched grid's pieces and speed change (its plan dropped before the
+        // second one is made).
+        let grid = on_grid(knots, curves, bounds, tolerance, quantum, pieces).map(|g| {
+            (
+                pieces::mid_speed_change(&g.planned, &g.grid.pieces),
+                g.grid.pieces,
+            )
+        });
+        if bounds.jerk_mode() {
+            return grid.ok_or(not_met);
+        }
+        // The resampled grid where it is faster by at least half a quantum (both
+        // totals are whole quanta), else the stretched one.
+        let bar = grid.as_ref().map_or(f64::INFINITY, |(_, g)| {
+            g.iter().map(|p| p.duration).sum::<f64>()
+        });
+        match (resample(bar), grid) {
+            (Some((k, r)), _) => {
+                *knots = k;
+                Ok((r.speed_change, r.pieces))
+            }
+            (None, Some(g)) => Ok(g),
+            (None, None) => Err(not_met),
+        }
     }
 
     /// The least tangential acceleration any piece has: an axis' acceleration less the
@@ -646,7 +693,8 @@ fn resample_contour(
     quantum: Quantum,
     mut bar: f64,
 ) -> Option<(Knots, resample::Resampled)> {
-    let share = resample::RESAMPLE_SHARE;
+    let shares = resample::Shares::new(bounds, quantum.seconds);
+    let share = shares.tolerance;
     let tolerance = share * options.tolerance;
     let corner = options.corner_tolerance.map(|c| share * c);
     let tolerances = resample::Tolerances {
@@ -654,9 +702,20 @@ fn resample_contour(
         corner: options.corner_tolerance.unwrap_or(options.tolerance),
     };
     let mut best = None;
-    for (accel, rounds) in resample::ACCELERATION_SHARES {
+    for try_ in shares.tries {
         let planning = AxisBounds {
-            acceleration: bounds.acceleration.iter().map(|a| a * accel).collect(),
+            acceleration: bounds
+                .acceleration
+                .iter()
+                .map(|a| a * try_.acceleration)
+                .collect(),
+            step: bounds
+                .step
+                .iter()
+                .map(|&s| resample::planned_step(s, try_.step, bounds.resolution, quantum.seconds))
+                .collect(),
+            jerk: bounds.jerk.iter().map(|j| j * try_.jerk).collect(),
+            resolution: 0.0,
             ..bounds.clone()
         };
         let storage = KnotStorage::default();
@@ -673,9 +732,10 @@ fn resample_contour(
             bounds,
             tolerance,
             tolerances,
-            rounds,
+            rounds: try_.rounds,
         };
-        if let Some(r) = resample::resample(&mut knots, curves, &limits, quantum, bar, planned) {
+        let r = resample::resample(&mut knots, curves, &limits, quantum, bar, planned);
+        if let Some(r) = r {
             bar = r.pieces.iter().map(|p| p.duration).sum();
             best = Some((knots, r));
         }

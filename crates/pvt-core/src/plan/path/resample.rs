@@ -1,10 +1,11 @@
 //! The second way onto a quantum grid: resampling the planned motion in time.
 //!
 //! Owns the uniform time scaling of a settled, un-gridded plan to whole quanta, the grid
-//! knots (planned knot times rounded to the grid, split where the tolerance needs it),
-//! the cubic Hermite pieces through the planned motion at the grid knots, their exact
-//! deviation from the planned motion, and the rounds that slow the plan where a
-//! resampled piece is over a limit. It must not compute the planned pieces or choose
+//! knots (planned knot times rounded to the grid, split where the tolerance needs it and,
+//! under a jerk limit, beside a knot whose acceleration steps too far), the cubic Hermite
+//! pieces through the planned motion at the grid knots, their exact deviation from the
+//! planned motion, the shares of the limits the plan is made with ([`Shares`]), and the
+//! rounds that slow the plan where a resampled piece or knot is over a limit. It must not compute the planned pieces or choose
 //! between this grid and the stretched one: that is [`super::pieces`] and [`super`].
 
 use super::curve::Curve;
@@ -150,17 +151,44 @@ pub(super) struct Tolerances {
     pub corner: f64,
 }
 
-/// Shares of the acceleration limits the plan that is resampled is planned to, each
-/// tried in turn, with the most rounds of slowing it may take. Hermite resampling of a
-/// motion whose acceleration is a short pulse (a corner blend under a millisecond) can
-/// ask up to 4/3 of the pulse's acceleration at an interval's end, depending on where
-/// the grid cuts it; with thousands of blends some always fall badly, and slowing those
-/// moves the others on the grid. Planned at 0.75 (≤ 3/4 · 4/3 = 1) nearly all fit at
-/// once; at 1.0 a plan with few such pulses keeps its full acceleration, in a few rounds
-/// or not at all (its rounds are few: on a long contour each settles the whole plan
-/// again); 0.6 is for splines, whose interpolation adds more. All the rounds together
-/// stay within a fifth of [`MAX_ROUNDS`].
+/// How the plan that is resampled is made: its share of the path and corner tolerance,
+/// and, in turn, its shares of the acceleration limits and of the acceleration step
+/// bound (under a jerk limit), each with the most rounds of slowing it may take.
+pub(super) struct Shares {
+    pub tolerance: f64,
+    pub tries: Vec<Try>,
+}
+
+/// One plan to resample: shares of the limits and the most rounds of slowing.
+#[derive(Clone, Copy)]
+pub(super) struct Try {
+    pub acceleration: f64,
+    pub step: f64,
+    pub jerk: f64,
+    pub rounds: usize,
+}
+
+/// Shares of the acceleration limits the plan that is resampled is planned to without a
+/// jerk limit, each tried in turn, with the most rounds of slowing it may take. Hermite
+/// resampling of a motion whose acceleration is a short pulse (a corner blend under a
+/// millisecond) can ask up to 4/3 of the pulse's acceleration at an interval's end,
+/// depending on where the grid cuts it; with thousands of blends some always fall badly,
+/// and slowing those moves the others on the grid. Planned at 0.75 (≤ 3/4 · 4/3 = 1)
+/// nearly all fit at once; at 1.0 a plan with few such pulses keeps its full
+/// acceleration, in a few rounds or not at all (its rounds are few: on a long contour
+/// each settles the whole plan again); 0.6 is for splines, whose interpolation adds
+/// more. All the rounds together stay within a fifth of [`MAX_ROUNDS`].
 pub(super) const ACCELERATION_SHARES: [(f64, usize); 3] = [(0.75, 32), (1.0, 8), (0.6, 32)];
+
+/// Under a jerk limit: shares of the acceleration step bound (left after the room for
+/// rounding, see [`planned_step`]) tried in turn (the fastest wins), all but the last
+/// at the acceleration share of [`Shares::new`], the first at the whole jerk, the second
+/// at [`FIRST_JERK_SHARE`] of it and the later ones at a jerk low enough for the grid
+/// (see there), the last at 0.75 of the acceleration limits. A
+/// planned knot at full step whose acceleration pulse the grid cuts badly comes out up
+/// to 4/3 of it on the grid: most fit at once, and where slowing does not converge the
+/// lower shares do.
+const JERK_TRIES: [(f64, usize); 4] = [(1.0, 8), (1.0, 24), (0.7, 16), (0.5, 32)];
 
 const _: () = {
     let (mut rounds, mut i) = (0, 0);
@@ -169,7 +197,96 @@ const _: () = {
         i += 1;
     }
     assert!(rounds <= MAX_ROUNDS / 5);
+    let (mut rounds, mut i) = (0, 0);
+    while i < JERK_TRIES.len() {
+        rounds += JERK_TRIES[i].1;
+        i += 1;
+    }
+    assert!(rounds <= MAX_ROUNDS / 5);
 };
+
+/// Under a jerk limit, the share of the jerk limits the second plan takes (the first
+/// takes the whole limits, which suits a few long pieces): a line's S-curves then use
+/// 0.9 of the limit (see `knots::path_jerk`), whose jerk changes the grid resamples
+/// within the step bound at most knots on 1 ms grids with a 0.5 ms servo period; at the
+/// whole limit dense chords do not converge.
+const FIRST_JERK_SHARE: f64 = 0.91;
+
+/// Under a jerk limit, the share of the path tolerance the plan keeps: the motion the
+/// grid resamples is acceleration-continuous along each S-curve, so the resampled
+/// pieces deviate from it by far less than without.
+const JERK_TOLERANCE_SHARE: f64 = 0.95;
+
+impl Shares {
+    /// The shares for `bounds` on a grid of `q` seconds. Under a jerk limit the plan's
+    /// jerk is within `Jᵢ` on each axis, changing by at most `2·Jᵢ`; a Hermite piece
+    /// through it misses its acceleration at an end by at most `4/27·|Δj|·T` for a jerk
+    /// change inside, so on a quantum the resampled acceleration is within `8/27·Jᵢ·q`
+    /// of the plan's: the first plans take that share of the acceleration limits off
+    /// (keeping at least 0.75).
+    pub fn new(bounds: &AxisBounds, q: f64) -> Shares {
+        if !bounds.jerk_mode() {
+            let tries = ACCELERATION_SHARES
+                .iter()
+                .map(|&(acceleration, rounds)| Try {
+                    acceleration,
+                    step: 1.0,
+                    jerk: 1.0,
+                    rounds,
+                });
+            return Shares {
+                tolerance: RESAMPLE_SHARE,
+                tries: tries.collect(),
+            };
+        }
+        let margin = (0..bounds.jerk.len())
+            .map(|i| 8.0 / 27.0 * bounds.jerk[i] * q / bounds.acceleration[i])
+            .filter(|m| m.is_finite())
+            .fold(0.0, f64::max);
+        let acceleration = (1.0 - margin).max(0.75);
+        // The later plans' jerk: `16/27·j·q` (a jerk change of `2·j` within a quantum
+        // on both sides of a grid knot) within the step bound, and for the last within
+        // the half of it that its plan leaves. A planned step `Δa` inside a quantum adds
+        // up to `1.5·Δa/q` to the resampled piece's jerk (the Hermite kernel
+        // `6t(T − t)/T³`): the later plans' steps take at most half the jerk limit, the
+        // S-curves' path jerk (0.9 of it) the other half.
+        let fitting = (0..bounds.jerk.len())
+            .map(|i| {
+                let left = planned_step(bounds.step[i], 1.0, bounds.resolution, q);
+                left / (16.0 / 27.0 * bounds.jerk[i] * q)
+            })
+            .filter(|s| s.is_finite())
+            .fold(1.0, f64::min)
+            .min(0.5 / 0.9);
+        let last = JERK_TRIES.len() - 1;
+        let tries = JERK_TRIES
+            .iter()
+            .enumerate()
+            .map(|(i, &(step, rounds))| Try {
+                acceleration: if i < last { acceleration } else { 0.75 },
+                step,
+                jerk: match i {
+                    0 => 1.0,
+                    1 => FIRST_JERK_SHARE,
+                    _ if i < last => fitting,
+                    _ => (1.0 - step) * fitting,
+                },
+                rounds,
+            });
+        Shares {
+            tolerance: JERK_TOLERANCE_SHARE,
+            tries: tries.collect(),
+        }
+    }
+}
+
+/// An axis' acceleration step bound `step` for the plan that is resampled onto a grid of
+/// `q` seconds, at `share` of it: less the room the rounding of written positions
+/// (resolution `r`) takes beside a knot between two pieces of one quantum, `12·r/q²`,
+/// and at least a quarter of the share (a knot still over on the grid is slowed there).
+pub(super) fn planned_step(step: f64, share: f64, resolution: f64, q: f64) -> f64 {
+    (share * step - 12.0 * resolution / (q * q)).max(0.25 * share * step)
+}
 
 /// What the resampled pieces keep and how the plan is made.
 pub(super) struct Limits<'a> {
@@ -248,26 +365,84 @@ fn resample_once(
         }
     }
     grid.push(last);
+    let mut done: Vec<(u64, u64, Piece)> = Vec::with_capacity(grid.len());
+    // Under a jerk limit, rounds of placing grid knots next to a knot whose acceleration
+    // steps too far (each round at least one more; see [`steps_over`]).
+    for _ in 0..=MAX_ROUNDS {
+        let (pieces, slow) = resample_grid(knots, bounds, tolerances, q, &motion, &grid, &done);
+        if !slow.is_empty() {
+            return Err(slow);
+        }
+        done = pieces;
+        if !bounds.jerk_mode() {
+            break;
+        }
+        match steps_over(&done, bounds) {
+            Steps::Within => break,
+            Steps::Split(knots_to_add) => {
+                grid.extend(knots_to_add);
+                grid.sort_unstable();
+                grid.dedup();
+            }
+            Steps::Slow(over) => {
+                let slow = over.into_iter().map(|(at, factor)| {
+                    let (a, b) = (done[at.start].0, done[at.end - 1].1);
+                    (covered(&motion, a, b, q), factor)
+                });
+                return Err(slow.collect());
+            }
+        }
+    }
+    let pieces: Vec<Piece> = done.into_iter().map(|(_, _, p)| p).collect();
+    let speed_change = speed_change(&motion, &pieces);
+    Ok(Resampled {
+        pieces,
+        speed_change,
+    })
+}
+
+/// The pieces of every interval of `grid` (reusing those of `done` on the same
+/// interval), each over the tolerance split at its middle, with their intervals; or the
+/// planned knot ranges to slow and by what factor.
+#[allow(clippy::type_complexity)]
+fn resample_grid(
+    knots: &Knots,
+    bounds: &AxisBounds,
+    tolerances: Tolerances,
+    q: f64,
+    motion: &Motion<'_>,
+    grid: &[u64],
+    done: &[(u64, u64, Piece)],
+) -> (Vec<(u64, u64, Piece)>, Vec<(std::ops::Range<usize>, f64)>) {
+    let last = *grid.last().unwrap_or(&0);
     let mut pieces = Vec::with_capacity(grid.len());
     let mut slow = Vec::new();
+    let mut reuse = done.iter().peekable();
     // Intervals still to resample, latest first.
     let mut todo: Vec<(u64, u64)> = grid.windows(2).rev().map(|w| (w[0], w[1])).collect();
     while let Some((a, b)) = todo.pop() {
-        match interval(knots, bounds, tolerances, q, &motion, (a, b), last) {
-            Ok(piece) => pieces.push(piece),
+        while reuse.next_if(|d| d.0 < a).is_some() {}
+        if let Some(d) = reuse.peek().filter(|d| d.0 == a && d.1 == b) {
+            pieces.push((a, b, d.2.clone()));
+            continue;
+        }
+        match interval(knots, bounds, tolerances, q, motion, (a, b), last) {
+            Ok(piece) => pieces.push((a, b, piece)),
             Err(Over::Tolerance) if b - a >= 2 => {
                 let mid = a + (b - a) / 2;
                 todo.push((mid, b));
                 todo.push((a, mid));
             }
-            Err(Over::Tolerance) => slow.push((covered(&motion, a, b, q), 0.9)),
-            Err(Over::Limit(factor)) => slow.push((covered(&motion, a, b, q), factor)),
+            Err(Over::Tolerance) => slow.push((covered(motion, a, b, q), 0.9)),
+            Err(Over::Limit(factor)) => slow.push((covered(motion, a, b, q), factor)),
         }
     }
-    if !slow.is_empty() {
-        return Err(slow);
-    }
-    // Each piece's speed at mid-time against the plan's at the same point of the path.
+    (pieces, slow)
+}
+
+/// Each piece's speed at mid-time against the plan's at the same point of the path: the
+/// largest relative change where the plan moves at 1 % of its fastest or more.
+fn speed_change(motion: &Motion<'_>, pieces: &[Piece]) -> f64 {
     let mut start = 0.0;
     let speeds: Vec<(f64, f64)> = pieces
         .iter()
@@ -276,21 +451,93 @@ fn resample_once(
             start += p.duration;
             let (i, u) = motion.locate(mid);
             let dim = p.start.len();
-            let plan = Vector::from_fn(dim, |a| motion.axis_state(i, a, u).velocity * scale);
+            let plan = Vector::from_fn(dim, |a| motion.axis_state(i, a, u).velocity * motion.scale);
             let now = Vector::from_fn(dim, |a| p.cubic(a).at(0.5 * p.duration).velocity);
             (crate::vector::norm(&plan), crate::vector::norm(&now))
         })
         .collect();
     let fastest = speeds.iter().fold(0.0_f64, |m, s| m.max(s.0));
-    let speed_change = speeds
+    speeds
         .iter()
         .filter(|(before, _)| *before > 0.01 * fastest)
         .map(|(before, now)| (now - before).abs() / before)
-        .fold(0.0, f64::max);
-    Ok(Resampled {
-        pieces,
-        speed_change,
-    })
+        .fold(0.0, f64::max)
+}
+
+/// What the acceleration steps at the grid knots ask.
+enum Steps {
+    /// Every step within its bound.
+    Within,
+    /// Grid knots to add: one quantum inside each interval of two quanta or more beside
+    /// a knot that steps too far.
+    Split(Vec<u64>),
+    /// Knots that step too far between intervals of one quantum: slow the plan over
+    /// each range of pieces by its factor (steps grow with the square of the speeds).
+    Slow(Vec<(std::ops::Range<usize>, f64)>),
+}
+
+/// Under a jerk limit, the acceleration step at every grid knot of `pieces` (with their
+/// intervals, in quanta) against `bounds.step`, less the room for written positions'
+/// rounding beside the knot, and at the contour's ends against rest by half of it (see
+/// "Jerk" in [`super`]). A Hermite piece through a motion whose jerk changes inside it
+/// misses the motion's acceleration at its ends by up to `4/27·|Δj|·T` (on one quantum:
+/// `T = q`), so where a step is over, the intervals beside the knot get a grid knot one
+/// quantum from it; where both are one quantum already, the plan is slowed.
+fn steps_over(pieces: &[(u64, u64, Piece)], bounds: &AxisBounds) -> Steps {
+    let n = pieces.len();
+    let ends: Vec<[Vector; 2]> = pieces.iter().map(|p| p.2.end_accelerations()).collect();
+    let dim = pieces[0].2.start.len();
+    let mut split = Vec::new();
+    let mut slow = Vec::new();
+    for i in 0..=n {
+        let before = if i == 0 {
+            Vector::zeros(dim)
+        } else {
+            ends[i - 1][1]
+        };
+        let after = ends.get(i).map_or(Vector::zeros(dim), |e| e[0]);
+        let share = if i == 0 || i == n { 0.5 } else { 1.0 };
+        let beside = i.saturating_sub(1)..(i + 1).min(n);
+        let around = i.saturating_sub(2)..(i + 2).min(n);
+        let rounding: f64 = pieces[beside.clone()]
+            .iter()
+            .map(|p| 6.0 * bounds.resolution / (p.2.duration * p.2.duration))
+            .sum();
+        let mut factor: f64 = 1.0;
+        for a in 0..dim {
+            let step = (after[a] - before[a]).abs();
+            let bound = share * bounds.step[a] - rounding;
+            if step > bound.max(0.0) * (1.0 + 1e-9) {
+                factor = factor.min(if bound > 0.0 {
+                    (bound / step).sqrt()
+                } else {
+                    0.5
+                });
+            }
+        }
+        if factor >= 1.0 {
+            continue;
+        }
+        let mut wide = false;
+        if i > 0 && pieces[i - 1].1 - pieces[i - 1].0 >= 2 {
+            split.push(pieces[i - 1].1 - 1);
+            wide = true;
+        }
+        if i < n && pieces[i].1 - pieces[i].0 >= 2 {
+            split.push(pieces[i].0 + 1);
+            wide = true;
+        }
+        if !wide {
+            slow.push((around, factor));
+        }
+    }
+    if !split.is_empty() {
+        Steps::Split(split)
+    } else if !slow.is_empty() {
+        Steps::Slow(slow)
+    } else {
+        Steps::Within
+    }
 }
 
 /// The planned knots whose pieces grid interval `[a, b]` covers.
