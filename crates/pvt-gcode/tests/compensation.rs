@@ -262,7 +262,9 @@ proptest! {
         let profile_lines = 6..4 + edges.len() as u32;
         // A corner turning less than 0.05 rad is taken as tangent (LinuxCNC's rule): the
         // next move starts where the last ended, up to r·(1 − cos 0.05) off its offset.
-        let slack = profile.radius * (1.0 - libm::cos(0.05)) + 1e-9;
+        // The program's coordinates are the edges' written to 4 decimals: up to
+        // 0.5·10⁻⁴·√2 from the edges measured here.
+        let slack = profile.radius * (1.0 - libm::cos(0.05)) + 0.5e-4 * 2f64.sqrt() + 1e-9;
         let mut measured = 0;
         for element in compiled.toolpath.contours.iter().flat_map(|c| &c.elements) {
             // The entry move (line 4) and the exit after G40 approach the path.
