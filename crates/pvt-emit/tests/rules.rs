@@ -143,3 +143,58 @@ fn every_format_declares_its_rules() {
     assert_eq!(Format::Pmac.caps().default_quantum, Some(0.001));
     assert_eq!(Format::Galil.caps().buffer_depth, Some(255));
 }
+
+/// The acceleration at the ends of the cubic from (p0, v0) to (p1, v1) in `t`, from its
+/// end states alone (seed 001's Hermite form), independent of pvt-emit's code.
+fn end_accelerations(p0: f64, v0: f64, p1: f64, v1: f64, t: f64) -> (f64, f64) {
+    let d = p1 - p0;
+    (
+        (6.0 * d - 4.0 * v0 * t - 2.0 * v1 * t) / (t * t),
+        (-6.0 * d + 2.0 * v0 * t + 4.0 * v1 * t) / (t * t),
+    )
+}
+
+#[test]
+fn a_piece_that_whole_counts_push_over_the_acceleration_limit_is_refused() {
+    // Seven 2-sample Galil pieces creeping at 0.3 mm/s (within 1000 mm/s² as planned:
+    // a start at 614 mm/s², constant velocity, a stop at 154 mm/s²), at 1000 counts per
+    // mm: each piece moves 0.59 counts, and rounding each end to a whole count makes the
+    // controller accelerate by up to 1266 mm/s², back and forth.
+    let t = 2.0 / 1024.0;
+    let v = 0.3;
+    let pieces: Vec<(f64, f64, f64, u32)> = (1..=6)
+        .map(|k| (v * t * k as f64, v, t, 10 + k as u32))
+        .chain(std::iter::once((v * t * 6.0 + v * t / 2.0, 0.0, t, 17)))
+        .collect();
+    let p = program(&pieces);
+    let scale = 1000.0;
+    let limit = 1000.0;
+    // What the controller receives, computed here: the largest end acceleration of the
+    // rounded cubics.
+    let round = |x: f64| (x * scale).round() / scale;
+    let mut at = (0.0, 0.0);
+    let mut worst: f64 = 0.0;
+    for &(p1, v1, t, _) in &pieces {
+        let (a0, a1) = end_accelerations(round(at.0), round(at.1), round(p1), round(v1), t);
+        worst = worst.max(a0.abs()).max(a1.abs());
+        at = (p1, v1);
+    }
+    assert!(worst > limit, "the case must break the limit: {worst}");
+    let limited = |scale| {
+        with_x(AxisSetup {
+            counts_per_unit: Some(scale),
+            max_acceleration: Some(limit),
+            ..Default::default()
+        })
+    };
+    let (code, contour, _, line) = refusal(&p, Format::Galil, &limited(scale));
+    assert_eq!((code, contour), ("pvtc::emit::counts_over_limit", 1));
+    assert!((11..=17).contains(&line), "line {line}");
+    // The same pieces without a limit, or at a scale whose counts are fine enough, pass.
+    let unlimited = with_x(AxisSetup {
+        counts_per_unit: Some(scale),
+        ..Default::default()
+    });
+    assert!(emit_to_vec(&p, Format::Galil, &unlimited).is_ok());
+    assert!(emit_to_vec(&p, Format::Galil, &limited(1e9)).is_ok());
+}
