@@ -42,8 +42,9 @@
 //!
 //! Parameters (`params.rs`, `params/machine.rs`): predefined names (`#<_x>`,
 //! `#<_metric>`, `#<_feed>`, `#<_value>`, …) and machine parameters (#5161–#5428: homes,
-//! G92, coordinate systems, tool, position) read the interpreter's state; probe results,
-//! M66 inputs, HAL pins and ini values are `unsupported`.
+//! G92, coordinate systems, tool, position) read the interpreter's state; HAL pins read
+//! [`GcodeOptions::hal_pins`]; probe results, M66 inputs, HAL pins without a value and
+//! ini values are `unsupported`.
 //!
 //! Contours: a rapid move is a contour of its own; feed moves run together until a
 //! rapid, an event or a stop. Every event (G4 dwell, M0/M1 pause, S, T, M6, M3/M4/M5,
@@ -168,6 +169,9 @@ pub struct GcodeOptions {
     pub tool_table: ToolTable,
     /// Subroutine files for `o<name> call` (`--subroutine-path`).
     pub subroutines: Subroutines,
+    /// Values of HAL pins, `#<_hal[NAME]>` (`--hal NAME=VALUE`); a pin not given is
+    /// `unsupported`. Names are read as rs274 reads them: lower case, without blanks.
+    pub hal_pins: Vec<(String, f64)>,
 }
 
 impl Default for GcodeOptions {
@@ -181,6 +185,7 @@ impl Default for GcodeOptions {
             work_offsets: [[0.0; 6]; 9],
             tool_table: ToolTable::default(),
             subroutines: Subroutines::default(),
+            hal_pins: Vec::new(),
         }
     }
 }
@@ -280,7 +285,10 @@ pub struct Reader<'a> {
 impl<'a> Reader<'a> {
     /// A reader compiling into `sink`.
     pub fn new(options: &'a GcodeOptions, sink: &'a mut dyn ToolpathSink) -> Reader<'a> {
-        let params = params::Parameters::default();
+        let mut params = params::Parameters::default();
+        for (name, value) in &options.hal_pins {
+            params.set_hal_pin(name, *value);
+        }
         Reader {
             options,
             flow: oword::Flow::default(),

@@ -8,7 +8,7 @@ mod common;
 
 use common::{errors, ok};
 use pvt_core::{plan_toolpath_report, PlanOptions, Planner};
-use pvt_gcode::compile;
+use pvt_gcode::{compile, GcodeOptions};
 
 #[test]
 fn g64_p0_is_plain_g64() {
@@ -176,4 +176,38 @@ fn arc_turns_are_bounded_per_block_and_per_run() {
     assert_eq!(codes[0].0, "pvtc::gcode::turn_limit");
     assert!(codes[0].1.contains("10000000 turns in all"), "{codes:?}");
     assert_eq!(count.elements, 1 + pvt_gcode::MAX_TOTAL_ARC_TURNS);
+}
+
+/// `#<_hal[NAME]>` reads the value given for its pin (names as rs274 reads them: lower
+/// case, blanks left out); a pin without one is one `unsupported` at its first place,
+/// with the count of places; a program may not assign a pin.
+#[test]
+fn hal_pins_read_their_given_values() {
+    let options = GcodeOptions {
+        hal_pins: vec![("Motion.Analog-In-00".to_owned(), 3.5)],
+        ..GcodeOptions::default()
+    };
+    let source =
+        "G21 F100\nG1 X[#<_hal[motion.analog-in-00]> * 2] Y#<_HAL[ motion.analog-in-00 ]>\nM2\n";
+    let c = compile(source, &options).expect("compiles");
+    assert_eq!(c.toolpath.contours[0].elements[0].end[..2], [7.0, 3.5]);
+    let source = "G21 F100\nG1 X#<_hal[a.b]>\nG1 Y#<_hal[c.d]>\nM2\n";
+    let refused = compile(source, &options).expect_err("no value for a.b or c.d");
+    let found: Vec<_> = refused
+        .diagnostics
+        .iter()
+        .map(|d| (d.code(), d.to_string()))
+        .collect();
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert_eq!(found[0].0, "pvtc::gcode::unsupported");
+    assert!(
+        found[0].1.contains("#<_hal[a.b]>") && found[0].1.contains("2 places"),
+        "{found:?}"
+    );
+    assert_eq!(
+        errors("G21 F100\n#<_hal[x]> = 2\nG1 X1\nM2\n")
+            .first()
+            .map(|e| e.0),
+        Some("bad_value")
+    );
 }

@@ -106,3 +106,43 @@ fn unsupported_features_are_reported_one_per_feature() {
         "{err}"
     );
 }
+
+/// `--hal NAME=VALUE` gives a pin its value; a malformed one, or one for a drawing, is a
+/// usage error.
+#[test]
+fn hal_values_come_from_the_command_line() {
+    let program = b"G21 F100\nG1 X#<_hal[motion.analog-in-00]>\nM2\n";
+    let (ok, found) = diagnostics(&[], program);
+    assert!(!ok && found[0].0 == "pvtc::gcode::unsupported", "{found:?}");
+    let args = [
+        "compile",
+        "-",
+        "--format",
+        "toolpath",
+        "--hal",
+        "motion.analog-in-00=2.5",
+    ];
+    let out = pvtc_bytes(&args, program);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stdout).contains("\"end\":[2.5,"),
+        "{}",
+        text(&out.stdout)
+    );
+    for bad in ["motion.x", "=1", "x=inf", "x=one"] {
+        let out = pvtc_bytes(&["compile", "-", "--hal", bad], program);
+        assert_eq!(
+            out.status.code(),
+            Some(2),
+            "--hal {bad}: {}",
+            text(&out.stderr)
+        );
+    }
+    let drawing = ["compile", "-", "--input-format", "dxf", "--hal", "x=1"];
+    let out = pvtc_bytes(&drawing, b"0\nEOF\n");
+    assert!(
+        text(&out.stderr).contains("--hal does nothing here"),
+        "{}",
+        text(&out.stderr)
+    );
+}

@@ -173,7 +173,9 @@ pub(crate) fn named(view: &MachineView, name: &str) -> Answer {
         // Cutter compensation off (G40), no tool length offset, preview (not a task).
         "_ccomp" => Answer::Value(400.0),
         "_tool_offset" | "_task" | "_remap_level" => Answer::Value(0.0),
-        _ if name.starts_with("_hal[") => Answer::Machine("HAL pins (#<_hal[…]>)"),
+        _ if name.starts_with("_hal[") => {
+            Answer::Machine("HAL pins (#<_hal[…]>) without --hal NAME=VALUE")
+        }
         _ if name.starts_with("_ini[") => Answer::Machine("ini values (#<_ini[…]>)"),
         _ => Answer::NotMachine,
     }
