@@ -26,7 +26,9 @@
 //! state, `(LOG…)` comments accepted. G40 is accepted as it selects what pvtc always
 //! does. Every axis starts at 0. Lines with block delete (`/`) are executed (the switch
 //! is off). A program number (`O1001`) names the program. G76, cutter compensation,
-//! G5.x, G38.x, G33 and reads of machine-specific parameters are `unsupported`, one
+//! G38.2–G38.5 move to the points [`GcodeOptions::probe_results`] gives, each one
+//! without a point is `pvtc::gcode::probe`. G5.x, G33 and reads of machine-specific
+//! parameters are `unsupported`, one
 //! diagnostic per feature with the count of places, and the program fails. A block with
 //! an unknown G code runs nothing and the blocks after it in its motion mode are
 //! skipped, so nothing cascades.
@@ -172,6 +174,10 @@ pub struct GcodeOptions {
     /// Values of HAL pins, `#<_hal[NAME]>` (`--hal NAME=VALUE`); a pin not given is
     /// `unsupported`. Names are read as rs274 reads them: lower case, without blanks.
     pub hal_pins: Vec<(String, f64)>,
+    /// Where successive probing moves (G38.2–G38.5) trip, X Y Z in the program's
+    /// coordinates and units at each move (`--probe-result X,Y,Z`); a probing move
+    /// without one is `pvtc::gcode::probe`.
+    pub probe_results: Vec<[f64; 3]>,
 }
 
 impl Default for GcodeOptions {
@@ -186,6 +192,7 @@ impl Default for GcodeOptions {
             tool_table: ToolTable::default(),
             subroutines: Subroutines::default(),
             hal_pins: Vec::new(),
+            probe_results: Vec::new(),
         }
     }
 }

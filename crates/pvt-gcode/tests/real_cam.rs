@@ -211,3 +211,43 @@ fn hal_pins_read_their_given_values() {
         Some("bad_value")
     );
 }
+
+/// G38.2–G38.5 are refused one by one (`probe`), unless results are given: then each
+/// probing move, in order, is a feed move to where it trips, which #5061–#5063 then read
+/// (#5070 reads 1: tripped).
+#[test]
+fn probing_moves_need_a_result_and_then_end_where_it_trips() {
+    let source = "G21 G90 F100\nG1 X1\nG38.2 Z-10 F50\nG0 Z5\nG38.5 Z-10\nM2\n";
+    assert_eq!(errors(source), [("probe", 3, 1), ("probe", 5, 1)]);
+    let options = GcodeOptions {
+        probe_results: vec![[1.0, 0.0, -3.5], [1.0, 0.0, -1.0]],
+        ..GcodeOptions::default()
+    };
+    let source = "G21 G90 F100\nG1 X1\nG38.2 Z-10 F50\nG92 Z0\nG1 X[#5061 + 1] Y#5070 F100\n\
+                  G0 Z5\nG38.3 Z-10\nG1 X[#5063]\nM2\n";
+    let c = compile(source, &options).expect("compiles");
+    let ends: Vec<[f64; 3]> = c
+        .toolpath
+        .contours
+        .iter()
+        .flat_map(|c| c.elements.iter().map(|e| [e.end[0], e.end[1], e.end[2]]))
+        .collect();
+    assert_eq!(
+        ends,
+        [
+            [1.0, 0.0, 0.0],
+            [1.0, 0.0, -3.5],
+            [2.0, 1.0, -3.5],
+            [2.0, 1.0, 1.5],
+            [1.0, 0.0, -4.5],
+            [-1.0, 0.0, -4.5],
+        ]
+    );
+    let one = GcodeOptions {
+        probe_results: vec![[1.0, 0.0, -3.5]],
+        ..GcodeOptions::default()
+    };
+    let refused = compile("G21 F50\nG38.2 Z-10\nG38.4 Z5\nM2\n", &one).expect_err("one short");
+    assert_eq!(refused.diagnostics.len(), 1);
+    assert_eq!(refused.diagnostics[0].code(), "pvtc::gcode::probe");
+}
