@@ -10,6 +10,12 @@ use common::{errors, ok};
 use pvt_core::{plan_toolpath_report, PlanOptions, Planner};
 use pvt_gcode::{compile, GcodeOptions};
 
+/// The code and message of every diagnostic of a refused program.
+fn messages(refused: &pvt_gcode::GcodeErrors) -> Vec<(&'static str, String)> {
+    let diagnostics = refused.diagnostics.iter();
+    diagnostics.map(|d| (d.code(), d.to_string())).collect()
+}
+
 #[test]
 fn g64_p0_is_plain_g64() {
     let c = ok("G21 G64 P0 F100\nG1 X1\nG3 X0 Y1 I-1 J0\nG64 P0.02\nM2\n");
@@ -96,12 +102,7 @@ fn g6_2_and_g71_1_are_unsupported() {
         "G21 F100\nG1 X1\nG6.2 X2\nG71.1 X3 Z-1\nG71.2 X1\nM2\n",
         &Default::default(),
     );
-    let found: Vec<_> = c
-        .expect_err("refused")
-        .diagnostics
-        .iter()
-        .map(|d| (d.code(), d.to_string()))
-        .collect();
+    let found = messages(&c.expect_err("refused"));
     assert_eq!(found.len(), 2, "{found:?}");
     assert!(found
         .iter()
@@ -166,12 +167,7 @@ fn arc_turns_are_bounded_per_block_and_per_run() {
     let looped = "G21 F600\nG1 X5\no1 repeat [11]\nG2 X5 Y0 I-5 J0 P1000000\no1 endrepeat\nM2\n";
     let mut count = Count::default();
     let refused = pvt_gcode::compile_into(looped, &Default::default(), &mut count);
-    let codes: Vec<_> = refused
-        .expect_err("refused")
-        .diagnostics
-        .iter()
-        .map(|d| (d.code(), d.to_string()))
-        .collect();
+    let codes = messages(&refused.expect_err("refused"));
     assert_eq!(codes.len(), 1, "{codes:?}");
     assert_eq!(codes[0].0, "pvtc::gcode::turn_limit");
     assert!(codes[0].1.contains("10000000 turns in all"), "{codes:?}");
@@ -193,11 +189,7 @@ fn hal_pins_read_their_given_values() {
     assert_eq!(c.toolpath.contours[0].elements[0].end[..2], [7.0, 3.5]);
     let source = "G21 F100\nG1 X#<_hal[a.b]>\nG1 Y#<_hal[c.d]>\nM2\n";
     let refused = compile(source, &options).expect_err("no value for a.b or c.d");
-    let found: Vec<_> = refused
-        .diagnostics
-        .iter()
-        .map(|d| (d.code(), d.to_string()))
-        .collect();
+    let found = messages(&refused);
     assert_eq!(found.len(), 1, "{found:?}");
     assert_eq!(found[0].0, "pvtc::gcode::unsupported");
     assert!(
