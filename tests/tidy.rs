@@ -234,6 +234,12 @@ fn every_default_is_defined_once_in_pvt_core() {
 /// `crate::a::` paths in code (comments and test modules left out); the crate root is
 /// not a module here.
 fn pvtc_module_graph() -> std::collections::BTreeMap<String, Vec<String>> {
+    pvtc_imports().0
+}
+
+/// pvtc's module graph (each module and the modules it names), and every place where a
+/// module names something of the crate root (`crate::x` with `x` no module).
+fn pvtc_imports() -> (std::collections::BTreeMap<String, Vec<String>>, Vec<String>) {
     let src = root().join("crates/pvtc/src");
     let modules: Vec<String> = rust_files(&src)
         .iter()
@@ -242,6 +248,7 @@ fn pvtc_module_graph() -> std::collections::BTreeMap<String, Vec<String>> {
         .filter(|m| m != "lib" && m != "main")
         .collect();
     let mut graph = std::collections::BTreeMap::new();
+    let mut from_root = Vec::new();
     for m in &modules {
         let text = std::fs::read_to_string(src.join(format!("{m}.rs"))).unwrap();
         let code: String = non_test_code(m, &text)
@@ -264,14 +271,16 @@ fn pvtc_module_graph() -> std::collections::BTreeMap<String, Vec<String>> {
                     .chars()
                     .take_while(|c| c.is_alphanumeric() || *c == '_')
                     .collect();
-                if word != *m && modules.contains(&word) && !named.contains(&word) {
+                if !word.is_empty() && !modules.contains(&word) {
+                    from_root.push(format!("{m}.rs: crate::{word}"));
+                } else if word != *m && !named.contains(&word) {
                     named.push(word);
                 }
             }
         }
         graph.insert(m.clone(), named);
     }
-    graph
+    (graph, from_root)
 }
 
 /// A cycle of `graph` as the modules along it, if there is one.
@@ -336,4 +345,38 @@ fn pvtc_modules_import_each_other_without_a_cycle() {
     );
     assert!(graph["front"].contains(&"options".to_string()), "{graph:?}");
     assert_eq!(find_cycle(&graph), None, "pvtc's module imports: {graph:?}");
+}
+
+#[test]
+fn the_command_line_writes_standard_error_only_through_its_reporter() {
+    const HOME: &str = "crates/pvtc/src/report.rs";
+    let found: Vec<String> = crate_sources()
+        .into_iter()
+        .filter(|(name, _)| name.starts_with("crates/pvtc/src/") && name != HOME)
+        .flat_map(|(name, text)| {
+            non_test_code(&name, &text)
+                .lines()
+                .enumerate()
+                .filter(|(_, line)| line.contains("eprintln!") || line.contains("eprint!"))
+                .map(|(i, _)| format!("{name}:{}", i + 1))
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    assert!(
+        found.is_empty(),
+        "standard error is written by {HOME} alone (one voice, one JSON mode): {found:?}"
+    );
+}
+
+#[test]
+fn no_pvtc_module_imports_from_the_crate_root() {
+    let (graph, from_root) = pvtc_imports();
+    assert!(
+        graph.contains_key("input") && graph.contains_key("report"),
+        "{graph:?}"
+    );
+    assert!(
+        from_root.is_empty(),
+        "lib.rs is the dispatcher alone; name the module that owns it instead: {from_root:?}"
+    );
 }

@@ -16,6 +16,7 @@
 
 pub mod axis;
 pub mod check;
+pub mod compensate;
 pub mod defaults;
 pub mod discretize;
 pub mod hermite;

@@ -4,6 +4,7 @@
 //! Owns the classification only; it must not hold modal state or execute anything.
 //! Growing the dialect (issue 4) means moving rows from [`Feature`] to executed codes.
 
+use pvt_core::compensate::Side;
 use pvt_core::{ArcDirection, CoolantState, Plane, SpindleState, Units};
 
 /// A motion mode (modal group 1).
@@ -157,6 +158,15 @@ pub(crate) enum NonModal {
     LocalOffset,
 }
 
+/// Modal group 7: cutter-radius compensation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum CutterComp {
+    /// G40.
+    Off,
+    /// G41/G42 on a side; `true` for G41.1/G42.1, whose D is the tool's diameter.
+    On(Side, bool),
+}
+
 /// An RS274NGC feature beyond what pvtc compiles.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct Feature {
@@ -195,8 +205,8 @@ pub(crate) enum GCode {
     Retract(bool),
     /// G96 (`true`, constant surface speed) or G97 (spindle speed in rpm).
     SurfaceSpeed(bool),
-    /// A code that cancels or selects a state pvtc is always in (G40).
-    NoOp(&'static str),
+    /// G40, G41/G42 (D: a tool of the table), G41.1/G42.1 (D: a diameter).
+    CutterComp(CutterComp),
     /// A known code pvtc does not execute.
     Unsupported(Feature),
 }
@@ -247,7 +257,11 @@ pub(crate) fn g_code(tenths: u32) -> Option<GCode> {
         921 => NonModal(self::NonModal::ClearOffset { keep: false }),
         922 => NonModal(self::NonModal::ClearOffset { keep: true }),
         923 => NonModal(self::NonModal::RestoreOffset),
-        400 => NoOp("cutter radius compensation off"),
+        400 => CutterComp(self::CutterComp::Off),
+        410 => CutterComp(self::CutterComp::On(Side::Left, false)),
+        411 => CutterComp(self::CutterComp::On(Side::Left, true)),
+        420 => CutterComp(self::CutterComp::On(Side::Right, false)),
+        421 => CutterComp(self::CutterComp::On(Side::Right, true)),
         490 => ToolLength(self::ToolLength::Cancel),
         430 => ToolLength(self::ToolLength::Table),
         431 => ToolLength(self::ToolLength::Dynamic),
@@ -282,7 +296,6 @@ pub(crate) fn g_code(tenths: u32) -> Option<GCode> {
 fn unsupported_g(tenths: u32) -> Option<Feature> {
     Some(match tenths {
         171 | 181 | 191 => feature("UVW planes", false),
-        410 | 411 | 420 | 421 => feature("cutter radius compensation", false),
         700 | 710 | 711 | 712 | 720 => feature("lathe cycles", true),
         950 => feature("feed per revolution", false),
         _ => return None,
@@ -382,8 +395,9 @@ mod tests {
         );
         assert_eq!(g_code(382), Some(GCode::Motion(MotionMode::Probe(382))));
         assert_eq!(g_code(430), Some(GCode::ToolLength(ToolLength::Table)));
-        assert!(
-            matches!(g_code(410), Some(GCode::Unsupported(f)) if f.name == "cutter radius compensation")
+        assert_eq!(
+            g_code(421),
+            Some(GCode::CutterComp(CutterComp::On(Side::Right, true)))
         );
         assert_eq!(g_code(7000), None);
         assert_eq!(m_code(60), Some(MCode::ToolChange));

@@ -615,6 +615,77 @@ pub enum GcodeDiagnostic {
         span: SourceSpan,
     },
 
+    /// The first move after G41/G42 ends within one tool radius of where it starts, so
+    /// the tool cannot reach its side of the path (LinuxCNC: "Length of cutter
+    /// compensation entry move is not greater than the tool radius").
+    #[error(
+        "the cutter compensation entry move is not longer than the tool radius ({radius} {units})"
+    )]
+    #[diagnostic(
+        code(pvtc::gcode::compensation_entry),
+        help("start compensation farther from the path: the entry move must be longer than the tool radius")
+    )]
+    CompensationEntry {
+        /// The tool radius.
+        radius: f64,
+        /// Output units.
+        units: &'static str,
+        /// The entry move's block.
+        #[label("too short for the tool")]
+        span: SourceSpan,
+    },
+
+    /// An arc with the tool inside it is no larger than the tool (LinuxCNC: "Tool radius
+    /// not less than arc radius with comp").
+    #[error("the tool radius ({radius} {units}) is not less than the arc radius")]
+    #[diagnostic(
+        code(pvtc::gcode::tool_radius_over_arc),
+        help("use a smaller tool, or a larger arc")
+    )]
+    ToolRadiusOverArc {
+        /// The tool radius.
+        radius: f64,
+        /// Output units.
+        units: &'static str,
+        /// The arc's block.
+        #[label("tool larger than this arc")]
+        span: SourceSpan,
+    },
+
+    /// An inside corner the compensated tool cannot cut without gouging: the move before
+    /// it is shorter than the cut back, or the offset paths never meet (LinuxCNC's
+    /// "… in concave corner cannot be reached by the tool without gouging").
+    #[error("concave corner too tight for the tool: {detail}")]
+    #[diagnostic(
+        code(pvtc::gcode::concave_corner),
+        help("use a smaller tool, or program the corner with room for the tool's radius")
+    )]
+    ConcaveCorner {
+        /// Which corner and why.
+        detail: &'static str,
+        /// The block after the corner (the one whose move decides it).
+        #[label("the tool would gouge here")]
+        span: SourceSpan,
+    },
+
+    /// A code or move that cutter radius compensation does not allow (LinuxCNC refuses
+    /// these too): G41/G42 while on, an arc straight after G40, a plane, offset or tool
+    /// change while on.
+    #[error("{what} with cutter radius compensation")]
+    #[diagnostic(
+        code(pvtc::gcode::compensation_conflict),
+        help(
+            "turn compensation off with G40 first, or move the code outside the compensated path"
+        )
+    )]
+    CompensationConflict {
+        /// What is refused.
+        what: &'static str,
+        /// The code.
+        #[label("not allowed here")]
+        span: SourceSpan,
+    },
+
     /// G43/G43.2 H (or M6 T with G43) naming a tool the tool table does not have.
     #[error("tool {tool} is not in the tool table")]
     #[diagnostic(
@@ -753,6 +824,10 @@ impl GcodeDiagnostic {
             D::NoProgramEnd { .. } => "pvtc::gcode::no_program_end",
             D::TurnLimit { .. } => "pvtc::gcode::turn_limit",
             D::Probe { .. } => "pvtc::gcode::probe",
+            D::CompensationEntry { .. } => "pvtc::gcode::compensation_entry",
+            D::ToolRadiusOverArc { .. } => "pvtc::gcode::tool_radius_over_arc",
+            D::ConcaveCorner { .. } => "pvtc::gcode::concave_corner",
+            D::CompensationConflict { .. } => "pvtc::gcode::compensation_conflict",
         }
     }
 
@@ -825,6 +900,10 @@ impl GcodeDiagnostic {
             | D::NoProgramEnd { span, .. }
             | D::TurnLimit { span, .. }
             | D::Probe { span, .. } => span,
+            D::CompensationEntry { span, .. }
+            | D::ToolRadiusOverArc { span, .. }
+            | D::ConcaveCorner { span, .. }
+            | D::CompensationConflict { span, .. } => span,
         }
     }
 }

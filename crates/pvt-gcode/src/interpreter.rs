@@ -16,6 +16,7 @@
 //! of functions (`to_machine`, `to_program`) makes that transform and its inverse. Rotary
 //! axes are degrees and never converted. Every axis starts at 0.
 
+mod compensation;
 mod cycles;
 mod machine;
 mod motion;
@@ -131,6 +132,8 @@ pub(crate) struct Interpreter<'a> {
     pub(crate) probes: usize,
     /// Where the last probing move tripped, program units (#5061…).
     pub(crate) probe: Option<[f64; 6]>,
+    /// Cutter-radius compensation (G40/G41/G42).
+    cutter: compensation::CutterState,
 }
 
 impl<'a> Interpreter<'a> {
@@ -172,6 +175,7 @@ impl<'a> Interpreter<'a> {
             arc_turns_run: 0,
             probes: 0,
             probe: None,
+            cutter: compensation::CutterState::default(),
         }
     }
 
@@ -307,6 +311,7 @@ impl<'a> Interpreter<'a> {
         self.machine_events(request, block.line);
         self.dwell(request, block.line);
         self.set_modes(request);
+        self.set_compensation(request);
         // M6 loads its tool before G43 of the same block reads it.
         self.machine_state(request);
         self.set_tool_length(request);
@@ -339,6 +344,7 @@ impl<'a> Interpreter<'a> {
 
     /// Ends the last contour; the summary, or every error in source order.
     pub fn finish(mut self) -> Result<StreamSummary, GcodeErrors> {
+        self.finish_compensation();
         self.end_contour();
         if self.errors.is_empty() && !self.moved {
             self.errors
@@ -385,6 +391,9 @@ impl<'a> Interpreter<'a> {
 
     /// An event, at rest: it ends the current contour.
     fn event(&mut self, kind: EventKind, line: u32) {
+        let Some(kind) = self.compensated_event(kind, line) else {
+            return;
+        };
         self.end_contour();
         self.sink.event(&kind, line);
     }

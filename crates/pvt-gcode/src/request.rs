@@ -43,6 +43,8 @@ pub(crate) struct Request {
     pub retract: Option<(bool, Word)>,
     /// G96 (`true`) or G97.
     pub surface_speed: Option<(bool, Word)>,
+    /// G40, G41, G41.1, G42, G42.1.
+    pub cutter_comp: Option<(codes::CutterComp, Word)>,
     /// M48…M53, accepted as state.
     pub overrides: Option<((), Word)>,
     /// M62…M68 (digital and analog I/O).
@@ -215,7 +217,13 @@ impl Request {
                 errors,
                 modes("spindle speed mode"),
             ),
-            GCode::NoOp(_) => {}
+            GCode::CutterComp(c) => put_mode(
+                &mut self.cutter_comp,
+                c,
+                word,
+                errors,
+                modes("cutter radius compensation"),
+            ),
             GCode::Unsupported(feature) => {
                 errors.push(unsupported(word, feature.name));
                 self.no_move |= feature.uses_axis_words;

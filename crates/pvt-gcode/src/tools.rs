@@ -49,6 +49,9 @@ pub struct Tool {
     pub offsets: [f64; 6],
     /// D, the diameter, millimetres (0 if not given).
     pub diameter: f64,
+    /// Q, a lathe tool's orientation 1…8 (0 or 9: none), where its nose radius lies from
+    /// the point the table's offsets name.
+    pub orientation: u32,
 }
 
 /// A tool table: the tools by number, the last line for a number winning.
@@ -102,6 +105,7 @@ impl ToolTable {
                         number: rounded as u32,
                         offsets: [0.0; 6],
                         diameter: 0.0,
+                        orientation: 0,
                     });
                     continue;
                 }
@@ -119,7 +123,19 @@ impl ToolTable {
                         t.offsets[3 + usize::from(letter.as_bytes()[0] - b'A')] = number;
                     }
                     "D" => t.diameter = number,
-                    "P" | "U" | "V" | "W" | "I" | "J" | "Q" => {}
+                    "Q" if number.fract() == 0.0 && (0.0..=9.0).contains(&number) => {
+                        t.orientation = number as u32;
+                    }
+                    "Q" => {
+                        return Err(error(
+                            range,
+                            format!(
+                                "line {}: `{word}`: an orientation is a whole number 0…9",
+                                index + 1
+                            ),
+                        ))
+                    }
+                    "P" | "U" | "V" | "W" | "I" | "J" => {}
                     _ => {
                         return Err(error(
                             range,
@@ -205,5 +221,10 @@ mod tests {
         assert!(message.contains("whole number"), "{message}");
         let (_, message) = parts(ToolTable::parse("T1 R2\n").unwrap_err());
         assert!(message.contains("`R2`"), "{message}");
+        let (range, message) = parts(ToolTable::parse("T1 D1 Q10\n").unwrap_err());
+        assert_eq!(range, 6..9);
+        assert!(message.contains("orientation"), "{message}");
+        let table = ToolTable::parse("T3 D0.8 Q6\n").unwrap();
+        assert_eq!(table.get(3).map(|t| t.orientation), Some(6));
     }
 }

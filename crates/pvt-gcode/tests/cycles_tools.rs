@@ -276,7 +276,7 @@ fn modes_accepted_as_state() {
 
 #[test]
 fn an_unknown_g_code_is_one_error_and_drifts_nothing() {
-    let mut source = String::from("G21 G90 F100\nG1 X1\nG6.2 P3 K0 X0 Y0 R1 G91\n");
+    let mut source = String::from("G21 G90 F100\nG1 X1\nG12.3 P3 K0 X0 Y0 R1 G91\n");
     for k in 0..200 {
         source.push_str(&format!("K{k} X{k} Y1 R1\n"));
     }
@@ -300,7 +300,7 @@ impl pvt_gcode::ToolpathSink for EndX {
 fn the_unknown_block_sets_no_mode() {
     // G91 on the skipped line must not make the later X2 incremental (it would end at 3).
     let mut sink = EndX::default();
-    let source = "G21 G90 F100\nG1 X1\nG6.2 G91\nG1 X2\n";
+    let source = "G21 G90 F100\nG1 X1\nG12.3 G91\nG1 X2\n";
     let result = pvt_gcode::compile_into(source, &GcodeOptions::default(), &mut sink);
     assert_eq!(result.unwrap_err().diagnostics.len(), 1);
     assert_eq!(sink.0, [1.0, 2.0]);

@@ -60,7 +60,7 @@ fn unsupported_features_are_named() {
         messages,
         ["G76 (lathe threading cycles) is not supported by pvtc"]
     );
-    assert_eq!(after_head("G41 X1\n"), [("unsupported", 3, 1)]);
+    assert_eq!(after_head("G95 X1\n"), [("unsupported", 3, 1)]);
     assert_eq!(after_head("G1 X1 M60\n"), [("unsupported", 3, 7)]);
     assert_eq!(
         after_head("G1 X#<_hal[motion.probe-input]>\n"),

@@ -121,7 +121,8 @@ pub struct PipelineArgs {
     #[arg(long, value_name = "NAME", value_parser = planner)]
     pub planner: Option<Planner>,
     /// Machine file (TOML) with per-axis velocity, acceleration and jerk limits that the
-    /// path planner keeps and `check` verifies.
+    /// path planner keeps (`compile` refuses it with any other planner) and `check`
+    /// verifies.
     #[arg(long, value_name = "FILE")]
     pub machine: Option<PathBuf>,
     /// Path planner: round a corner between two lines within this distance, program
@@ -162,10 +163,10 @@ pub struct PipelineArgs {
     #[arg(long = "join-tolerance", value_name = "T", value_parser = positive_number)]
     pub join_tolerance: Option<f64>,
     /// DXF: where the machine starts, `X,Y`; the nearest contour is cut first [default: 0,0].
-    #[arg(long = "start-point", value_name = "X,Y", value_parser = point)]
+    #[arg(long = "start-point", value_name = "X,Y", value_parser = point, allow_hyphen_values = true)]
     pub start_point: Option<[f64; 2]>,
     /// DXF: travel between contours at this Z, plunging at the feed.
-    #[arg(long = "safe-z", value_name = "Z", value_parser = finite_number)]
+    #[arg(long = "safe-z", value_name = "Z", value_parser = finite_number, allow_hyphen_values = true)]
     pub safe_z: Option<f64>,
     /// DXF: most points a drawing may hold (it is read in memory, ~400 bytes per point)
     /// [default: 2000000].
@@ -284,12 +285,27 @@ impl PipelineArgs {
                 "--velocities does nothing here: it chooses the velocities of a CSV series".into(),
             ));
         }
-        if !self.layers.is_empty() && input != InputKind::Dxf {
-            return Err(Failure::Usage(
-                "--layer does nothing here: it selects layers of a DXF drawing".into(),
-            ));
+        if input != InputKind::Dxf {
+            if let Some(option) = self.drawing_option() {
+                return Err(Failure::Usage(format!(
+                    "{option} does nothing here: it reads or orders a DXF drawing"
+                )));
+            }
         }
         Ok(())
+    }
+
+    /// The first DXF-only option given, as written on the command line.
+    fn drawing_option(&self) -> Option<&'static str> {
+        [
+            (!self.layers.is_empty(), "--layer"),
+            (self.join_tolerance.is_some(), "--join-tolerance"),
+            (self.start_point.is_some(), "--start-point"),
+            (self.safe_z.is_some(), "--safe-z"),
+            (self.max_points.is_some(), "--max-points"),
+        ]
+        .into_iter()
+        .find_map(|(given, option)| given.then_some(option))
     }
 
     /// Reads the files the options name that hold the same for every input of a run
@@ -488,6 +504,15 @@ impl CompileArgs {
         }
         let pmac = self.pmac.settings(self.format)?;
         let mut options = self.pipeline.compile_options(name, self.format.into())?;
+        if options.machine.is_some() && options.planner != Planner::Path {
+            return Err(Failure::Usage(format!(
+                "--machine is kept only by the path planner, not by {}: compile with \
+                 --planner path, or check the {} motion against the machine with \
+                 `pvtc check --machine`",
+                options.planner.name(),
+                options.planner.name()
+            )));
+        }
         options.pmac = pmac;
         Ok(options)
     }

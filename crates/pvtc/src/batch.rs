@@ -9,8 +9,9 @@
 //! never leaves a partial output. It must not compile anything itself.
 
 use crate::args::CompileArgs;
+use crate::output;
 use crate::pipeline::Failure;
-use crate::{output, EXIT_INPUT_ERROR, EXIT_USAGE};
+use crate::report::EXIT_INPUT_ERROR;
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
@@ -43,32 +44,30 @@ pub struct Outcome {
 
 /// Runs `pvtc compile` with several inputs or `--out-dir`.
 pub fn run(args: &CompileArgs) -> ExitCode {
+    let reporter = crate::report::Reporter::new(&args.pipeline);
     let Some(out_dir) = args.out_dir.as_deref() else {
-        eprintln!("error: several inputs need --out-dir DIR (one output per input)");
-        return ExitCode::from(EXIT_USAGE);
+        return reporter.fail(&Failure::Usage(
+            "several inputs need --out-dir DIR (one output per input)".into(),
+        ));
     };
     let jobs = match plan_jobs(&args.inputs, out_dir, args.format.into()) {
         Ok(jobs) => jobs,
-        Err(message) => {
-            eprintln!("error: {message}");
-            return ExitCode::from(EXIT_USAGE);
-        }
+        Err(message) => return reporter.fail(&Failure::Usage(message)),
     };
-    if let Err((dir, e)) = create_output_dirs(out_dir, &jobs) {
-        eprintln!("error: cannot create {}: {e}", dir.display());
-        return ExitCode::from(EXIT_INPUT_ERROR);
-    }
+    let created = match create_output_dirs(out_dir, &jobs) {
+        Ok(created) => created,
+        Err(failure) => return reporter.fail(&failure),
+    };
     let outcomes = match args.jobs {
         Some(n) => match rayon::ThreadPoolBuilder::new().num_threads(n.get()).build() {
             Ok(pool) => pool.install(|| run_jobs(&jobs, args)),
             Err(e) => {
-                eprintln!("error: cannot start {n} threads: {e}");
-                return ExitCode::from(EXIT_INPUT_ERROR);
+                return reporter.fail(&Failure::Usage(format!("cannot start {n} threads: {e}")))
             }
         },
         None => run_jobs(&jobs, args),
     };
-    let reporter = crate::report::Reporter::new(&args.pipeline);
+    remove_empty_dirs(&created);
     for outcome in &outcomes {
         reporter.print_for_input(&outcome.job.input, &outcome.diagnostics);
     }
@@ -76,17 +75,39 @@ pub fn run(args: &CompileArgs) -> ExitCode {
 }
 
 /// Creates `out_dir` and every folder a job writes into, so the input tree is mirrored
-/// under it (`in/sub/b.ngc` writes `OUT/sub/b.pmac`).
-fn create_output_dirs(out_dir: &Path, jobs: &[Job]) -> Result<(), (PathBuf, std::io::Error)> {
-    let dirs = jobs
+/// under it (`in/sub/b.ngc` writes `OUT/sub/b.pmac`), and returns the folders it created
+/// (those that did not exist), parents first.
+fn create_output_dirs(out_dir: &Path, jobs: &[Job]) -> Result<Vec<PathBuf>, Failure> {
+    let mut wanted = std::collections::BTreeSet::new();
+    for dir in jobs
         .iter()
         .filter_map(|job| job.output.parent())
         .chain(std::iter::once(out_dir))
-        .collect::<std::collections::BTreeSet<_>>();
-    for dir in dirs {
-        std::fs::create_dir_all(dir).map_err(|e| (dir.to_path_buf(), e))?;
+    {
+        wanted.extend(dir.ancestors().filter(|a| !a.as_os_str().is_empty()));
     }
-    Ok(())
+    let mut created = Vec::new();
+    for dir in wanted {
+        if dir.is_dir() {
+            continue;
+        }
+        std::fs::create_dir(dir).map_err(|error| Failure::Io {
+            path: dir.to_path_buf(),
+            action: "create",
+            error,
+        })?;
+        created.push(dir.to_path_buf());
+    }
+    Ok(created)
+}
+
+/// Removes the folders of `created` that no output went into (every file written there
+/// failed), deepest first, so a failed file leaves no folder behind.
+fn remove_empty_dirs(created: &[PathBuf]) {
+    for dir in created.iter().rev() {
+        // Only an empty folder is removed; one holding an output stays.
+        let _ = std::fs::remove_dir(dir);
+    }
 }
 
 /// Compiles every job in parallel, in input order in the result.
@@ -185,15 +206,12 @@ fn first_diagnostic(failure: &Failure) -> (String, usize) {
 }
 
 fn summarize(outcomes: &[Outcome], reporter: &crate::report::Reporter) -> ExitCode {
-    let failed: Vec<&Outcome> = outcomes.iter().filter(|o| o.failure.is_some()).collect();
-    for o in &failed {
-        let (first, count) = o.failure.as_ref().expect("failed");
-        let more = if *count > 1 {
-            format!(" (and {} more)", count - 1)
-        } else {
-            String::new()
-        };
-        eprintln!("failed: {}: {first}{more}", o.job.input.display());
+    let mut failed = 0;
+    for o in outcomes {
+        if let Some((first, count)) = &o.failure {
+            reporter.batch_failed(&o.job.input, first, *count);
+            failed += 1;
+        }
     }
     let warnings = outcomes
         .iter()
@@ -201,8 +219,8 @@ fn summarize(outcomes: &[Outcome], reporter: &crate::report::Reporter) -> ExitCo
         .flat_map(|o| &o.diagnostics)
         .filter(|r| r.severity() == Some(miette::Severity::Warning))
         .count();
-    reporter.batch_summary(outcomes.len() - failed.len(), failed.len(), warnings);
-    if failed.is_empty() {
+    reporter.batch_summary(outcomes.len() - failed, failed, warnings);
+    if failed == 0 {
         ExitCode::SUCCESS
     } else {
         ExitCode::from(EXIT_INPUT_ERROR)

@@ -7,7 +7,7 @@
 use crate::args::CheckArgs;
 use crate::pipeline::{plan, CompileOptions, Failure, Source};
 use crate::report::Reporter;
-use crate::EXIT_INPUT_ERROR;
+use crate::report::EXIT_INPUT_ERROR;
 use pvt_core::{check_program, CheckOptions, CheckReport, Peak, PvtProgram, Toolpath};
 use pvt_emit::Format;
 use std::fmt::Write as _;
@@ -33,22 +33,26 @@ pub fn run(args: &CheckArgs) -> ExitCode {
     }
     let report = check_program(&program, toolpath.as_ref(), &options);
     let units = program.units.name();
-    let text = if args.json {
-        serde_json::to_string_pretty(&to_json(&report)).expect("JSON") + "\n"
-    } else {
-        table(&report, units)
-    };
-    // A reader that closed the pipe (`| head`) is not a failure of the check.
-    let written = crate::write_stdout(text.as_bytes());
-    if written != ExitCode::SUCCESS {
-        return written;
-    }
     let too_far = args
         .max_path_error
         .zip(report.max_path_error())
         .filter(|(allowed, error)| error > allowed);
+    let text = if args.json {
+        serde_json::to_string_pretty(&to_json(&report)).expect("JSON") + "\n"
+    } else {
+        table(&report, units, too_far)
+    };
+    // A reader that closed the pipe (`| head`) is not a failure of the check.
+    let written = crate::output::write_stdout_status(text.as_bytes(), &reporter);
+    if written != ExitCode::SUCCESS {
+        return written;
+    }
     if let Some((allowed, error)) = too_far {
-        eprintln!("error[pvtc::check::path_error]: the motion is {error:.6} {units} from the programmed geometry, more than --max-path-error {allowed}");
+        reporter.error(&miette::miette!(
+            code = "pvtc::check::path_error",
+            "the motion is {error:.6} {units} from the programmed geometry, more than \
+             --max-path-error {allowed}"
+        ));
     }
     if report.exceeded() || too_far.is_some() {
         ExitCode::from(EXIT_INPUT_ERROR)
@@ -230,7 +234,9 @@ fn millis(seconds: f64) -> String {
 }
 
 /// The report as a table for people.
-pub fn table(report: &CheckReport, units: &str) -> String {
+/// `too_far`: the `--max-path-error` allowed and the larger distance found, when the
+/// motion is farther than allowed.
+pub fn table(report: &CheckReport, units: &str, too_far: Option<(f64, f64)>) -> String {
     let mut t = String::new();
     let _ = writeln!(
         t,
@@ -299,6 +305,12 @@ pub fn table(report: &CheckReport, units: &str) -> String {
                 "largest distance from the source geometry: not known (no source geometry)"
             );
         }
+    }
+    if let Some((allowed, error)) = too_far {
+        let _ = writeln!(
+            t,
+            "PATH ERROR EXCEEDED: {error:.6} {units} > --max-path-error {allowed}"
+        );
     }
     if report.violations.is_empty() {
         let _ = writeln!(t, "limits: none exceeded");

@@ -7,13 +7,17 @@
 //! and the shell completions and manual page (`pvtc completions`, `pvtc man`, from the
 //! argument definitions by clap_complete and clap_mangen).
 //! Architecture invariant: no geometry, planning or formatting happens here; a failed run
-//! never creates or changes an output file.
+//! never creates or changes an output file. This root holds `mod` lines, the public
+//! re-exports and the dispatch ([`run`]); no module imports anything from it
+//! (`tests/tidy.rs`).
 
 pub mod args;
 pub mod batch;
 pub mod check;
 pub mod excerpt;
+pub mod failure;
 pub mod front;
+pub mod input;
 pub mod machine;
 pub mod options;
 pub mod output;
@@ -32,10 +36,7 @@ pub use pipeline::{
 use report::Reporter;
 use std::process::ExitCode;
 
-/// Exit status of a run whose input had errors (or whose check found a limit exceeded).
-pub const EXIT_INPUT_ERROR: u8 = 1;
-/// Exit status of a run whose command line asks for something impossible.
-pub const EXIT_USAGE: u8 = 2;
+pub use report::{EXIT_INPUT_ERROR, EXIT_USAGE};
 
 /// Runs a parsed command line and returns the process exit status.
 pub fn run(cli: Cli) -> ExitCode {
@@ -64,7 +65,7 @@ fn completions(shell: clap_complete::Shell) -> ExitCode {
     let mut command = <Cli as clap::CommandFactory>::command();
     let mut script = Vec::new();
     clap_complete::generate(shell, &mut command, "pvtc", &mut script);
-    write_stdout(&script)
+    output::write_stdout_status(&script, &Reporter::human())
 }
 
 /// The manual page of pvtc (roff), one page: name, synopsis, description, options, the
@@ -118,54 +119,7 @@ fn roff_text(text: &str) -> String {
 
 /// `pvtc man`: the manual page on standard output.
 fn man_page() -> ExitCode {
-    write_stdout(&man_page_text())
-}
-
-/// Writes `bytes` to standard output; a closed pipe is not an error worth a report.
-pub(crate) fn write_stdout(bytes: &[u8]) -> ExitCode {
-    use std::io::Write;
-    let mut out = std::io::stdout().lock();
-    match out.write_all(bytes).and_then(|()| out.flush()) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: cannot write standard output: {e}");
-            ExitCode::from(EXIT_INPUT_ERROR)
-        }
-    }
-}
-
-/// A G-code input as a file to read from: the file itself, or for `-` standard input
-/// copied into a temporary file (removed when dropped), with the name diagnostics use.
-pub(crate) struct Spooled {
-    _copy: Option<tempfile::NamedTempFile>,
-    /// Where to read.
-    pub path: std::path::PathBuf,
-    /// The path as given, or `<stdin>`.
-    pub name: String,
-}
-
-/// `input` as a file to read from, spooling standard input for `-`.
-pub(crate) fn spool(input: &std::path::Path) -> Result<Spooled, Failure> {
-    if input != std::path::Path::new("-") {
-        return Ok(Spooled {
-            _copy: None,
-            path: input.to_path_buf(),
-            name: input.display().to_string(),
-        });
-    }
-    let failure = |error| Failure::Io {
-        path: "<stdin>".into(),
-        action: "read",
-        error,
-    };
-    let mut file = tempfile::NamedTempFile::new().map_err(failure)?;
-    std::io::copy(&mut std::io::stdin().lock(), file.as_file_mut()).map_err(failure)?;
-    Ok(Spooled {
-        path: file.path().to_path_buf(),
-        _copy: Some(file),
-        name: "<stdin>".into(),
-    })
+    output::write_stdout_status(&man_page_text(), &Reporter::human())
 }
 
 fn compile_command(args: &CompileArgs) -> ExitCode {

@@ -104,14 +104,14 @@ struct AxisShape {
 
 impl Machine {
     /// Reads and validates the machine file at `path`.
-    pub fn read(path: &Path) -> Result<Machine, crate::Failure> {
-        let text = std::fs::read_to_string(path).map_err(|error| crate::Failure::Io {
+    pub fn read(path: &Path) -> Result<Machine, crate::failure::Failure> {
+        let text = std::fs::read_to_string(path).map_err(|error| crate::failure::Failure::Io {
             path: path.to_path_buf(),
             action: "read",
             error,
         })?;
         Machine::parse(&path.display().to_string(), &text)
-            .map_err(|e| crate::Failure::Input(vec![miette::Report::new(e)]))
+            .map_err(|e| crate::failure::Failure::Input(vec![miette::Report::new(e)]))
     }
 
     /// Parses machine-file text named `name`.

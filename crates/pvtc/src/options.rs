@@ -1,6 +1,6 @@
 //! The plain data every phase of a compile shares: the input ([`Source`], [`InputKind`]),
-//! the options ([`CompileOptions`], [`DrawingOptions`]), why a run failed ([`Failure`])
-//! and a diagnostic labelling a source line ([`at_line`]).
+//! the options ([`CompileOptions`], [`DrawingOptions`]) and a diagnostic labelling a
+//! source line ([`at_line`]); why a run failed is [`crate::failure`]'s (re-exported).
 //!
 //! Owns these types so that data flows one way: `front` and `pipeline` (and the rest of
 //! the CLI) import them from here, and this module imports no pvtc module but `machine`
@@ -11,8 +11,10 @@ use miette::{LabeledSpan, NamedSource, Report};
 use pvt_core::{Planner, Rounding, Timing, Units};
 use pvt_emit::Format;
 use std::io::Read;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
+
+pub use crate::failure::Failure;
 
 /// Default rapid rate, mm/min.
 pub use pvt_core::defaults::RAPID_MM_PER_MIN as DEFAULT_RAPID_MM_PER_MIN;
@@ -231,38 +233,6 @@ impl CompileOptions {
             drawing: DrawingOptions::default(),
             velocities: None,
             pmac: pvt_emit::PmacSettings::default(),
-        }
-    }
-}
-
-/// Why a run failed.
-#[derive(Debug)]
-pub enum Failure {
-    /// A file could not be read or written.
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// `read` or `write`.
-        action: &'static str,
-        /// What the system said.
-        error: std::io::Error,
-    },
-    /// The input has errors; every one of them, ready to print.
-    Input(Vec<Report>),
-    /// The command line asks for something impossible (exit status 2).
-    Usage(String),
-}
-
-impl Failure {
-    /// The stable codes of the diagnostics, in order (for tests and tools).
-    pub fn codes(&self) -> Vec<String> {
-        match self {
-            Failure::Io { .. } => vec!["pvtc::io".into()],
-            Failure::Usage(_) => vec!["pvtc::usage".into()],
-            Failure::Input(reports) => reports
-                .iter()
-                .map(|r| r.code().map(|c| c.to_string()).unwrap_or_default())
-                .collect(),
         }
     }
 }

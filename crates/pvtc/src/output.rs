@@ -352,3 +352,20 @@ fn special_file(path: &Path) -> std::io::Result<Option<std::fs::File>> {
         _ => Ok(None),
     }
 }
+
+/// Writes `bytes` to standard output for a command whose result is the text itself
+/// (`check`'s table, completions, the manual page) and returns the exit status: a reader
+/// that closed the pipe (`| head`) is not a failure worth a report; any other failure is
+/// reported by `reporter`.
+pub fn write_stdout_status(
+    bytes: &[u8],
+    reporter: &crate::report::Reporter,
+) -> std::process::ExitCode {
+    match write_stdout(bytes) {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(Failure::Io { error, .. }) if error.kind() == std::io::ErrorKind::BrokenPipe => {
+            std::process::ExitCode::SUCCESS
+        }
+        Err(failure) => reporter.fail(&failure),
+    }
+}

@@ -8,7 +8,6 @@ use crate::args::PlotArgs;
 use crate::output;
 use crate::pipeline::Failure;
 use crate::report::Reporter;
-use crate::EXIT_INPUT_ERROR;
 use std::path::Path;
 use std::process::ExitCode;
 
@@ -28,7 +27,11 @@ pub fn run(args: &PlotArgs) -> ExitCode {
     let limits = match &loaded.options.machine {
         Some(m) => match m.limits_in(program.units, &program.axes) {
             Ok(limits) => limits,
-            Err(e) => return reporter.fail(&crate::Failure::Input(vec![miette::Report::new(e)])),
+            Err(e) => {
+                return reporter.fail(&crate::options::Failure::Input(vec![miette::Report::new(
+                    e,
+                )]))
+            }
         },
         None => Default::default(),
     };
@@ -49,8 +52,8 @@ pub fn run(args: &PlotArgs) -> ExitCode {
     let bytes = match drawn {
         Ok(bytes) => bytes,
         Err(e) => {
-            eprintln!("error: cannot plot: {e}");
-            return ExitCode::from(EXIT_INPUT_ERROR);
+            let report = miette::miette!(code = "pvtc::plot::draw", "cannot plot: {e}");
+            return reporter.fail(&Failure::Input(vec![report]));
         }
     };
     match output::write(Some(&args.output), &bytes) {

@@ -8,10 +8,14 @@
 
 use crate::args::{DiagnosticsArg, PipelineArgs};
 use crate::pipeline::Failure;
-use crate::{EXIT_INPUT_ERROR, EXIT_USAGE};
 use miette::{Diagnostic, LabeledSpan, Report, ReportHandler, Severity, SourceCode, SourceSpan};
 use std::fmt;
 use std::process::ExitCode;
+
+/// Exit status of a run whose input had errors (or whose check found a limit exceeded).
+pub const EXIT_INPUT_ERROR: u8 = 1;
+/// Exit status of a run whose command line asks for something impossible.
+pub const EXIT_USAGE: u8 = 2;
 
 /// Most diagnostics printed for one input; the rest are counted (a wrong file can have
 /// one error per line).
@@ -232,6 +236,15 @@ impl Reporter {
         }
     }
 
+    /// A reporter for people, for the commands without diagnostics options
+    /// (`completions`, `man`).
+    pub fn human() -> Reporter {
+        Reporter {
+            json: false,
+            deny_warnings: false,
+        }
+    }
+
     /// Prints every diagnostic of `failure` and returns the exit status for it.
     pub fn fail(&self, failure: &Failure) -> ExitCode {
         match failure {
@@ -267,6 +280,12 @@ impl Reporter {
             }
         }
         ExitCode::from(EXIT_INPUT_ERROR)
+    }
+
+    /// Prints one diagnostic that fails a run whose output is already written (`check`'s
+    /// verdict), without the "nothing was written" line of [`Reporter::fail`].
+    pub fn error(&self, report: &Report) {
+        self.print(report);
     }
 
     /// Prints warnings; with `--deny-warnings` any warning fails the run.
@@ -314,6 +333,32 @@ impl Reporter {
             if items > MAX_PRINTED {
                 eprintln!("… and {} more diagnostics not shown", items - MAX_PRINTED);
             }
+        }
+    }
+
+    /// A batch's failed file in one line: its first diagnostic and how many more it has
+    /// (JSON: `pvtc::batch::failed` with `input`, `first` and `count`).
+    pub fn batch_failed(&self, input: &std::path::Path, first: &str, count: usize) {
+        let more = if count > 1 {
+            format!(" (and {} more)", count - 1)
+        } else {
+            String::new()
+        };
+        let text = format!("failed: {}: {first}{more}", input.display());
+        if self.json {
+            eprintln!(
+                "{}",
+                serde_json::json!({
+                    "code": "pvtc::batch::failed",
+                    "severity": "error",
+                    "message": text,
+                    "input": input.display().to_string(),
+                    "first": first,
+                    "count": count,
+                })
+            );
+        } else {
+            eprintln!("{text}");
         }
     }
 

@@ -155,14 +155,16 @@ impl ToolpathSink for MovedAxes {
     fn event(&mut self, _: &EventKind, _: u32) {}
 }
 
-fn open(path: &std::path::Path) -> Result<std::io::BufReader<std::fs::File>, crate::Failure> {
+fn open(
+    path: &std::path::Path,
+) -> Result<std::io::BufReader<std::fs::File>, crate::options::Failure> {
     std::fs::File::open(path)
         .map(|f| std::io::BufReader::with_capacity(1 << 18, f))
         .map_err(|error| read_failure(path, error))
 }
 
-fn read_failure(path: &std::path::Path, error: std::io::Error) -> crate::Failure {
-    crate::Failure::Io {
+fn read_failure(path: &std::path::Path, error: std::io::Error) -> crate::options::Failure {
+    crate::options::Failure::Io {
         path: path.to_path_buf(),
         action: "read",
         error,
@@ -175,10 +177,10 @@ pub(crate) fn compile_read(
     name: &str,
     gcode: &pvt_gcode::GcodeOptions,
     sink: &mut dyn pvt_gcode::ToolpathSink,
-) -> Result<pvt_gcode::StreamSummary, crate::Failure> {
+) -> Result<pvt_gcode::StreamSummary, crate::options::Failure> {
     pvt_gcode::compile_read(&mut open(path)?, gcode, sink)
         .map_err(|error| read_failure(path, error))?
-        .map_err(|errors| crate::Failure::Input(reports(path, name, errors.diagnostics)))
+        .map_err(|errors| crate::options::Failure::Input(reports(path, name, errors.diagnostics)))
 }
 
 /// Diagnostics as reports, each with the lines of the file around it (read again, a
@@ -209,7 +211,7 @@ pub(crate) fn reports(
 
 /// A planning error as a report labelling its whole source line, as the in-memory path
 /// labels it ([`crate::pipeline`]'s `at_line`), with the lines around it cut from the file.
-fn plan_failure(path: &std::path::Path, name: &str, e: &PlanError) -> crate::Failure {
+fn plan_failure(path: &std::path::Path, name: &str, e: &PlanError) -> crate::options::Failure {
     let span = open(path).ok().and_then(|mut input| {
         crate::excerpt::line_span(&mut input, e.line())
             .ok()
@@ -228,7 +230,7 @@ fn plan_failure(path: &std::path::Path, name: &str, e: &PlanError) -> crate::Fai
         .with_source_code(miette::NamedSource::new(name, excerpt)),
         _ => miette::miette!(code = e.code().to_string(), "{name}: {e}"),
     };
-    crate::Failure::Input(vec![report])
+    crate::options::Failure::Input(vec![report])
 }
 
 /// What the header fixes before the first piece is written.
@@ -268,21 +270,23 @@ struct Pass {
 /// written; a failure leaves `out` for the caller to discard.
 pub fn compile_to(
     input: &std::path::Path,
-    options: &crate::CompileOptions,
+    options: &crate::options::CompileOptions,
     deny_warnings: bool,
     out: &mut Target<'_>,
-) -> Result<Vec<miette::Report>, crate::Failure> {
-    if options.input == crate::InputKind::Gcode {
-        let input = crate::spool(input)?;
+) -> Result<Vec<miette::Report>, crate::options::Failure> {
+    if options.input == crate::options::InputKind::Gcode {
+        let input = crate::input::spool(input)?;
         return compile_streaming(&input.path, &input.name, options, deny_warnings, out);
     }
-    let source = crate::Source::read(input)?;
+    let source = crate::options::Source::read(input)?;
     let compiled = crate::pipeline::compile(&source, options)?;
     let warnings = deny(compiled.warnings, deny_warnings)?;
-    std::io::Write::write_all(out, &compiled.bytes).map_err(|error| crate::Failure::Io {
-        path: "<output>".into(),
-        action: "write",
-        error,
+    std::io::Write::write_all(out, &compiled.bytes).map_err(|error| {
+        crate::options::Failure::Io {
+            path: "<output>".into(),
+            action: "write",
+            error,
+        }
     })?;
     Ok(warnings)
 }
@@ -299,12 +303,12 @@ pub fn compile_to(
 pub fn compile_streaming(
     path: &std::path::Path,
     name: &str,
-    options: &crate::CompileOptions,
+    options: &crate::options::CompileOptions,
     deny_warnings: bool,
     out: &mut Target<'_>,
-) -> Result<Vec<miette::Report>, crate::Failure> {
+) -> Result<Vec<miette::Report>, crate::options::Failure> {
     if out.is_file_at(path) {
-        return Err(crate::Failure::Usage(format!(
+        return Err(crate::options::Failure::Usage(format!(
             "standard output is the input file {}: pvtc would read what it writes",
             path.display()
         )));
@@ -331,7 +335,7 @@ pub fn compile_streaming(
     };
     let mut pass = write_pass(path, name, options, &gcode, &layout, out)?;
     if pass.layout != layout {
-        let restart = |error| crate::Failure::Io {
+        let restart = |error| crate::options::Failure::Io {
             path: "<output>".into(),
             action: "rewrite",
             error,
@@ -347,7 +351,7 @@ pub fn compile_streaming(
 pub(crate) fn deny(
     warnings: Vec<miette::Report>,
     deny_warnings: bool,
-) -> Result<Vec<miette::Report>, crate::Failure> {
+) -> Result<Vec<miette::Report>, crate::options::Failure> {
     let is_warning = |r: &miette::Report| r.severity() == Some(miette::Severity::Warning);
     let count = warnings.iter().filter(|r| is_warning(r)).count();
     if !deny_warnings || count == 0 {
@@ -358,16 +362,16 @@ pub(crate) fn deny(
         code = "pvtc::deny_warnings",
         "{count} warning(s) and --deny-warnings; nothing was written"
     ));
-    Err(crate::Failure::Input(reports))
+    Err(crate::options::Failure::Input(reports))
 }
 
 /// What a pass ended with: its warnings, notes and summary, or its failure.
 fn outcome_warnings(
     path: &std::path::Path,
     name: &str,
-    options: &crate::CompileOptions,
+    options: &crate::options::CompileOptions,
     pass: Pass,
-) -> Result<Vec<miette::Report>, crate::Failure> {
+) -> Result<Vec<miette::Report>, crate::options::Failure> {
     let (totals, report) = match pass.outcome {
         Ok(done) => done,
         Err(StreamFailure::Plan(e)) => return Err(plan_failure(path, name, &e)),
@@ -394,11 +398,11 @@ fn outcome_warnings(
 fn write_pass(
     path: &std::path::Path,
     name: &str,
-    options: &crate::CompileOptions,
+    options: &crate::options::CompileOptions,
     gcode: &pvt_gcode::GcodeOptions,
     layout: &Layout,
     out: &mut Target<'_>,
-) -> Result<Pass, crate::Failure> {
+) -> Result<Pass, crate::options::Failure> {
     let plan_options = crate::pipeline::plan_options(options, layout.units, &layout.axes)?;
     crate::pipeline::check_pmac_axes(options, &layout.axes)?;
     let interpolation = plan_options.interpolation();

@@ -45,7 +45,7 @@ fn gcode(
     input: &Path,
     options: &CompileOptions,
 ) -> Result<Vec<miette::Report>, Failure> {
-    let spooled = crate::spool(input)?;
+    let spooled = crate::input::spool(input)?;
     let (path, name) = (spooled.path.as_path(), spooled.name.as_str());
     let gcode = crate::front::gcode_options(options);
     let deny = args.pipeline.deny_warnings;

@@ -1271,8 +1271,23 @@ fn check_max_path_error_fails_seed_000_on_a_square_and_passes_the_path_planner()
         "{}",
         stderr(&o)
     );
+    // The table says so too: it does not end on "none exceeded" alone.
+    let table = String::from_utf8_lossy(&o.stdout);
+    assert!(table.contains("PATH ERROR EXCEEDED: "), "{table}");
+    assert!(table.contains("> --max-path-error 0.001"), "{table}");
+    let json = ["--planner", "contour", "--diagnostics", "json"];
+    let o = pvtc(&[&args[..], &json].concat(), None);
+    let err = stderr(&o);
+    let values: Vec<serde_json::Value> = err
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("a JSON object per line"))
+        .collect();
+    assert_eq!(values.len(), 1, "{err}");
+    assert_eq!(values[0]["code"], "pvtc::check::path_error");
     let o = pvtc(&args, None);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let table = String::from_utf8_lossy(&o.stdout);
+    assert!(!table.contains("PATH ERROR EXCEEDED"), "{table}");
 }
 
 #[test]
@@ -1535,4 +1550,107 @@ fn toolpath_under_deny_warnings_writes_nothing() {
     assert!(to_pipe.stdout.is_empty(), "nothing on the pipe");
     let allowed = pvtc(&args[..4], None);
     assert!(allowed.status.success() && !allowed.stdout.is_empty());
+}
+
+#[test]
+fn negative_values_of_start_point_and_safe_z_read_as_separate_arguments() {
+    let joined = pvtc(
+        &[
+            "compile",
+            "samples/dxf/lines_arcs.dxf",
+            "--feed",
+            "1200",
+            "--start-point=-10,-10",
+            "--safe-z=-2",
+            "--format",
+            "json",
+        ],
+        None,
+    );
+    assert!(joined.status.success(), "{}", stderr(&joined));
+    let separate = pvtc(
+        &[
+            "compile",
+            "samples/dxf/lines_arcs.dxf",
+            "--feed",
+            "1200",
+            "--start-point",
+            "-10,-10",
+            "--safe-z",
+            "-2",
+            "--format",
+            "json",
+        ],
+        None,
+    );
+    assert!(separate.status.success(), "{}", stderr(&separate));
+    assert_eq!(joined.stdout, separate.stdout);
+    // The values reached the drawing: another start point and safe Z give another motion.
+    let plain = pvtc(
+        &[
+            "compile",
+            "samples/dxf/lines_arcs.dxf",
+            "--feed",
+            "1200",
+            "--format",
+            "json",
+        ],
+        None,
+    );
+    assert_ne!(plain.stdout, separate.stdout);
+}
+
+#[test]
+fn a_machine_file_with_a_planner_that_cannot_keep_it_is_a_usage_error() {
+    let machine = ["--machine", "samples/machines/mill.toml"];
+    for planner in ["contour", "pt", "chord-forward", "spline", "lspb"] {
+        let mut args = vec!["compile", "samples/gcode/square.ngc", "--planner", planner];
+        if planner == "lspb" {
+            args.extend(["--accel", "1000"]);
+        }
+        args.extend(machine);
+        let o = pvtc(&args, None);
+        assert_eq!(o.status.code(), Some(2), "{planner}: {}", stderr(&o));
+        assert!(stderr(&o).contains("pvtc::usage"), "{}", stderr(&o));
+        assert!(
+            stderr(&o).contains("only by the path planner"),
+            "{}",
+            stderr(&o)
+        );
+        assert!(o.stdout.is_empty());
+    }
+    // The path planner keeps it; `check` still takes it with any planner, to verify.
+    let o = pvtc(
+        &[&["compile", "samples/gcode/square.ngc"][..], &machine].concat(),
+        None,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let check = [
+        "check",
+        "samples/gcode/square.ngc",
+        "--planner",
+        "contour",
+        "--machine",
+        "samples/machines/mill.toml",
+    ];
+    assert_eq!(pvtc(&check, None).status.code(), Some(1));
+}
+
+#[test]
+fn drawing_options_on_a_program_are_usage_errors() {
+    for option in [
+        &["--safe-z", "5"][..],
+        &["--start-point", "1,1"],
+        &["--join-tolerance", "0.1"],
+        &["--max-points", "10"],
+        &["--layer", "CUT"],
+    ] {
+        let o = pvtc(
+            &[&["compile", "samples/gcode/square.ngc"][..], option].concat(),
+            None,
+        );
+        assert_eq!(o.status.code(), Some(2), "{option:?}: {}", stderr(&o));
+        let expected = format!("{} does nothing here", option[0]);
+        assert!(stderr(&o).contains(&expected), "{}", stderr(&o));
+    }
 }

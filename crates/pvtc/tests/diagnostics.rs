@@ -12,11 +12,15 @@ fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
+/// Every line of standard error as a JSON object: under `--diagnostics json` a line that
+/// is not one fails the test.
 fn json_lines(o: &Output) -> Vec<serde_json::Value> {
-    stderr(o)
-        .lines()
-        .filter(|l| l.starts_with('{'))
-        .map(|l| serde_json::from_str(l).unwrap())
+    let err = stderr(o);
+    err.lines()
+        .map(|l| match serde_json::from_str::<serde_json::Value>(l) {
+            Ok(value) if value.is_object() => value,
+            _ => panic!("a line of standard error is not a JSON object: {l:?}\n{err}"),
+        })
         .collect()
 }
 
@@ -245,4 +249,96 @@ fn a_batch_prints_each_files_diagnostics_under_its_name_and_a_summary() {
             &serde_json::json!(7)
         )
     );
+}
+
+#[test]
+fn under_json_diagnostics_a_batch_and_its_usage_errors_print_only_json_objects() {
+    let dir = tempfile::tempdir().unwrap();
+    let inputs = dir.path().join("in");
+    std::fs::create_dir_all(inputs.join("dxf")).unwrap();
+    std::fs::write(inputs.join("good.ngc"), "G21 G90\nG1 X1 F100\nM2\n").unwrap();
+    std::fs::write(
+        inputs.join("dxf/broken.dxf"),
+        "0\nSECTION\n2\nENTITIES\n0\nLINE\n",
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    let o = pvtc(&[
+        "compile",
+        inputs.to_str().unwrap(),
+        "--out-dir",
+        out.to_str().unwrap(),
+        "--diagnostics",
+        "json",
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let values = json_lines(&o);
+    let failed = values
+        .iter()
+        .find(|v| v["code"] == "pvtc::batch::failed")
+        .expect("one object per failed file");
+    assert!(failed["input"].as_str().unwrap().ends_with("broken.dxf"));
+    assert_eq!(failed["severity"], "error");
+    assert_eq!(values.last().unwrap()["code"], "pvtc::batch::summary");
+    // The folder of the file that failed is not left behind empty.
+    assert!(out.join("good.pmac").is_file());
+    assert!(!out.join("dxf").exists(), "an empty out/dxf/ is left");
+
+    // Two inputs without --out-dir: a usage error, as one JSON object.
+    let o = pvtc(&[
+        "compile",
+        inputs.join("good.ngc").to_str().unwrap(),
+        inputs.join("good.ngc").to_str().unwrap(),
+        "--diagnostics",
+        "json",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let values = json_lines(&o);
+    assert_eq!(values.len(), 1, "{}", stderr(&o));
+    assert_eq!(values[0]["code"], "pvtc::usage");
+    assert!(values[0]["message"].as_str().unwrap().contains("--out-dir"));
+
+    // Two inputs that would write one output: a usage error naming both.
+    let other = dir.path().join("other");
+    std::fs::create_dir(&other).unwrap();
+    std::fs::write(other.join("good.ngc"), "G1 X2 F100\nM2\n").unwrap();
+    let o = pvtc(&[
+        "compile",
+        inputs.join("good.ngc").to_str().unwrap(),
+        other.join("good.ngc").to_str().unwrap(),
+        "--out-dir",
+        out.to_str().unwrap(),
+        "--diagnostics",
+        "json",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let values = json_lines(&o);
+    assert_eq!(values.len(), 1, "{}", stderr(&o));
+    assert_eq!(values[0]["code"], "pvtc::usage");
+    assert!(values[0]["message"]
+        .as_str()
+        .unwrap()
+        .contains("would both write"));
+}
+
+#[test]
+fn a_batch_whose_every_file_fails_leaves_no_output_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let inputs = dir.path().join("in");
+    std::fs::create_dir_all(inputs.join("sub")).unwrap();
+    std::fs::write(inputs.join("sub/bad.ngc"), "G1 X1 Q#\n").unwrap();
+    let out = dir.path().join("out");
+    let o = pvtc(&[
+        "compile",
+        inputs.to_str().unwrap(),
+        "--out-dir",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("0 files compiled, 1 failed"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!out.exists(), "the failed batch created {}", out.display());
 }

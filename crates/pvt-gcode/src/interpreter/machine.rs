@@ -342,9 +342,14 @@ impl Interpreter<'_> {
             Some((ToolLength::Table | ToolLength::Add, _))
         );
         let codes = request.io.is_some() || request.user.is_some();
+        let compensation_on = matches!(
+            request.cutter_comp,
+            Some((crate::codes::CutterComp::On(..), _))
+        );
         let q_used = cycle || codes || matches!(request.path_mode, Some((PathMode::Continuous, _)));
-        let d_used = self.surface_speed;
+        let d_used = self.surface_speed || compensation_on;
         let l_used = cycle
+            || compensation_on
             || matches!(request.io, Some((66, _)))
             || matches!(request.non_modal, Some((NonModal::SetTable, _)));
         let checks = [

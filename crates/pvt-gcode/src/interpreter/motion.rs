@@ -276,11 +276,13 @@ impl Interpreter<'_> {
             Ok(end) => end,
             Err(diagnostic) => return self.push(diagnostic),
         };
-        let start = self.machine_position();
+        let start = self.tool_start();
         let (motion, feed) = match mode {
             MotionMode::Rapid => (Motion::Rapid, Some(self.rapid_rate())),
             _ => {
-                let length = || line_length(&start, &end);
+                // G93 times the programmed move, not the exit move after G40 (rs274).
+                let programmed = self.position;
+                let length = || line_length(&programmed, &end);
                 (Motion::Feed, self.feed_rate(request, block, length))
             }
         };
@@ -312,7 +314,7 @@ impl Interpreter<'_> {
             feed,
             span: element_span(block),
         };
-        self.emit(motion, &element);
+        self.route(motion, element);
     }
 
     fn arc_move(&mut self, direction: ArcDirection, request: &Request, block: &Block) {
@@ -362,10 +364,10 @@ impl Interpreter<'_> {
             span: element_span(block),
         };
         if arc.extra_turns < TURNS_HANDED_ON_WHOLE {
-            return self.emit(Motion::Feed, &element);
+            return self.route(Motion::Feed, element);
         }
         for part in turn_by_turn(&element, arc) {
-            self.emit(Motion::Feed, &part);
+            self.route(Motion::Feed, part);
         }
     }
 
@@ -435,7 +437,7 @@ impl Interpreter<'_> {
 
     /// Sends an element to the sink: a rapid is a contour of its own; a feed move joins
     /// the open contour, which G61 ends after every move.
-    fn emit(&mut self, motion: Motion, element: &Element) {
+    pub(super) fn emit(&mut self, motion: Motion, element: &Element) {
         if motion == Motion::Rapid {
             self.end_contour();
         }
