@@ -165,7 +165,7 @@ fn an_error_on_each_of_200k_lines_keeps_a_thousand_and_counts_the_rest() {
 
 #[test]
 fn warnings_past_a_thousand_are_counted_as_more_warnings() {
-    let text = format!("G1 X1 F100\n{}", "G1 X1\n".repeat(1100));
+    let text = format!("G1 X1 F100\n{}M2\n", "G1 X1\n".repeat(1100));
     let compiled = pvt_gcode::compile(&text, &GcodeOptions::default()).expect("compiles");
     let warnings = compiled.warnings;
     assert_eq!(warnings.len(), pvt_gcode::MAX_KEPT_DIAGNOSTICS + 1);
