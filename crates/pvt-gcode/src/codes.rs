@@ -20,6 +20,8 @@ pub(crate) enum MotionMode {
     Cancel,
     /// G73, G81…G89: a canned cycle, expanded by [`crate::cycles`].
     Cycle(Cycle),
+    /// G38.2…G38.5 (the code in tenths): a probing move, run where a result is given.
+    Probe(u32),
     /// A motion code pvtc does not execute (probing, splines…);
     /// blocks in this mode are skipped (the code itself was reported).
     Unsupported,
@@ -35,6 +37,10 @@ impl MotionMode {
             MotionMode::Arc(ArcDirection::CounterClockwise) => "G3",
             MotionMode::Cancel => "G80",
             MotionMode::Cycle(cycle) => cycle.name(),
+            MotionMode::Probe(382) => "G38.2",
+            MotionMode::Probe(383) => "G38.3",
+            MotionMode::Probe(384) => "G38.4",
+            MotionMode::Probe(_) => "G38.5",
             MotionMode::Unsupported => "an unsupported cycle",
         }
     }
@@ -280,7 +286,8 @@ pub(crate) fn g_code(tenths: u32) -> Option<GCode> {
         870 => Motion(MotionMode::Cycle(self::Cycle::BackBore)),
         880 => Motion(MotionMode::Cycle(self::Cycle::BoreManual)),
         890 => Motion(MotionMode::Cycle(self::Cycle::BoreDwell)),
-        50..=53 | 62 | 330 | 331 | 382..=385 | 760 => Motion(MotionMode::Unsupported),
+        382..=385 => Motion(MotionMode::Probe(tenths)),
+        50..=53 | 62 | 330 | 331 | 760 => Motion(MotionMode::Unsupported),
         _ => return unsupported_g(tenths).map(Unsupported),
     })
 }
@@ -300,7 +307,6 @@ pub(crate) fn motion_feature(tenths: u32) -> &'static str {
     match tenths {
         50..=53 | 62 => "splines and NURBS",
         330 | 331 => "spindle-synchronized motion",
-        382..=385 => "probing",
         760 => "lathe threading cycles",
         _ => "motion modes",
     }
@@ -387,7 +393,7 @@ mod tests {
             g_code(810),
             Some(GCode::Motion(MotionMode::Cycle(Cycle::Drill)))
         );
-        assert_eq!(g_code(382), Some(GCode::Motion(MotionMode::Unsupported)));
+        assert_eq!(g_code(382), Some(GCode::Motion(MotionMode::Probe(382))));
         assert_eq!(g_code(430), Some(GCode::ToolLength(ToolLength::Table)));
         assert_eq!(
             g_code(421),

@@ -128,6 +128,10 @@ pub(crate) struct Interpreter<'a> {
     rpm: f64,
     /// Arc turns (P words) of the run so far.
     arc_turns_run: u64,
+    /// Probing moves run so far (the next takes that many results in).
+    pub(crate) probes: usize,
+    /// Where the last probing move tripped, program units (#5061…).
+    pub(crate) probe: Option<[f64; 6]>,
     /// Cutter-radius compensation (G40/G41/G42).
     cutter: compensation::CutterState,
 }
@@ -169,6 +173,8 @@ impl<'a> Interpreter<'a> {
             origin: None,
             rpm: 0.0,
             arc_turns_run: 0,
+            probes: 0,
+            probe: None,
             cutter: compensation::CutterState::default(),
         }
     }
@@ -224,6 +230,7 @@ impl<'a> Interpreter<'a> {
                 Some(MotionMode::Linear) => 10,
                 Some(MotionMode::Arc(pvt_core::ArcDirection::Clockwise)) => 20,
                 Some(MotionMode::Arc(pvt_core::ArcDirection::CounterClockwise)) => 30,
+                Some(MotionMode::Probe(tenths)) => tenths as i32,
                 Some(_) => 800,
             },
             plane_tenths: match m.plane {
@@ -245,6 +252,7 @@ impl<'a> Interpreter<'a> {
             homes: [to_mm(&self.homes[0]), to_mm(&self.homes[1])],
             line: 0,
             call_level: 0,
+            probe: self.probe,
         }
     }
 

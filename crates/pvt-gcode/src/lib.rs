@@ -26,7 +26,9 @@
 //! state, `(LOG…)` comments accepted. G40 is accepted as it selects what pvtc always
 //! does. Every axis starts at 0. Lines with block delete (`/`) are executed (the switch
 //! is off). A program number (`O1001`) names the program. G76, cutter compensation,
-//! G5.x, G38.x, G33 and reads of machine-specific parameters are `unsupported`, one
+//! G38.2–G38.5 move to the points [`GcodeOptions::probe_results`] gives, each one
+//! without a point is `pvtc::gcode::probe`. G5.x, G33 and reads of machine-specific
+//! parameters are `unsupported`, one
 //! diagnostic per feature with the count of places, and the program fails. A block with
 //! an unknown G code runs nothing and the blocks after it in its motion mode are
 //! skipped, so nothing cascades.
@@ -42,8 +44,9 @@
 //!
 //! Parameters (`params.rs`, `params/machine.rs`): predefined names (`#<_x>`,
 //! `#<_metric>`, `#<_feed>`, `#<_value>`, …) and machine parameters (#5161–#5428: homes,
-//! G92, coordinate systems, tool, position) read the interpreter's state; probe results,
-//! M66 inputs, HAL pins and ini values are `unsupported`.
+//! G92, coordinate systems, tool, position) read the interpreter's state; HAL pins read
+//! [`GcodeOptions::hal_pins`]; probe results, M66 inputs, HAL pins without a value and
+//! ini values are `unsupported`.
 //!
 //! Contours: a rapid move is a contour of its own; feed moves run together until a
 //! rapid, an event or a stop. Every event (G4 dwell, M0/M1 pause, S, T, M6, M3/M4/M5,
@@ -168,6 +171,13 @@ pub struct GcodeOptions {
     pub tool_table: ToolTable,
     /// Subroutine files for `o<name> call` (`--subroutine-path`).
     pub subroutines: Subroutines,
+    /// Values of HAL pins, `#<_hal[NAME]>` (`--hal NAME=VALUE`); a pin not given is
+    /// `unsupported`. Names are read as rs274 reads them: lower case, without blanks.
+    pub hal_pins: Vec<(String, f64)>,
+    /// Where successive probing moves (G38.2–G38.5) trip, X Y Z in the program's
+    /// coordinates and units at each move (`--probe-result X,Y,Z`); a probing move
+    /// without one is `pvtc::gcode::probe`.
+    pub probe_results: Vec<[f64; 3]>,
 }
 
 impl Default for GcodeOptions {
@@ -181,6 +191,8 @@ impl Default for GcodeOptions {
             work_offsets: [[0.0; 6]; 9],
             tool_table: ToolTable::default(),
             subroutines: Subroutines::default(),
+            hal_pins: Vec::new(),
+            probe_results: Vec::new(),
         }
     }
 }
@@ -280,7 +292,10 @@ pub struct Reader<'a> {
 impl<'a> Reader<'a> {
     /// A reader compiling into `sink`.
     pub fn new(options: &'a GcodeOptions, sink: &'a mut dyn ToolpathSink) -> Reader<'a> {
-        let params = params::Parameters::default();
+        let mut params = params::Parameters::default();
+        for (name, value) in &options.hal_pins {
+            params.set_hal_pin(name, *value);
+        }
         Reader {
             options,
             flow: oword::Flow::default(),

@@ -105,6 +105,13 @@ pub(crate) fn normalize(name: &str) -> std::borrow::Cow<'_, str> {
 }
 
 impl Parameters {
+    /// Gives HAL pin `name` (`#<_hal[name]>`) a value, as `--hal NAME=VALUE` does; the
+    /// program still may not assign it.
+    pub fn set_hal_pin(&mut self, name: &str, value: f64) {
+        let key = format!("_hal[{}]", normalize(name));
+        self.named.insert(key, value);
+    }
+
     /// The value of `#index` (1..=[`MAX_NUMBERED`], checked by the caller).
     pub fn numbered(&self, index: usize) -> Result<f64, ReadProblem> {
         let (Some(&v), Some(&assigned)) = (self.numbered.get(index), self.assigned.get(index))

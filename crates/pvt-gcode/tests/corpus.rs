@@ -1,5 +1,6 @@
 //! The real programs of `../shared/corpus/linuxcnc` (see its README): each compiles, or
-//! fails only with the `unsupported` diagnostics its README allows. Skipped, saying so,
+//! fails only with the diagnostics its README allows (`unsupported` features and
+//! probing moves without a result). Skipped, saying so,
 //! when the folder is absent.
 
 mod common;
@@ -19,7 +20,8 @@ fn corpus() -> Option<PathBuf> {
     }
 }
 
-/// What each file must do: compile, or fail with exactly these unsupported features.
+/// What each file must do: compile, or fail with exactly these unsupported features
+/// (or codes, for other refusals).
 const EXPECTED: &[(&str, &[&str])] = &[
     ("3D_Chips.ngc", &[]),
     ("3dtest.ngc", &[]),
@@ -28,7 +30,11 @@ const EXPECTED: &[(&str, &[&str])] = &[
     ("tort.ngc", &[]),
     (
         "plasmac_metric_pipe.ngc",
-        &["probing", "HAL pins (#<_hal[…]>)"],
+        &[
+            "pvtc::gcode::probe",
+            "HAL pins (#<_hal[…]>) without --hal NAME=VALUE",
+            "pvtc::gcode::probe",
+        ],
     ),
 ];
 
@@ -55,6 +61,7 @@ fn corpus_programs_compile_or_are_refused_precisely() {
                     .iter()
                     .map(|d| match d {
                         pvt_gcode::GcodeDiagnostic::Unsupported { feature, .. } => *feature,
+                        pvt_gcode::GcodeDiagnostic::Probe { .. } => d.code(),
                         _ => panic!("{name}: {}", common::diagnostic_line(&source, d)),
                     })
                     .collect();

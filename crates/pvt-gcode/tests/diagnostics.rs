@@ -67,7 +67,7 @@ fn unsupported_features_are_named() {
         [("unsupported", 3, 5)]
     );
     assert_eq!(after_head("G1 X#5063\n"), [("unsupported", 3, 5)]);
-    assert_eq!(after_head("G38.2 Z-5\n"), [("unsupported", 3, 1)]);
+    assert_eq!(after_head("G38.2 Z-5\n"), [("probe", 3, 1)]);
 }
 
 #[test]
@@ -259,7 +259,7 @@ fn issue_4_codes_name_line_and_column() {
 
 #[test]
 fn unsupported_features_are_reported_once_with_their_count() {
-    let source = format!("{HEAD}G76 X1 Z-1\nG76 X2 Z-1\nG38.2 Z-1\nG76 X3 Z-1\n");
+    let source = format!("{HEAD}G76 X1 Z-1\nG76 X2 Z-1\nG33 Z-1 K1\nG76 X3 Z-1\n");
     let errors = compile(&source, &GcodeOptions::default()).unwrap_err();
     let messages: Vec<_> = errors
         .diagnostics
@@ -271,7 +271,7 @@ fn unsupported_features_are_reported_once_with_their_count() {
         messages,
         [
             "G76 (lathe threading cycles) is not supported by pvtc (3 places; the first is shown)",
-            "G38.2 (probing) is not supported by pvtc"
+            "G33 (spindle-synchronized motion) is not supported by pvtc"
         ]
     );
 }

@@ -163,7 +163,7 @@ fn machine_only_parameters_are_one_unsupported_diagnostic_each() {
         messages,
         [
             "#5061 (probe results (#5061–#5070)) is not supported by pvtc (2 places; the first is shown)",
-            "#<_hal[probe]> (HAL pins (#<_hal[…]>)) is not supported by pvtc (2 places; the first is shown)"
+            "#<_hal[probe]> (HAL pins (#<_hal[…]>) without --hal NAME=VALUE) is not supported by pvtc (2 places; the first is shown)"
         ]
     );
 }

@@ -8,7 +8,13 @@ mod common;
 
 use common::{errors, ok};
 use pvt_core::{plan_toolpath_report, PlanOptions, Planner};
-use pvt_gcode::compile;
+use pvt_gcode::{compile, GcodeOptions};
+
+/// The code and message of every diagnostic of a refused program.
+fn messages(refused: &pvt_gcode::GcodeErrors) -> Vec<(&'static str, String)> {
+    let diagnostics = refused.diagnostics.iter();
+    diagnostics.map(|d| (d.code(), d.to_string())).collect()
+}
 
 #[test]
 fn g64_p0_is_plain_g64() {
@@ -96,12 +102,7 @@ fn g6_2_and_g71_1_are_unsupported() {
         "G21 F100\nG1 X1\nG6.2 X2\nG71.1 X3 Z-1\nG71.2 X1\nM2\n",
         &Default::default(),
     );
-    let found: Vec<_> = c
-        .expect_err("refused")
-        .diagnostics
-        .iter()
-        .map(|d| (d.code(), d.to_string()))
-        .collect();
+    let found = messages(&c.expect_err("refused"));
     assert_eq!(found.len(), 2, "{found:?}");
     assert!(found
         .iter()
@@ -166,14 +167,79 @@ fn arc_turns_are_bounded_per_block_and_per_run() {
     let looped = "G21 F600\nG1 X5\no1 repeat [11]\nG2 X5 Y0 I-5 J0 P1000000\no1 endrepeat\nM2\n";
     let mut count = Count::default();
     let refused = pvt_gcode::compile_into(looped, &Default::default(), &mut count);
-    let codes: Vec<_> = refused
-        .expect_err("refused")
-        .diagnostics
-        .iter()
-        .map(|d| (d.code(), d.to_string()))
-        .collect();
+    let codes = messages(&refused.expect_err("refused"));
     assert_eq!(codes.len(), 1, "{codes:?}");
     assert_eq!(codes[0].0, "pvtc::gcode::turn_limit");
     assert!(codes[0].1.contains("10000000 turns in all"), "{codes:?}");
     assert_eq!(count.elements, 1 + pvt_gcode::MAX_TOTAL_ARC_TURNS);
+}
+
+/// `#<_hal[NAME]>` reads the value given for its pin (names as rs274 reads them: lower
+/// case, blanks left out); a pin without one is one `unsupported` at its first place,
+/// with the count of places; a program may not assign a pin.
+#[test]
+fn hal_pins_read_their_given_values() {
+    let options = GcodeOptions {
+        hal_pins: vec![("Motion.Analog-In-00".to_owned(), 3.5)],
+        ..GcodeOptions::default()
+    };
+    let source =
+        "G21 F100\nG1 X[#<_hal[motion.analog-in-00]> * 2] Y#<_HAL[ motion.analog-in-00 ]>\nM2\n";
+    let c = compile(source, &options).expect("compiles");
+    assert_eq!(c.toolpath.contours[0].elements[0].end[..2], [7.0, 3.5]);
+    let source = "G21 F100\nG1 X#<_hal[a.b]>\nG1 Y#<_hal[c.d]>\nM2\n";
+    let refused = compile(source, &options).expect_err("no value for a.b or c.d");
+    let found = messages(&refused);
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert_eq!(found[0].0, "pvtc::gcode::unsupported");
+    assert!(
+        found[0].1.contains("#<_hal[a.b]>") && found[0].1.contains("2 places"),
+        "{found:?}"
+    );
+    assert_eq!(
+        errors("G21 F100\n#<_hal[x]> = 2\nG1 X1\nM2\n")
+            .first()
+            .map(|e| e.0),
+        Some("bad_value")
+    );
+}
+
+/// G38.2–G38.5 are refused one by one (`probe`), unless results are given: then each
+/// probing move, in order, is a feed move to where it trips, which #5061–#5063 then read
+/// (#5070 reads 1: tripped).
+#[test]
+fn probing_moves_need_a_result_and_then_end_where_it_trips() {
+    let source = "G21 G90 F100\nG1 X1\nG38.2 Z-10 F50\nG0 Z5\nG38.5 Z-10\nM2\n";
+    assert_eq!(errors(source), [("probe", 3, 1), ("probe", 5, 1)]);
+    let options = GcodeOptions {
+        probe_results: vec![[1.0, 0.0, -3.5], [1.0, 0.0, -1.0]],
+        ..GcodeOptions::default()
+    };
+    let source = "G21 G90 F100\nG1 X1\nG38.2 Z-10 F50\nG92 Z0\nG1 X[#5061 + 1] Y#5070 F100\n\
+                  G0 Z5\nG38.3 Z-10\nG1 X[#5063]\nM2\n";
+    let c = compile(source, &options).expect("compiles");
+    let ends: Vec<[f64; 3]> = c
+        .toolpath
+        .contours
+        .iter()
+        .flat_map(|c| c.elements.iter().map(|e| [e.end[0], e.end[1], e.end[2]]))
+        .collect();
+    assert_eq!(
+        ends,
+        [
+            [1.0, 0.0, 0.0],
+            [1.0, 0.0, -3.5],
+            [2.0, 1.0, -3.5],
+            [2.0, 1.0, 1.5],
+            [1.0, 0.0, -4.5],
+            [-1.0, 0.0, -4.5],
+        ]
+    );
+    let one = GcodeOptions {
+        probe_results: vec![[1.0, 0.0, -3.5]],
+        ..GcodeOptions::default()
+    };
+    let refused = compile("G21 F50\nG38.2 Z-10\nG38.4 Z5\nM2\n", &one).expect_err("one short");
+    assert_eq!(refused.diagnostics.len(), 1);
+    assert_eq!(refused.diagnostics[0].code(), "pvtc::gcode::probe");
 }

@@ -222,6 +222,15 @@ pub struct PipelineArgs {
     /// `T1 P1 Z0.5 D6 ;comment`, millimetres and degrees) [default: no tools].
     #[arg(long = "tool-table", value_name = "FILE")]
     pub tool_table: Option<PathBuf>,
+    /// G-code: the value a HAL pin `#<_hal[NAME]>` reads, `NAME=VALUE` (repeatable);
+    /// a pin without one is `unsupported`.
+    #[arg(long = "hal", value_name = "NAME=VALUE", value_parser = hal_pin)]
+    pub hal: Vec<(String, f64)>,
+    /// G-code: where the next probing move (G38.2–G38.5) trips, `X,Y,Z` in the
+    /// program's coordinates (repeatable, one per probing move, in order); a probing
+    /// move without one is an error.
+    #[arg(long = "probe-result", value_name = "X,Y,Z", value_parser = probe_result)]
+    pub probe_result: Vec<[f64; 3]>,
     /// G-code: the units of the --tool-table file's lengths (LinuxCNC reads a table in
     /// its machine units; the standalone `rs274` in inches) [default: mm].
     #[arg(long = "tool-table-units", value_enum, value_name = "UNITS")]
@@ -279,6 +288,16 @@ impl PipelineArgs {
         if self.tool_table_units.is_some() && self.tool_table.is_none() {
             return Err(Failure::Usage(
                 "--tool-table-units does nothing without --tool-table FILE".into(),
+            ));
+        }
+        if !self.hal.is_empty() && input != InputKind::Gcode {
+            return Err(Failure::Usage(
+                "--hal does nothing here: #<_hal[…]> in a G-code program reads it".into(),
+            ));
+        }
+        if !self.probe_result.is_empty() && input != InputKind::Gcode {
+            return Err(Failure::Usage(
+                "--probe-result does nothing here: G38.2–G38.5 in a G-code program take it".into(),
             ));
         }
         if self.tool_table.is_some() && input != InputKind::Gcode {
@@ -435,6 +454,8 @@ impl PipelineArgs {
             work_offsets,
             subroutine_path: self.subroutine_path.clone(),
             tool_table,
+            hal_pins: self.hal.clone(),
+            probe_results: self.probe_result.clone(),
             arc_abs_tolerance_mm: self
                 .arc_abs_tolerance
                 .unwrap_or(defaults.arc_abs_tolerance_mm),
@@ -744,6 +765,31 @@ fn positive_number(text: &str) -> Result<f64, String> {
         Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
         Ok(_) => Err("must be a finite number greater than zero".into()),
         Err(e) => Err(e.to_string()),
+    }
+}
+
+/// `--probe-result X,Y,Z`: three finite numbers.
+fn probe_result(text: &str) -> Result<[f64; 3], String> {
+    let values: Vec<Result<f64, _>> = text.split(',').map(|v| v.trim().parse::<f64>()).collect();
+    match values.as_slice() {
+        [Ok(x), Ok(y), Ok(z)] if [x, y, z].iter().all(|v| v.is_finite()) => Ok([*x, *y, *z]),
+        _ => Err("give where the probe trips as X,Y,Z, three numbers, e.g. 10,5,-2.5".into()),
+    }
+}
+
+/// `--hal NAME=VALUE`: a HAL pin's name and a finite value.
+fn hal_pin(text: &str) -> Result<(String, f64), String> {
+    let Some((name, value)) = text.split_once('=') else {
+        return Err("give a pin and its value as NAME=VALUE, e.g. motion.digital-in-00=1".into());
+    };
+    let name = name.trim();
+    if name.is_empty() || name.contains([']', '[']) {
+        return Err(format!("{name:?} is not a HAL pin name"));
+    }
+    match value.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok((name.to_owned(), v)),
+        Ok(_) => Err("the value must be a finite number".into()),
+        Err(e) => Err(format!("the value {value:?}: {e}")),
     }
 }
 

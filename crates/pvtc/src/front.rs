@@ -81,6 +81,8 @@ pub fn gcode_options(options: &CompileOptions) -> pvt_gcode::GcodeOptions {
             )),
         }),
         tool_table: options.tool_table.clone(),
+        hal_pins: options.hal_pins.clone(),
+        probe_results: options.probe_results.clone(),
     }
 }
 

@@ -173,6 +173,10 @@ pub struct CompileOptions {
     pub subroutine_path: Vec<String>,
     /// G-code tool table (G43 H), millimetres and degrees.
     pub tool_table: pvt_gcode::ToolTable,
+    /// G-code HAL pin values (`--hal NAME=VALUE`).
+    pub hal_pins: Vec<(String, f64)>,
+    /// G-code probing results, in order (`--probe-result X,Y,Z`).
+    pub probe_results: Vec<[f64; 3]>,
     /// G-code arc check: absolute radius tolerance, mm.
     pub arc_abs_tolerance_mm: f64,
     /// G-code arc check: relative radius tolerance.
@@ -226,6 +230,8 @@ impl CompileOptions {
             work_offsets: [[0.0; 6]; 9],
             subroutine_path: Vec::new(),
             tool_table: pvt_gcode::ToolTable::default(),
+            hal_pins: Vec::new(),
+            probe_results: Vec::new(),
             arc_abs_tolerance_mm: pvt_core::defaults::ARC_ABS_TOLERANCE_MM,
             arc_rel_tolerance: pvt_core::defaults::ARC_REL_TOLERANCE,
             drawing: DrawingOptions::default(),

@@ -7,7 +7,8 @@ mod common;
 
 use common::{pvtc_bytes, text};
 
-/// Every diagnostic of a run as (code, line), from `--diagnostics json`.
+/// Every diagnostic of a run as (code, line), from `--diagnostics json` (each place of
+/// a repeated one).
 fn diagnostics(args: &[&str], program: &[u8]) -> (bool, Vec<(String, u64)>) {
     let mut all = vec![
         "compile",
@@ -24,9 +25,14 @@ fn diagnostics(args: &[&str], program: &[u8]) -> (bool, Vec<(String, u64)>) {
         .lines()
         .filter(|l| l.starts_with('{'))
         .map(|l| serde_json::from_str::<serde_json::Value>(l).expect("JSON"))
-        .map(|d| {
+        .flat_map(|d| {
             let code = d["code"].as_str().unwrap_or_default().to_owned();
-            (code, d["line"].as_u64().unwrap_or(0))
+            let places = match d["places"].as_array() {
+                Some(places) => places.iter().map(|p| p["line"].as_u64()).collect(),
+                None => vec![d["line"].as_u64()],
+            };
+            let lines = places.into_iter().map(|line| line.unwrap_or(0));
+            lines.map(move |line| (code.clone(), line))
         })
         .collect();
     (out.status.success(), found)
@@ -105,4 +111,62 @@ fn unsupported_features_are_reported_one_per_feature() {
         !err.contains("more like it") && !err.contains("unknown word"),
         "{err}"
     );
+}
+
+/// `--hal NAME=VALUE` gives a pin its value; a malformed one, or one for a drawing, is a
+/// usage error.
+#[test]
+fn hal_values_come_from_the_command_line() {
+    let program = b"G21 F100\nG1 X#<_hal[motion.analog-in-00]>\nM2\n";
+    let (ok, found) = diagnostics(&[], program);
+    assert!(!ok && found[0].0 == "pvtc::gcode::unsupported", "{found:?}");
+    let args = [
+        "compile",
+        "-",
+        "--format",
+        "toolpath",
+        "--hal",
+        "motion.analog-in-00=2.5",
+    ];
+    let out = pvtc_bytes(&args, program);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stdout).contains("\"end\":[2.5,"),
+        "{}",
+        text(&out.stdout)
+    );
+    for bad in ["motion.x", "=1", "x=inf", "x=one"] {
+        let out = pvtc_bytes(&["compile", "-", "--hal", bad], program);
+        assert_eq!(
+            out.status.code(),
+            Some(2),
+            "--hal {bad}: {}",
+            text(&out.stderr)
+        );
+    }
+    let drawing = ["compile", "-", "--input-format", "dxf", "--hal", "x=1"];
+    let out = pvtc_bytes(&drawing, b"0\nEOF\n");
+    assert!(
+        text(&out.stderr).contains("--hal does nothing here"),
+        "{}",
+        text(&out.stderr)
+    );
+}
+
+/// `--probe-result X,Y,Z` lets a probing program compile; without it each probing block
+/// is its own `probe` error; a malformed one is a usage error.
+#[test]
+fn probe_results_come_from_the_command_line() {
+    let program = b"G21 G90 F100\nG1 X1\nG38.2 Z-10 F50\nG0 Z5\nG38.3 Z-10\nM2\n";
+    let (ok, found) = diagnostics(&[], program);
+    assert!(!ok);
+    let probe = "pvtc::gcode::probe".to_owned();
+    assert_eq!(found, [(probe.clone(), 3), (probe, 5)]);
+    let given = ["--probe-result", "1,0,-3.5", "--probe-result", "1,0,-2"];
+    let (ok, found) = diagnostics(&given, program);
+    assert!(ok, "{found:?}");
+    for bad in ["1,2", "1,2,x", "1,2,3,4", "1,nan,2"] {
+        let out = pvtc_bytes(&["compile", "-", "--probe-result", bad], program);
+        assert_eq!(out.status.code(), Some(2), "--probe-result {bad}");
+    }
 }

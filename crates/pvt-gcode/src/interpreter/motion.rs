@@ -63,6 +63,11 @@ impl Interpreter<'_> {
                 }
             }
             Some(MotionMode::Unsupported) => {}
+            Some(MotionMode::Probe(code)) => {
+                if has_axes {
+                    self.probe_move(MotionMode::Probe(code), request, block);
+                }
+            }
             Some(MotionMode::Cycle(cycle)) => {
                 if has_axes {
                     self.cycle_move(cycle, request, block);
@@ -395,6 +400,39 @@ impl Interpreter<'_> {
         }
         self.arc_turns_run += rounded as u64;
         Some(rounded as u32 - 1)
+    }
+
+    /// G38.2…G38.5: a feed move to where the probe trips, the next of
+    /// [`crate::GcodeOptions::probe_results`], which #5061… then read; without one the
+    /// block is `pvtc::gcode::probe` (where a probe stops is only known on the machine).
+    fn probe_move(&mut self, mode: MotionMode, request: &Request, block: &Block) {
+        let Some(&[x, y, z]) = self.options.probe_results.get(self.probes) else {
+            let at = request
+                .motion
+                .map_or_else(|| move_span(request, block), |(_, w)| w.span());
+            return self.push(GcodeDiagnostic::Probe {
+                code: mode.name().to_owned(),
+                span: span(at),
+            });
+        };
+        self.probes += 1;
+        let scale = self.scale();
+        let mut program = self.to_program(self.machine_position());
+        for (i, v) in [x, y, z].into_iter().enumerate() {
+            program[i] = v * scale;
+        }
+        let end = self.to_machine(program);
+        let start = self.machine_position();
+        let length = || line_length(&start, &end);
+        let feed = self.feed_rate(request, block, length);
+        self.position = end;
+        self.probe = Some(std::array::from_fn(|i| match i < 3 {
+            true => program[i] / scale,
+            false => program[i],
+        }));
+        if let Some(feed) = feed.filter(|_| end != start) {
+            self.straight(Motion::Feed, start, end, feed, block);
+        }
     }
 
     /// Sends an element to the sink: a rapid is a contour of its own; a feed move joins

@@ -52,6 +52,9 @@ pub(crate) struct MachineView {
     pub line: u32,
     /// Subroutine call depth (0 in the main program).
     pub call_level: u32,
+    /// Where the last probing move tripped (#5061–#5066, program units), from
+    /// [`crate::GcodeOptions::probe_results`]; `None` before any.
+    pub probe: Option<[f64; 6]>,
 }
 
 impl Default for MachineView {
@@ -77,6 +80,7 @@ impl Default for MachineView {
             homes: [[0.0; 6]; 2],
             line: 0,
             call_level: 0,
+            probe: None,
         }
     }
 }
@@ -107,6 +111,12 @@ pub(crate) fn numbered(view: &MachineView, index: usize, assigned: bool) -> Answ
         return Answer::Value(view.position.get(i).copied().unwrap_or(0.0));
     }
     match index {
+        5061..=5066 if view.probe.is_some() => {
+            return Answer::Value(view.probe.map_or(0.0, |p| p[index - 5061]))
+        }
+        // Tripped: a result was given.
+        5070 if view.probe.is_some() => return Answer::Value(1.0),
+        5067..=5069 if view.probe.is_some() => return Answer::Value(0.0),
         5061..=5070 => return Answer::Machine(PROBE_FEATURE),
         5399 => return Answer::Machine(INPUT_FEATURE),
         5220 => return Answer::Value((view.coord_system + 1) as f64),
@@ -173,7 +183,9 @@ pub(crate) fn named(view: &MachineView, name: &str) -> Answer {
         // Cutter compensation off (G40), no tool length offset, preview (not a task).
         "_ccomp" => Answer::Value(400.0),
         "_tool_offset" | "_task" | "_remap_level" => Answer::Value(0.0),
-        _ if name.starts_with("_hal[") => Answer::Machine("HAL pins (#<_hal[…]>)"),
+        _ if name.starts_with("_hal[") => {
+            Answer::Machine("HAL pins (#<_hal[…]>) without --hal NAME=VALUE")
+        }
         _ if name.starts_with("_ini[") => Answer::Machine("ini values (#<_ini[…]>)"),
         _ => Answer::NotMachine,
     }
