@@ -53,7 +53,6 @@ pub const CAPS: Caps = Caps {
     position_unit: "counts, relative",
     velocity_unit: "counts/s",
     scaled: true,
-    velocity_count_factor: 1.0,
     buffer_depth: Some(BUFFER_SEGMENTS),
     verifies: false,
 };

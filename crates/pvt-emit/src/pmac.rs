@@ -236,7 +236,6 @@ pub const CAPS: crate::rules::Caps = crate::rules::Caps {
     position_unit: "program units",
     velocity_unit: "program units/s (Ix90 = 1000)",
     scaled: false,
-    velocity_count_factor: 1.0,
     buffer_depth: None,
     verifies: false,
 };

@@ -44,7 +44,6 @@ pub const CAPS: Caps = Caps {
     position_unit: "program units",
     velocity_unit: "program units/s (Coord[x].FeedTime = 1000)",
     scaled: false,
-    velocity_count_factor: 1.0,
     buffer_depth: None,
     verifies: false,
 };

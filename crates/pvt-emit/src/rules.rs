@@ -8,9 +8,7 @@
 //! every axis' cubic against the machine's travel limits (for every format: a relative
 //! format such as the XPS trajectory leaves them to the host), and, for a controller that
 //! verifies the whole trajectory (Newport XPS), the velocity (−68) and acceleration (−69)
-//! limits and rest at the end of each contour (−70); for a format written in whole counts
-//! (Galil, Zaber), the piece as rounded to counts against the machine's velocity and
-//! acceleration limits (`pvtc::emit::counts_over_limit`). Each refusal has its own code and
+//! limits and rest at the end of each contour (−70). Each refusal has its own code and
 //! names the contour, the piece and the source line. It must not repair a piece: the
 //! planner and quantizer satisfy the rules ([`Caps::default_quantum`] is `--quantize`'s
 //! default), this only proves they did.
@@ -51,9 +49,6 @@ pub struct Caps {
     pub velocity_unit: &'static str,
     /// Positions are written in counts or microsteps: every axis needs counts per unit.
     pub scaled: bool,
-    /// Velocities of a format written in counts are whole units of counts/s times this
-    /// (Galil 1, Zaber 1.6384); 1 elsewhere.
-    pub velocity_count_factor: f64,
     /// Pieces the controller buffers per axis (the host streams the rest).
     pub buffer_depth: Option<usize>,
     /// The controller verifies the whole trajectory before running it (XPS
@@ -75,7 +70,6 @@ impl Caps {
         position_unit: "program units",
         velocity_unit: "program units/s",
         scaled: false,
-        velocity_count_factor: 1.0,
         buffer_depth: None,
         verifies: false,
     };
@@ -196,10 +190,6 @@ impl RuleCheck {
             if caps.verifies {
                 self.dynamics(i, &cubic, contour, segment, seg.line)?;
             }
-            if let (true, Some(scale)) = (caps.scaled, self.axes[i].1.counts_per_unit) {
-                let sent = in_whole_counts(&cubic, scale, caps.velocity_count_factor);
-                self.counts_within_limits(i, &sent, scale, (contour, segment, seg.line))?;
-            }
             self.at[i] = (seg.end[i], seg.velocity[i]);
         }
         Ok(())
@@ -289,58 +279,6 @@ impl RuleCheck {
             ));
         }
         Ok(())
-    }
-}
-
-/// The cubic a controller that takes whole counts builds for `cubic`: both end positions
-/// rounded to whole counts at `scale` counts per unit (absolute positions, as the back
-/// ends round them), both end velocities to whole counts/s times `velocity_factor`.
-fn in_whole_counts(cubic: &HermiteSegment, scale: f64, velocity_factor: f64) -> HermiteSegment {
-    let (start, end) = (cubic.at(0.0), cubic.end());
-    let position = |p: f64| libm::round(p * scale) / scale;
-    let velocity = |v: f64| libm::round(v * scale * velocity_factor) / (scale * velocity_factor);
-    HermiteSegment::new(
-        position(start.position),
-        velocity(start.velocity),
-        position(end.position),
-        velocity(end.velocity),
-        cubic.duration,
-    )
-}
-
-impl RuleCheck {
-    /// A format written in whole counts: the piece as the controller receives it (`sent`)
-    /// keeps the machine's velocity and acceleration limits, or it is refused
-    /// (`pvtc::emit::counts_over_limit`): rounding a position by half a count moves a
-    /// piece's end acceleration by up to `3/(scale·T²)`, which on short pieces can be
-    /// more than the machine takes.
-    fn counts_within_limits(
-        &self,
-        i: usize,
-        sent: &HermiteSegment,
-        scale: f64,
-        (contour, segment, line): (usize, usize, u32),
-    ) -> Result<(), InvalidProgram> {
-        let (axis, s) = &self.axes[i];
-        let (v, a) = peaks(sent);
-        let over = |limit: Option<f64>, x: f64| limit.filter(|l| x > l * (1.0 + SLACK));
-        let (what, value, limit) = match (over(s.max_velocity, v), over(s.max_acceleration, a)) {
-            (Some(l), _) => ("velocity", v, l),
-            (_, Some(l)) => ("acceleration", a, l),
-            _ => return Ok(()),
-        };
-        Err(refusal(
-            "pvtc::emit::counts_over_limit",
-            format!(
-                "in whole counts at {scale} per unit, the {} receives |{what}| {value} on axis \
-                 {axis} from this {} s piece, over its max_{what} {limit}; give more counts \
-                 per unit, or a coarser --quantize for longer pieces",
-                self.caps.controller, sent.duration
-            ),
-            contour,
-            segment,
-            line,
-        ))
     }
 }
 

@@ -49,7 +49,6 @@ pub const CAPS: Caps = Caps {
     position_unit: "user units, relative",
     velocity_unit: "user units/s",
     scaled: false,
-    velocity_count_factor: 1.0,
     buffer_depth: None,
     verifies: true,
 };

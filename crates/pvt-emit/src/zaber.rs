@@ -47,7 +47,6 @@ pub const CAPS: Caps = Caps {
     position_unit: "microsteps",
     velocity_unit: "microsteps/s x 1.6384",
     scaled: true,
-    velocity_count_factor: NATIVE_VELOCITY,
     buffer_depth: None,
     verifies: false,
 };

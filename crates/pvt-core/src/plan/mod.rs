@@ -174,7 +174,7 @@ pub struct PlanOptions {
     /// Servo period, seconds, over which the path planner bounds the acceleration step
     /// at a knot under a jerk limit (`None`: [`crate::defaults::SERVO_PERIOD_S`]).
     pub servo_period: Option<f64>,
-    /// The resolution positions are written with, program units (PMAC text: 10⁻⁹; 0 when
+    /// The resolution positions are written with, program units (PMAC text: 10⁻⁶; 0 when
     /// they are written exactly): under a jerk limit the path planner keeps room in each
     /// knot's step for the rounding (see [`PathOptions::position_resolution`]).
     pub position_resolution: f64,
