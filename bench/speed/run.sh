@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# The speed benchmark of issue 22: the default compile (`path` planner, PMAC text) of
-# three generated programs, against the `gcode` crate's parse of the same file in the
+# The speed benchmark of issue 22: the streaming compile (`path` planner, PMAC text,
+# `--quantize off`: PMAC's default 1 ms grid holds each contour whole) of three
+# generated programs, against the `gcode` crate's parse of the same file in the
 # same run, with MB/s of input and peak RSS on every output route.
 #
 #   bench/speed/run.sh [RUNS]        (RUNS: runs per row, the best time kept; default 3)
@@ -42,7 +43,7 @@ for name in lines arcs pocket; do
     mb=$(awk "BEGIN{printf \"%.1f\", $(stat -c %s "$file") / 1e6}")
     read -r parse parse_cpu parse_rss <<< "$(measure "$bin/examples/gcode_parse $file")"
     for route in "-o $dir/out.pmac" "-o /dev/null" "| cat > /dev/null"; do
-        read -r t cpu rss <<< "$(measure "$bin/pvtc compile $file $route")"
+        read -r t cpu rss <<< "$(measure "$bin/pvtc compile $file --quantize off $route")"
         awk -v n="$name" -v mb="$mb" -v r="$route" -v t="$t" -v c="$cpu" -v rss="$rss" \
             -v p="$parse_cpu" -v dir="$dir/" 'BEGIN{sub(dir, "", r);
             printf "| %s | %s | `%s` | %.2f s | %.2f s | %.0f | %.1f MiB | %.2f |\n",

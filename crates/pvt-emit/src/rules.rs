@@ -183,6 +183,13 @@ impl RuleCheck {
         }
         for i in 0..self.axes.len() {
             let (p0, v0) = self.at[i];
+            let limited = self.axes[i].1.min_position.is_some()
+                || self.axes[i].1.max_position.is_some();
+            if !(limited || caps.verifies) {
+                // No travel to keep and no dynamics to verify: nothing to compute.
+                self.at[i] = (seg.end[i], seg.velocity[i]);
+                continue;
+            }
             let cubic = HermiteSegment::new(p0, v0, seg.end[i], seg.velocity[i], seg.duration);
             for p in position_extremes(&cubic) {
                 self.travel(i, p, contour, segment, seg.line)?;
