@@ -183,8 +183,8 @@ impl RuleCheck {
         }
         for i in 0..self.axes.len() {
             let (p0, v0) = self.at[i];
-            let limited = self.axes[i].1.min_position.is_some()
-                || self.axes[i].1.max_position.is_some();
+            let limited =
+                self.axes[i].1.min_position.is_some() || self.axes[i].1.max_position.is_some();
             if !(limited || caps.verifies) {
                 // No travel to keep and no dynamics to verify: nothing to compute.
                 self.at[i] = (seg.end[i], seg.velocity[i]);
