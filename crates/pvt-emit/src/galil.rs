@@ -30,6 +30,7 @@
 
 use crate::lines::{all_counts, scales, Lines};
 use crate::rules::{Caps, Positions};
+use crate::triggers::TriggerSupport;
 use crate::stream::{Header, ProgramWriter};
 use pvt_core::{EventKind, Motion, ProgramEvent, SegmentRef};
 use std::io::{self, Write};
@@ -55,6 +56,10 @@ pub const CAPS: Caps = Caps {
     scaled: true,
     buffer_depth: Some(BUFFER_SEGMENTS),
     verifies: false,
+    triggers: TriggerSupport::None(
+        "a PV segment holds motion only; Galil's output compare (OC) fires on one axis' \
+         encoder position, not along the path: set it up on the controller",
+    ),
 };
 
 /// Streams Galil PV commands to `W`.

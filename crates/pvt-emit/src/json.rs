@@ -31,6 +31,10 @@
 //! (`seconds`, `rpm`, `tool`, `text`) where it has one. Numbers are shortest round-trip,
 //! so a program, events included, reads back bit for bit.
 //! A change that breaks a reader of these fields bumps `version`.
+//!
+//! With `--trigger-every` ([`crate::triggers`]) the document also has `"triggers"`, after
+//! `"events"`: one `{"t": …, "p": […]}` per trigger, its time from the start of the
+//! motion (s; dwells add none) and where the axes are; the segments are cut at them.
 
 use crate::number::push_exact;
 use crate::stream::{Header, ProgramWriter, Totals};
@@ -54,6 +58,10 @@ pub struct JsonWriter<W> {
     /// Every event of the program, as JSON objects, printed after the contours: memory
     /// grows with the number of events (not of pieces).
     events: Vec<String>,
+    /// Every trigger, as a JSON object; `None` without `--trigger-every`.
+    triggers: Option<Vec<String>>,
+    /// Where the axes are after the last segment.
+    at: Vec<f64>,
 }
 
 impl<W: Write> JsonWriter<W> {
@@ -64,6 +72,8 @@ impl<W: Write> JsonWriter<W> {
             text: String::with_capacity(256),
             totals: Totals::default(),
             events: Vec::new(),
+            triggers: None,
+            at: Vec::new(),
         }
     }
 
@@ -87,6 +97,7 @@ impl<W: Write> JsonWriter<W> {
 
 impl<W: Write> ProgramWriter for JsonWriter<W> {
     fn begin(&mut self, header: &Header<'_>) -> io::Result<()> {
+        self.triggers = header.options.triggers.map(|_| Vec::new());
         let units = header.units.name();
         let t = &mut self.text;
         t.push_str(&format!(
@@ -127,6 +138,7 @@ impl<W: Write> ProgramWriter for JsonWriter<W> {
         self.text.push_str(&quote(motion.name()));
         self.text.push_str(", \"start\": ");
         list(&mut self.text, start);
+        self.at = start.to_vec();
         self.text.push_str(", \"segments\": [");
         self.flush_text()
     }
@@ -139,6 +151,8 @@ impl<W: Write> ProgramWriter for JsonWriter<W> {
             ",\n      {\"p\": "
         });
         self.totals.add_segment(seg.duration);
+        self.at.clear();
+        self.at.extend_from_slice(seg.end);
         list(t, seg.end);
         t.push_str(", \"v\": ");
         list(t, seg.velocity);
@@ -190,6 +204,16 @@ impl<W: Write> ProgramWriter for JsonWriter<W> {
         Ok(())
     }
 
+    fn trigger(&mut self) -> io::Result<()> {
+        let mut e = String::from("{\"t\": ");
+        push_exact(&mut e, self.totals.time);
+        e.push_str(", \"p\": ");
+        list(&mut e, &self.at);
+        e.push('}');
+        self.triggers.get_or_insert_with(Vec::new).push(e);
+        Ok(())
+    }
+
     fn finish(&mut self) -> io::Result<()> {
         self.end_contour();
         self.text.push_str("\n  ],\n  \"events\": [");
@@ -200,6 +224,16 @@ impl<W: Write> ProgramWriter for JsonWriter<W> {
         }
         self.text
             .push_str(if self.events.is_empty() { "]" } else { "\n  ]" });
+        if let Some(triggers) = &self.triggers {
+            self.text.push_str(",\n  \"triggers\": [");
+            for (i, e) in triggers.iter().enumerate() {
+                self.text
+                    .push_str(if i == 0 { "\n    " } else { ",\n    " });
+                self.text.push_str(e);
+            }
+            self.text
+                .push_str(if triggers.is_empty() { "]" } else { "\n  ]" });
+        }
         self.text.push_str(&format!(
             ",\n  \"segment_count\": {},\n  \"total_time\": ",
             self.totals.segments
@@ -212,6 +246,10 @@ impl<W: Write> ProgramWriter for JsonWriter<W> {
 
     fn supports(&self, _: Interpolation) -> bool {
         true
+    }
+
+    fn caps(&self) -> crate::Caps {
+        crate::Format::Json.caps()
     }
 }
 

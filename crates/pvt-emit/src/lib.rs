@@ -27,6 +27,7 @@ pub mod rules;
 pub mod stream;
 pub mod table;
 pub mod toolpath;
+pub mod triggers;
 pub mod validate;
 pub mod xps;
 pub mod zaber;
@@ -38,6 +39,7 @@ use std::io::Write;
 pub use pmac::{AxisDefinition, PmacEvents, PmacSettings};
 pub use rules::{AxisSetup, Caps, Positions};
 pub use stream::{Checked, Header, ProgramWriter, StreamError};
+pub use triggers::{TriggerEvery, TriggerSupport, Triggers};
 pub use validate::{validate, InvalidProgram};
 
 /// The output formats.
@@ -95,6 +97,9 @@ impl Format {
             Format::Pmac => pmac::CAPS,
             Format::MovePvt => Caps {
                 controller: "MovePVT",
+                triggers: TriggerSupport::None(
+                    "the arrays hold motion only; --format json or csv give the trigger times",
+                ),
                 ..Caps::FREE
             },
             Format::Json => Caps {
@@ -176,6 +181,8 @@ pub struct EmitOptions {
     /// Per axis: travel limits (checked for every format), the limits a verifying
     /// controller checks, and counts per unit for formats written in counts.
     pub axes: BTreeMap<Axis, AxisSetup>,
+    /// Trigger events along the motion (`--trigger-every`), where the format takes them.
+    pub triggers: Option<Triggers>,
 }
 
 /// Validates the whole of `program`, then writes it in `format` to `out`.

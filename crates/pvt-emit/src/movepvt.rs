@@ -199,6 +199,10 @@ impl<W: Write> ProgramWriter for MovePvtWriter<W> {
         true
     }
 
+    fn caps(&self) -> crate::Caps {
+        crate::Format::MovePvt.caps()
+    }
+
     fn finish(&mut self) -> io::Result<()> {
         self.end_contour()?;
         let t = &mut self.text;

@@ -48,10 +48,22 @@
 //! as `S12000`, M0 as `STOP`, a message as `SEND"…"`; each is followed by a fresh
 //! `PVT` line, because a called routine may change the move mode. The grammar of what is written is
 //! `grammars/pmac.ebnf`. PMAC has no PT move of this kind, so PT programs are refused.
+//!
+//! Triggers (`--trigger-every`, [`crate::triggers`]): the piece is cut at the trigger and
+//! a synchronous assignment `M1==1` (then `M1==0` at the next, so every trigger is an
+//! edge) is written after the piece that ends there. PMAC evaluates it when it reads the
+//! line and holds the assignment "until the beginning of the move immediately following
+//! it" (PMAC User Manual, "Writing Programs for PMAC", Synchronous M-Variable Assignment,
+//! <https://www.manualshelf.com/manual/delta-tau/pmac/user-manual-english/page-237.html>;
+//! the forms `==`, `&=`, `|=`, `^=` in "Computational Features",
+//! <http://www.manualshelf.com/manual/delta-tau/pmac-vme/user-s-manual-english/page-180.html>).
+//! `M1` must be defined as the output bit (`M1->Y:…`); a trigger at the very end of the
+//! program has no move after it.
 //! It must not plan or round times.
 
 use crate::number::push_fixed;
 use crate::stream::{Header, ProgramWriter, Totals};
+use crate::triggers::TriggerSupport;
 use pvt_core::{Axis, CoolantState, EventKind, Motion, ProgramEvent, SegmentRef, SpindleState};
 use std::io::{self, Write};
 
@@ -218,6 +230,11 @@ const _: () = assert!(
 );
 /// Decimals of piece times in milliseconds.
 pub const TIME_DECIMALS: usize = 4;
+
+/// The M-variable a trigger toggles (`--trigger-every`), by a synchronous assignment:
+/// `M1==1` is held until the move that follows it starts (PMAC User Manual,
+/// "Synchronous M-Variable Assignment"), so the output changes at the trigger's knot.
+pub const TRIGGER_OUTPUT: &str = "M1";
 /// Longest piece time written, seconds: 4095 ms, the whole milliseconds of Turbo PMAC's
 /// PVT time range under `I42 = 0` (0–4095.9998 ms; `I42 = 1` allows more).
 pub const MAX_PIECE_SECONDS: f64 = 4.095;
@@ -238,6 +255,7 @@ pub const CAPS: crate::rules::Caps = crate::rules::Caps {
     scaled: false,
     buffer_depth: None,
     verifies: false,
+    triggers: TriggerSupport::Written,
 };
 
 /// Bytes of text gathered before they are written.
@@ -252,6 +270,8 @@ pub struct PmacWriter<W> {
     events: PmacEvents,
     /// A command event was written since the last piece: the next piece restates `PVT`.
     reenter_pvt: bool,
+    /// The trigger output's level after the last trigger.
+    trigger_level: bool,
 }
 
 impl<W: Write> PmacWriter<W> {
@@ -264,6 +284,7 @@ impl<W: Write> PmacWriter<W> {
             totals: Totals::default(),
             events: PmacEvents::Comments,
             reenter_pvt: false,
+            trigger_level: false,
         }
     }
 
@@ -317,6 +338,13 @@ impl<W: Write> ProgramWriter for PmacWriter<W> {
         t.extend_from_slice(
             b"; Turbo PMAC: requires I42=1, so that TA times PVT pieces (under I42=0 it does not)\n",
         );
+        if header.options.triggers.is_some() {
+            writeln!(
+                t,
+                "; triggers: {TRIGGER_OUTPUT} toggles at each (synchronous {TRIGGER_OUTPUT}==1 / {TRIGGER_OUTPUT}==0: \
+                 at the start of the next move); define {TRIGGER_OUTPUT} as the output bit"
+            )?;
+        }
         let pmac = &header.options.pmac;
         self.events = pmac.events;
         if pmac.events == PmacEvents::Commands {
@@ -382,6 +410,13 @@ impl<W: Write> ProgramWriter for PmacWriter<W> {
             push_fixed::<POSITION_DECIMALS>(t, *v);
         }
         t.push(b'\n');
+        self.flush_line()
+    }
+
+    fn trigger(&mut self) -> io::Result<()> {
+        self.trigger_level = !self.trigger_level;
+        let level = u8::from(self.trigger_level);
+        writeln!(self.line, "{TRIGGER_OUTPUT}=={level}")?;
         self.flush_line()
     }
 

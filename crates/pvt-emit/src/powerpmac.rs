@@ -19,12 +19,17 @@
 //! The program is `open prog 1 … close`; a dwell is `dwell{ms}` (followed by a fresh
 //! `pvt` statement), other events are comments.
 //!
+//! Triggers (`--trigger-every`): as on Turbo PMAC ([`crate::pmac`]), a synchronous
+//! assignment `M1==1` / `M1==0` after the piece that ends at the trigger; assumed, not
+//! found in the pages searched: that Power PMAC keeps Turbo PMAC's `==` form.
+//!
 //! Assumed, not found in the pages searched: Power PMAC's own PVT time range; none is
 //! assumed (no shortest or longest piece beyond a positive time). `--quantize` defaults
 //! to 1 ms all the same ([`CAPS`]).
 
 use crate::lines::Lines;
 use crate::rules::{Caps, Positions};
+use crate::triggers::TriggerSupport;
 use crate::stream::{Header, ProgramWriter};
 use pvt_core::{Axis, EventKind, Motion, ProgramEvent, SegmentRef};
 use std::io::{self, Write};
@@ -46,6 +51,7 @@ pub const CAPS: Caps = Caps {
     scaled: false,
     buffer_depth: None,
     verifies: false,
+    triggers: TriggerSupport::Written,
 };
 
 /// Decimals of positions, velocities and milliseconds.
@@ -57,6 +63,8 @@ pub struct PowerPmacWriter<W> {
     axes: Vec<Axis>,
     /// The last `pvt` time written, ms (`None`: the next piece states its time).
     time: Option<f64>,
+    /// The trigger output's level after the last trigger.
+    trigger_level: bool,
 }
 
 impl<W: Write> PowerPmacWriter<W> {
@@ -66,6 +74,7 @@ impl<W: Write> PowerPmacWriter<W> {
             lines: Lines::new(out),
             axes: Vec::new(),
             time: None,
+            trigger_level: false,
         }
     }
 
@@ -89,6 +98,13 @@ impl<W: Write> ProgramWriter for PowerPmacWriter<W> {
         l.end_line()?;
         l.str("// piece times: pvt in ms, stated before the pieces it times");
         l.end_line()?;
+        if header.options.triggers.is_some() {
+            l.str(&format!(
+                "// triggers: {0} toggles at each (synchronous {0}==1 / {0}==0: at the start of the next move); define {0} as the output",
+                crate::pmac::TRIGGER_OUTPUT
+            ));
+            l.end_line()?;
+        }
         l.str("open prog 1");
         l.end_line()?;
         l.str("abs");
@@ -141,6 +157,14 @@ impl<W: Write> ProgramWriter for PowerPmacWriter<W> {
             event.line
         ));
         l.end_line()
+    }
+
+    fn trigger(&mut self) -> io::Result<()> {
+        self.trigger_level = !self.trigger_level;
+        let level = u8::from(self.trigger_level);
+        self.lines
+            .str(&format!("{}=={level}", crate::pmac::TRIGGER_OUTPUT));
+        self.lines.end_line()
     }
 
     fn finish(&mut self) -> io::Result<()> {

@@ -13,6 +13,7 @@
 //! planner and quantizer satisfy the rules ([`Caps::default_quantum`] is `--quantize`'s
 //! default), this only proves they did.
 
+use crate::triggers::TriggerSupport;
 use crate::validate::InvalidProgram;
 use pvt_core::{Axis, HermiteSegment, SegmentRef};
 use std::collections::BTreeMap;
@@ -55,6 +56,8 @@ pub struct Caps {
     /// `MultipleAxesPVTVerification`): velocity, acceleration and rest at the end are
     /// checked here with its error codes.
     pub verifies: bool,
+    /// Whether the program can hold trigger events (`--trigger-every`).
+    pub triggers: TriggerSupport,
 }
 
 impl Caps {
@@ -72,6 +75,7 @@ impl Caps {
         scaled: false,
         buffer_depth: None,
         verifies: false,
+        triggers: TriggerSupport::Written,
     };
 }
 

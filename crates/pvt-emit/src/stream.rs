@@ -6,6 +6,7 @@
 //! before writing it ([`crate::validate`]). It must not plan or look ahead.
 
 use crate::rules::{Caps, RuleCheck};
+use crate::triggers::{TriggerClock, TriggerSupport};
 use crate::validate::{check_piece_time, check_segment, check_start, InvalidProgram};
 use crate::EmitOptions;
 use pvt_core::{Axis, Interpolation, Motion, ProgramEvent, SegmentRef, Units};
@@ -70,6 +71,12 @@ pub trait ProgramWriter {
     fn event(&mut self, event: &ProgramEvent) -> io::Result<()>;
     /// Ends the program.
     fn finish(&mut self) -> io::Result<()>;
+    /// A trigger fires here: at the end of the last segment written (or at the start of
+    /// the contour just begun). Called only where [`Caps::triggers`] says
+    /// [`TriggerSupport::Written`].
+    fn trigger(&mut self) -> io::Result<()> {
+        Ok(())
+    }
     /// Whether the back end can express `interpolation` (all take PVT).
     fn supports(&self, interpolation: Interpolation) -> bool {
         interpolation == Interpolation::Pvt
@@ -89,6 +96,12 @@ pub struct Checked<W> {
     segment: usize,
     pending: Option<(Motion, Vec<f64>)>,
     rules: Option<RuleCheck>,
+    triggers: Option<TriggerClock>,
+    /// Position and velocity of every axis after the last segment (for the cubic a
+    /// trigger cuts).
+    at: (Vec<f64>, Vec<f64>),
+    /// A trigger fired at the end of the last segment written.
+    triggered: bool,
 }
 
 /// A failure while streaming: a bad value or an I/O error.
@@ -106,6 +119,9 @@ pub enum StreamError {
     /// The format writes counts and the axis has no counts per unit.
     #[error("the {0} writes positions in counts, and axis {1} has no counts per unit")]
     MissingScale(&'static str, Axis),
+    /// Triggers were asked for and the format has no place for them.
+    #[error("the {0} takes no triggers in its program: {1}")]
+    NoTriggers(&'static str, &'static str),
 }
 
 impl<W: ProgramWriter> Checked<W> {
@@ -117,6 +133,9 @@ impl<W: ProgramWriter> Checked<W> {
             segment: 0,
             pending: None,
             rules: None,
+            triggers: None,
+            at: (Vec::new(), Vec::new()),
+            triggered: false,
         }
     }
 
@@ -131,6 +150,12 @@ impl<W: ProgramWriter> Checked<W> {
             return Err(StreamError::MissingScale(caps.controller, axis));
         }
         self.rules = Some(rules);
+        if let Some(triggers) = header.options.triggers {
+            if let TriggerSupport::None(why) = caps.triggers {
+                return Err(StreamError::NoTriggers(caps.controller, why));
+            }
+            self.triggers = Some(TriggerClock::new(triggers, header.axes));
+        }
         Ok(self.inner.begin(header)?)
     }
 
@@ -150,6 +175,7 @@ impl<W: ProgramWriter> Checked<W> {
                 rules.contour(&start, self.contour)?;
             }
             self.inner.contour(motion, &start)?;
+            self.at = (start, vec![0.0; segment.end.len()]);
         }
         self.segment += 1;
         check_segment(segment, self.contour, self.segment)?;
@@ -159,7 +185,39 @@ impl<W: ProgramWriter> Checked<W> {
         if let Some(rules) = self.rules.as_mut() {
             rules.piece(segment, self.contour, self.segment)?;
         }
+        if self.triggers.is_some() {
+            return self.triggered(segment);
+        }
         Ok(self.inner.segment(segment)?)
+    }
+
+    /// Writes a segment cut at the triggers inside it, each part checked.
+    fn triggered(&mut self, segment: &SegmentRef<'_>) -> Result<(), StreamError> {
+        let Some(clock) = self.triggers.as_mut() else {
+            return Ok(());
+        };
+        let start = (self.at.0.as_slice(), self.at.1.as_slice());
+        let cut = clock.cut(start, (segment.end, segment.velocity), segment.duration);
+        self.at = (segment.end.to_vec(), segment.velocity.to_vec());
+        // One trigger per knot: the end of the last piece is this one's start.
+        if cut.at_start && !self.triggered {
+            self.inner.trigger()?;
+        }
+        for (duration, end, velocity, trigger) in &cut.parts {
+            let part = SegmentRef {
+                end,
+                velocity,
+                duration: *duration,
+                line: segment.line,
+            };
+            check_segment(&part, self.contour, self.segment)?;
+            self.inner.segment(&part)?;
+            self.triggered = *trigger;
+            if *trigger {
+                self.inner.trigger()?;
+            }
+        }
+        Ok(())
     }
 
     /// Writes an event at rest between contours.
@@ -192,6 +250,9 @@ impl<T: ProgramWriter + ?Sized> ProgramWriter for Box<T> {
     }
     fn finish(&mut self) -> io::Result<()> {
         (**self).finish()
+    }
+    fn trigger(&mut self) -> io::Result<()> {
+        (**self).trigger()
     }
     fn supports(&self, interpolation: Interpolation) -> bool {
         (**self).supports(interpolation)

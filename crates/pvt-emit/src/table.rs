@@ -8,7 +8,9 @@
 //! start is the previous row. A dwell is a row at rest after its time; other events have
 //! no column and are left out. Numbers are the shortest round-trip form (RFC 4180 fields
 //! without quotes), so positions and velocities are the planner's exactly and each piece
-//! time is the difference of two `t`s. It must not plan or round.
+//! time is the difference of two `t`s. With `--trigger-every` ([`crate::triggers`]) the
+//! table has a last column `trigger`: 1 on the row where a trigger fires (the pieces are
+//! cut there), else 0. It must not plan or round.
 
 use crate::lines::Lines;
 use crate::rules::Caps;
@@ -23,6 +25,10 @@ pub struct TableWriter<W> {
     /// The last row's positions.
     last: Vec<f64>,
     started: bool,
+    /// The table has a `trigger` column (`--trigger-every`).
+    triggers: bool,
+    /// The last row waits for its `trigger` field.
+    open_row: bool,
 }
 
 impl<W: Write> TableWriter<W> {
@@ -33,6 +39,8 @@ impl<W: Write> TableWriter<W> {
             time: 0.0,
             last: Vec::new(),
             started: false,
+            triggers: false,
+            open_row: false,
         }
     }
 
@@ -50,6 +58,20 @@ impl<W: Write> TableWriter<W> {
             self.lines.exact(*v);
         }
         self.last.copy_from_slice(end);
+        if self.triggers {
+            self.open_row = true;
+            return Ok(());
+        }
+        self.lines.end_line()
+    }
+
+    /// Ends the open row with its `trigger` field.
+    fn close_row(&mut self, trigger: bool) -> io::Result<()> {
+        if !self.open_row {
+            return Ok(());
+        }
+        self.open_row = false;
+        self.lines.str(if trigger { ",1" } else { ",0" });
         self.lines.end_line()
     }
 }
@@ -57,9 +79,13 @@ impl<W: Write> TableWriter<W> {
 impl<W: Write> ProgramWriter for TableWriter<W> {
     fn begin(&mut self, header: &Header<'_>) -> io::Result<()> {
         self.last = vec![0.0; header.axes.len()];
+        self.triggers = header.options.triggers.is_some();
         self.lines.str("t");
         for axis in header.axes {
             self.lines.str(&format!(",{axis},v{axis}"));
+        }
+        if self.triggers {
+            self.lines.str(",trigger");
         }
         self.lines.end_line()
     }
@@ -74,6 +100,7 @@ impl<W: Write> ProgramWriter for TableWriter<W> {
     }
 
     fn segment(&mut self, seg: &SegmentRef<'_>) -> io::Result<()> {
+        self.close_row(false)?;
         self.time += seg.duration;
         self.row(seg.end, seg.velocity)
     }
@@ -81,6 +108,7 @@ impl<W: Write> ProgramWriter for TableWriter<W> {
     fn event(&mut self, event: &ProgramEvent) -> io::Result<()> {
         if let EventKind::Dwell { seconds } = event.kind {
             if seconds > 0.0 {
+                self.close_row(false)?;
                 self.time += seconds;
                 if self.started {
                     let (here, rest) = (self.last.clone(), vec![0.0; self.last.len()]);
@@ -91,7 +119,12 @@ impl<W: Write> ProgramWriter for TableWriter<W> {
         Ok(())
     }
 
+    fn trigger(&mut self) -> io::Result<()> {
+        self.close_row(true)
+    }
+
     fn finish(&mut self) -> io::Result<()> {
+        self.close_row(false)?;
         self.lines.finish()
     }
 

@@ -31,6 +31,7 @@
 
 use crate::lines::Lines;
 use crate::rules::{Caps, Positions};
+use crate::triggers::TriggerSupport;
 use crate::stream::{Header, ProgramWriter};
 use pvt_core::{EventKind, Motion, ProgramEvent, SegmentRef};
 use std::io::{self, Write};
@@ -51,6 +52,11 @@ pub const CAPS: Caps = Caps {
     scaled: false,
     buffer_depth: None,
     verifies: true,
+    triggers: TriggerSupport::None(
+        "the trajectory file holds motion only; for a pulse every T s the host calls \
+         MultipleAxesPVTPulseOutputSet(group, first element, last element, T) before \
+         MultipleAxesPVTExecution",
+    ),
 };
 
 /// Streams an XPS PVT trajectory file to `W`.

@@ -22,15 +22,29 @@
 //! (`--counts-per-unit` or the machine file's `counts_per_unit`). The protocol has no
 //! comments: a dwell is a point at rest, other events are left out.
 //!
+//! Triggers (`--trigger-every`): the point is cut at the trigger and
+//! `pvt 1 io set do 1 1` (then `… 0` at the next, so every trigger is an edge) follows
+//! the point that ends there: a PVT sequence queues I/O actions between its points and
+//! runs them in order (Zaber Motion Library guide "Position Velocity Time (PVT)": "PVT
+//! sequences can perform other actions such as controlling device's IO",
+//! <https://software.zaber.com/motion-library/docs/guides/device_features/pvt>; API
+//! `PvtSequence.io`, `PvtSetDigitalOutputAction`). Assumed, not found in the pages
+//! searched: the wire form `pvt 1 io set do CHANNEL VALUE`, from the stream command
+//! `stream 1 io set do …`.
+//!
 //! Assumed, not found in the pages searched: the time resolution, 0.1 ms (the one
 //! decimal the EPICS driver writes), which is also the shortest point; no longest time
 //! and no buffer size are assumed.
 
 use crate::lines::{all_counts, scales, Lines};
 use crate::rules::{Caps, Positions};
+use crate::triggers::TriggerSupport;
 use crate::stream::{Header, ProgramWriter};
 use pvt_core::{EventKind, Motion, ProgramEvent, SegmentRef};
 use std::io::{self, Write};
+
+/// The digital output a trigger toggles.
+pub const TRIGGER_CHANNEL: u32 = 1;
 
 /// Native velocity units per microstep/s.
 pub const NATIVE_VELOCITY: f64 = 1.6384;
@@ -49,6 +63,7 @@ pub const CAPS: Caps = Caps {
     scaled: true,
     buffer_depth: None,
     verifies: false,
+    triggers: TriggerSupport::Written,
 };
 
 /// Streams Zaber PVT commands to `W`.
@@ -57,6 +72,8 @@ pub struct ZaberWriter<W> {
     scales: Vec<f64>,
     /// The absolute position of each axis after the last point, microsteps.
     last: Vec<i64>,
+    /// The trigger output's level after the last trigger.
+    trigger_level: bool,
 }
 
 impl<W: Write> ZaberWriter<W> {
@@ -66,6 +83,7 @@ impl<W: Write> ZaberWriter<W> {
             lines: Lines::new(out),
             scales: Vec::new(),
             last: Vec::new(),
+            trigger_level: false,
         }
     }
 
@@ -125,6 +143,14 @@ impl<W: Write> ProgramWriter for ZaberWriter<W> {
             }
         }
         Ok(())
+    }
+
+    fn trigger(&mut self) -> io::Result<()> {
+        self.trigger_level = !self.trigger_level;
+        let level = u8::from(self.trigger_level);
+        self.lines
+            .str(&format!("pvt 1 io set do {TRIGGER_CHANNEL} {level}"));
+        self.lines.end_line()
     }
 
     fn finish(&mut self) -> io::Result<()> {

@@ -476,6 +476,7 @@ impl PipelineArgs {
                 VelocitiesArg::Plan => VelocitySource::Plan,
             }),
             pmac: pvt_emit::PmacSettings::default(),
+            triggers: None,
         })
     }
 }
@@ -506,6 +507,12 @@ pub struct CompileArgs {
     /// PMAC program settings.
     #[command(flatten)]
     pub pmac: PmacArgs,
+    /// A trigger event every N of path (`5mm`, `0.2in`: the length of the X Y Z motion)
+    /// or every T of motion time (`0.1s`, `20ms`), written as the format's controller
+    /// takes it: pmac and powerpmac toggle M1 synchronously, zaber `pvt 1 io set do 1`,
+    /// json a `triggers` list, csv a `trigger` column; xps, galil and movepvt refuse.
+    #[arg(long = "trigger-every", value_name = "N|T", value_parser = trigger_every)]
+    pub trigger_every: Option<pvt_emit::TriggerEvery>,
 }
 
 /// How PMAC events are written, on the command line.
@@ -596,6 +603,7 @@ impl CompileArgs {
             )));
         }
         options.pmac = pmac;
+        options.triggers = self.trigger_every;
         Ok(options)
     }
 }
@@ -710,6 +718,24 @@ fn quantum(text: &str) -> Result<Quantum, String> {
     match text.trim() {
         "off" => Ok(Quantum(None)),
         t => duration(t).map(|q| Quantum(Some(q))),
+    }
+}
+
+/// `--trigger-every`'s value: a length in `mm` or `in` (kept in millimetres) or a
+/// [`duration`].
+fn trigger_every(text: &str) -> Result<pvt_emit::TriggerEvery, String> {
+    let t = text.trim();
+    if let Some(n) = t.strip_suffix("mm") {
+        return Ok(pvt_emit::TriggerEvery::Distance(positive_number(n)?));
+    }
+    if let Some(n) = t.strip_suffix("in") {
+        return Ok(pvt_emit::TriggerEvery::Distance(positive_number(n)? * 25.4));
+    }
+    match duration(t) {
+        Ok(s) => Ok(pvt_emit::TriggerEvery::Seconds(s)),
+        Err(_) => Err(format!(
+            "pvtc::usage: a trigger interval needs a unit: a length (5mm, 0.2in) or a time (0.1s, 20ms), not {t:?}"
+        )),
     }
 }
 

@@ -188,6 +188,8 @@ pub struct CompileOptions {
     pub velocities: Option<VelocitySource>,
     /// PMAC output: program number, coordinate system, axis definitions, event commands.
     pub pmac: pvt_emit::PmacSettings,
+    /// `--trigger-every`: a time, or a path length in millimetres.
+    pub triggers: Option<pvt_emit::TriggerEvery>,
 }
 
 /// Where the velocities of a point-time series come from (`--velocities`).
@@ -237,6 +239,7 @@ impl CompileOptions {
             drawing: DrawingOptions::default(),
             velocities: None,
             pmac: pvt_emit::PmacSettings::default(),
+            triggers: None,
         }
     }
 }

@@ -252,7 +252,21 @@ pub(crate) fn emit_options(
         settings,
         pmac: options.pmac.clone(),
         axes,
+        triggers: triggers_in(options, units),
     }
+}
+
+/// `--trigger-every` for the back end: a path length in `units`, on the pieces' grid.
+fn triggers_in(options: &CompileOptions, units: Units) -> Option<pvt_emit::Triggers> {
+    use pvt_emit::TriggerEvery;
+    let every = match options.triggers? {
+        TriggerEvery::Distance(mm) => TriggerEvery::Distance(units.from_mm(mm)),
+        seconds => seconds,
+    };
+    Some(pvt_emit::Triggers {
+        every,
+        grid: options.quantize,
+    })
 }
 
 /// `program` with every piece longer than the format takes cut along its own cubic (the
@@ -301,6 +315,11 @@ pub(crate) fn emit_failure(
             action: "write",
             error,
         },
+        StreamError::NoTriggers(..) => Failure::Input(vec![miette::miette!(
+            code = "pvtc::emit::no_triggers",
+            help = "leave out --trigger-every, or write pmac, powerpmac, zaber, json or csv",
+            "{e}"
+        )]),
         StreamError::MissingScale(..) => Failure::Input(vec![miette::miette!(
             code = "pvtc::emit::no_scale",
             help = "give --counts-per-unit AXIS=N for each moved axis, or counts_per_unit in the machine file's [axes.AXIS]",
