@@ -24,6 +24,8 @@ pub struct Piece {
 pub struct Motion {
     /// Pieces in order.
     pub pieces: Vec<Piece>,
+    /// Triggers, each as the number of pieces before it (it fires at that knot).
+    pub triggers: Vec<usize>,
 }
 
 fn number(s: &str) -> f64 {
@@ -50,7 +52,10 @@ pub fn read_xps(text: &str, start: &[f64]) -> Motion {
             }
         })
         .collect();
-    Motion { pieces }
+    Motion {
+        pieces,
+        ..Motion::default()
+    }
 }
 
 /// What a Galil program says besides its pieces.
@@ -123,7 +128,13 @@ pub fn read_galil(text: &str, start: &[f64], scale: &[f64]) -> (Motion, GalilFac
             velocity,
         });
     }
-    (Motion { pieces }, facts)
+    (
+        Motion {
+            pieces,
+            ..Motion::default()
+        },
+        facts,
+    )
 }
 
 /// Zaber: `pvt 1 point abs p P… v V… t MS` (microsteps, microsteps/s × 1.6384, ms).
@@ -136,7 +147,14 @@ pub fn read_zaber(text: &str, scale: &[f64]) -> Motion {
         Some(format!("pvt 1 setup store 1 {}", scale.len()).as_str())
     );
     assert_eq!(lines.last(), Some(&"pvt 1 setup disable"));
+    let mut triggers = Vec::new();
     for line in &lines {
+        // `pvt 1 io set do 1 L`: a trigger toggles digital output 1.
+        if let Some(level) = line.strip_prefix("pvt 1 io set do 1 ") {
+            assert_eq!(level, if triggers.len() % 2 == 0 { "1" } else { "0" });
+            triggers.push(pieces.len());
+            continue;
+        }
         let Some(rest) = line.strip_prefix("pvt 1 point abs p ") else {
             continue;
         };
@@ -157,7 +175,7 @@ pub fn read_zaber(text: &str, scale: &[f64]) -> Motion {
                 .collect(),
         });
     }
-    Motion { pieces }
+    Motion { pieces, triggers }
 }
 
 /// Turbo PMAC (`PVT`/`TA` ms, `X{p}:{v}`, `DWELL` ms, `;` comments) or Power PMAC
@@ -166,6 +184,7 @@ pub fn read_pmac(text: &str, start: &[f64]) -> Motion {
     let mut at = start.to_vec();
     let mut time = 0.0;
     let mut pieces = Vec::new();
+    let mut triggers = Vec::new();
     for raw in text.lines() {
         let line = raw
             .split("//")
@@ -183,6 +202,12 @@ pub fn read_pmac(text: &str, start: &[f64]) -> Motion {
             || upper.starts_with('&')
             || upper.starts_with('#')
         {
+            continue;
+        }
+        // `M1==L`: a synchronous assignment, done as the next move starts.
+        if let Some(level) = upper.strip_prefix("M1==") {
+            assert_eq!(level, if triggers.len() % 2 == 0 { "1" } else { "0" });
+            triggers.push(pieces.len());
             continue;
         }
         if let Some(ms) = upper.strip_prefix("DWELL") {
@@ -220,7 +245,7 @@ pub fn read_pmac(text: &str, start: &[f64]) -> Motion {
             });
         }
     }
-    Motion { pieces }
+    Motion { pieces, triggers }
 }
 
 /// CSV: a header `t,X,vX,…`, then rows of absolute time, position and velocity.
@@ -228,11 +253,17 @@ pub fn read_csv(text: &str) -> Motion {
     let mut rows = text.lines();
     let header: Vec<&str> = rows.next().unwrap().split(',').collect();
     assert_eq!(header[0], "t");
+    // A last column `trigger`: 1 where a trigger fires.
+    let marked = header.last() == Some(&"trigger");
     let mut last: Option<f64> = None;
     let mut pieces = Vec::new();
+    let mut triggers = Vec::new();
     for row in rows {
-        let f: Vec<f64> = row.split(',').map(number).collect();
+        let mut f: Vec<f64> = row.split(',').map(number).collect();
         assert_eq!(f.len(), header.len(), "{row}");
+        if marked && f.pop() == Some(1.0) {
+            triggers.push(pieces.len() + usize::from(last.is_some()));
+        }
         let n = (f.len() - 1) / 2;
         if let Some(t0) = last {
             pieces.push(Piece {
@@ -243,7 +274,7 @@ pub fn read_csv(text: &str) -> Motion {
         }
         last = Some(f[0]);
     }
-    Motion { pieces }
+    Motion { pieces, triggers }
 }
 
 /// The largest |velocity| and |acceleration| of the cubic a controller builds from

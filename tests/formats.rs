@@ -83,7 +83,10 @@ fn merge_rests(pieces: Vec<Piece>) -> Motion {
         }
         out.push(p);
     }
-    Motion { pieces: out }
+    Motion {
+        pieces: out,
+        ..Motion::default()
+    }
 }
 
 /// Precision of a format: position, velocity (program units) and time (s) of a piece,
