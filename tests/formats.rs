@@ -276,7 +276,9 @@ mod rules_over_random_programs {
     //! Random programs of lines and rapids on a mill with travel limits: every controller
     //! format's text, read back, obeys its controller's rules, recomputed here from p, v
     //! and T: time grid, shortest and longest piece, travel (the cubic between the
-    //! knots), and for the XPS and the exact table the velocity and acceleration limits.
+    //! knots), and for the XPS, the exact table and the formats in whole counts (Galil,
+    //! Zaber: the cubic the controller builds from the rounded counts) the velocity and
+    //! acceleration limits.
 
     use super::*;
     use proptest::prelude::*;
@@ -331,7 +333,11 @@ mod rules_over_random_programs {
                     "{}: travel {lo}..{hi}",
                     format.name()
                 );
-                if matches!(format, Format::Xps | Format::Csv) {
+                // Galil and Zaber: the cubic of the whole counts read back.
+                if matches!(
+                    format,
+                    Format::Xps | Format::Csv | Format::Galil | Format::Zaber
+                ) {
                     let (v, a) = cubic_peaks(*p0, *v0, p1, v1, t);
                     let (vmax, amax) = limits[i];
                     assert!(v <= vmax * (1.0 + 1e-6), "{}: |v| {v}", format.name());
@@ -358,6 +364,9 @@ mod rules_over_random_programs {
             let source = Source::from_text("random.ngc", &gcode(&points, feed));
             for format in [Format::Pmac, Format::Xps, Format::Galil, Format::Zaber, Format::PowerPmac, Format::Csv] {
                 let mut o = CompileOptions::new(format);
+                // The grid the command line gives with a machine file (for Galil and
+                // Zaber, long enough for whole counts to keep the limits).
+                o.quantize = pvtc::pipeline::default_quantum(format, Some(&machine), &[]);
                 o.machine = Some(machine.clone());
                 let compiled = match compile(&source, &o) {
                     Ok(c) => c,

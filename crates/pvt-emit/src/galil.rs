@@ -60,6 +60,7 @@ pub const CAPS: Caps = Caps {
         "a PV segment holds motion only; Galil's output compare (OC) fires on one axis' \
          encoder position, not along the path: set it up on the controller",
     ),
+    velocity_per_count: 1.0,
 };
 
 /// Streams Galil PV commands to `W`.

@@ -256,6 +256,7 @@ pub const CAPS: crate::rules::Caps = crate::rules::Caps {
     buffer_depth: None,
     verifies: false,
     triggers: TriggerSupport::Written,
+    velocity_per_count: 1.0,
 };
 
 /// Bytes of text gathered before they are written.

@@ -52,6 +52,7 @@ pub const CAPS: Caps = Caps {
     buffer_depth: None,
     verifies: false,
     triggers: TriggerSupport::Written,
+    velocity_per_count: 1.0,
 };
 
 /// Decimals of positions, velocities and milliseconds.

@@ -58,6 +58,9 @@ pub struct Caps {
     pub verifies: bool,
     /// Whether the program can hold trigger events (`--trigger-every`).
     pub triggers: TriggerSupport,
+    /// A format written in counts: written velocity units per count/s (Galil 1, Zaber's
+    /// native units 1.6384), so a velocity is whole at this times counts per unit.
+    pub velocity_per_count: f64,
 }
 
 impl Caps {
@@ -76,7 +79,39 @@ impl Caps {
         buffer_depth: None,
         verifies: false,
         triggers: TriggerSupport::Written,
+        velocity_per_count: 1.0,
     };
+
+    /// The most whole counts change a piece of `seconds` on an axis at `counts_per_unit`:
+    /// (velocity, acceleration), program units. The displacement is the difference of
+    /// two positions each rounded by up to half a count (1 count), the end velocities are
+    /// rounded by half a count/s each; in the cubic's acceleration at its ends,
+    /// `6·Δd/T² + (4·Δv₀ + 2·Δv₁)/T`, that is `6/(c·T²) + 3/(c·T)`, and in its velocity
+    /// (a displacement adds at most `1.5·Δd/T`, the end velocities at most their own)
+    /// `1.5/(c·T) + 1/(2c)`. Zero for a format not written in counts.
+    pub fn rounding_room(&self, counts_per_unit: f64, seconds: f64) -> (f64, f64) {
+        if !self.scaled {
+            return (0.0, 0.0);
+        }
+        let (c, t) = (counts_per_unit, seconds);
+        (1.5 / (c * t) + 0.5 / c, 6.0 / (c * t * t) + 3.0 / (c * t))
+    }
+
+    /// The shortest whole number of `quantum`s at which whole counts change a piece's
+    /// acceleration by at most `share` of `max_acceleration` (see [`Caps::rounding_room`]):
+    /// `6x² + 3x ≤ share·a·c` with `x = 1/T`.
+    pub fn counts_grid(
+        &self,
+        quantum: f64,
+        counts_per_unit: f64,
+        max_acceleration: f64,
+        share: f64,
+    ) -> f64 {
+        let k = share * max_acceleration * counts_per_unit;
+        let x = (-3.0 + (9.0 + 24.0 * k).sqrt()) / 12.0;
+        let t = if x > 0.0 { 1.0 / x } else { f64::INFINITY };
+        libm::ceil(t / quantum * (1.0 - 1e-12)).max(1.0) * quantum
+    }
 }
 
 /// What the machine says about one axis: travel, the limits a verifying controller
@@ -189,6 +224,9 @@ impl RuleCheck {
             let (p0, v0) = self.at[i];
             let limited =
                 self.axes[i].1.min_position.is_some() || self.axes[i].1.max_position.is_some();
+            if caps.scaled {
+                self.counts(i, (p0, v0), seg, (contour, segment))?;
+            }
             if !(limited || caps.verifies) {
                 // No travel to keep and no dynamics to verify: nothing to compute.
                 self.at[i] = (seg.end[i], seg.velocity[i]);
@@ -204,6 +242,50 @@ impl RuleCheck {
             self.at[i] = (seg.end[i], seg.velocity[i]);
         }
         Ok(())
+    }
+
+    /// The piece as the controller runs it, from whole counts: its velocity and
+    /// acceleration against the machine's limits (`pvtc::emit::counts_over_limit`).
+    fn counts(
+        &self,
+        i: usize,
+        (p0, v0): (f64, f64),
+        seg: &SegmentRef<'_>,
+        (contour, segment): (usize, usize),
+    ) -> Result<(), InvalidProgram> {
+        let (axis, s) = &self.axes[i];
+        let (Some(c), true) = (
+            s.counts_per_unit,
+            s.max_velocity.is_some() || s.max_acceleration.is_some(),
+        ) else {
+            return Ok(());
+        };
+        let whole = |x: f64, k: f64| libm::round(x * k) / k;
+        let kv = c * self.caps.velocity_per_count;
+        let cubic = HermiteSegment::new(
+            whole(p0, c),
+            whole(v0, kv),
+            whole(seg.end[i], c),
+            whole(seg.velocity[i], kv),
+            seg.duration,
+        );
+        let (v, a) = peaks(&cubic);
+        let over = |limit: Option<f64>, x: f64| limit.filter(|l| x > l * (1.0 + SLACK));
+        let (what, x, l) = match (over(s.max_velocity, v), over(s.max_acceleration, a)) {
+            (Some(l), _) => ("velocity", v, l),
+            (_, Some(l)) => ("acceleration", a, l),
+            _ => return Ok(()),
+        };
+        Err(refusal(
+            "pvtc::emit::counts_over_limit",
+            format!(
+                "|{what}| {x} on axis {axis} in whole counts ({c} per unit), over its max_{what} \
+                 {l}; give more counts per unit or a longer --quantize"
+            ),
+            contour,
+            segment,
+            seg.line,
+        ))
     }
 
     fn close(&mut self, contour: usize) -> Result<(), InvalidProgram> {

@@ -182,11 +182,11 @@ impl<W: ProgramWriter> Checked<W> {
         if let Some(max) = self.inner.caps().max_piece_seconds {
             check_piece_time(segment, max, self.contour, self.segment)?;
         }
-        if let Some(rules) = self.rules.as_mut() {
-            rules.piece(segment, self.contour, self.segment)?;
-        }
         if self.triggers.is_some() {
             return self.triggered(segment);
+        }
+        if let Some(rules) = self.rules.as_mut() {
+            rules.piece(segment, self.contour, self.segment)?;
         }
         Ok(self.inner.segment(segment)?)
     }
@@ -211,6 +211,9 @@ impl<W: ProgramWriter> Checked<W> {
                 line: segment.line,
             };
             check_segment(&part, self.contour, self.segment)?;
+            if let Some(rules) = self.rules.as_mut() {
+                rules.piece(&part, self.contour, self.segment)?;
+            }
             self.inner.segment(&part)?;
             self.triggered = *trigger;
             if *trigger {

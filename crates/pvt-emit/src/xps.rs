@@ -57,6 +57,7 @@ pub const CAPS: Caps = Caps {
          MultipleAxesPVTPulseOutputSet(group, first element, last element, T) before \
          MultipleAxesPVTExecution",
     ),
+    velocity_per_count: 1.0,
 };
 
 /// Streams an XPS PVT trajectory file to `W`.

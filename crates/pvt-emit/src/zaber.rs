@@ -64,6 +64,7 @@ pub const CAPS: Caps = Caps {
     buffer_depth: None,
     verifies: false,
     triggers: TriggerSupport::Written,
+    velocity_per_count: NATIVE_VELOCITY,
 };
 
 /// Streams Zaber PVT commands to `W`.

@@ -143,3 +143,34 @@ fn every_format_declares_its_rules() {
     assert_eq!(Format::Pmac.caps().default_quantum, Some(0.001));
     assert_eq!(Format::Galil.caps().buffer_depth, Some(255));
 }
+
+#[test]
+fn a_piece_over_the_limit_in_whole_counts_is_refused_at_its_line() {
+    // 0.0006 mm in 2 samples from rest to rest: planned |a| = 6·0.0006/T² ≈ 944 mm/s²,
+    // under 1000; in whole counts (1000/mm) the controller moves 1 count, 6·0.001/T²
+    // ≈ 1573 mm/s², over it (Zaber: 2 ms, 900 and 1500 mm/s²).
+    let t = 2.0 / 1024.0;
+    let p = program(&[(0.0006, 0.0, t, 12)]);
+    let planned = 6.0 * 0.0006 / (t * t);
+    assert!(planned < 1000.0);
+    let options = with_x(AxisSetup {
+        counts_per_unit: Some(1000.0),
+        max_acceleration: Some(1000.0),
+        ..Default::default()
+    });
+    for format in [Format::Galil, Format::Zaber] {
+        let t = if format == Format::Zaber { 0.002 } else { t };
+        let p = program(&[(0.0006, 0.0, t, 12)]);
+        assert_eq!(
+            refusal(&p, format, &options),
+            ("pvtc::emit::counts_over_limit", 1, 1, 12),
+            "{}",
+            format.name()
+        );
+    }
+    // 0.0004 mm rounds to no count at all: nothing moves, nothing is over.
+    let still = program(&[(0.0004, 0.0, t, 12)]);
+    assert!(emit_to_vec(&still, Format::Galil, &options).is_ok());
+    // Where the format writes exact numbers the same piece is kept.
+    assert!(emit_to_vec(&p, Format::Csv, &options).is_ok());
+}

@@ -158,7 +158,8 @@ pub struct PipelineArgs {
     #[arg(long, value_name = "A", value_parser = positive_number)]
     pub accel: Option<f64>,
     /// Make every piece time a whole multiple of this, e.g. 1ms, or `off` [default: the
-    /// output format's: pmac and powerpmac 1ms, xps 100us, galil 1/512 s (2 samples), zaber 0.1ms, others off].
+    /// output format's: pmac and powerpmac 1ms, xps 100us, galil 1/512 s (2 samples), zaber 0.1ms
+    /// (with --machine, galil and zaber longer, so that whole counts keep the limits), others off].
     #[arg(long, value_name = "T|off", value_parser = quantum)]
     pub quantize: Option<Quantum>,
     /// Which way --quantize rounds piece times: up (never faster than planned) or
@@ -434,6 +435,12 @@ impl PipelineArgs {
             (Some(path), None) => Some(crate::machine::Machine::read(path)?),
             (None, None) => None,
         };
+        let quantize = match self.quantize {
+            Some(Quantum(q)) => q,
+            None => {
+                crate::pipeline::default_quantum(format, machine.as_ref(), &self.counts_per_unit)
+            }
+        };
         Ok(CompileOptions {
             format,
             input,
@@ -445,10 +452,7 @@ impl PipelineArgs {
             planner,
             timing: self.time_slice.map_or(Timing::FromFeed, Timing::TimeSlice),
             accel: self.accel,
-            quantize: match self.quantize {
-                Some(Quantum(q)) => q,
-                None => format.caps().default_quantum,
-            },
+            quantize,
             counts_per_unit: self.counts_per_unit.clone(),
             quantize_rounding: self.quantize_rounding.unwrap_or_default(),
             work_offsets,

@@ -175,6 +175,61 @@ fn totals_of(program: &PvtProgram) -> Totals {
     totals
 }
 
+/// Share of an axis' acceleration limit left to whole-count rounding on a format written
+/// in counts (Galil, Zaber): [`default_quantum`] makes the grid long enough that a
+/// piece of one quantum changes by at most this much, and [`plan_options`] plans the
+/// rest.
+pub const COUNTS_SHARE: f64 = 0.1;
+
+/// `--quantize`'s default for `format`: the format's ([`pvt_emit::Caps::default_quantum`]),
+/// and for a format written in counts with a machine file the whole quanta at which whole
+/// counts take at most [`COUNTS_SHARE`] of each axis' acceleration limit
+/// ([`pvt_emit::Caps::counts_grid`]; counts per unit from `counts`, `--counts-per-unit`,
+/// over the file's, read in the file's units).
+pub fn default_quantum(
+    format: Format,
+    machine: Option<&crate::machine::Machine>,
+    counts: &[(pvt_core::Axis, f64)],
+) -> Option<f64> {
+    let caps = format.caps();
+    let (Some(q), Some(m), true) = (caps.default_quantum, machine, caps.scaled) else {
+        return caps.default_quantum;
+    };
+    let grid = m
+        .axes
+        .iter()
+        .filter_map(|(axis, limits)| {
+            let given = counts.iter().find(|(a, _)| a == axis).map(|(_, c)| *c);
+            let c = given.or(m.setup.get(axis).and_then(|s| s.counts_per_unit))?;
+            Some(caps.counts_grid(q, c, limits.acceleration?, COUNTS_SHARE))
+        })
+        .fold(q, f64::max);
+    Some(grid)
+}
+
+/// The machine's limits less what whole counts may add to a piece of the shortest time
+/// ([`pvt_emit::Caps::rounding_room`]; no less than half of each), so that the written
+/// pieces keep them.
+fn counts_room(
+    options: &CompileOptions,
+    units: Units,
+    limits: &mut std::collections::BTreeMap<pvt_core::Axis, pvt_core::AxisLimits>,
+) {
+    let caps = options.format.caps();
+    let Some(shortest) = options.quantize.or(caps.time_quantum) else {
+        return;
+    };
+    let setup = emit_options(options, "", Vec::new(), units).axes;
+    for (axis, l) in limits.iter_mut() {
+        let Some(c) = setup.get(axis).and_then(|s| s.counts_per_unit) else {
+            continue;
+        };
+        let (dv, da) = caps.rounding_room(c, shortest);
+        l.velocity = l.velocity.map(|v| (v - dv).max(v / 2.0));
+        l.acceleration = l.acceleration.map(|a| (a - da).max(a / 2.0));
+    }
+}
+
 /// The planner's options for a program in `units` moving `moved`: every default of the
 /// planning resolved here, once, for every route.
 pub fn plan_options(
@@ -184,12 +239,13 @@ pub fn plan_options(
 ) -> Result<PlanOptions, Failure> {
     let tolerance = ChordTolerance::new(resolved_tolerance(options, units))
         .expect("the CLI accepts only positive tolerances");
-    let limits = match &options.machine {
+    let mut limits = match &options.machine {
         Some(m) => m
             .limits_in(units, moved)
             .map_err(|e| Failure::Input(vec![Report::new(e)]))?,
         None => Default::default(),
     };
+    counts_room(options, units, &mut limits);
     let path_tolerance =
         (options.curve_share() < 1.0).then(|| tolerance.get() * (1.0 - options.curve_share()));
     Ok(PlanOptions {
