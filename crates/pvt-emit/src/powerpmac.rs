@@ -24,7 +24,7 @@
 //! found in the pages searched: that Power PMAC keeps Turbo PMAC's `==` form.
 //!
 //! Assumed, not found in the pages searched: Power PMAC's own PVT time range; none is
-//! assumed (no shortest or longest piece beyond a positive time). `--quantize` defaults
+//! assumed (no longest piece, and the shortest is the written time's resolution, 1 ns). `--quantize` defaults
 //! to 1 ms all the same ([`CAPS`]).
 
 use crate::lines::Lines;
@@ -43,7 +43,7 @@ pub const CAPS: Caps = Caps {
     time_quantum: None,
     quantum_required: false,
     default_quantum: Some(0.001),
-    min_piece_seconds: 0.0,
+    min_piece_seconds: MIN_PIECE_SECONDS,
     max_piece_seconds: None,
     positions: Positions::Absolute,
     position_unit: "program units",
@@ -54,6 +54,10 @@ pub const CAPS: Caps = Caps {
     triggers: TriggerSupport::Written,
     velocity_per_count: 1.0,
 };
+
+/// The shortest piece: the resolution of the written time (6 decimals of a ms), so no
+/// written time reads 0.
+pub const MIN_PIECE_SECONDS: f64 = 1e-9;
 
 /// Decimals of positions, velocities and milliseconds.
 const DECIMALS: usize = 6;

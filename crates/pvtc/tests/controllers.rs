@@ -209,3 +209,25 @@ fn check_takes_a_csv_table_as_the_pieces_it_holds() {
     let peak = report["peaks"]["X"]["velocity"].as_f64().unwrap();
     assert!(peak >= vx * (1.0 - 1e-12), "{peak} below a knot's {vx}");
 }
+
+#[test]
+fn trigger_intervals_need_a_unit_and_a_format_that_takes_them() {
+    let o = pvtc(&["compile", "-", "--trigger-every", "5"], Some(PROGRAM));
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("5mm"), "{}", stderr(&o));
+    let o = pvtc(
+        &["compile", "-", "--trigger-every", "2mm", "--format", "xps"],
+        Some(PROGRAM),
+    );
+    assert_eq!(o.status.code(), Some(1));
+    let e = stderr(&o);
+    assert!(e.contains("pvtc::emit::no_triggers"), "{e}");
+    assert!(e.contains("MultipleAxesPVTPulseOutputSet"), "{e}");
+    assert!(o.stdout.is_empty());
+    // PMAC: 0.2 in is 5.08 mm; the 10.4 mm path has two triggers, each an M1 edge.
+    let o = pvtc(&["compile", "-", "--trigger-every", "0.2in"], Some(PROGRAM));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8(o.stdout).unwrap();
+    let edges: Vec<&str> = text.lines().filter(|l| l.starts_with("M1==")).collect();
+    assert_eq!(edges, ["M1==1", "M1==0"], "{text}");
+}
