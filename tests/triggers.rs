@@ -173,6 +173,17 @@ fn distance_triggers_fall_every_n_of_path_within_half_a_quantum_of_motion() {
 }
 
 #[test]
+fn pmac_text_with_triggers_follows_the_pmac_grammar() {
+    let text = std::fs::read_to_string(root().join("grammars/pmac.ebnf")).unwrap();
+    let grammar = pvtc_tests::ebnf::Grammar::parse(&text).unwrap();
+    for every in [TriggerEvery::Distance(3.0), TriggerEvery::Seconds(1e-4)] {
+        let (pmac, _) = compiled(SAMPLES[0], Format::Pmac, every);
+        assert!(pmac.contains("M1==1"));
+        assert!(grammar.matches("program", &pmac), "{pmac}");
+    }
+}
+
+#[test]
 fn cutting_at_triggers_keeps_the_motion() {
     // The table with triggers: every row lies on the cubics of the table without them.
     let sample = SAMPLES[0];
