@@ -21,12 +21,21 @@ fn compiled(sample: &str, format: Format, every: TriggerEvery) -> (String, pvt_c
         name: sample.into(),
         bytes: std::fs::read(root().join(sample)).unwrap(),
     };
+    compiled_source(&source, format, every)
+}
+
+fn compiled_source(
+    source: &Source,
+    format: Format,
+    every: TriggerEvery,
+) -> (String, pvt_core::PvtProgram) {
+    let sample = &source.name;
     let mut o = CompileOptions::new(format);
     o.triggers = Some(every);
     if format.caps().scaled {
         o.counts_per_unit = pvt_core::Axis::ALL.iter().map(|a| (*a, 1000.0)).collect();
     }
-    let c = compile(&source, &o).unwrap_or_else(|f| panic!("{sample}: {:?}", f.codes()));
+    let c = compile(source, &o).unwrap_or_else(|f| panic!("{sample}: {:?}", f.codes()));
     (String::from_utf8(c.bytes).unwrap(), c.program)
 }
 
@@ -40,14 +49,16 @@ fn read(format: Format, text: &str, program: &pvt_core::PvtProgram) -> Motion {
     }
 }
 
-/// Motion time and X Y Z path at every knot (knot k: after k pieces), a dwell (a piece
-/// at rest where it is) adding neither; and the largest speed of the pieces beside it.
-fn clock(start: &[f64], pieces: &[Piece], linear: usize) -> Vec<(f64, f64, f64)> {
+/// Motion time and X Y Z path at every knot (knot k: after k pieces), a dwell (with
+/// `dwells`, a piece at rest where it is) adding neither; and the largest speed of the
+/// pieces beside it.
+fn clock(start: &[f64], pieces: &[Piece], linear: usize, dwells: bool) -> Vec<(f64, f64, f64)> {
     let mut at: Vec<(f64, f64)> = start.iter().map(|p| (*p, 0.0)).collect();
     let (mut time, mut path) = (0.0, 0.0);
     let mut knots: Vec<(f64, f64, f64)> = vec![(0.0, 0.0, 0.0)];
     for piece in pieces {
-        let still = piece.velocity.iter().all(|v| *v == 0.0)
+        let still = dwells
+            && piece.velocity.iter().all(|v| *v == 0.0)
             && at.iter().zip(&piece.end).all(|((p, _), e)| p == e);
         let mut fastest: f64 = 0.0;
         if !still {
@@ -109,7 +120,7 @@ fn time_triggers_fall_every_t_of_motion_in_every_format_that_takes_them() {
             let (text, program) = compiled(sample, format, TriggerEvery::Seconds(every));
             let motion = read(format, &text, &program);
             let start = &program.contours[0].start;
-            let knots = clock(start, &motion.pieces, linear_axes(&program));
+            let knots = clock(start, &motion.pieces, linear_axes(&program), true);
             let total = knots.last().unwrap().0;
             let name = format.name();
             let expected = libm::floor(total / every + 1e-9) as usize;
@@ -152,7 +163,7 @@ fn distance_triggers_fall_every_n_of_path_within_half_a_quantum_of_motion() {
             let (text, program) = compiled(sample, format, TriggerEvery::Distance(every));
             let motion = read(format, &text, &program);
             let start = &program.contours[0].start;
-            let knots = clock(start, &motion.pieces, linear_axes(&program));
+            let knots = clock(start, &motion.pieces, linear_axes(&program), true);
             let total = knots.last().unwrap().1;
             let name = format.name();
             let expected = libm::floor(total / every + 1e-9) as usize;
@@ -235,5 +246,77 @@ fn formats_without_a_place_for_triggers_refuse_them() {
             "{}: {codes:?}",
             format.name()
         );
+    }
+}
+
+mod over_random_programs {
+    //! Random programs of lines and rapids: in every format that takes triggers, with
+    //! random intervals of time or path, the triggers read back are where they belong.
+
+    use super::*;
+    use proptest::prelude::*;
+
+    fn gcode(points: &[(i32, i32, bool)], feed: u32) -> String {
+        let mut text = format!("G21 G90\nG0 X0 Y0\nG1 F{feed}\n");
+        for (x, y, rapid) in points {
+            let word = if *rapid { "G0" } else { "G1" };
+            text.push_str(&format!(
+                "{word} X{} Y{}\n",
+                *x as f64 / 10.0,
+                *y as f64 / 10.0
+            ));
+        }
+        text + "M2\n"
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+
+        #[test]
+        fn triggers_fall_where_they_belong(
+            points in prop::collection::vec((-500i32..=500, -500i32..=500, prop::bool::weighted(0.2)), 1..8),
+            feed in 100u32..6000,
+            path in prop::bool::ANY,
+            every in 5u32..200,
+        ) {
+            let source = Source::from_text("random.ngc", &gcode(&points, feed));
+            // Path: 0.5 to 20 mm (above the fastest motion, 100 mm/s, times 1 ms);
+            // time: 5 to 200 ms, whole quanta of every format.
+            let every = match path {
+                true => TriggerEvery::Distance(every as f64 / 10.0),
+                false => TriggerEvery::Seconds(every as f64 / 1000.0),
+            };
+            for (format, quantum) in [(Format::Pmac, 1e-3), (Format::Zaber, 1e-4), (Format::Csv, 0.0)] {
+                let (text, program) = compiled_source(&source, format, every);
+                if program.contours.is_empty() {
+                    continue;
+                }
+                let motion = read(format, &text, &program);
+                // No dwells: a piece that whole counts leave at rest is motion.
+                let knots = clock(&program.contours[0].start, &motion.pieces, 2, false);
+                let name = format.name();
+                let (total, interval) = match every {
+                    TriggerEvery::Distance(n) => (knots.last().unwrap().1, n),
+                    TriggerEvery::Seconds(t) => (knots.last().unwrap().0, t),
+                };
+                let expected = libm::floor(total / interval + 1e-9) as usize;
+                prop_assert!(
+                    motion.triggers.len().abs_diff(expected) <= usize::from(total / interval - expected as f64 > 1.0 - 1e-6),
+                    "{name}: {} triggers for {total} / {interval}", motion.triggers.len()
+                );
+                for (k, knot) in motion.triggers.iter().enumerate() {
+                    let (t, s, speed) = knots[*knot];
+                    let want = (k + 1) as f64 * interval;
+                    // Zaber's whole microsteps (1000/mm) move each knot by up to half a
+                    // step per axis: each piece's length by up to 2·√2/2000 mm.
+                    let counts = if format == Format::Zaber { *knot as f64 * 1.5e-3 } else { 0.0 };
+                    let (got, room) = match every {
+                        TriggerEvery::Distance(_) => (s, speed * quantum / 2.0 + counts + 1e-6 * (1.0 + want)),
+                        TriggerEvery::Seconds(_) => (t, 1e-9 * (1.0 + want)),
+                    };
+                    prop_assert!((got - want).abs() <= room, "{name} trigger {k}: {got} for {want}");
+                }
+            }
+        }
     }
 }

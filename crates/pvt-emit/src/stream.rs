@@ -154,7 +154,8 @@ impl<W: ProgramWriter> Checked<W> {
             if let TriggerSupport::None(why) = caps.triggers {
                 return Err(StreamError::NoTriggers(caps.controller, why));
             }
-            self.triggers = Some(TriggerClock::new(triggers, header.axes));
+            let shortest = caps.min_piece_seconds;
+            self.triggers = Some(TriggerClock::new(triggers, header.axes, shortest));
         }
         Ok(self.inner.begin(header)?)
     }

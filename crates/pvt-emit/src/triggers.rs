@@ -10,9 +10,9 @@
 //! path k·N. On a time grid (`--quantize`, [`Triggers::grid`]) its instant is rounded to
 //! the nearest grid time inside the piece, so both parts of a cut piece keep whole quanta
 //! (a distance trigger then lies within speed × grid / 2 of k·N; a time trigger whose T
-//! is whole quanta falls exactly); without one, a trigger closer than
-//! [`SHORTEST_PART`] to a knot moves onto the knot. Triggers that land on the same
-//! instant are one trigger.
+//! is whole quanta falls exactly); without one, a trigger closer to a knot or to the
+//! trigger before it than the format's shortest piece (at least [`SHORTEST_PART`])
+//! moves onto it. Triggers that land on the same instant are one trigger.
 //!
 //! Each back end writes a trigger its controller's way ([`crate::ProgramWriter::trigger`]);
 //! a format whose controller has no place for one in the program says why
@@ -67,6 +67,8 @@ const PANELS: usize = 16;
 pub struct TriggerClock {
     triggers: Triggers,
     linear: Vec<bool>,
+    /// Off a grid, the shortest part a cut may leave, seconds.
+    shortest: f64,
     /// Motion time and path so far.
     time: f64,
     path: f64,
@@ -85,11 +87,13 @@ pub struct Cut {
 }
 
 impl TriggerClock {
-    /// A clock for a program on `axes`.
-    pub fn new(triggers: Triggers, axes: &[Axis]) -> TriggerClock {
+    /// A clock for a program on `axes`, written in a format whose shortest piece is
+    /// `shortest` seconds.
+    pub fn new(triggers: Triggers, axes: &[Axis], shortest: f64) -> TriggerClock {
         TriggerClock {
             triggers,
             linear: axes.iter().map(|a| !a.is_rotary()).collect(),
+            shortest: shortest.max(SHORTEST_PART),
             time: 0.0,
             path: 0.0,
             fired: 0,
@@ -155,8 +159,17 @@ impl TriggerClock {
             }
         }
         self.time += duration;
-        let mut snapped: Vec<f64> = local.into_iter().map(|t| self.snap(t, duration)).collect();
-        snapped.dedup();
+        let mut snapped: Vec<f64> = Vec::new();
+        for t in local.into_iter().map(|t| self.snap(t, duration)) {
+            // Off a grid, a trigger too close to the one before is that one.
+            let close = |last: &f64| t - last < self.shortest && t < duration;
+            if !snapped
+                .last()
+                .is_some_and(|l| *l == t || (self.triggers.grid.is_none() && close(l)))
+            {
+                snapped.push(t);
+            }
+        }
         snapped
     }
 
@@ -172,8 +185,8 @@ impl TriggerClock {
                     n * q
                 }
             }
-            None if t < SHORTEST_PART => 0.0,
-            None if duration - t < SHORTEST_PART => duration,
+            None if t < self.shortest => 0.0,
+            None if duration - t < self.shortest => duration,
             None => t,
         }
     }
@@ -231,7 +244,7 @@ mod tests {
             every: TriggerEvery::Distance(1.0),
             grid: None,
         };
-        let mut clock = TriggerClock::new(triggers, &[Axis::X]);
+        let mut clock = TriggerClock::new(triggers, &[Axis::X], 0.0);
         // 10 units in 1 s at 10 units/s.
         let cut = clock.cut((&[0.0], &[10.0]), (&[10.0], &[10.0]), 1.0);
         let ends: Vec<f64> = cut.parts.iter().map(|p| p.1[0]).collect();
