@@ -4,15 +4,17 @@
 //! as C source ([`movepvt`]), the versioned pvtc JSON document ([`json`]), the Newport
 //! XPS trajectory file ([`xps`]), Galil PV commands ([`galil`]), Zaber ASCII PVT commands
 //! ([`zaber`]), Power PMAC PVT program text ([`powerpmac`]) and a CSV table ([`table`]),
-//! each controller's rules in one table ([`Format::caps`], checked by [`rules`]), the
-//! readers of what they emit for `pvtc check` ([`readback`]), and the
+//! each controller's rules in one table ([`Format::caps`], checked by [`rules`]), trigger
+//! events along the motion ([`triggers`]), the readers of what they emit for `pvtc
+//! check` ([`readback`]), and the
 //! interpreted toolpath before planning as JSON lines ([`toolpath`]). Each back end of
 //! motion is a [`ProgramWriter`] fed one piece at a time ([`stream`]), so output of any length goes
 //! out in constant memory; [`Checked`] validates every value before a back end sees it,
 //! so a NaN, an infinity or a non-positive piece time never reaches an output.
 //!
 //! Architecture invariants: back ends never plan, never read files and never change a
-//! number's value; the same program and options always give byte-identical output.
+//! number's value (a piece cut at a trigger is cut along its own cubic: the same
+//! motion); the same program and options always give byte-identical output.
 
 pub mod galil;
 pub mod json;

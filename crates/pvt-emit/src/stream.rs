@@ -89,7 +89,10 @@ pub trait ProgramWriter {
 
 /// A writer that validates every value before its back end sees it, checks every piece
 /// against the format's controller rules ([`RuleCheck`]), and passes a contour on only
-/// when its first segment arrives, so back ends never see an empty one.
+/// when its first segment arrives, so back ends never see an empty one. With
+/// `--trigger-every` it cuts each piece at its triggers ([`TriggerClock`]), checks each
+/// part, and calls [`ProgramWriter::trigger`] after the part that ends at one (once per
+/// knot).
 pub struct Checked<W> {
     inner: W,
     contour: usize,
