@@ -35,6 +35,8 @@ pub enum CsvErrorKind {
     NonIncreasingTime,
     /// A header but no data row.
     NoRows,
+    /// A `trigger` field that is neither 0 nor 1.
+    BadTrigger,
 }
 
 impl CsvErrorKind {
@@ -53,6 +55,7 @@ impl CsvErrorKind {
             K::NotFinite => "pvtc::csv::not_finite",
             K::NonIncreasingTime => "pvtc::csv::non_increasing_time",
             K::NoRows => "pvtc::csv::no_rows",
+            K::BadTrigger => "pvtc::csv::bad_trigger",
         }
     }
 
@@ -64,7 +67,7 @@ impl CsvErrorKind {
                 "start the file with a header such as `t,x,y` (comment lines start with #)"
             }
             K::UnknownColumn => {
-                "columns are t or dt, axis names X Y Z A B C, and velocities vx, vy, ..."
+                "columns are t or dt, axis names X Y Z A B C, and velocities vx, vy, ..., and trigger"
             }
             K::DuplicateColumn => {
                 "give each column once, and either t (absolute time) or dt (piece time)"
@@ -77,6 +80,7 @@ impl CsvErrorKind {
             K::NotFinite => "write a finite number",
             K::NonIncreasingTime => "times must increase from row to row (dt must be positive)",
             K::NoRows => "add at least one data row below the header",
+            K::BadTrigger => "write 1 on a row where a trigger fires and 0 elsewhere",
         }
     }
 }

@@ -4,7 +4,9 @@
 //! one row per point. Columns: `t` (absolute time, s) or `dt` (time of the piece that
 //! reaches the row's point, s; the first row's `dt` is the start time), axis names
 //! `X Y Z A B C` (any case), and optionally `v<axis>` velocity columns (`vx`), given for
-//! every axis or none and used as given by the PVT velocity methods. Lines starting with
+//! every axis or none and used as given by the PVT velocity methods, and an optional
+//! `trigger` column of 0s and 1s (pvtc's own `--format csv --trigger-every` table), read
+//! and checked but not part of the motion. Lines starting with
 //! `#` are comments; blank lines are skipped; fields may be padded with spaces.
 //!
 //! It produces a [`PointSeries`] (axes in X..C order, units, start time and a
@@ -86,6 +88,8 @@ enum Column {
     Dt,
     Position(Axis),
     Velocity(Axis),
+    /// pvtc's `trigger` column: 0 or 1 on each row, no part of the motion.
+    Trigger,
 }
 
 impl Column {
@@ -265,6 +269,7 @@ fn column_named(name: &str) -> Option<Column> {
     match (lower.as_str(), chars.next(), chars.next(), chars.next()) {
         ("t", ..) => Some(Column::Time),
         ("dt", ..) => Some(Column::Dt),
+        ("trigger", ..) => Some(Column::Trigger),
         (_, Some(c), None, _) => Axis::from_letter(c).map(Column::Position),
         (_, Some('v'), Some(c), None) => Axis::from_letter(c).map(Column::Velocity),
         _ => None,
@@ -371,6 +376,13 @@ fn read_rows(
                 Column::Dt => time = (*v, f.range.clone(), true),
                 Column::Position(a) => point[axes.binary_search(a).unwrap_or(0)] = *v,
                 Column::Velocity(a) => velocity[axes.binary_search(a).unwrap_or(0)] = *v,
+                Column::Trigger if *v != 0.0 && *v != 1.0 => errors.push(diagnose(
+                    source,
+                    CsvErrorKind::BadTrigger,
+                    format!("trigger `{}` is neither 0 nor 1", f.text),
+                    f.range.clone(),
+                )),
+                Column::Trigger => {}
             }
         }
         let span = Span {

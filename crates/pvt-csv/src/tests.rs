@@ -171,3 +171,14 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn a_trigger_column_is_read_and_kept_out_of_the_motion() {
+    let plain = read("t,x\n0,0\n1,5\n2,5\n");
+    let triggered = read("t,x,trigger\n0,0,0\n1,5,1\n2,5,0\n");
+    assert_eq!(plain.points, triggered.points);
+    assert_eq!(
+        codes("t,x,trigger\n0,0,0\n1,5,0.5\n"),
+        vec![("pvtc::csv::bad_trigger", 3, 5)]
+    );
+}

@@ -231,3 +231,58 @@ fn trigger_intervals_need_a_unit_and_a_format_that_takes_them() {
     let edges: Vec<&str> = text.lines().filter(|l| l.starts_with("M1==")).collect();
     assert_eq!(edges, ["M1==1", "M1==0"], "{text}");
 }
+
+#[test]
+fn check_reads_a_csv_table_with_its_trigger_column() {
+    let dir = tempfile::tempdir().unwrap();
+    let table = dir.path().join("zigzag.csv").display().to_string();
+    let args = [
+        "compile",
+        "samples/gcode/an208_zigzag.ngc",
+        "--format",
+        "csv",
+        "--trigger-every",
+        "0.5s",
+        "-o",
+        &table,
+    ];
+    let o = pvtc(&args, None);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&table).unwrap();
+    assert!(text.lines().next().unwrap().ends_with(",trigger"), "{text}");
+    let fired = text.lines().skip(1).filter(|r| r.ends_with(",1")).count();
+    assert!(fired > 0, "{text}");
+    let end: f64 = text
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    let args = [
+        "check",
+        &table,
+        "--planner",
+        "chord-forward",
+        "--velocities",
+        "file",
+        "--json",
+    ];
+    let o = pvtc(&args, None);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let total = report["total_time"].as_f64().unwrap();
+    assert!((total - end).abs() < 1e-9, "{total} for {end}");
+    // A trigger field other than 0 or 1 is an error at its row and column.
+    let bad = text.replacen(",1\n", ",2\n", 1);
+    std::fs::write(&table, bad).unwrap();
+    let o = pvtc(&["check", &table], None);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("pvtc::csv::bad_trigger"),
+        "{}",
+        stderr(&o)
+    );
+}
