@@ -104,7 +104,7 @@ fn planned(
         name: sample.into(),
         bytes,
     };
-    let (planned, toolpath, _) = pvtc::pipeline::plan(&source, options).map_err(|f| f.codes())?;
+    let (planned, toolpath, _) = pvtc::settings::plan(&source, options).map_err(|f| f.codes())?;
     Ok((planned.program, toolpath))
 }
 
@@ -815,7 +815,7 @@ fn stream_both_ways(
 ) -> (Vec<u8>, Vec<miette::Report>) {
     use pvtc::output::Target;
     let mut streamed = Vec::new();
-    let warnings = pvtc::stream::compile_streaming(
+    let warnings = pvtc::route::compile_streaming(
         path,
         name,
         options,
@@ -824,7 +824,7 @@ fn stream_both_ways(
     )
     .unwrap_or_else(|f| panic!("{name}: {:?}", f.codes()));
     let mut file = tempfile::tempfile().unwrap();
-    pvtc::stream::compile_streaming(
+    pvtc::route::compile_streaming(
         path,
         name,
         options,

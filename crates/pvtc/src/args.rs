@@ -5,7 +5,7 @@
 //! [`PipelineArgs::read_files`]; the first two are parsed by pvt-gcode, whose errors are
 //! shown on the file's text). It must not compile anything.
 
-use crate::pipeline::{CompileOptions, DrawingOptions, Failure, InputKind, VelocitySource};
+use crate::settings::{CompileOptions, DrawingOptions, Failure, InputKind, VelocitySource};
 use clap::{Parser, Subcommand, ValueEnum};
 use pvt_core::{AxisLimits, Planner, Rounding, Timing, Units};
 use pvt_emit::Format;
@@ -76,7 +76,7 @@ impl From<FormatArg> for Format {
             FormatArg::Zaber => Format::Zaber,
             FormatArg::Powerpmac => Format::PowerPmac,
             FormatArg::Csv => Format::Csv,
-            // `toolpath` stops before planning (crate::toolpath): no back end sees it.
+            // `toolpath` stops before planning (crate::commands::toolpath): no back end sees it.
             FormatArg::Toolpath => Format::Json,
         }
     }

@@ -12,8 +12,7 @@
 //! (`tests/tidy.rs`).
 
 pub mod args;
-pub mod batch;
-pub mod check;
+pub mod commands;
 pub mod excerpt;
 pub mod failure;
 pub mod front;
@@ -21,15 +20,13 @@ pub mod input;
 pub mod machine;
 pub mod options;
 pub mod output;
-pub mod pipeline;
-pub mod plot;
 pub mod report;
-pub mod stream;
+pub mod route;
+pub mod settings;
 pub mod subroutines;
-pub mod toolpath;
 
 pub use args::{Cli, Command, CompileArgs};
-pub use pipeline::{
+pub use settings::{
     compile, plan, CompileOptions, DrawingOptions, Failure, InputKind, Source, VelocitySource,
 };
 
@@ -48,11 +45,11 @@ pub fn run(cli: Cli) -> ExitCode {
             Err(failure) => Reporter::new(&args.pipeline).fail(&failure),
         },
         Command::Check(mut args) => match args.pipeline.read_files() {
-            Ok(()) => check::run(&args),
+            Ok(()) => commands::verify::run(&args),
             Err(failure) => Reporter::new(&args.pipeline).fail(&failure),
         },
         Command::Plot(mut args) => match args.pipeline.read_files() {
-            Ok(()) => plot::run(&args),
+            Ok(()) => commands::plot::run(&args),
             Err(failure) => Reporter::new(&args.pipeline).fail(&failure),
         },
         Command::Completions { shell } => completions(shell),
@@ -124,10 +121,10 @@ fn man_page() -> ExitCode {
 
 fn compile_command(args: &CompileArgs) -> ExitCode {
     if args.format == args::FormatArg::Toolpath {
-        return toolpath::run(args);
+        return commands::toolpath::run(args);
     }
     if args.out_dir.is_some() || args.inputs.len() > 1 {
-        return batch::run(args);
+        return commands::batch::run(args);
     }
     let reporter = Reporter::new(&args.pipeline);
     let input = &args.inputs[0];
@@ -137,7 +134,7 @@ fn compile_command(args: &CompileArgs) -> ExitCode {
     };
     let deny = args.pipeline.deny_warnings;
     let result = output::write_with(args.output.as_deref(), |out| {
-        stream::compile_to(input, &options, deny, out)
+        route::compile_to(input, &options, deny, out)
     });
     match result.map(|warnings| reporter.warnings(&warnings)) {
         Ok(Ok(())) => ExitCode::SUCCESS,

@@ -10,7 +10,7 @@
 
 use crate::args::CompileArgs;
 use crate::output;
-use crate::pipeline::Failure;
+use crate::settings::Failure;
 use crate::report::EXIT_INPUT_ERROR;
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
@@ -134,7 +134,7 @@ fn run_job(job: &Job, args: &CompileArgs) -> Outcome {
     let result = args.compile_options(&name).and_then(|options| {
         output::write_file_with(&job.output, |out| {
             let deny = args.pipeline.deny_warnings;
-            crate::stream::compile_to(&job.input, &options, deny, out)
+            crate::route::compile_to(&job.input, &options, deny, out)
         })
     });
     outcome(job, result)

@@ -223,7 +223,7 @@ pub(crate) fn reports(
 }
 
 /// A planning error as a report labelling its whole source line, as the in-memory path
-/// labels it ([`crate::pipeline`]'s `at_line`), with the lines around it cut from the file.
+/// labels it ([`crate::options`]'s `at_line`), with the lines around it cut from the file.
 fn plan_failure(path: &std::path::Path, name: &str, e: &PlanError) -> crate::options::Failure {
     let span = open(path).ok().and_then(|mut input| {
         crate::excerpt::line_span(&mut input, e.line())
@@ -292,7 +292,7 @@ pub fn compile_to(
         return compile_streaming(&input.path, &input.name, options, deny_warnings, out);
     }
     let source = crate::options::Source::read(input)?;
-    let compiled = crate::pipeline::compile(&source, options)?;
+    let compiled = crate::settings::compile(&source, options)?;
     let warnings = deny(compiled.warnings, deny_warnings)?;
     std::io::Write::write_all(out, &compiled.bytes).map_err(|error| {
         crate::options::Failure::Io {
@@ -385,17 +385,17 @@ fn outcome_warnings(
     let (totals, report) = match pass.outcome {
         Ok(done) => done,
         Err(StreamFailure::Plan(e)) => return Err(plan_failure(path, name, &e)),
-        Err(StreamFailure::Emit(e)) => return Err(crate::pipeline::emit_failure(e, options, None)),
+        Err(StreamFailure::Emit(e)) => return Err(crate::settings::emit_failure(e, options, None)),
     };
     let mut warnings = reports(path, name, pass.warnings);
-    warnings.extend(crate::pipeline::plan_notes(&report, options));
-    warnings.extend(crate::pipeline::summary_note(
+    warnings.extend(crate::settings::plan_notes(&report, options));
+    warnings.extend(crate::settings::summary_note(
         &report,
         &totals,
         pass.layout.units,
     ));
     if options.format == pvt_emit::Format::Pmac {
-        warnings.extend(crate::pipeline::fractional_ms_report(
+        warnings.extend(crate::settings::fractional_ms_report(
             totals.fractional_ms,
             totals.segments,
         ));
@@ -413,13 +413,13 @@ fn write_pass(
     layout: &Layout,
     out: &mut Target<'_>,
 ) -> Result<Pass, crate::options::Failure> {
-    let plan_options = crate::pipeline::plan_options(options, layout.units, &layout.axes)?;
-    crate::pipeline::check_pmac_axes(options, &layout.axes)?;
+    let plan_options = crate::settings::plan_options(options, layout.units, &layout.axes)?;
+    crate::settings::check_pmac_axes(options, &layout.axes)?;
     let interpolation = plan_options.interpolation();
-    let emit_options = crate::pipeline::emit_options(
+    let emit_options = crate::settings::emit_options(
         options,
         name,
-        crate::pipeline::settings(options, layout.units),
+        crate::settings::settings(options, layout.units),
         layout.units,
     );
     let buffered = std::io::BufWriter::with_capacity(1 << 16, out);
@@ -439,7 +439,7 @@ fn write_pass(
         return Ok(failed(StreamFailure::Emit(e)));
     }
     let max_piece = options.format.max_piece_seconds();
-    let grid = crate::pipeline::split_grid(options);
+    let grid = crate::settings::split_grid(options);
     let mut sink =
         match PlanningSink::new(writer, layout.axes.clone(), plan_options, max_piece, grid) {
             Ok(sink) => sink,

@@ -6,7 +6,7 @@
 
 use crate::args::PlotArgs;
 use crate::output;
-use crate::pipeline::Failure;
+use crate::settings::Failure;
 use crate::report::Reporter;
 use std::path::Path;
 use std::process::ExitCode;
@@ -18,7 +18,7 @@ pub fn run(args: &PlotArgs) -> ExitCode {
         Ok(format) => format,
         Err(failure) => return reporter.fail(&failure),
     };
-    let loaded = match crate::check::load(&args.input, &args.pipeline, &reporter) {
+    let loaded = match crate::commands::verify::load(&args.input, &args.pipeline, &reporter) {
         Ok(loaded) => loaded,
         Err(code) => return code,
     };

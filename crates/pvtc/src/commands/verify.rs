@@ -6,7 +6,7 @@
 //! compute any of the numbers.
 
 use crate::args::CheckArgs;
-use crate::pipeline::{plan, CompileOptions, Failure, Source};
+use crate::settings::{plan, CompileOptions, Failure, Source};
 use crate::report::Reporter;
 use crate::report::EXIT_INPUT_ERROR;
 use pvt_core::{check_program, CheckOptions, CheckReport, Peak, PvtProgram, Toolpath};
