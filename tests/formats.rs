@@ -16,19 +16,14 @@ use pvtc_tests::{root, samples};
 const SCALE: f64 = 1000.0;
 
 fn options(sample: &str, format: Format) -> CompileOptions {
-    let mut o = CompileOptions::new(format);
+    let mut asked = pvtc::Asked::default();
     if sample.ends_with(".dxf") {
-        o.input = pvtc::InputKind::Dxf;
-        o.feed = Some(1200.0);
-    }
-    if sample.ends_with(".csv") {
-        o.input = pvtc::InputKind::Csv;
-        o.planner = o.input.default_planner();
+        asked.feed = Some(1200.0);
     }
     if format.caps().scaled {
-        o.counts_per_unit = pvt_core::Axis::ALL.iter().map(|a| (*a, SCALE)).collect();
+        asked.counts_per_unit = pvt_core::Axis::ALL.iter().map(|a| (*a, SCALE)).collect();
     }
-    o
+    pvtc::settings::compile_options(&asked, sample, format)
 }
 
 /// The pieces the program holds, a dwell as a piece at rest where it happens.

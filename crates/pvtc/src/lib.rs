@@ -26,9 +26,9 @@ pub mod settings;
 pub mod subroutines;
 
 pub use args::{Cli, Command, CompileArgs};
-pub use settings::{
-    compile, plan, CompileOptions, DrawingOptions, Failure, InputKind, Source, VelocitySource,
-};
+pub use failure::Failure;
+pub use options::{Asked, CompileOptions, DrawingOptions, InputKind, Source, VelocitySource};
+pub use route::{compile, plan};
 
 use report::Reporter;
 use std::process::ExitCode;

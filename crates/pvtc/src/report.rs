@@ -7,7 +7,7 @@
 //! [`SHOWN_PLACES`]. It must not decide what is an error.
 
 use crate::args::{DiagnosticsArg, PipelineArgs};
-use crate::settings::Failure;
+use crate::failure::Failure;
 use miette::{Diagnostic, LabeledSpan, Report, ReportHandler, Severity, SourceCode, SourceSpan};
 use std::fmt;
 use std::process::ExitCode;

@@ -1,21 +1,29 @@
-//! The route of `pvtc compile`, single or batch ([`compile_to`]), and its streaming path:
-//! G-code elements go straight through pvt-core's [`PlanStage`] (every planner) into a
-//! back end, in bounded memory, whatever the program's length; a drawing or a series goes
-//! through the same stage into a collector, then to the same writer.
+//! The one compile route of pvtc: every input kind goes into the same planning sink
+//! ([`PlanningSink`]: pvt-core's [`PlanStage`], the PMAC splitter and pvt-emit's
+//! [`Checked`] writer). G-code streams from its file in bounded memory, whatever the
+//! program's length ([`compile_streaming`]); a drawing, a series, or any source held in
+//! memory is read whole by its front end and pushed into the same sink ([`compile`]).
+//! [`compile_to`] is `pvtc compile`'s entry, single or batch; [`plan`] plans without
+//! writing, for `check` and `plot`. Plan and emit errors become reports here, once.
 //!
-//! Owns the glue between the G-code front end's sink interface, pvt-core's
-//! [`PlanStage`] and pvt-emit's [`Checked`] writer. It must not parse, plan or format:
-//! each of those stays in its crate, so the streamed output is byte-identical to the
-//! in-memory path's.
+//! Owns the glue between the front ends, pvt-core's [`PlanStage`] and pvt-emit's
+//! [`Checked`] writer, and the notes on what planning did. It must not parse, plan,
+//! format or apply a default: each of those stays in its crate, and every default in
+//! [`crate::settings`].
 
+use crate::front::{self, Input};
+use crate::options::{at_line, CompileOptions, Failure, InputKind, Source, VelocitySource};
+use crate::output::Target;
+use crate::settings::{emit_options, header_lines, plan_options, split_grid};
+use miette::{Report, Severity};
 use pvt_core::{
-    plan::PlanError, Axis, Element, EventKind, Motion, PieceSink, PieceSplitter, PlanOptions,
-    PlanReport, PlanStage, ProgramEvent, SegmentRef, ToolpathSink,
+    plan::PlanError, plan_timed, plan_toolpath_report, Axis, Element, EventKind, Motion, PieceSink,
+    PieceSplitter, PlanOptions, PlanReport, PlanStage, Planned, Planner, ProgramEvent, PvtContour,
+    PvtProgram, SegmentRef, Timing, Toolpath, ToolpathSink, Units,
 };
 use pvt_emit::stream::Totals;
-use pvt_emit::{Checked, ProgramWriter, StreamError};
-
-use crate::output::Target;
+use pvt_emit::{Checked, Format, ProgramWriter, StreamError};
+use std::path::PathBuf;
 
 /// Why streaming stopped.
 #[derive(Debug)]
@@ -34,12 +42,19 @@ pub struct WriterSink<W: ProgramWriter> {
     pub totals: Totals,
     splitter: Option<PieceSplitter>,
     error: Option<StreamError>,
+    /// The program written, piece by piece, when it is kept ([`compile`]).
+    kept: Option<PvtProgram>,
 }
 
 impl<W: ProgramWriter> PieceSink for WriterSink<W> {
     fn contour(&mut self, motion: Motion, start: &[f64], line: u32) {
         if self.error.is_none() {
             self.error = self.writer.contour(motion, start, line).err();
+        }
+        if let Some(program) = self.kept.as_mut() {
+            program
+                .contours
+                .push(PvtContour::new(motion, start.to_vec()));
         }
         if let Some(splitter) = self.splitter.as_mut() {
             splitter.start(start);
@@ -48,8 +63,12 @@ impl<W: ProgramWriter> PieceSink for WriterSink<W> {
 
     fn piece(&mut self, seg: &SegmentRef<'_>) {
         let (writer, totals, error) = (&mut self.writer, &mut self.totals, &mut self.error);
+        let mut kept = self.kept.as_mut().and_then(|p| p.contours.last_mut());
         let mut write = |piece: &SegmentRef<'_>| {
             totals.add_segment(piece.duration);
+            if let Some(contour) = kept.as_mut() {
+                contour.push(piece.end, piece.velocity, piece.duration, piece.line);
+            }
             if error.is_none() {
                 *error = writer.segment(piece).err();
             }
@@ -63,6 +82,9 @@ impl<W: ProgramWriter> PieceSink for WriterSink<W> {
     fn event(&mut self, event: &ProgramEvent) {
         if self.error.is_none() {
             self.error = self.writer.event(event).err();
+        }
+        if let Some(program) = self.kept.as_mut() {
+            program.events.push(event.clone());
         }
     }
 }
@@ -86,11 +108,26 @@ impl<W: ProgramWriter> PlanningSink<W> {
         max_piece: Option<f64>,
         grid: Option<f64>,
     ) -> Result<PlanningSink<W>, PlanError> {
+        PlanningSink::keeping(writer, axes, options, max_piece, grid, None)
+    }
+
+    /// [`PlanningSink::new`], also keeping the program it writes (after the splitter)
+    /// when `kept` is given: its axes, units and interpolation, contours and events
+    /// empty.
+    fn keeping(
+        writer: Checked<W>,
+        axes: Vec<Axis>,
+        options: PlanOptions,
+        max_piece: Option<f64>,
+        grid: Option<f64>,
+        kept: Option<PvtProgram>,
+    ) -> Result<PlanningSink<W>, PlanError> {
         let sink = WriterSink {
             writer,
             totals: Totals::default(),
             splitter: max_piece.map(|max| PieceSplitter::new(max, grid)),
             error: None,
+            kept,
         };
         Ok(PlanningSink {
             stage: PlanStage::new(axes, options, sink)?,
@@ -101,12 +138,25 @@ impl<W: ProgramWriter> PlanningSink<W> {
     /// Ends the program: the back end, the totals and the plan report, or the first
     /// failure.
     pub fn finish(self) -> Result<(W, Totals, PlanReport), StreamFailure> {
+        self.finish_kept()
+            .map(|(writer, totals, report, _)| (writer, totals, report))
+    }
+
+    /// [`PlanningSink::finish`], with the program kept (empty when none is kept).
+    fn finish_kept(self) -> Result<(W, Totals, PlanReport, PvtProgram), StreamFailure> {
         let (sink, report) = self.stage.finish().map_err(StreamFailure::Plan)?;
         if let Some(e) = sink.error {
             return Err(StreamFailure::Emit(e));
         }
         let writer = sink.writer.finish().map_err(StreamFailure::Emit)?;
-        Ok((writer, sink.totals, report))
+        let kept = sink.kept.unwrap_or_else(|| PvtProgram {
+            axes: Vec::new(),
+            units: Units::default(),
+            interpolation: pvt_core::Interpolation::Pvt,
+            contours: Vec::new(),
+            events: Vec::new(),
+        });
+        Ok((writer, sink.totals, report, kept))
     }
 }
 
@@ -155,16 +205,14 @@ impl ToolpathSink for MovedAxes {
     fn event(&mut self, _: &EventKind, _: u32) {}
 }
 
-fn open(
-    path: &std::path::Path,
-) -> Result<std::io::BufReader<std::fs::File>, crate::options::Failure> {
+fn open(path: &std::path::Path) -> Result<std::io::BufReader<std::fs::File>, Failure> {
     std::fs::File::open(path)
         .map(|f| std::io::BufReader::with_capacity(1 << 18, f))
         .map_err(|error| read_failure(path, error))
 }
 
-fn read_failure(path: &std::path::Path, error: std::io::Error) -> crate::options::Failure {
-    crate::options::Failure::Io {
+fn read_failure(path: &std::path::Path, error: std::io::Error) -> Failure {
+    Failure::Io {
         path: path.to_path_buf(),
         action: "read",
         error,
@@ -189,11 +237,11 @@ pub(crate) fn compile_read(
     name: &str,
     gcode: &pvt_gcode::GcodeOptions,
     sink: &mut dyn pvt_gcode::ToolpathSink,
-) -> Result<pvt_gcode::StreamSummary, crate::options::Failure> {
+) -> Result<pvt_gcode::StreamSummary, Failure> {
     PASSES.with(|passes| passes.set(passes.get() + 1));
     pvt_gcode::compile_read(&mut open(path)?, gcode, sink)
         .map_err(|error| read_failure(path, error))?
-        .map_err(|errors| crate::options::Failure::Input(reports(path, name, errors.diagnostics)))
+        .map_err(|errors| Failure::Input(reports(path, name, errors.diagnostics)))
 }
 
 /// Diagnostics as reports, each with the lines of the file around it (read again, a
@@ -224,7 +272,7 @@ pub(crate) fn reports(
 
 /// A planning error as a report labelling its whole source line, as the in-memory path
 /// labels it ([`crate::options`]'s `at_line`), with the lines around it cut from the file.
-fn plan_failure(path: &std::path::Path, name: &str, e: &PlanError) -> crate::options::Failure {
+fn plan_failure(path: &std::path::Path, name: &str, e: &PlanError) -> Failure {
     let span = open(path).ok().and_then(|mut input| {
         crate::excerpt::line_span(&mut input, e.line())
             .ok()
@@ -243,7 +291,7 @@ fn plan_failure(path: &std::path::Path, name: &str, e: &PlanError) -> crate::opt
         .with_source_code(miette::NamedSource::new(name, excerpt)),
         _ => miette::miette!(code = e.code().to_string(), "{name}: {e}"),
     };
-    crate::options::Failure::Input(vec![report])
+    Failure::Input(vec![report])
 }
 
 /// What the header fixes before the first piece is written.
@@ -283,23 +331,21 @@ struct Pass {
 /// written; a failure leaves `out` for the caller to discard.
 pub fn compile_to(
     input: &std::path::Path,
-    options: &crate::options::CompileOptions,
+    options: &CompileOptions,
     deny_warnings: bool,
     out: &mut Target<'_>,
-) -> Result<Vec<miette::Report>, crate::options::Failure> {
-    if options.input == crate::options::InputKind::Gcode {
+) -> Result<Vec<miette::Report>, Failure> {
+    if options.input == InputKind::Gcode {
         let input = crate::input::spool(input)?;
         return compile_streaming(&input.path, &input.name, options, deny_warnings, out);
     }
-    let source = crate::options::Source::read(input)?;
-    let compiled = crate::settings::compile(&source, options)?;
+    let source = Source::read(input)?;
+    let compiled = compile_whole(&source, options, false)?;
     let warnings = deny(compiled.warnings, deny_warnings)?;
-    std::io::Write::write_all(out, &compiled.bytes).map_err(|error| {
-        crate::options::Failure::Io {
-            path: "<output>".into(),
-            action: "write",
-            error,
-        }
+    std::io::Write::write_all(out, &compiled.bytes).map_err(|error| Failure::Io {
+        path: "<output>".into(),
+        action: "write",
+        error,
     })?;
     Ok(warnings)
 }
@@ -316,12 +362,12 @@ pub fn compile_to(
 pub fn compile_streaming(
     path: &std::path::Path,
     name: &str,
-    options: &crate::options::CompileOptions,
+    options: &CompileOptions,
     deny_warnings: bool,
     out: &mut Target<'_>,
-) -> Result<Vec<miette::Report>, crate::options::Failure> {
+) -> Result<Vec<miette::Report>, Failure> {
     if out.is_file_at(path) {
-        return Err(crate::options::Failure::Usage(format!(
+        return Err(Failure::Usage(format!(
             "standard output is the input file {}: pvtc would read what it writes",
             path.display()
         )));
@@ -345,7 +391,7 @@ pub fn compile_streaming(
     }
     let mut pass = write_pass(path, name, options, &gcode, &layout, out)?;
     if pass.layout != layout {
-        let restart = |error| crate::options::Failure::Io {
+        let restart = |error| Failure::Io {
             path: "<output>".into(),
             action: "rewrite",
             error,
@@ -361,7 +407,7 @@ pub fn compile_streaming(
 pub(crate) fn deny(
     warnings: Vec<miette::Report>,
     deny_warnings: bool,
-) -> Result<Vec<miette::Report>, crate::options::Failure> {
+) -> Result<Vec<miette::Report>, Failure> {
     let is_warning = |r: &miette::Report| r.severity() == Some(miette::Severity::Warning);
     let count = warnings.iter().filter(|r| is_warning(r)).count();
     if !deny_warnings || count == 0 {
@@ -372,33 +418,26 @@ pub(crate) fn deny(
         code = "pvtc::deny_warnings",
         "{count} warning(s) and --deny-warnings; nothing was written"
     ));
-    Err(crate::options::Failure::Input(reports))
+    Err(Failure::Input(reports))
 }
 
 /// What a pass ended with: its warnings, notes and summary, or its failure.
 fn outcome_warnings(
     path: &std::path::Path,
     name: &str,
-    options: &crate::options::CompileOptions,
+    options: &CompileOptions,
     pass: Pass,
-) -> Result<Vec<miette::Report>, crate::options::Failure> {
+) -> Result<Vec<miette::Report>, Failure> {
     let (totals, report) = match pass.outcome {
         Ok(done) => done,
         Err(StreamFailure::Plan(e)) => return Err(plan_failure(path, name, &e)),
-        Err(StreamFailure::Emit(e)) => return Err(crate::settings::emit_failure(e, options, None)),
+        Err(StreamFailure::Emit(e)) => return Err(emit_failure(e, options, None)),
     };
     let mut warnings = reports(path, name, pass.warnings);
-    warnings.extend(crate::settings::plan_notes(&report, options));
-    warnings.extend(crate::settings::summary_note(
-        &report,
-        &totals,
-        pass.layout.units,
-    ));
+    warnings.extend(plan_notes(&report, options));
+    warnings.extend(summary_note(&report, &totals, pass.layout.units));
     if options.format == pvt_emit::Format::Pmac {
-        warnings.extend(crate::settings::fractional_ms_report(
-            totals.fractional_ms,
-            totals.segments,
-        ));
+        warnings.extend(fractional_ms_report(totals.fractional_ms, totals.segments));
     }
     Ok(warnings)
 }
@@ -408,18 +447,18 @@ fn outcome_warnings(
 fn write_pass(
     path: &std::path::Path,
     name: &str,
-    options: &crate::options::CompileOptions,
+    options: &CompileOptions,
     gcode: &pvt_gcode::GcodeOptions,
     layout: &Layout,
     out: &mut Target<'_>,
-) -> Result<Pass, crate::options::Failure> {
-    let plan_options = crate::settings::plan_options(options, layout.units, &layout.axes)?;
-    crate::settings::check_pmac_axes(options, &layout.axes)?;
+) -> Result<Pass, Failure> {
+    let plan_options = plan_options(options, layout.units, &layout.axes)?;
+    check_pmac_axes(options, &layout.axes)?;
     let interpolation = plan_options.interpolation();
-    let emit_options = crate::settings::emit_options(
+    let emit_options = emit_options(
         options,
         name,
-        crate::settings::settings(options, layout.units),
+        header_lines(options, layout.units),
         layout.units,
     );
     let buffered = std::io::BufWriter::with_capacity(1 << 16, out);
@@ -439,7 +478,7 @@ fn write_pass(
         return Ok(failed(StreamFailure::Emit(e)));
     }
     let max_piece = options.format.max_piece_seconds();
-    let grid = crate::settings::split_grid(options);
+    let grid = split_grid(options);
     let mut sink =
         match PlanningSink::new(writer, layout.axes.clone(), plan_options, max_piece, grid) {
             Ok(sink) => sink,
@@ -455,4 +494,343 @@ fn write_pass(
         warnings: summary.warnings,
         outcome: sink.finish().map(|(_, totals, report)| (totals, report)),
     })
+}
+
+/// Refuses PMAC axis definitions that leave a moved axis undefined
+/// (`pvtc::pmac::undefined_axis`): the controller would not move it.
+fn check_pmac_axes(options: &CompileOptions, moved: &[pvt_core::Axis]) -> Result<(), Failure> {
+    if options.format != Format::Pmac {
+        return Ok(());
+    }
+    let missing = options.pmac.undefined_axes(moved);
+    if missing.is_empty() {
+        return Ok(());
+    }
+    let names: Vec<String> = missing.iter().map(|a| a.to_string()).collect();
+    Err(Failure::Input(vec![miette::miette!(
+        code = "pvtc::pmac::undefined_axis",
+        help = "add a definition like --pmac-axis '#3->1000Z' for each, or leave out --pmac-axis",
+        "the program moves {} but no --pmac-axis defines {}",
+        names.join(" "),
+        if names.len() == 1 { "it" } else { "them" },
+    )]))
+}
+
+/// A successful compilation.
+#[derive(Debug)]
+pub struct Compiled {
+    /// The output, exactly as it is to be written.
+    pub bytes: Vec<u8>,
+    /// The planned program.
+    pub program: PvtProgram,
+    /// The geometry the program was planned from (for checking and plotting).
+    pub toolpath: Toolpath,
+    /// What planning changed.
+    pub report: PlanReport,
+    /// Warnings, ready to print.
+    pub warnings: Vec<Report>,
+}
+
+/// Reads `source` whole with its front end, `--velocities` applied to a series.
+fn read_whole(source: &Source, options: &CompileOptions) -> Result<(Input, Vec<Report>), Failure> {
+    let (mut input, mut warnings) = front::read(source, options)?;
+    if let Input::Series(series) = &mut input {
+        warnings.extend(choose_velocities(&mut series.points, options)?);
+    }
+    Ok((input, warnings))
+}
+
+/// Reads and plans `source` into a program, without writing any format: the same front
+/// end and stage as [`compile`], into pvt-core's collector (`check`, `plot`).
+pub fn plan(
+    source: &Source,
+    options: &CompileOptions,
+) -> Result<(Planned, Toolpath, Vec<Report>), Failure> {
+    let (input, mut warnings) = read_whole(source, options)?;
+    let moved = match &input {
+        Input::Toolpath(t) => t.moved_axes(),
+        Input::Series(s) => s.axes.clone(),
+    };
+    let plan_options = plan_options(options, input.units(), &moved)?;
+    let (planned, toolpath) = match input {
+        Input::Toolpath(toolpath) => (plan_toolpath_report(&toolpath, &plan_options), toolpath),
+        Input::Series(series) => (
+            plan_timed(
+                &series.points,
+                series.axes.clone(),
+                series.units,
+                &plan_options,
+            ),
+            series.toolpath(),
+        ),
+    };
+    let planned = planned.map_err(|e| plan_failure_in(source, &e))?;
+    warnings.extend(plan_notes(&planned.report, options));
+    Ok((planned, toolpath, warnings))
+}
+
+/// A planning error as a report labelling its whole line of `source`.
+fn plan_failure_in(source: &Source, e: &PlanError) -> Failure {
+    let report = if e.line() == 0 {
+        miette::miette!(code = e.code().to_string(), "{e}")
+    } else {
+        at_line(e.code(), &e.to_string(), e.line(), source).with_source_code(source.named_text())
+    };
+    Failure::Input(vec![report])
+}
+
+/// Applies `--velocities` to a series: drops its velocity columns for `plan` (with a
+/// note), refuses `file` when it has none or the planner takes no velocities, and says
+/// which velocities a velocity method uses, and when a planner replaces the series' times.
+fn choose_velocities(
+    points: &mut pvt_core::TimedPoints,
+    options: &CompileOptions,
+) -> Result<Vec<Report>, Failure> {
+    let planner = options.planner;
+    let name = planner.name();
+    let given = points.velocities.is_some();
+    let mut notes = Vec::new();
+    match options.velocities {
+        Some(VelocitySource::Plan) if given => {
+            points.velocities = None;
+            notes.push(miette::miette!(
+                severity = Severity::Advice,
+                code = "pvtc::plan::velocity_columns_ignored",
+                "the series' velocity columns are ignored (--velocities plan): the {name} planner chooses the velocities"
+            ));
+        }
+        Some(VelocitySource::File) if !given => {
+            return Err(Failure::Usage(
+                "--velocities file: the series has no velocity columns (v<axis>, e.g. vx)".into(),
+            ));
+        }
+        Some(VelocitySource::File) if !planner.is_velocity_method() => {
+            return Err(Failure::Usage(format!(
+                "--velocities file does nothing with the {name} planner, which chooses its own \
+                 velocities: use chord-forward, chord-back, const-accel or spline"
+            )));
+        }
+        None if given && planner.is_velocity_method() => notes.push(miette::miette!(
+            severity = Severity::Advice,
+            code = "pvtc::plan::file_velocities",
+            help = format!("pass --velocities plan to use the {name} method's velocities instead"),
+            "the velocities are the series' velocity columns, as given, not the {name} method's"
+        )),
+        _ => {}
+    }
+    if matches!(planner, Planner::Contour | Planner::Path) {
+        notes.push(miette::miette!(
+            severity = Severity::Advice,
+            code = "pvtc::plan::times_replaced",
+            help = "pt, chord-forward, chord-back, const-accel and spline keep the series' times",
+            "the {name} planner chooses its own piece times: the series' times only set each segment's speed (chord / time)"
+        ));
+    }
+    Ok(notes)
+}
+
+/// What the path planner achieved, for standard error: pieces, the path error bound and
+/// the total time against the time at the feeds; `None` for the other planners.
+fn summary_note(report: &PlanReport, totals: &Totals, units: Units) -> Option<Report> {
+    let error = report.path_error?;
+    // A point series has no feed to compare with: its pieces come from the points.
+    let ratio = match report.feed_time > 0.0 {
+        true => format!(" ({:.3} x length / feed)", totals.time / report.feed_time),
+        false => String::new(),
+    };
+    Some(miette::miette!(
+        severity = Severity::Advice,
+        code = "pvtc::plan::summary",
+        "{} pieces; path error at most {error:.6} {}; total time {:.4} s{ratio}",
+        totals.segments,
+        units.name(),
+        totals.time
+    ))
+}
+
+/// Compiles `source`, held in memory, into the bytes of `options.format`, keeping the
+/// program written.
+pub fn compile(source: &Source, options: &CompileOptions) -> Result<Compiled, Failure> {
+    compile_whole(source, options, true)
+}
+
+/// The route of a source read whole: its front end's toolpath or series pushed into the
+/// planning sink, written into memory (so that a failure or `--deny-warnings` leaves the
+/// target untouched), the program kept when `keep`.
+fn compile_whole(
+    source: &Source,
+    options: &CompileOptions,
+    keep: bool,
+) -> Result<Compiled, Failure> {
+    let (input, mut warnings) = read_whole(source, options)?;
+    let (axes, units) = match &input {
+        Input::Toolpath(t) => (t.moved_axes(), t.units),
+        Input::Series(s) => (s.axes.clone(), s.units),
+    };
+    let mut plan_options = plan_options(options, units, &axes)?;
+    let plan_failed = |e: PlanError| plan_failure_in(source, &e);
+    if let Input::Series(series) = &input {
+        // A series is timed by its own times (as `pvt_core::plan_timed` plans it).
+        plan_options.timing = Timing::FromFeed;
+        series.points.validate().map_err(plan_failed)?;
+        if axes.len() != series.points.dim {
+            return Err(plan_failed(PlanError::BadShape));
+        }
+    }
+    let interpolation = plan_options.interpolation();
+    let emit_options = emit_options(options, &source.name, header_lines(options, units), units);
+    let mut bytes = Vec::new();
+    let mut writer = Checked::new(options.format.writer(&mut bytes));
+    let header = pvt_emit::Header {
+        axes: &axes,
+        units,
+        interpolation,
+        options: &emit_options,
+    };
+    let begun = writer.begin(&header);
+    let (max_piece, grid) = (options.format.max_piece_seconds(), split_grid(options));
+    let kept = keep.then(|| PvtProgram {
+        axes: axes.clone(),
+        units,
+        interpolation,
+        contours: Vec::new(),
+        events: Vec::new(),
+    });
+    let mut sink = PlanningSink::keeping(writer, axes.clone(), plan_options, max_piece, grid, kept)
+        .map_err(plan_failed)?;
+    let toolpath = match &input {
+        Input::Toolpath(toolpath) => {
+            pvt_emit::toolpath::replay(toolpath, &mut sink);
+            None
+        }
+        Input::Series(series) => {
+            push_series(&series.points, &mut sink.stage);
+            Some(series.toolpath())
+        }
+    };
+    // The writer (which borrows `bytes`) is dropped here.
+    let finished = sink
+        .finish_kept()
+        .map(|(_, totals, report, program)| (totals, report, program));
+    let (totals, report, program) = match finished {
+        Err(StreamFailure::Plan(e)) => return Err(plan_failed(e)),
+        Ok((totals, report, program)) => (totals, report, Ok(program)),
+        Err(StreamFailure::Emit(e)) => (Totals::default(), PlanReport::default(), Err(e)),
+    };
+    check_pmac_axes(options, &axes)?;
+    begun.map_err(|e| emit_failure(e, options, Some(source)))?;
+    let program = program.map_err(|e| emit_failure(e, options, Some(source)))?;
+    warnings.extend(plan_notes(&report, options));
+    warnings.extend(summary_note(&report, &totals, units));
+    if options.format == Format::Pmac && options.quantize.is_none() {
+        warnings.extend(fractional_ms_report(totals.fractional_ms, totals.segments));
+    }
+    let toolpath = toolpath.unwrap_or_else(|| match input {
+        Input::Toolpath(toolpath) => toolpath,
+        Input::Series(series) => series.toolpath(),
+    });
+    Ok(Compiled {
+        bytes,
+        program,
+        toolpath,
+        report,
+        warnings,
+    })
+}
+
+/// Pushes a series' points into `stage`, each with its time and any given velocity.
+fn push_series<S: PieceSink>(points: &pvt_core::TimedPoints, stage: &mut PlanStage<S>) {
+    let dim = points.dim;
+    for i in 0..points.len() {
+        let (duration, line) = match i.checked_sub(1) {
+            Some(k) => (points.durations[k], points.lines[k]),
+            None => (0.0, points.line_of_point(0)),
+        };
+        let velocity = points
+            .velocities
+            .as_ref()
+            .map(|v| &v[i * dim..(i + 1) * dim]);
+        stage.timed_point(points.point(i), duration, velocity, line);
+    }
+}
+
+/// A back end's refusal as a failure; `source` (when known) labels the line at fault.
+fn emit_failure(e: StreamError, options: &CompileOptions, source: Option<&Source>) -> Failure {
+    match e {
+        StreamError::Invalid(invalid) => {
+            let report = match source {
+                Some(source) => at_line(
+                    invalid.code,
+                    &invalid.to_string(),
+                    invalid.line,
+                    source,
+                )
+                .with_source_code(source.named_text()),
+                None => miette::miette!(code = invalid.code, "{invalid}"),
+            };
+            Failure::Input(vec![report])
+        }
+        StreamError::Io(error) => Failure::Io {
+            path: PathBuf::from("<output>"),
+            action: "write",
+            error,
+        },
+        StreamError::MissingScale(..) => Failure::Input(vec![miette::miette!(
+            code = "pvtc::emit::no_scale",
+            help = "give --counts-per-unit AXIS=N for each moved axis, or counts_per_unit in the machine file's [axes.AXIS]",
+            "{e}"
+        )]),
+        StreamError::Unsupported(interpolation) => Failure::Input(vec![miette::miette!(
+            code = "pvtc::emit::unsupported_interpolation",
+            help =
+                "PMAC PVT mode needs velocities: choose a PVT planner, or --format movepvt (MovePT arrays) or json",
+            "the {} format cannot express {interpolation:?} motion",
+            options.format.name()
+        )]),
+    }
+}
+
+/// The warning for `fractional` of `segments` piece times that are not whole ms.
+fn fractional_ms_report(fractional: usize, segments: usize) -> Option<Report> {
+    (fractional > 0).then(|| {
+        miette::miette!(
+            severity = Severity::Warning,
+            code = "pvtc::emit::fractional_ms",
+            help = "pass --quantize 1ms to make every piece time whole while keeping the path",
+            "{fractional} of {segments} piece times are not whole milliseconds; PMAC rounds TA to whole ms, which changes speeds and times"
+        )
+    })
+}
+
+/// Notes on what planning changed (quantization, lengthened blends, ignored velocities).
+fn plan_notes(report: &PlanReport, options: &CompileOptions) -> Vec<Report> {
+    let mut notes = Vec::new();
+    if let Some(q) = options.quantize {
+        notes.push(miette::miette!(
+            severity = Severity::Advice,
+            code = "pvtc::plan::quantized",
+            "piece times made whole multiples of {} ms (rounded {}); largest change of mid-segment speed: {:.4} %",
+            q * 1000.0,
+            crate::settings::rounding_words(options.quantize_rounding),
+            report.quantize_speed_change * 100.0
+        ));
+    }
+    if report.lengthened_segments > 0 {
+        notes.push(miette::miette!(
+            severity = Severity::Warning,
+            code = "pvtc::plan::lengthened",
+            "{} segments were too short for their blends at --accel; their times were raised",
+            report.lengthened_segments
+        ));
+    }
+    if report.velocities_ignored {
+        notes.push(miette::miette!(
+            severity = Severity::Warning,
+            code = "pvtc::plan::velocities_ignored",
+            help = "--velocities plan ignores the velocity columns without a warning",
+            "the input gives velocities, which the {} planner does not use",
+            options.planner.name()
+        ));
+    }
+    notes
 }

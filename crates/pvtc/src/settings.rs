@@ -1,178 +1,156 @@
-//! The pipeline: source → front end → toolpath or point series → planner → back end → bytes.
+//! Settings: the one place pvtc applies a default. What the command line asked
+//! ([`Asked`], no defaults) becomes the [`CompileOptions`] every route reads
+//! ([`compile_options`], the one builder, which [`CompileOptions::new`] and the golden
+//! tests call too); the planner's options ([`plan_options`]: tolerance and its curve
+//! share, machine limits, servo period), the limits and servo period `check` and `plot`
+//! use ([`machine_limits`], [`check_options`]), the back end's options
+//! ([`emit_options`]) and the settings each output header names ([`header_lines`]) are
+//! resolved here, once, for every route.
 //!
-//! Owns the order of the phases and the settings each gets. It must not parse, plan or
-//! format by itself, and it does no output I/O (see [`crate::output`]).
+//! The default values themselves are pvt-core's (`pvt_core::defaults`) and each
+//! library's own `Default`; `tests/tidy.rs` fails on a default constant named anywhere
+//! else in pvtc. It must not read a format, plan or write.
 
-use crate::front::{self, Input};
-pub(crate) use crate::options::at_line;
+use crate::machine::Machine;
 pub use crate::options::{
-    CompileOptions, DrawingOptions, Failure, InputKind, Source, VelocitySource,
-    DEFAULT_RAPID_MM_PER_MIN,
+    Asked, CompileOptions, DrawingOptions, Failure, InputKind, Source, VelocitySource,
 };
-use miette::{Report, Severity};
+use miette::Report;
+use pvt_core::defaults;
 use pvt_core::{
-    plan_timed, plan_toolpath_report, split_long_pieces, ChordTolerance, Interpolation,
-    PlanOptions, PlanReport, Planned, Planner, PvtProgram, Rounding, Timing, Toolpath, Units,
+    AxisLimits, CheckOptions, ChordTolerance, PlanOptions, Planner, PvtProgram, Rounding, Timing,
+    Units,
 };
-use pvt_emit::stream::Totals;
-use pvt_emit::{emit_to_vec, EmitOptions, Format, StreamError};
-use std::path::PathBuf;
+use pvt_emit::{EmitOptions, Format};
+use std::collections::BTreeMap;
 
-/// Refuses PMAC axis definitions that leave a moved axis undefined
-/// (`pvtc::pmac::undefined_axis`): the controller would not move it.
-pub(crate) fn check_pmac_axes(
-    options: &CompileOptions,
-    moved: &[pvt_core::Axis],
-) -> Result<(), Failure> {
-    if options.format != Format::Pmac {
-        return Ok(());
+/// Default rapid rate, mm/min.
+pub use pvt_core::defaults::RAPID_MM_PER_MIN as DEFAULT_RAPID_MM_PER_MIN;
+
+/// The options of a compile of the source named `name` into `format`: what `asked`
+/// gives, every default applied (the input kind from the name, the planner from the
+/// input, `--quantize` from the format, arc tolerances, work offsets, start point).
+pub fn compile_options(asked: &Asked, name: &str, format: Format) -> CompileOptions {
+    let input = asked.input.unwrap_or_else(|| InputKind::from_name(name));
+    CompileOptions {
+        format,
+        input,
+        machine: asked.machine.clone(),
+        corner_tolerance: asked.corner_tolerance,
+        feed: asked.feed,
+        rapid: asked.rapid,
+        tolerance: asked.tolerance,
+        planner: asked.planner.unwrap_or(default_planner(input)),
+        timing: asked
+            .time_slice
+            .map_or(Timing::default(), Timing::TimeSlice),
+        accel: asked.accel,
+        quantize: asked.quantize.unwrap_or(format.caps().default_quantum),
+        counts_per_unit: asked.counts_per_unit.clone(),
+        quantize_rounding: asked.quantize_rounding.unwrap_or_default(),
+        work_offsets: asked.work_offsets.unwrap_or([[0.0; 6]; 9]),
+        subroutine_path: asked.subroutine_path.clone(),
+        tool_table: asked.tool_table.clone().unwrap_or_default(),
+        hal_pins: asked.hal_pins.clone(),
+        probe_results: asked.probe_results.clone(),
+        arc_abs_tolerance_mm: asked
+            .arc_abs_tolerance_mm
+            .unwrap_or(defaults::ARC_ABS_TOLERANCE_MM),
+        arc_rel_tolerance: asked
+            .arc_rel_tolerance
+            .unwrap_or(defaults::ARC_REL_TOLERANCE),
+        drawing: DrawingOptions {
+            layers: asked.layers.clone(),
+            join_tolerance: asked.join_tolerance,
+            start_point: asked.start_point.unwrap_or([0.0, 0.0]),
+            safe_z: asked.safe_z,
+            max_points: asked.max_points,
+            units: asked.units,
+        },
+        velocities: asked.velocities,
+        pmac: pvt_emit::PmacSettings::default(),
     }
-    let missing = options.pmac.undefined_axes(moved);
-    if missing.is_empty() {
-        return Ok(());
-    }
-    let names: Vec<String> = missing.iter().map(|a| a.to_string()).collect();
-    Err(Failure::Input(vec![miette::miette!(
-        code = "pvtc::pmac::undefined_axis",
-        help = "add a definition like --pmac-axis '#3->1000Z' for each, or leave out --pmac-axis",
-        "the program moves {} but no --pmac-axis defines {}",
-        names.join(" "),
-        if names.len() == 1 { "it" } else { "them" },
-    )]))
 }
 
-/// A successful compilation.
-#[derive(Debug)]
-pub struct Compiled {
-    /// The output, exactly as it is to be written.
-    pub bytes: Vec<u8>,
-    /// The planned program.
-    pub program: PvtProgram,
-    /// The geometry the program was planned from (for checking and plotting).
-    pub toolpath: Toolpath,
-    /// What planning changed.
-    pub report: PlanReport,
-    /// Warnings, ready to print.
-    pub warnings: Vec<Report>,
-}
-
-/// Reads and plans `source` into a program, without writing any format.
-pub fn plan(
-    source: &Source,
-    options: &CompileOptions,
-) -> Result<(Planned, Toolpath, Vec<Report>), Failure> {
-    let (mut input, mut warnings) = front::read(source, options)?;
-    if let Input::Series(series) = &mut input {
-        warnings.extend(choose_velocities(&mut series.points, options)?);
+impl CompileOptions {
+    /// Default options writing `format` for a G-code program (with the format's default
+    /// `--quantize`): [`compile_options`] of an empty request.
+    pub fn new(format: Format) -> CompileOptions {
+        compile_options(&Asked::default(), "", format)
     }
-    let moved = match &input {
-        Input::Toolpath(t) => t.moved_axes(),
-        Input::Series(s) => s.axes.clone(),
-    };
-    let plan_options = plan_options(options, input.units(), &moved)?;
-    let (planned, toolpath) = match input {
-        Input::Toolpath(toolpath) => (plan_toolpath_report(&toolpath, &plan_options), toolpath),
-        Input::Series(series) => (
-            plan_timed(
-                &series.points,
-                series.axes.clone(),
-                series.units,
-                &plan_options,
-            ),
-            series.toolpath(),
-        ),
-    };
-    let planned = planned.map_err(|e| {
-        let report = if e.line() == 0 {
-            miette::miette!(code = e.code().to_string(), "{e}")
-        } else {
-            at_line(e.code(), &e.to_string(), e.line(), source)
-                .with_source_code(source.named_text())
-        };
-        Failure::Input(vec![report])
-    })?;
-    warnings.extend(plan_notes(&planned.report, options));
-    Ok((planned, toolpath, warnings))
 }
 
-/// Applies `--velocities` to a series: drops its velocity columns for `plan` (with a
-/// note), refuses `file` when it has none or the planner takes no velocities, and says
-/// which velocities a velocity method uses, and when a planner replaces the series' times.
-fn choose_velocities(
-    points: &mut pvt_core::TimedPoints,
-    options: &CompileOptions,
-) -> Result<Vec<Report>, Failure> {
-    let planner = options.planner;
-    let name = planner.name();
-    let given = points.velocities.is_some();
-    let mut notes = Vec::new();
-    match options.velocities {
-        Some(VelocitySource::Plan) if given => {
-            points.velocities = None;
-            notes.push(miette::miette!(
-                severity = Severity::Advice,
-                code = "pvtc::plan::velocity_columns_ignored",
-                "the series' velocity columns are ignored (--velocities plan): the {name} planner chooses the velocities"
-            ));
-        }
-        Some(VelocitySource::File) if !given => {
-            return Err(Failure::Usage(
-                "--velocities file: the series has no velocity columns (v<axis>, e.g. vx)".into(),
-            ));
-        }
-        Some(VelocitySource::File) if !planner.is_velocity_method() => {
-            return Err(Failure::Usage(format!(
-                "--velocities file does nothing with the {name} planner, which chooses its own \
-                 velocities: use chord-forward, chord-back, const-accel or spline"
-            )));
-        }
-        None if given && planner.is_velocity_method() => notes.push(miette::miette!(
-            severity = Severity::Advice,
-            code = "pvtc::plan::file_velocities",
-            help = format!("pass --velocities plan to use the {name} method's velocities instead"),
-            "the velocities are the series' velocity columns, as given, not the {name} method's"
-        )),
-        _ => {}
+/// The planner used when none is asked for: `path` for geometry (G-code, DXF),
+/// `spline` for a point-time series, which keeps the series' times (and its velocity
+/// columns, when it has them).
+pub fn default_planner(input: InputKind) -> Planner {
+    match input {
+        InputKind::Gcode | InputKind::Dxf => Planner::Path,
+        InputKind::Csv => Planner::Spline,
     }
-    if matches!(planner, Planner::Contour | Planner::Path) {
-        notes.push(miette::miette!(
-            severity = Severity::Advice,
-            code = "pvtc::plan::times_replaced",
-            help = "pt, chord-forward, chord-back, const-accel and spline keep the series' times",
-            "the {name} planner chooses its own piece times: the series' times only set each segment's speed (chord / time)"
-        ));
+}
+
+/// Share of the tolerance a drawing's splines and ellipses are flattened within: the
+/// path planner keeps the motion within the rest of it, so that the motion is within
+/// the whole tolerance of the true curve; the other planners' chords take all of it.
+pub fn curve_share(options: &CompileOptions) -> f64 {
+    if options.input == InputKind::Dxf && options.planner == Planner::Path {
+        0.5
+    } else {
+        1.0
     }
-    Ok(notes)
 }
 
-/// What the path planner achieved, for standard error: pieces, the path error bound and
-/// the total time against the time at the feeds; `None` for the other planners.
-pub(crate) fn summary_note(report: &PlanReport, totals: &Totals, units: Units) -> Option<Report> {
-    let error = report.path_error?;
-    // A point series has no feed to compare with: its pieces come from the points.
-    let ratio = match report.feed_time > 0.0 {
-        true => format!(" ({:.3} x length / feed)", totals.time / report.feed_time),
-        false => String::new(),
-    };
-    Some(miette::miette!(
-        severity = Severity::Advice,
-        code = "pvtc::plan::summary",
-        "{} pieces; path error at most {error:.6} {}; total time {:.4} s{ratio}",
-        totals.segments,
-        units.name(),
-        totals.time
-    ))
+/// The machine file's limits on `axes`, in `units` (none without a machine file): the
+/// one conversion planning, `check` and `plot` use.
+pub fn machine_limits(
+    machine: Option<&Machine>,
+    units: Units,
+    axes: &[pvt_core::Axis],
+) -> Result<BTreeMap<pvt_core::Axis, AxisLimits>, Failure> {
+    match machine {
+        Some(m) => m
+            .limits_in(units, axes)
+            .map_err(|e| Failure::Input(vec![Report::new(e)])),
+        None => Ok(BTreeMap::new()),
+    }
 }
 
-/// The totals a back end would count over `program`.
-fn totals_of(program: &PvtProgram) -> Totals {
-    let mut totals = Totals::default();
-    program
-        .contours
-        .iter()
-        .flat_map(|c| &c.durations)
-        .for_each(|t| totals.add_segment(*t));
-    totals
+/// What `check` samples `program` against: the machine file's limits, then each limit
+/// `given` on the command line over them; the servo period `given`, else the machine
+/// file's, else pvt-core's default.
+pub fn check_options(
+    machine: Option<&Machine>,
+    program: &PvtProgram,
+    given: BTreeMap<pvt_core::Axis, AxisLimits>,
+    servo_period: Option<f64>,
+) -> Result<CheckOptions, Failure> {
+    let mut limits = machine_limits(machine, program.units, &program.axes)?;
+    for (axis, given) in given {
+        let l = limits.entry(axis).or_default();
+        l.velocity = given.velocity.or(l.velocity);
+        l.acceleration = given.acceleration.or(l.acceleration);
+        l.jerk = given.jerk.or(l.jerk);
+    }
+    Ok(CheckOptions {
+        servo_period: servo_period
+            .or(machine.and_then(|m| m.servo_period))
+            .unwrap_or(defaults::SERVO_PERIOD_S),
+        limits,
+    })
+}
+
+/// The most points a drawing may hold: `--max-points`, else pvt-core's default.
+pub fn max_points(options: &CompileOptions) -> usize {
+    options
+        .drawing
+        .max_points
+        .unwrap_or(defaults::DXF_MAX_POINTS)
+}
+
+/// The units an emitted program is read back in: `--units`, else millimetres.
+pub fn readback_units(options: &CompileOptions) -> Units {
+    options.drawing.units.unwrap_or(Units::Millimetre)
 }
 
 /// The planner's options for a program in `units` moving `moved`: every default of the
@@ -184,14 +162,9 @@ pub fn plan_options(
 ) -> Result<PlanOptions, Failure> {
     let tolerance = ChordTolerance::new(resolved_tolerance(options, units))
         .expect("the CLI accepts only positive tolerances");
-    let limits = match &options.machine {
-        Some(m) => m
-            .limits_in(units, moved)
-            .map_err(|e| Failure::Input(vec![Report::new(e)]))?,
-        None => Default::default(),
-    };
-    let path_tolerance =
-        (options.curve_share() < 1.0).then(|| tolerance.get() * (1.0 - options.curve_share()));
+    let limits = machine_limits(options.machine.as_ref(), units, moved)?;
+    let share = curve_share(options);
+    let path_tolerance = (share < 1.0).then(|| tolerance.get() * (1.0 - share));
     Ok(PlanOptions {
         tolerance,
         path_tolerance,
@@ -207,33 +180,10 @@ pub fn plan_options(
     })
 }
 
-/// Compiles `source` into the bytes of `options.format`.
-pub fn compile(source: &Source, options: &CompileOptions) -> Result<Compiled, Failure> {
-    let (planned, toolpath, mut warnings) = plan(source, options)?;
-    let header = settings(options, planned.program.units);
-    check_pmac_axes(options, &planned.program.axes)?;
-    let program = fit_pieces(planned.program, options);
-    let totals = totals_of(&program);
-    warnings.extend(summary_note(&planned.report, &totals, program.units));
-    let emit_options = emit_options(options, &source.name, header, program.units);
-    let bytes = emit_to_vec(&program, options.format, &emit_options)
-        .map_err(|e| emit_failure(e, options, Some(source)))?;
-    if options.format == Format::Pmac && options.quantize.is_none() {
-        warnings.extend(fractional_ms_warning(&program));
-    }
-    Ok(Compiled {
-        bytes,
-        program,
-        toolpath,
-        report: planned.report,
-        warnings,
-    })
-}
-
 /// What the back end is told besides the motion: the source, the header's settings, the
 /// PMAC settings and, per axis in `units`, the machine file's travel, limits and counts
 /// per unit with `--counts-per-unit` over them.
-pub(crate) fn emit_options(
+pub fn emit_options(
     options: &CompileOptions,
     name: &str,
     settings: Vec<(String, String)>,
@@ -255,19 +205,6 @@ pub(crate) fn emit_options(
     }
 }
 
-/// `program` with every piece longer than the format takes cut along its own cubic (the
-/// same motion; see [`split_grid`] for the times).
-pub fn fit_pieces(mut program: PvtProgram, options: &CompileOptions) -> PvtProgram {
-    if let (Some(max), Interpolation::Pvt) =
-        (options.format.max_piece_seconds(), program.interpolation)
-    {
-        for contour in &mut program.contours {
-            *contour = split_long_pieces(contour, max, split_grid(options));
-        }
-    }
-    program
-}
-
 /// The grid a long piece's time is cut on when the time is on it: `--quantize`, else the
 /// time the format's controller rounds to (PMAC: whole ms), so whole times stay whole.
 pub fn split_grid(options: &CompileOptions) -> Option<f64> {
@@ -276,100 +213,9 @@ pub fn split_grid(options: &CompileOptions) -> Option<f64> {
         .or_else(|| options.format.piece_time_quantum())
 }
 
-/// A back end's refusal as a failure; `source` (when known) labels the line at fault.
-pub(crate) fn emit_failure(
-    e: StreamError,
-    options: &CompileOptions,
-    source: Option<&Source>,
-) -> Failure {
-    match e {
-        StreamError::Invalid(invalid) => {
-            let report = match source {
-                Some(source) => at_line(
-                    invalid.code,
-                    &invalid.to_string(),
-                    invalid.line,
-                    source,
-                )
-                .with_source_code(source.named_text()),
-                None => miette::miette!(code = invalid.code, "{invalid}"),
-            };
-            Failure::Input(vec![report])
-        }
-        StreamError::Io(error) => Failure::Io {
-            path: PathBuf::from("<output>"),
-            action: "write",
-            error,
-        },
-        StreamError::MissingScale(..) => Failure::Input(vec![miette::miette!(
-            code = "pvtc::emit::no_scale",
-            help = "give --counts-per-unit AXIS=N for each moved axis, or counts_per_unit in the machine file's [axes.AXIS]",
-            "{e}"
-        )]),
-        StreamError::Unsupported(interpolation) => Failure::Input(vec![miette::miette!(
-            code = "pvtc::emit::unsupported_interpolation",
-            help =
-                "PMAC PVT mode needs velocities: choose a PVT planner, or --format movepvt (MovePT arrays) or json",
-            "the {} format cannot express {interpolation:?} motion",
-            options.format.name()
-        )]),
-    }
-}
-
-/// Seed 003: PMAC rounds piece times to whole milliseconds without telling anyone.
-fn fractional_ms_warning(program: &PvtProgram) -> Option<Report> {
-    let totals = totals_of(program);
-    fractional_ms_report(totals.fractional_ms, totals.segments)
-}
-
-/// The warning for `fractional` of `segments` piece times that are not whole ms.
-pub(crate) fn fractional_ms_report(fractional: usize, segments: usize) -> Option<Report> {
-    (fractional > 0).then(|| {
-        miette::miette!(
-            severity = Severity::Warning,
-            code = "pvtc::emit::fractional_ms",
-            help = "pass --quantize 1ms to make every piece time whole while keeping the path",
-            "{fractional} of {segments} piece times are not whole milliseconds; PMAC rounds TA to whole ms, which changes speeds and times"
-        )
-    })
-}
-
-/// Notes on what planning changed (quantization, lengthened blends, ignored velocities).
-pub(crate) fn plan_notes(report: &PlanReport, options: &CompileOptions) -> Vec<Report> {
-    let mut notes = Vec::new();
-    if let Some(q) = options.quantize {
-        notes.push(miette::miette!(
-            severity = Severity::Advice,
-            code = "pvtc::plan::quantized",
-            "piece times made whole multiples of {} ms (rounded {}); largest change of mid-segment speed: {:.4} %",
-            q * 1000.0,
-            rounding_words(options.quantize_rounding),
-            report.quantize_speed_change * 100.0
-        ));
-    }
-    if report.lengthened_segments > 0 {
-        notes.push(miette::miette!(
-            severity = Severity::Warning,
-            code = "pvtc::plan::lengthened",
-            "{} segments were too short for their blends at --accel; their times were raised",
-            report.lengthened_segments
-        ));
-    }
-    if report.velocities_ignored {
-        notes.push(miette::miette!(
-            severity = Severity::Warning,
-            code = "pvtc::plan::velocities_ignored",
-            help = "--velocities plan ignores the velocity columns without a warning",
-            "the input gives velocities, which the {} planner does not use",
-            options.planner.name()
-        ));
-    }
-    notes
-}
-
 /// The tolerance of a program in `units`: `--tolerance`, or pvt-core's default converted.
 /// The one place it is resolved: planning and the header both read it.
-pub(crate) fn resolved_tolerance(options: &CompileOptions, units: Units) -> f64 {
+pub fn resolved_tolerance(options: &CompileOptions, units: Units) -> f64 {
     options
         .tolerance
         .unwrap_or_else(|| units.from_mm(pvt_core::defaults::TOLERANCE_MM))
@@ -377,7 +223,7 @@ pub(crate) fn resolved_tolerance(options: &CompileOptions, units: Units) -> f64 
 
 /// The rapid rate of a program in `units`, per minute: `--rapid`, or pvt-core's default
 /// converted (as the G-code and DXF front ends resolve a rapid they are not given).
-pub(crate) fn resolved_rapid(options: &CompileOptions, units: Units) -> f64 {
+pub fn resolved_rapid(options: &CompileOptions, units: Units) -> f64 {
     options
         .rapid
         .unwrap_or_else(|| units.from_mm(DEFAULT_RAPID_MM_PER_MIN))
@@ -385,7 +231,7 @@ pub(crate) fn resolved_rapid(options: &CompileOptions, units: Units) -> f64 {
 
 /// The settings every output header names, in a fixed order (a CSV series' header leaves
 /// out what it does not use: rapid, default feed and, but for `path`, the tolerance).
-pub(crate) fn settings(options: &CompileOptions, units: Units) -> Vec<(String, String)> {
+pub fn header_lines(options: &CompileOptions, units: Units) -> Vec<(String, String)> {
     let u = units.name();
     let tolerance = match options.tolerance {
         Some(t) => t,
@@ -454,7 +300,7 @@ fn significant(x: f64) -> f64 {
 }
 
 /// How a rounding reads after "rounded": `up`, `to nearest`.
-fn rounding_words(rounding: Rounding) -> &'static str {
+pub fn rounding_words(rounding: Rounding) -> &'static str {
     match rounding {
         Rounding::Up => "up",
         Rounding::Nearest => "to nearest",

@@ -9,8 +9,8 @@
 //! never leaves a partial output. It must not compile anything itself.
 
 use crate::args::CompileArgs;
+use crate::failure::Failure;
 use crate::output;
-use crate::settings::Failure;
 use crate::report::EXIT_INPUT_ERROR;
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;

@@ -5,8 +5,8 @@
 //! must not draw anything itself.
 
 use crate::args::PlotArgs;
+use crate::options::Failure;
 use crate::output;
-use crate::settings::Failure;
 use crate::report::Reporter;
 use std::path::Path;
 use std::process::ExitCode;
@@ -24,16 +24,10 @@ pub fn run(args: &PlotArgs) -> ExitCode {
     };
     let program = loaded.program;
     let geometry = loaded.toolpath;
-    let limits = match &loaded.options.machine {
-        Some(m) => match m.limits_in(program.units, &program.axes) {
-            Ok(limits) => limits,
-            Err(e) => {
-                return reporter.fail(&crate::options::Failure::Input(vec![miette::Report::new(
-                    e,
-                )]))
-            }
-        },
-        None => Default::default(),
+    let machine = loaded.options.machine.as_ref();
+    let limits = match crate::settings::machine_limits(machine, program.units, &program.axes) {
+        Ok(limits) => limits,
+        Err(failure) => return reporter.fail(&failure),
     };
     let options = pvt_emit::plot::PlotOptions {
         title: format!(

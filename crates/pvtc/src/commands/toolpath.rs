@@ -7,8 +7,8 @@
 //! stream that cannot start over gets a first pass into nothing.
 
 use crate::args::CompileArgs;
+use crate::options::{CompileOptions, Failure, InputKind, Source};
 use crate::output::{self, Target};
-use crate::settings::{CompileOptions, Failure, InputKind, Source};
 use crate::report::Reporter;
 use pvt_emit::toolpath::{replay, ToolpathWriter};
 use std::path::Path;
