@@ -899,7 +899,7 @@ impl<'a> Reader<'a> {
                         control.label, control.keyword
                     )
                     .to_lowercase(),
-                    span: span(at..at + crate::parser::token_len(rest)),
+                    span: span(at..at + crate::tokens::token_len(rest)),
                 });
             }
             values.push(reader.real_value()?);
