@@ -4,7 +4,8 @@
 //! arc discretization by chord tolerance ([`discretize`]), the planners ([`plan`]) and the
 //! cubic Hermite evaluation a controller performs ([`hermite`]), long pieces cut along
 //! their own cubic for controllers with a largest piece time ([`split`]) and the check of
-//! a planned program against limits and its source ([`check`]), line/column
+//! a planned program against limits and its source ([`check`]), the machine model
+//! both use ([`limits`]), line/column
 //! positions in source text ([`text`]) and every default value ([`defaults`]).
 //!
 //! Architecture invariants:
@@ -20,6 +21,7 @@ pub mod compensate;
 pub mod defaults;
 pub mod discretize;
 pub mod hermite;
+pub mod limits;
 pub mod plan;
 pub mod polyline;
 pub mod program;
@@ -31,11 +33,11 @@ pub mod vector;
 
 pub use axis::{Axis, Position, Units, AXIS_COUNT};
 pub use check::{
-    check_program, AxisLimits, AxisReport, CheckOptions, CheckReport, Peak, Quantity, SpeedReport,
-    Violation,
+    check_program, AxisReport, CheckOptions, CheckReport, Peak, Quantity, SpeedReport, Violation,
 };
 pub use discretize::{flatten_contour, ChordTolerance};
 pub use hermite::{HermiteSegment, State};
+pub use limits::{AxisLimits, MachineLimits};
 pub use plan::{
     plan_contour, plan_path, plan_timed, plan_toolpath, plan_toolpath_report, PathOptions,
     PathReport, PathStream, PlanOptions, PlanReport, Planned, Planner, Quantum, Rounding,
