@@ -12,9 +12,7 @@
 //! else in pvtc. It must not read a format, plan or write.
 
 use crate::machine::Machine;
-pub use crate::options::{
-    Asked, CompileOptions, DrawingOptions, Failure, InputKind, Source, VelocitySource,
-};
+use crate::options::{Asked, CompileOptions, DrawingOptions, Failure, InputKind};
 use miette::Report;
 use pvt_core::defaults;
 use pvt_core::{
