@@ -665,3 +665,64 @@ fn crates_depend_only_on_lower_layers() {
         "a crate depends on its own layer or one above it: {wrong:?}"
     );
 }
+
+#[test]
+fn pvtc_compiles_by_one_route() {
+    // What runs the phases: the planning stage, the planners' whole-program entries, a
+    // back end's writer, the whole-program emit and the long-piece cut.
+    const PHASES: [&str; 9] = [
+        "PlanStage",
+        "plan_toolpath_report",
+        "plan_timed",
+        "emit_to_vec",
+        "pvt_emit::emit(",
+        "Checked::new",
+        ".writer(",
+        "PieceSplitter",
+        "split_long_pieces",
+    ];
+    const HOME: &str = "crates/pvtc/src/route.rs";
+    let mut found = Vec::new();
+    for (name, text) in crate_sources() {
+        if !name.starts_with("crates/pvtc/src/") || name == HOME {
+            continue;
+        }
+        for (i, line) in non_test_code(&name, &text).lines().enumerate() {
+            let code = line.split("//").next().unwrap_or("");
+            if let Some(phase) = PHASES.iter().find(|p| code.contains(*p)) {
+                found.push(format!("{name}:{}: {phase}", i + 1));
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "pvtc runs the phases in {HOME} alone (one compile route): {found:?}"
+    );
+}
+
+#[test]
+fn pvt_core_plan_module_is_a_facade() {
+    // plan/mod.rs holds `mod` lines and re-exports, nothing that computes or defines.
+    let text = std::fs::read_to_string(root().join("crates/pvt-core/src/plan/mod.rs")).unwrap();
+    let code = non_test_code("plan/mod.rs", &text);
+    let mut statement = String::new();
+    let mut other = Vec::new();
+    for line in code.lines().map(str::trim) {
+        if line.is_empty() || line.starts_with("//") || line.starts_with("#[") {
+            continue;
+        }
+        statement.push_str(line);
+        if !line.ends_with(';') {
+            continue;
+        }
+        let allowed = ["mod ", "pub mod ", "pub use ", "pub(crate) use ", "use "];
+        if !allowed.iter().any(|a| statement.starts_with(a)) {
+            other.push(statement.clone());
+        }
+        statement.clear();
+    }
+    assert!(
+        other.is_empty() && statement.is_empty(),
+        "plan/mod.rs is a façade: {other:?} {statement:?}"
+    );
+}

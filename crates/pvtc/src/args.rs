@@ -1,9 +1,10 @@
 //! Command-line arguments.
 //!
-//! Owns the flags, their help text and their conversion into pipeline options (reading
-//! the `--offsets`, `--tool-table` and `--machine` files once per run,
-//! [`PipelineArgs::read_files`]; the first two are parsed by pvt-gcode, whose errors are
-//! shown on the file's text). It must not compile anything.
+//! Owns the flags, their help text, the usage errors of options that would do nothing,
+//! and their conversion into what was asked ([`crate::options::Asked`], as given, the
+//! `--offsets`, `--tool-table` and `--machine` files read once per run,
+//! [`PipelineArgs::read_files`]). It must not apply a default (`settings` does) or
+//! compile anything.
 
 use crate::options::{Asked, CompileOptions, Failure, InputKind, VelocitySource};
 use clap::{Parser, Subcommand, ValueEnum};

@@ -4,7 +4,7 @@
 //! directory's tree is mirrored under the output directory), running
 //! the jobs on a rayon pool with a progress bar (drawn only on a terminal), each file's
 //! diagnostics (errors, warnings and notes, under the file's name, in input order) and the
-//! summary. Every job is the single-file pipeline unchanged, so a batch output is
+//! summary. Every job is the single-file route unchanged, so a batch output is
 //! byte-identical to compiling that file alone; a failing file never stops the others and
 //! never leaves a partial output. It must not compile anything itself.
 
