@@ -211,20 +211,18 @@ pub fn split_grid(options: &CompileOptions) -> Option<f64> {
         .or_else(|| options.format.piece_time_quantum())
 }
 
-/// The tolerance of a program in `units`: `--tolerance`, or pvt-core's default converted.
-/// The one place it is resolved: planning and the header both read it.
+/// The tolerance of a program in `units`: `--tolerance`, or pvt-core's default converted
+/// (`pvt_core::defaults::tolerance`, which pvt-dxf flattens curves with). Planning and
+/// the header both read it.
 pub fn resolved_tolerance(options: &CompileOptions, units: Units) -> f64 {
-    options
-        .tolerance
-        .unwrap_or_else(|| units.from_mm(pvt_core::defaults::TOLERANCE_MM))
+    defaults::tolerance(options.tolerance, units)
 }
 
 /// The rapid rate of a program in `units`, per minute: `--rapid`, or pvt-core's default
-/// converted (as the G-code and DXF front ends resolve a rapid they are not given).
+/// converted by `pvt_core::defaults::rapid_per_minute`, the function the G-code and DXF
+/// front ends plan rapids with.
 pub fn resolved_rapid(options: &CompileOptions, units: Units) -> f64 {
-    options
-        .rapid
-        .unwrap_or_else(|| units.from_mm(DEFAULT_RAPID_MM_PER_MIN))
+    defaults::rapid_per_minute(options.rapid, units)
 }
 
 /// The settings every output header names, in a fixed order (a CSV series' header leaves
