@@ -6,7 +6,8 @@
 //! their own cubic for controllers with a largest piece time ([`split`]) and the check of
 //! a planned program against limits and its source ([`check`]), the machine model
 //! both use ([`limits`]), line/column
-//! positions in source text ([`text`]) and every default value ([`defaults`]).
+//! positions in source text ([`text`]), the one walk of a toolpath or program
+//! ([`traverse`]) and every default value ([`defaults`]).
 //!
 //! Architecture invariants:
 //! - this crate does no I/O and knows no file format: front ends produce a [`Toolpath`],
@@ -29,6 +30,7 @@ pub mod split;
 pub mod stream;
 pub mod text;
 pub mod toolpath;
+pub mod traverse;
 pub mod vector;
 
 pub use axis::{Axis, Position, Units, AXIS_COUNT};

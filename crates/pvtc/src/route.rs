@@ -700,7 +700,7 @@ fn compile_whole(
         .map_err(plan_failed)?;
     let toolpath = match &input {
         Input::Toolpath(toolpath) => {
-            pvt_emit::toolpath::replay(toolpath, &mut sink);
+            pvt_core::traverse::replay(toolpath, &mut sink);
             None
         }
         Input::Series(series) => {
