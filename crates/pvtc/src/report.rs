@@ -9,6 +9,7 @@
 use crate::args::{DiagnosticsArg, PipelineArgs};
 use crate::failure::Failure;
 use miette::{Diagnostic, LabeledSpan, Report, ReportHandler, Severity, SourceCode, SourceSpan};
+use pvt_core::text::SourceLocation;
 use std::fmt;
 use std::process::ExitCode;
 
@@ -100,7 +101,7 @@ impl Repeated<'_> {
     pub fn lines(&self) -> Vec<usize> {
         self.members
             .iter()
-            .map(|r| place(r).map_or(0, |p| p.line))
+            .map(|r| place(r).map_or(0, |p| p.at.line as usize))
             .collect()
     }
 }
@@ -190,24 +191,26 @@ impl SourceCode for Repeated<'_> {
     }
 }
 
-/// Where a report's first label is: file, 1-based line and column, offset and length.
+/// Where a report's first label is: its file and [`SourceLocation`] (1-based line and
+/// column, offset and length), as its source code (the text, or a streamed file's
+/// excerpt) answers.
 struct Place {
     file: Option<String>,
-    line: usize,
-    column: usize,
-    offset: usize,
-    length: usize,
+    at: SourceLocation,
 }
 
 fn place(report: &Report) -> Option<Place> {
     let label = report.labels()?.next()?;
     let contents = report.source_code()?.read_span(label.inner(), 0, 0).ok()?;
+    let number = |n: usize| u32::try_from(n + 1).unwrap_or(u32::MAX);
     Some(Place {
         file: contents.name().map(str::to_owned),
-        line: contents.line() + 1,
-        column: contents.column() + 1,
-        offset: label.offset(),
-        length: label.len(),
+        at: SourceLocation {
+            line: number(contents.line()),
+            column: number(contents.column()),
+            offset: label.offset(),
+            length: label.len(),
+        },
     })
 }
 
@@ -438,10 +441,10 @@ pub fn repeated_json(repeated: &Repeated<'_>) -> serde_json::Value {
         .map(|p| {
             serde_json::json!({
                 "file": p.file,
-                "line": p.line,
-                "column": p.column,
-                "offset": p.offset,
-                "length": p.length,
+                "line": p.at.line,
+                "column": p.at.column,
+                "offset": p.at.offset,
+                "length": p.at.length,
             })
         })
         .collect();
@@ -462,15 +465,12 @@ pub fn to_json(report: &Report) -> serde_json::Value {
         "message": report.to_string(),
         "help": report.help().map(|h| h.to_string()),
     });
-    let label = report.labels().and_then(|mut labels| labels.next());
-    if let (Some(label), Some(source)) = (label, report.source_code()) {
-        if let Ok(contents) = source.read_span(label.inner(), 0, 0) {
-            value["file"] = serde_json::json!(contents.name());
-            value["line"] = serde_json::json!(contents.line() + 1);
-            value["column"] = serde_json::json!(contents.column() + 1);
-            value["offset"] = serde_json::json!(label.offset());
-            value["length"] = serde_json::json!(label.len());
-        }
+    if let Some(Place { file, at }) = place(report) {
+        value["file"] = serde_json::json!(file);
+        value["line"] = serde_json::json!(at.line);
+        value["column"] = serde_json::json!(at.column);
+        value["offset"] = serde_json::json!(at.offset);
+        value["length"] = serde_json::json!(at.length);
     }
     value
 }
