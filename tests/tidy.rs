@@ -726,3 +726,56 @@ fn pvt_core_plan_module_is_a_facade() {
         "plan/mod.rs is a façade: {other:?} {statement:?}"
     );
 }
+
+/// Places outside pvtc's settings.rs that resolve a default of their own crate's option
+/// type, each with why (file, the default named).
+const OWN_DEFAULTS: [(&str, &str); 4] = [
+    // PlanOptions::path_options: a plan without a servo period (no machine file).
+    ("crates/pvt-core/src/plan/options.rs", "SERVO_PERIOD_S"),
+    // check_program: a CheckOptions with a servo period that is no period.
+    ("crates/pvt-core/src/check/mod.rs", "SERVO_PERIOD_S"),
+    // read_drawing: the join tolerance in the drawing's units, known once it is read.
+    ("crates/pvt-dxf/src/lib.rs", "DEFAULT_JOIN_MM"),
+    // DxfOptions::with_feed, the type's defaults (no Default: a drawing needs a feed).
+    ("crates/pvt-dxf/src/lib.rs", "DEFAULT_MAX_POINTS"),
+];
+
+#[test]
+fn libraries_apply_defaults_in_their_own_default_or_one_resolution() {
+    // Outside pvt-core's defaults.rs (and pvtc, held to settings.rs above), a default is
+    // named only by a type's own `impl Default`, a re-export or alias of the constant,
+    // a call of a shared resolution (`defaults::rapid_per_minute`, `defaults::tolerance`)
+    // or one of OWN_DEFAULTS.
+    let mut found = Vec::new();
+    for (name, text) in crate_sources() {
+        if name.starts_with("crates/pvtc/") || name == "crates/pvt-core/src/defaults.rs" {
+            continue;
+        }
+        let mut in_default_impl = false;
+        for (i, line) in non_test_code(&name, &text).lines().enumerate() {
+            let code = line.split("//").next().unwrap_or("");
+            if code.starts_with("impl") {
+                in_default_impl = code.starts_with("impl Default for");
+            } else if code.starts_with('}') {
+                in_default_impl = false;
+            }
+            let names_default = code.contains("defaults::") || code.contains("DEFAULT_");
+            let t = code.trim_start();
+            let allowed = in_default_impl
+                || t.starts_with("pub use ")
+                || t.starts_with("pub const ")
+                || code.contains("defaults::rapid_per_minute(")
+                || code.contains("defaults::tolerance(")
+                || OWN_DEFAULTS
+                    .iter()
+                    .any(|(file, constant)| name == *file && code.contains(constant));
+            if names_default && !allowed {
+                found.push(format!("{name}:{}: {}", i + 1, code.trim()));
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "a default applied outside a Default, a shared resolution or OWN_DEFAULTS: {found:#?}"
+    );
+}
