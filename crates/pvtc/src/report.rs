@@ -4,7 +4,9 @@
 //! line, column, a label under the offending text and a help line; for tools
 //! (`--diagnostics json`), one JSON object per line. Repeats of one code in one input are
 //! one diagnostic ([`group`]): the count, the lines of every place, labels on the first
-//! [`SHOWN_PLACES`]. It must not decide what is an error.
+//! [`SHOWN_PLACES`]. It also holds the one `--deny-warnings` policy: [`deny`] before
+//! anything is written, [`Reporter::warnings`] after, counting warnings the same way.
+//! It must not decide what is an error.
 
 use crate::args::{DiagnosticsArg, PipelineArgs};
 use crate::failure::Failure;
@@ -223,6 +225,31 @@ impl fmt::Display for Rendered<'_> {
     }
 }
 
+/// The warnings, or, when any is a warning and `deny_warnings`, a failure holding them
+/// (sources and labels kept) and one error saying nothing was written.
+pub fn deny(warnings: Vec<Report>, deny_warnings: bool) -> Result<Vec<Report>, Failure> {
+    let count = warning_count(&warnings);
+    if !deny_warnings || count == 0 {
+        return Ok(warnings);
+    }
+    let mut reports: Vec<Report> = warnings.into_iter().filter(is_warning).collect();
+    reports.push(miette::miette!(
+        code = "pvtc::deny_warnings",
+        "{count} warning(s) and --deny-warnings; nothing was written"
+    ));
+    Err(Failure::Input(reports))
+}
+
+/// True for a warning (not an error or a note): what `--deny-warnings` fails on.
+fn is_warning(report: &Report) -> bool {
+    report.severity() == Some(Severity::Warning)
+}
+
+/// How many of `reports` are warnings.
+fn warning_count(reports: &[Report]) -> usize {
+    reports.iter().filter(|r| is_warning(r)).count()
+}
+
 /// Prints diagnostics the way the command line asked.
 #[derive(Debug, Clone, Copy)]
 pub struct Reporter {
@@ -294,10 +321,7 @@ impl Reporter {
     /// Prints warnings; with `--deny-warnings` any warning fails the run.
     pub fn warnings(&self, reports: &[Report]) -> Result<(), ExitCode> {
         self.print_all(reports);
-        let denied = reports
-            .iter()
-            .filter(|r| r.severity() == Some(Severity::Warning))
-            .count();
+        let denied = warning_count(reports);
         if self.deny_warnings && denied > 0 {
             if !self.json {
                 eprintln!("error: {denied} warning(s) and --deny-warnings; nothing was written");

@@ -341,7 +341,7 @@ pub fn compile_to(
     }
     let source = Source::read(input)?;
     let compiled = compile_whole(&source, options, false)?;
-    let warnings = deny(compiled.warnings, deny_warnings)?;
+    let warnings = crate::report::deny(compiled.warnings, deny_warnings)?;
     std::io::Write::write_all(out, &compiled.bytes).map_err(|error| Failure::Io {
         path: "<output>".into(),
         action: "write",
@@ -387,7 +387,7 @@ pub fn compile_streaming(
             layout = check.layout.clone();
             check = write_pass(path, name, options, &gcode, &layout, &mut null)?;
         }
-        deny(outcome_warnings(path, name, options, check)?, deny_warnings)?;
+        crate::report::deny(outcome_warnings(path, name, options, check)?, deny_warnings)?;
     }
     let mut pass = write_pass(path, name, options, &gcode, &layout, out)?;
     if pass.layout != layout {
@@ -399,26 +399,7 @@ pub fn compile_streaming(
         out.restart().map_err(restart)?;
         pass = write_pass(path, name, options, &gcode, &pass.layout.clone(), out)?;
     }
-    deny(outcome_warnings(path, name, options, pass)?, deny_warnings)
-}
-
-/// The warnings, or, when any is a warning and `deny_warnings`, a failure holding them
-/// (sources and labels kept) and one error saying nothing was written.
-pub(crate) fn deny(
-    warnings: Vec<miette::Report>,
-    deny_warnings: bool,
-) -> Result<Vec<miette::Report>, Failure> {
-    let is_warning = |r: &miette::Report| r.severity() == Some(miette::Severity::Warning);
-    let count = warnings.iter().filter(|r| is_warning(r)).count();
-    if !deny_warnings || count == 0 {
-        return Ok(warnings);
-    }
-    let mut reports: Vec<miette::Report> = warnings.into_iter().filter(is_warning).collect();
-    reports.push(miette::miette!(
-        code = "pvtc::deny_warnings",
-        "{count} warning(s) and --deny-warnings; nothing was written"
-    ));
-    Err(Failure::Input(reports))
+    crate::report::deny(outcome_warnings(path, name, options, pass)?, deny_warnings)
 }
 
 /// What a pass ended with: its warnings, notes and summary, or its failure.

@@ -49,7 +49,7 @@ fn gcode(
     let (path, name) = (spooled.path.as_path(), spooled.name.as_str());
     let gcode = crate::front::gcode_options(options);
     let deny = args.pipeline.deny_warnings;
-    let warned = |warnings| crate::route::deny(crate::route::reports(path, name, warnings), deny);
+    let warned = |warnings| crate::report::deny(crate::route::reports(path, name, warnings), deny);
     output::write_with(args.output.as_deref(), |out| {
         if !out.can_restart() {
             // A stream keeps what it is given: errors and denied warnings come first.
@@ -79,7 +79,7 @@ fn drawing(
             ))
         }
     };
-    let warnings = crate::route::deny(warnings, args.pipeline.deny_warnings)?;
+    let warnings = crate::report::deny(warnings, args.pipeline.deny_warnings)?;
     output::write_with(args.output.as_deref(), |out: &mut Target<'_>| {
         let mut writer = ToolpathWriter::new(std::io::BufWriter::new(out));
         replay(&toolpath, &mut writer);
