@@ -648,16 +648,7 @@ fn compile_whole(
         Input::Toolpath(t) => (t.moved_axes(), t.units),
         Input::Series(s) => (s.axes.clone(), s.units),
     };
-    let mut plan_options = plan_options(options, units, &axes)?;
-    let plan_failed = |e: PlanError| plan_failure_in(source, &e);
-    if let Input::Series(series) = &input {
-        // A series is timed by its own times (as `pvt_core::plan_timed` plans it).
-        plan_options.timing = Timing::FromFeed;
-        series.points.validate().map_err(plan_failed)?;
-        if axes.len() != series.points.dim {
-            return Err(plan_failed(PlanError::BadShape));
-        }
-    }
+    let plan_options = whole_plan_options(&input, options, units, &axes, source)?;
     let interpolation = plan_options.interpolation();
     let emit_options = emit_options(options, &source.name, header_lines(options, units), units);
     let mut bytes = Vec::new();
@@ -678,45 +669,78 @@ fn compile_whole(
         events: Vec::new(),
     });
     let mut sink = PlanningSink::keeping(writer, axes.clone(), plan_options, max_piece, grid, kept)
-        .map_err(plan_failed)?;
-    let toolpath = match &input {
-        Input::Toolpath(toolpath) => {
-            pvt_core::traverse::replay(toolpath, &mut sink);
-            None
-        }
-        Input::Series(series) => {
-            push_series(&series.points, &mut sink.stage);
-            Some(series.toolpath())
-        }
-    };
+        .map_err(|e| plan_failure_in(source, &e))?;
+    push_whole(&input, &mut sink);
     // The writer (which borrows `bytes`) is dropped here.
     let finished = sink
         .finish_kept()
         .map(|(_, totals, report, program)| (totals, report, program));
     let (totals, report, program) = match finished {
-        Err(StreamFailure::Plan(e)) => return Err(plan_failed(e)),
+        Err(StreamFailure::Plan(e)) => return Err(plan_failure_in(source, &e)),
         Ok((totals, report, program)) => (totals, report, Ok(program)),
         Err(StreamFailure::Emit(e)) => (Totals::default(), PlanReport::default(), Err(e)),
     };
     check_pmac_axes(options, &axes)?;
     begun.map_err(|e| emit_failure(e, options, Some(source)))?;
     let program = program.map_err(|e| emit_failure(e, options, Some(source)))?;
-    warnings.extend(plan_notes(&report, options));
-    warnings.extend(summary_note(&report, &totals, units));
-    if options.format == Format::Pmac && options.quantize.is_none() {
-        warnings.extend(fractional_ms_report(totals.fractional_ms, totals.segments));
-    }
-    let toolpath = toolpath.unwrap_or_else(|| match input {
-        Input::Toolpath(toolpath) => toolpath,
-        Input::Series(series) => series.toolpath(),
-    });
+    warnings.extend(whole_notes(&report, &totals, units, options));
     Ok(Compiled {
         bytes,
         program,
-        toolpath,
+        toolpath: match input {
+            Input::Toolpath(toolpath) => toolpath,
+            Input::Series(series) => series.toolpath(),
+        },
         report,
         warnings,
     })
+}
+
+/// The planner's options for an input read whole: a series is timed by its own times
+/// and checked as `pvt_core::plan_timed` checks it (finite points, positive times, one
+/// coordinate per axis).
+fn whole_plan_options(
+    input: &Input,
+    options: &CompileOptions,
+    units: Units,
+    axes: &[Axis],
+    source: &Source,
+) -> Result<PlanOptions, Failure> {
+    let mut plan_options = plan_options(options, units, axes)?;
+    if let Input::Series(series) = input {
+        plan_options.timing = Timing::FromFeed;
+        let failed = |e: PlanError| plan_failure_in(source, &e);
+        series.points.validate().map_err(failed)?;
+        if axes.len() != series.points.dim {
+            return Err(failed(PlanError::BadShape));
+        }
+    }
+    Ok(plan_options)
+}
+
+/// Pushes an input read whole into the planning sink: a toolpath by the one traversal,
+/// a series point by point.
+fn push_whole<W: ProgramWriter>(input: &Input, sink: &mut PlanningSink<W>) {
+    match input {
+        Input::Toolpath(toolpath) => pvt_core::traverse::replay(toolpath, sink),
+        Input::Series(series) => push_series(&series.points, &mut sink.stage),
+    }
+}
+
+/// The notes on a program read whole: what planning changed, the path planner's
+/// summary and, for PMAC without a quantum, the piece times that are not whole ms.
+fn whole_notes(
+    report: &PlanReport,
+    totals: &Totals,
+    units: Units,
+    options: &CompileOptions,
+) -> Vec<Report> {
+    let mut notes = plan_notes(report, options);
+    notes.extend(summary_note(report, totals, units));
+    if options.format == Format::Pmac && options.quantize.is_none() {
+        notes.extend(fractional_ms_report(totals.fractional_ms, totals.segments));
+    }
+    notes
 }
 
 /// Pushes a series' points into `stage`, each with its time and any given velocity.
