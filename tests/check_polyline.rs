@@ -38,7 +38,7 @@ fn plan(text: &str) -> (pvt_core::PvtProgram, pvt_core::Toolpath) {
     options.feed = Some(1200.0);
     let source = Source::from_text("polyline.dxf", text);
     let (planned, toolpath, _) =
-        pvtc::pipeline::plan(&source, &options).unwrap_or_else(|f| panic!("{:?}", f.codes()));
+        pvtc::plan(&source, &options).unwrap_or_else(|f| panic!("{:?}", f.codes()));
     (planned.program, toolpath)
 }
 

@@ -16,19 +16,14 @@ use pvtc_tests::{root, samples};
 const SCALE: f64 = 1000.0;
 
 fn options(sample: &str, format: Format) -> CompileOptions {
-    let mut o = CompileOptions::new(format);
+    let mut asked = pvtc::Asked::default();
     if sample.ends_with(".dxf") {
-        o.input = pvtc::InputKind::Dxf;
-        o.feed = Some(1200.0);
-    }
-    if sample.ends_with(".csv") {
-        o.input = pvtc::InputKind::Csv;
-        o.planner = o.input.default_planner();
+        asked.feed = Some(1200.0);
     }
     if format.caps().scaled {
-        o.counts_per_unit = pvt_core::Axis::ALL.iter().map(|a| (*a, SCALE)).collect();
+        asked.counts_per_unit = pvt_core::Axis::ALL.iter().map(|a| (*a, SCALE)).collect();
     }
-    o
+    pvtc::settings::compile_options(&asked, sample, format)
 }
 
 /// The pieces the program holds, a dwell as a piece at rest where it happens.
@@ -366,7 +361,7 @@ mod rules_over_random_programs {
                 let mut o = CompileOptions::new(format);
                 // The grid the command line gives with a machine file (for Galil and
                 // Zaber, long enough for whole counts to keep the limits).
-                o.quantize = pvtc::pipeline::default_quantum(format, Some(&machine), &[]);
+                o.quantize = pvtc::settings::default_quantum(format, Some(&machine), &[]);
                 o.machine = Some(machine.clone());
                 let compiled = match compile(&source, &o) {
                     Ok(c) => c,

@@ -30,20 +30,17 @@ fn golden_name(sample: &str, format: Format) -> String {
 /// The options a sample is compiled with: defaults, for drawings a feed of 1200, for
 /// series the input's default planner, and for
 /// formats written in counts 1000 counts per unit on every axis.
+/// Built by the command line's own builder ([`pvtc::settings::compile_options`]), which
+/// takes the input kind from the name and the planner from the input.
 fn options_for(sample: &str, format: Format) -> CompileOptions {
-    let mut options = CompileOptions::new(format);
+    let mut asked = pvtc::Asked::default();
     if format.caps().scaled {
-        options.counts_per_unit = pvt_core::Axis::ALL.iter().map(|a| (*a, 1000.0)).collect();
+        asked.counts_per_unit = pvt_core::Axis::ALL.iter().map(|a| (*a, 1000.0)).collect();
     }
     if sample.ends_with(".dxf") {
-        options.input = pvtc::InputKind::Dxf;
-        options.feed = Some(1200.0);
+        asked.feed = Some(1200.0);
     }
-    if sample.ends_with(".csv") {
-        options.input = pvtc::InputKind::Csv;
-        options.planner = options.input.default_planner();
-    }
-    options
+    pvtc::settings::compile_options(&asked, sample, format)
 }
 
 fn check_golden(sample: &str) {
@@ -104,7 +101,7 @@ fn planned(
         name: sample.into(),
         bytes,
     };
-    let (planned, toolpath, _) = pvtc::pipeline::plan(&source, options).map_err(|f| f.codes())?;
+    let (planned, toolpath, _) = pvtc::plan(&source, options).map_err(|f| f.codes())?;
     Ok((planned.program, toolpath))
 }
 
@@ -815,7 +812,7 @@ fn stream_both_ways(
 ) -> (Vec<u8>, Vec<miette::Report>) {
     use pvtc::output::Target;
     let mut streamed = Vec::new();
-    let warnings = pvtc::stream::compile_streaming(
+    let warnings = pvtc::route::compile_streaming(
         path,
         name,
         options,
@@ -824,7 +821,7 @@ fn stream_both_ways(
     )
     .unwrap_or_else(|f| panic!("{name}: {:?}", f.codes()));
     let mut file = tempfile::tempfile().unwrap();
-    pvtc::stream::compile_streaming(
+    pvtc::route::compile_streaming(
         path,
         name,
         options,

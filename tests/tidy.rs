@@ -230,61 +230,226 @@ fn every_default_is_defined_once_in_pvt_core() {
     );
 }
 
-/// The pvtc modules each pvtc module names: `use crate::a::…`, `use crate::{a, b…}` and
-/// `crate::a::` paths in code (comments and test modules left out); the crate root is
-/// not a module here.
-fn pvtc_module_graph() -> std::collections::BTreeMap<String, Vec<String>> {
-    pvtc_imports().0
-}
+type Graph = std::collections::BTreeMap<String, Vec<String>>;
 
-/// pvtc's module graph (each module and the modules it names), and every place where a
-/// module names something of the crate root (`crate::x` with `x` no module).
-fn pvtc_imports() -> (std::collections::BTreeMap<String, Vec<String>>, Vec<String>) {
-    let src = root().join("crates/pvtc/src");
-    let modules: Vec<String> = rust_files(&src)
-        .iter()
-        .filter(|f| f.parent() == Some(src.as_path()))
-        .filter_map(|f| f.file_stem().map(|s| s.to_string_lossy().into_owned()))
-        .filter(|m| m != "lib" && m != "main")
-        .collect();
-    let mut graph = std::collections::BTreeMap::new();
-    let mut from_root = Vec::new();
-    for m in &modules {
-        let text = std::fs::read_to_string(src.join(format!("{m}.rs"))).unwrap();
-        let code: String = non_test_code(m, &text)
+/// A crate's modules by path (`crate` for the root, `plan::path::curve`), each with its
+/// non-test code, comments left out. Test modules (`tests.rs`, `*_tests.rs`) and
+/// `main.rs` are not modules of the library.
+fn crate_modules(krate: &str) -> std::collections::BTreeMap<String, String> {
+    let src = root().join("crates").join(krate).join("src");
+    let mut modules = std::collections::BTreeMap::new();
+    for file in rust_files(&src) {
+        let relative = file.strip_prefix(&src).unwrap().display().to_string();
+        let name = relative.trim_end_matches(".rs");
+        let name = name.strip_suffix("/mod").unwrap_or(name);
+        if name == "main" || name.ends_with("tests") {
+            continue;
+        }
+        let path = match name {
+            "lib" => "crate".to_string(),
+            _ => name.replace('/', "::"),
+        };
+        let text = std::fs::read_to_string(&file).unwrap();
+        let code: Vec<&str> = non_test_code(&relative, &text)
             .lines()
             .map(|l| l.split("//").next().unwrap_or(""))
-            .collect::<Vec<_>>()
-            .join("\n");
-        let mut named = Vec::new();
-        for (i, _) in code.match_indices("crate::") {
-            let rest = &code[i + "crate::".len()..];
-            let names: Vec<&str> = if let Some(group) = rest.strip_prefix('{') {
-                // `use crate::{a, b::c}`: the first word of each item.
-                let group = group.split('}').next().unwrap_or("");
-                group.split(',').map(|item| item.trim()).collect()
-            } else {
-                vec![rest]
-            };
-            for name in names {
-                let word: String = name
-                    .chars()
-                    .take_while(|c| c.is_alphanumeric() || *c == '_')
-                    .collect();
-                if !word.is_empty() && !modules.contains(&word) {
-                    from_root.push(format!("{m}.rs: crate::{word}"));
-                } else if word != *m && !named.contains(&word) {
-                    named.push(word);
+            .collect();
+        modules.insert(path, code.join("\n"));
+    }
+    modules
+}
+
+/// The parent of module `m` (`crate` for a top-level module).
+fn parent_of(m: &str) -> String {
+    match m.rsplit_once("::") {
+        Some((parent, _)) => parent.to_string(),
+        None if m == "crate" => "crate".to_string(),
+        None => "crate".to_string(),
+    }
+}
+
+/// `child` of module `m` as a module path.
+fn child_of(m: &str, child: &str) -> String {
+    match m {
+        "crate" => child.to_string(),
+        _ => format!("{m}::{child}"),
+    }
+}
+
+/// The `use` statements of `code` (each from `use` to its `;`), with whether each is a
+/// re-export (`pub use`, `pub(crate) use`).
+fn use_statements(code: &str) -> Vec<(bool, String)> {
+    let mut out = Vec::new();
+    for (at, _) in code.match_indices("use ") {
+        let before = &code[..at];
+        let line_start = before.rfind('\n').map_or(0, |n| n + 1);
+        let lead = before[line_start..].trim();
+        if !(lead.is_empty() || lead.starts_with("pub")) {
+            continue;
+        }
+        let Some(end) = code[at..].find(';') else {
+            continue;
+        };
+        let body: String = code[at + 4..at + end].split_whitespace().collect();
+        out.push((lead.starts_with("pub"), body));
+    }
+    out
+}
+
+/// The items of a use tree (`a::{b, c::{d, e as f}}`): each full path and the name it
+/// is known by.
+fn use_items(tree: &str) -> Vec<(String, String)> {
+    fn expand(prefix: &str, tree: &str, out: &mut Vec<(String, String)>) {
+        if let Some(open) = tree.find('{') {
+            let head = &tree[..open];
+            let inner = &tree[open + 1..tree.rfind('}').unwrap_or(tree.len())];
+            let mut depth = 0;
+            let mut start = 0;
+            let mut parts = Vec::new();
+            for (i, c) in inner.char_indices() {
+                match c {
+                    '{' => depth += 1,
+                    '}' => depth -= 1,
+                    ',' if depth == 0 => {
+                        parts.push(&inner[start..i]);
+                        start = i + 1;
+                    }
+                    _ => {}
                 }
+            }
+            parts.push(&inner[start..]);
+            for part in parts.into_iter().filter(|p| !p.is_empty()) {
+                expand(&format!("{prefix}{head}"), part, out);
+            }
+            return;
+        }
+        let (path, alias) = match tree.split_once("as") {
+            Some((p, a)) if tree.contains("::") || !a.is_empty() => (p, Some(a)),
+            _ => (tree, None),
+        };
+        let full = format!("{prefix}{path}");
+        let full = full.trim_end_matches("::self").to_string();
+        let name = alias
+            .map(str::to_string)
+            .unwrap_or_else(|| full.rsplit("::").next().unwrap_or("").to_string());
+        out.push((full, name));
+    }
+    let mut out = Vec::new();
+    expand("", tree, &mut out);
+    out
+}
+
+/// The module a path written in module `m` names: the longest run of its segments that
+/// is a module, then a name that module re-exports followed to where it is defined
+/// (`reexports`). `None` for another crate's path.
+fn resolve(
+    m: &str,
+    path: &str,
+    modules: &std::collections::BTreeMap<String, String>,
+    reexports: &std::collections::BTreeMap<(String, String), String>,
+    depth: usize,
+) -> Option<String> {
+    let mut segments = path.split("::").filter(|s| !s.is_empty()).peekable();
+    let mut at = match *segments.peek()? {
+        "crate" => {
+            segments.next();
+            "crate".to_string()
+        }
+        "super" => {
+            let mut at = m.to_string();
+            while segments.peek() == Some(&"super") {
+                segments.next();
+                at = parent_of(&at);
+            }
+            at
+        }
+        "self" => {
+            segments.next();
+            m.to_string()
+        }
+        first if modules.contains_key(&child_of(m, first)) => m.to_string(),
+        _ => return None,
+    };
+    for segment in segments {
+        let child = child_of(&at, segment);
+        if modules.contains_key(&child) {
+            at = child;
+            continue;
+        }
+        if let Some(target) = reexports.get(&(at.clone(), segment.to_string())) {
+            if depth < 8 {
+                if let Some(found) = resolve(&at, target, modules, reexports, depth + 1) {
+                    return Some(found);
+                }
+            }
+        }
+        break;
+    }
+    Some(at)
+}
+
+/// The module graph of a member crate: each module (the root `crate` included) and the
+/// modules its code and imports name, with names re-exported (by the root or a façade)
+/// followed to the module that defines them. A module naming its own descendants (the
+/// modules it declares, a façade re-exporting them) is no edge.
+fn module_graph(krate: &str) -> Graph {
+    let modules = crate_modules(krate);
+    let mut reexports = std::collections::BTreeMap::new();
+    for (m, code) in &modules {
+        for (public, tree) in use_statements(code) {
+            if public {
+                for (full, name) in use_items(&tree) {
+                    reexports.insert((m.clone(), name), full);
+                }
+            }
+        }
+    }
+    let mut graph = Graph::new();
+    for (m, code) in &modules {
+        let mut paths: Vec<String> = Vec::new();
+        for (_, tree) in use_statements(code) {
+            paths.extend(use_items(&tree).into_iter().map(|(full, _)| full));
+        }
+        let statements: Vec<String> = use_statements(code).into_iter().map(|u| u.1).collect();
+        for prefix in ["crate::", "super::"] {
+            for (at, _) in code.match_indices(prefix) {
+                let path: String = code[at..]
+                    .chars()
+                    .take_while(|c| c.is_alphanumeric() || *c == '_' || *c == ':')
+                    .collect();
+                if !statements.iter().any(|s| s.contains(&path)) {
+                    paths.push(path);
+                }
+            }
+        }
+        let mut named: Vec<String> = Vec::new();
+        for path in paths {
+            let Some(target) = resolve(m, &path, &modules, &reexports, 0) else {
+                continue;
+            };
+            let descendant = m == "crate" || target.starts_with(&format!("{m}::"));
+            if target != *m && !descendant && !named.contains(&target) {
+                named.push(target);
             }
         }
         graph.insert(m.clone(), named);
     }
+    graph
+}
+
+/// pvtc's module graph and every place where a module names the crate root itself.
+fn pvtc_imports() -> (Graph, Vec<String>) {
+    let graph = module_graph("pvtc");
+    let from_root = graph
+        .iter()
+        .filter(|(_, named)| named.iter().any(|n| n == "crate"))
+        .map(|(m, _)| format!("{m}: names something defined in lib.rs"))
+        .collect();
     (graph, from_root)
 }
 
 /// A cycle of `graph` as the modules along it, if there is one.
-fn find_cycle(graph: &std::collections::BTreeMap<String, Vec<String>>) -> Option<Vec<String>> {
+fn find_cycle(graph: &Graph) -> Option<Vec<String>> {
     fn visit(
         m: &str,
         graph: &std::collections::BTreeMap<String, Vec<String>>,
@@ -337,14 +502,68 @@ fn the_cycle_finder_finds_cycles() {
 
 #[test]
 fn pvtc_modules_import_each_other_without_a_cycle() {
-    let graph = pvtc_module_graph();
-    // The graph is read: the modules that carry the compile name their inputs.
+    let graph = module_graph("pvtc");
+    // The graph is read: the route names the front ends and the settings, the settings
+    // the options, and a command's module in `commands/` the route.
+    assert!(graph["route"].contains(&"front".to_string()), "{graph:?}");
     assert!(
-        graph["pipeline"].contains(&"front".to_string()),
+        graph["route"].contains(&"settings".to_string()),
         "{graph:?}"
     );
-    assert!(graph["front"].contains(&"options".to_string()), "{graph:?}");
+    assert!(
+        graph["settings"].contains(&"options".to_string()),
+        "{graph:?}"
+    );
+    assert!(
+        graph["commands::batch"].contains(&"route".to_string()),
+        "{graph:?}"
+    );
     assert_eq!(find_cycle(&graph), None, "pvtc's module imports: {graph:?}");
+}
+
+#[test]
+fn the_module_graph_follows_re_exports() {
+    // plan/driver.rs imports `super::{plan_contour, …}`: plan/mod.rs re-exports it from
+    // plan/contour.rs, where the edge goes; `crate::stream::…` names the stage.
+    let graph = module_graph("pvt-core");
+    let driver = &graph["plan::driver"];
+    assert!(driver.contains(&"plan::contour".to_string()), "{driver:?}");
+    assert!(driver.contains(&"stream".to_string()), "{driver:?}");
+    // pvtc's root re-exports its option types; the root's own uses are no edges back.
+    let pvtc = module_graph("pvtc");
+    assert!(pvtc["crate"].is_empty(), "{:?}", pvtc["crate"]);
+}
+
+/// Import edges that close a cycle and that a branch still being merged rewrites; each
+/// names the branch. Nothing else may close one.
+const CYCLE_EDGES_BEING_REMOVED: [(&str, &str); 2] = [
+    // pvt-core's stage (stream.rs) calls the planners' dispatch (plan/driver.rs), which
+    // feeds whole toolpaths into the stage: branch `stream` removes this cycle.
+    ("plan::driver", "stream"),
+    // The path planner's knots (knots.rs: speeds, repairs) build its pieces (pieces.rs),
+    // which read the knots' speed caps and jerk back: branches `stream` and `jerk`
+    // rewrite plan/path/ this round; the cycle is theirs to cut.
+    ("plan::path::pieces", "plan::path::knots"),
+];
+
+#[test]
+fn pvt_core_and_pvt_gcode_modules_import_each_other_without_a_cycle() {
+    let mut cycles = Vec::new();
+    for krate in ["pvt-core", "pvt-gcode"] {
+        let mut graph = module_graph(krate);
+        for (from, to) in CYCLE_EDGES_BEING_REMOVED {
+            if let Some(named) = graph.get_mut(from) {
+                named.retain(|n| n != to);
+            }
+        }
+        // Every cycle, each found one cut at its last edge to find the next.
+        while let Some(cycle) = find_cycle(&graph) {
+            let (from, to) = (&cycle[cycle.len() - 2], &cycle[cycle.len() - 1]);
+            graph.get_mut(from).unwrap().retain(|n| n != to);
+            cycles.push(format!("{krate}: {}", cycle.join(" -> ")));
+        }
+    }
+    assert!(cycles.is_empty(), "import cycles: {cycles:#?}");
 }
 
 #[test]
@@ -378,5 +597,185 @@ fn no_pvtc_module_imports_from_the_crate_root() {
     assert!(
         from_root.is_empty(),
         "lib.rs is the dispatcher alone; name the module that owns it instead: {from_root:?}"
+    );
+}
+
+#[test]
+fn pvtc_applies_defaults_in_settings_alone() {
+    // A default named by pvtc: pvt-core's `defaults` or a front end's `DEFAULT_…`.
+    const HOME: &str = "crates/pvtc/src/settings.rs";
+    let found: Vec<String> = crate_sources()
+        .into_iter()
+        .filter(|(name, _)| name.starts_with("crates/pvtc/src/") && name != HOME)
+        .flat_map(|(name, text)| {
+            non_test_code(&name, &text)
+                .lines()
+                .enumerate()
+                .filter(|(_, l)| {
+                    let code = l.split("//").next().unwrap_or("");
+                    code.contains("defaults::") || code.contains("DEFAULT_")
+                })
+                .map(|(i, _)| format!("{name}:{}", i + 1))
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    assert!(
+        found.is_empty(),
+        "pvtc applies a default in {HOME} alone (its one builder of CompileOptions): {found:?}"
+    );
+}
+
+/// The layer of a workspace crate: pvt-core at the bottom, the front and back ends on
+/// it, the command line on top.
+fn crate_layer(name: &str) -> Option<usize> {
+    match name {
+        "pvt-core" => Some(0),
+        "pvt-gcode" | "pvt-dxf" | "pvt-csv" | "pvt-emit" => Some(1),
+        "pvtc" => Some(2),
+        _ => None,
+    }
+}
+
+#[test]
+fn crates_depend_only_on_lower_layers() {
+    let mut wrong = Vec::new();
+    for krate in member_crates() {
+        let manifest =
+            std::fs::read_to_string(root().join("crates").join(&krate).join("Cargo.toml")).unwrap();
+        let layer = crate_layer(&krate).unwrap_or_else(|| panic!("{krate} has no layer"));
+        let mut section = "";
+        for line in manifest.lines().map(str::trim) {
+            if line.starts_with('[') {
+                section = line;
+                continue;
+            }
+            let dependency = line.split(['.', '=', ' ']).next().unwrap_or("");
+            let Some(below) = crate_layer(dependency) else {
+                continue;
+            };
+            // Tests and benches may use any crate below the top; libraries only lower ones.
+            let normal = section == "[dependencies]";
+            if (normal && below >= layer) || (!normal && below > layer) {
+                wrong.push(format!("{krate} {section} -> {dependency}"));
+            }
+        }
+    }
+    assert!(
+        wrong.is_empty(),
+        "a crate depends on its own layer or one above it: {wrong:?}"
+    );
+}
+
+#[test]
+fn pvtc_compiles_by_one_route() {
+    // What runs the phases: the planning stage, the planners' whole-program entries, a
+    // back end's writer, the whole-program emit and the long-piece cut.
+    const PHASES: [&str; 9] = [
+        "PlanStage",
+        "plan_toolpath_report",
+        "plan_timed",
+        "emit_to_vec",
+        "pvt_emit::emit(",
+        "Checked::new",
+        ".writer(",
+        "PieceSplitter",
+        "split_long_pieces",
+    ];
+    const HOME: &str = "crates/pvtc/src/route.rs";
+    let mut found = Vec::new();
+    for (name, text) in crate_sources() {
+        if !name.starts_with("crates/pvtc/src/") || name == HOME {
+            continue;
+        }
+        for (i, line) in non_test_code(&name, &text).lines().enumerate() {
+            let code = line.split("//").next().unwrap_or("");
+            if let Some(phase) = PHASES.iter().find(|p| code.contains(*p)) {
+                found.push(format!("{name}:{}: {phase}", i + 1));
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "pvtc runs the phases in {HOME} alone (one compile route): {found:?}"
+    );
+}
+
+#[test]
+fn pvt_core_plan_module_is_a_facade() {
+    // plan/mod.rs holds `mod` lines and re-exports, nothing that computes or defines.
+    let text = std::fs::read_to_string(root().join("crates/pvt-core/src/plan/mod.rs")).unwrap();
+    let code = non_test_code("plan/mod.rs", &text);
+    let mut statement = String::new();
+    let mut other = Vec::new();
+    for line in code.lines().map(str::trim) {
+        if line.is_empty() || line.starts_with("//") || line.starts_with("#[") {
+            continue;
+        }
+        statement.push_str(line);
+        if !line.ends_with(';') {
+            continue;
+        }
+        let allowed = ["mod ", "pub mod ", "pub use ", "pub(crate) use ", "use "];
+        if !allowed.iter().any(|a| statement.starts_with(a)) {
+            other.push(statement.clone());
+        }
+        statement.clear();
+    }
+    assert!(
+        other.is_empty() && statement.is_empty(),
+        "plan/mod.rs is a façade: {other:?} {statement:?}"
+    );
+}
+
+/// Places outside pvtc's settings.rs that resolve a default of their own crate's option
+/// type, each with why (file, the default named).
+const OWN_DEFAULTS: [(&str, &str); 4] = [
+    // PlanOptions::path_options: a plan without a servo period (no machine file).
+    ("crates/pvt-core/src/plan/options.rs", "SERVO_PERIOD_S"),
+    // check_program: a CheckOptions with a servo period that is no period.
+    ("crates/pvt-core/src/check/mod.rs", "SERVO_PERIOD_S"),
+    // read_drawing: the join tolerance in the drawing's units, known once it is read.
+    ("crates/pvt-dxf/src/lib.rs", "DEFAULT_JOIN_MM"),
+    // DxfOptions::with_feed, the type's defaults (no Default: a drawing needs a feed).
+    ("crates/pvt-dxf/src/lib.rs", "DEFAULT_MAX_POINTS"),
+];
+
+#[test]
+fn libraries_apply_defaults_in_their_own_default_or_one_resolution() {
+    // Outside pvt-core's defaults.rs (and pvtc, held to settings.rs above), a default is
+    // named only by a type's own `impl Default`, a re-export or alias of the constant,
+    // a call of a shared resolution (`defaults::rapid_per_minute`, `defaults::tolerance`)
+    // or one of OWN_DEFAULTS.
+    let mut found = Vec::new();
+    for (name, text) in crate_sources() {
+        if name.starts_with("crates/pvtc/") || name == "crates/pvt-core/src/defaults.rs" {
+            continue;
+        }
+        let mut in_default_impl = false;
+        for (i, line) in non_test_code(&name, &text).lines().enumerate() {
+            let code = line.split("//").next().unwrap_or("");
+            if code.starts_with("impl") {
+                in_default_impl = code.starts_with("impl Default for");
+            } else if code.starts_with('}') {
+                in_default_impl = false;
+            }
+            let names_default = code.contains("defaults::") || code.contains("DEFAULT_");
+            let t = code.trim_start();
+            let allowed = in_default_impl
+                || t.starts_with("pub use ")
+                || t.starts_with("pub const ")
+                || code.contains("defaults::rapid_per_minute(")
+                || code.contains("defaults::tolerance(")
+                || OWN_DEFAULTS
+                    .iter()
+                    .any(|(file, constant)| name == *file && code.contains(constant));
+            if names_default && !allowed {
+                found.push(format!("{name}:{}: {}", i + 1, code.trim()));
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "a default applied outside a Default, a shared resolution or OWN_DEFAULTS: {found:#?}"
     );
 }

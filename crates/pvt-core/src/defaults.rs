@@ -4,8 +4,9 @@
 //! gives a value: the rapid rate, the tolerances, the DXF join tolerance and point limit,
 //! the servo period `check` samples at. Front ends, the planners and the CLI refer to
 //! these constants and never write the numbers again (`tests/tidy.rs` checks the rapid
-//! rate). It must hold only constants: resolving an option against its default (and
-//! converting it into a program's units) is the caller's job, done once per compile.
+//! rate). Beside the constants it holds the resolutions that depend on a program's units
+//! ([`rapid_per_minute`], [`tolerance`]), one function each, which the front ends and
+//! pvtc's settings all call. It must hold nothing else.
 
 /// Rapid (G0) rate, millimetres per minute, converted into the program's units.
 pub const RAPID_MM_PER_MIN: f64 = 5000.0;
@@ -31,3 +32,19 @@ pub const DXF_MAX_POINTS: usize = 2_000_000;
 
 /// Servo period `check` samples at, seconds (seed 001's XMP: 500 µs).
 pub const SERVO_PERIOD_S: f64 = 0.0005;
+
+/// The rapid rate of a program in `units`, per minute: `given` when it is a positive,
+/// finite rate, else [`RAPID_MM_PER_MIN`] converted. The front ends plan rapids with it
+/// and pvtc's header prints it.
+pub fn rapid_per_minute(given: Option<f64>, units: crate::axis::Units) -> f64 {
+    match given {
+        Some(rate) if rate > 0.0 && rate.is_finite() => rate,
+        _ => units.from_mm(RAPID_MM_PER_MIN),
+    }
+}
+
+/// The tolerance of a program in `units`: `given`, else [`TOLERANCE_MM`] converted. pvtc
+/// plans with it and pvt-dxf flattens curves with it.
+pub fn tolerance(given: Option<f64>, units: crate::axis::Units) -> f64 {
+    given.unwrap_or_else(|| units.from_mm(TOLERANCE_MM))
+}

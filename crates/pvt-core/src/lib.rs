@@ -4,8 +4,10 @@
 //! arc discretization by chord tolerance ([`discretize`]), the planners ([`plan`]) and the
 //! cubic Hermite evaluation a controller performs ([`hermite`]), long pieces cut along
 //! their own cubic for controllers with a largest piece time ([`split`]) and the check of
-//! a planned program against limits and its source ([`check`]), line/column
-//! positions in source text ([`text`]) and every default value ([`defaults`]).
+//! a planned program against limits and its source ([`check`]), the machine model
+//! both use ([`limits`]), line/column
+//! positions in source text ([`text`]), the one walk of a toolpath or program
+//! ([`traverse`]) and every default value ([`defaults`]).
 //!
 //! Architecture invariants:
 //! - this crate does no I/O and knows no file format: front ends produce a [`Toolpath`],
@@ -20,6 +22,7 @@ pub mod compensate;
 pub mod defaults;
 pub mod discretize;
 pub mod hermite;
+pub mod limits;
 pub mod plan;
 pub mod polyline;
 pub mod program;
@@ -27,15 +30,16 @@ pub mod split;
 pub mod stream;
 pub mod text;
 pub mod toolpath;
+pub mod traverse;
 pub mod vector;
 
 pub use axis::{Axis, Position, Units, AXIS_COUNT};
 pub use check::{
-    check_program, AxisLimits, AxisReport, CheckOptions, CheckReport, Peak, Quantity, SpeedReport,
-    Violation,
+    check_program, AxisReport, CheckOptions, CheckReport, Peak, Quantity, SpeedReport, Violation,
 };
 pub use discretize::{flatten_contour, ChordTolerance};
 pub use hermite::{HermiteSegment, State};
+pub use limits::{AxisLimits, MachineLimits};
 pub use plan::{
     plan_contour, plan_path, plan_timed, plan_toolpath, plan_toolpath_report, PathOptions,
     PathReport, PathStream, PlanOptions, PlanReport, Planned, Planner, Quantum, Rounding,

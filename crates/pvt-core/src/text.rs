@@ -1,5 +1,6 @@
-//! Positions in source text: a byte offset to its 1-based line and column, and a 1-based
-//! line to its byte range.
+//! Positions in source text: a byte offset to its 1-based line and column, a 1-based
+//! line to its byte range, and [`SourceLocation`], where a span is as a person reads it
+//! ([`crate::toolpath::Span::location`], in the manner of naga's `Span::location`).
 //!
 //! Owns the only line/column arithmetic of the workspace: every front end and the CLI
 //! call these (or miette's `SourceCode`, which answers the same questions for a
@@ -10,6 +11,40 @@ use std::ops::Range;
 
 /// The UTF-8 byte order mark, which editors may put before the first line.
 const BOM: char = '\u{feff}';
+
+/// Where a span of source text is, as a person reads it: the one type every front end's
+/// and the CLI's line and column take.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct SourceLocation {
+    /// 1-based line of the span's start.
+    pub line: u32,
+    /// 1-based column of the span's start, in characters (a byte order mark not counted).
+    pub column: u32,
+    /// Byte offset of the span's start.
+    pub offset: usize,
+    /// Length of the span, bytes.
+    pub length: usize,
+}
+
+impl SourceLocation {
+    /// Where the byte range `span` of `source` is.
+    pub fn of(source: &str, span: Range<usize>) -> SourceLocation {
+        let (line, column) = line_col(source, span.start);
+        SourceLocation {
+            line: u32::try_from(line).unwrap_or(u32::MAX),
+            column: u32::try_from(column).unwrap_or(u32::MAX),
+            offset: span.start,
+            length: span.end.saturating_sub(span.start),
+        }
+    }
+}
+
+impl crate::toolpath::Span {
+    /// Where this span is in `source`, the text it was read from.
+    pub fn location(&self, source: &str) -> SourceLocation {
+        SourceLocation::of(source, self.start..self.end)
+    }
+}
 
 /// The 1-based line and column (in characters, a byte order mark not counted) of a byte
 /// offset in `source`.
@@ -73,6 +108,19 @@ mod tests {
         assert_eq!(line_of(b"a\n\xffb\n", 3), 2);
         assert_eq!(line_of(b"a\n", 2), 2);
         assert_eq!(line_of(b"a\n", 99), 2);
+    }
+
+    #[test]
+    fn a_span_knows_its_location() {
+        let src = "G0 X1\nG1 é Y2\r\nG2";
+        let span = crate::toolpath::Span {
+            start: 12,
+            end: 14,
+            line: 2,
+        };
+        let location = span.location(src);
+        assert_eq!((location.line, location.column), (2, 6));
+        assert_eq!((location.offset, location.length), (12, 2));
     }
 
     #[test]

@@ -204,11 +204,8 @@ fn diagnose(
     message: String,
     span: Range<usize>,
 ) -> CsvDiagnostic {
-    let (line, column) = pvt_core::text::line_col(source, span.start);
-    let (line, column) = (
-        u32::try_from(line).unwrap_or(u32::MAX),
-        u32::try_from(column).unwrap_or(u32::MAX),
-    );
+    let pvt_core::text::SourceLocation { line, column, .. } =
+        pvt_core::text::SourceLocation::of(source, span.clone());
     CsvDiagnostic {
         kind,
         message,

@@ -49,7 +49,7 @@ pub mod source;
 use std::collections::BTreeMap;
 use std::io::Cursor;
 
-use pvt_core::{ChordTolerance, Span, Toolpath, Units};
+use pvt_core::{Span, Toolpath, Units};
 
 pub use diag::{DxfDiagnostic, DxfError, DxfErrors, EntityRef};
 pub use entities::MAX_ZERO_LENGTH_WARNINGS;
@@ -194,17 +194,12 @@ pub fn read_drawing(bytes: &[u8], options: &DxfOptions) -> Result<Drawing, DxfEr
         },
     };
     let to_output = drawing_mm.unwrap_or(1.0) / units.mm_per_unit();
-    let tolerance = options
-        .tolerance
-        .unwrap_or_else(|| units.from_mm(ChordTolerance::DEFAULT_MM));
+    let tolerance = pvt_core::defaults::tolerance(options.tolerance, units);
     let join = options
         .join_tolerance
         .unwrap_or_else(|| units.from_mm(DEFAULT_JOIN_MM).max(tolerance));
     let feed = options.feed / 60.0;
-    let rapid = options
-        .rapid
-        .unwrap_or_else(|| units.from_mm(DEFAULT_RAPID_MM_PER_MIN))
-        / 60.0;
+    let rapid = pvt_core::defaults::rapid_per_minute(options.rapid, units) / 60.0;
 
     // Entities the `dxf` crate skipped, from the raw scan.
     let unknown: Vec<&source::Record> = source

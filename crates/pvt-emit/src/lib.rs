@@ -34,6 +34,7 @@ pub mod validate;
 pub mod xps;
 pub mod zaber;
 
+use pvt_core::traverse::Step;
 use pvt_core::{Axis, PvtProgram};
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -203,22 +204,21 @@ pub fn emit(
         options,
     };
     writer.begin(&header)?;
-    let mut events = program.events.iter().peekable();
-    for (index, contour) in program.contours.iter().enumerate() {
-        while let Some(event) = events.next_if(|e| e.before_contour <= index) {
-            writer.event(event)?;
+    for step in pvt_core::traverse::program(program) {
+        match step {
+            Step::Event(event) => writer.event(event)?,
+            Step::PathTolerance(_) => {}
+            Step::Contour(contour) => {
+                writer.contour(
+                    contour.motion,
+                    &contour.start,
+                    contour.lines.first().copied().unwrap_or(0),
+                )?;
+                for seg in contour.segments() {
+                    writer.segment(&seg)?;
+                }
+            }
         }
-        writer.contour(
-            contour.motion,
-            &contour.start,
-            contour.lines.first().copied().unwrap_or(0),
-        )?;
-        for seg in contour.segments() {
-            writer.segment(&seg)?;
-        }
-    }
-    for event in events {
-        writer.event(event)?;
     }
     writer.finish()?;
     Ok(())

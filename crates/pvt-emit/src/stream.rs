@@ -105,6 +105,8 @@ pub struct Checked<W> {
     at: (Vec<f64>, Vec<f64>),
     /// A trigger fired at the end of the last segment written.
     triggered: bool,
+    /// The back end took the header: nothing reaches it before, nor after a refusal.
+    begun: bool,
 }
 
 /// A failure while streaming: a bad value or an I/O error.
@@ -139,6 +141,7 @@ impl<W: ProgramWriter> Checked<W> {
             triggers: None,
             at: (Vec::new(), Vec::new()),
             triggered: false,
+            begun: false,
         }
     }
 
@@ -160,7 +163,20 @@ impl<W: ProgramWriter> Checked<W> {
             let shortest = caps.min_piece_seconds;
             self.triggers = Some(TriggerClock::new(triggers, header.axes, shortest));
         }
-        Ok(self.inner.begin(header)?)
+        self.inner.begin(header)?;
+        self.begun = true;
+        Ok(())
+    }
+
+    /// An error unless [`Checked::begin`] succeeded: a refused header (its error already
+    /// returned to the caller) stops everything after it.
+    fn ready(&self) -> Result<(), StreamError> {
+        if self.begun {
+            return Ok(());
+        }
+        Err(StreamError::Io(io::Error::other(
+            "the output's header was refused, so nothing more is written",
+        )))
     }
 
     /// Starts a contour at rest at `start`, after checking it.
@@ -172,6 +188,7 @@ impl<W: ProgramWriter> Checked<W> {
 
     /// Writes a segment, after checking it.
     pub fn segment(&mut self, segment: &SegmentRef<'_>) -> Result<(), StreamError> {
+        self.ready()?;
         if let Some((motion, start)) = self.pending.take() {
             self.contour += 1;
             self.segment = 0;
@@ -229,11 +246,13 @@ impl<W: ProgramWriter> Checked<W> {
 
     /// Writes an event at rest between contours.
     pub fn event(&mut self, event: &ProgramEvent) -> Result<(), StreamError> {
+        self.ready()?;
         Ok(self.inner.event(event)?)
     }
 
     /// Ends the program and returns the back end.
     pub fn finish(mut self) -> Result<W, StreamError> {
+        self.ready()?;
         if let Some(rules) = self.rules.as_mut() {
             rules.finish(self.contour)?;
         }

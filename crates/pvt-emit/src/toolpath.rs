@@ -161,25 +161,9 @@ impl<W: Write> ToolpathSink for ToolpathWriter<W> {
 }
 
 /// Hands a whole [`pvt_core::Toolpath`] to `sink` in program order, as a streaming front
-/// end would.
+/// end would ([`pvt_core::traverse::replay`], the one traversal).
 pub fn replay(toolpath: &pvt_core::Toolpath, sink: &mut dyn ToolpathSink) {
-    let mut events = toolpath.events.iter().peekable();
-    let mut tolerances = toolpath.path_tolerances.iter().peekable();
-    for (index, contour) in toolpath.contours.iter().enumerate() {
-        while let Some(event) = events.next_if(|e| e.before_contour <= index) {
-            sink.event(&event.kind, event.line);
-        }
-        while let Some((_, tolerance)) = tolerances.next_if(|(at, _)| *at <= index) {
-            sink.path_tolerance(*tolerance);
-        }
-        for element in &contour.elements {
-            sink.element(contour.motion, element);
-        }
-        sink.end_contour();
-    }
-    for event in events {
-        sink.event(&event.kind, event.line);
-    }
+    pvt_core::traverse::replay(toolpath, sink);
 }
 
 #[cfg(test)]

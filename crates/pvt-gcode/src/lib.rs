@@ -73,6 +73,7 @@ mod request;
 mod sink;
 mod subprogram;
 mod syntax;
+mod tokens;
 mod tools;
 mod value;
 

@@ -218,11 +218,11 @@ pub(crate) struct Origin {
 impl Origin {
     /// `diagnostic` (spans in the subroutine file) shown at the call.
     pub fn wrap(&self, diagnostic: GcodeDiagnostic) -> GcodeDiagnostic {
-        let (line, column) = crate::line_col(&self.file.text, diagnostic.span().start);
+        let at = pvt_core::text::SourceLocation::of(&self.file.text, diagnostic.span());
         GcodeDiagnostic::InSubroutineFile {
             file: self.file.name.clone(),
-            line,
-            column,
+            line: at.line as usize,
+            column: at.column as usize,
             inner_code: diagnostic.code(),
             inner: Box::new(diagnostic),
             span: span(self.call.clone()),
@@ -899,7 +899,7 @@ impl<'a> Reader<'a> {
                         control.label, control.keyword
                     )
                     .to_lowercase(),
-                    span: span(at..at + crate::parser::token_len(rest)),
+                    span: span(at..at + crate::tokens::token_len(rest)),
                 });
             }
             values.push(reader.real_value()?);

@@ -9,7 +9,7 @@
 
 use crate::diagnostic::{span, GcodeDiagnostic};
 use crate::params::{normalize, Parameters, ReadProblem, MAX_NUMBERED};
-use crate::parser;
+use crate::tokens;
 
 /// How deep brackets and `#` indirections may nest.
 const MAX_DEPTH: u32 = 32;
@@ -112,7 +112,7 @@ impl<'a> Reader<'a> {
     }
 
     fn syntax_here(&self, detail: String) -> GcodeDiagnostic {
-        let len = parser::token_len(self.rest());
+        let len = tokens::token_len(self.rest());
         GcodeDiagnostic::Syntax {
             detail,
             hint: HINT_EXPRESSION,
@@ -143,7 +143,7 @@ impl<'a> Reader<'a> {
             Some(c) if c.is_ascii_alphabetic() => self.function()?,
             _ if sign.is_some() => {
                 let start = self.top_start(self.pos - 1);
-                let len = parser::token_len(self.rest());
+                let len = tokens::token_len(self.rest());
                 return Err(GcodeDiagnostic::Syntax {
                     detail: "a sign must be followed by a value".to_owned(),
                     hint: HINT_EXPRESSION,
@@ -165,31 +165,31 @@ impl<'a> Reader<'a> {
     /// A plain number (blanks allowed between its digits); no exponent may follow.
     pub fn number(&mut self) -> Result<f64> {
         let rest = self.rest();
-        let Ok((after, text)) = parser::number(rest) else {
+        let Ok((after, text)) = tokens::number(rest) else {
             let detail = match rest.chars().next() {
                 Some(c) => format!("expected a number, found `{}`", c.escape_debug()),
                 None => "expected a number at the end of the line".to_owned(),
             };
             let start = self.top_start(self.pos);
-            let end = self.pos + parser::token_len(rest);
+            let end = self.pos + tokens::token_len(rest);
             return Err(GcodeDiagnostic::Syntax {
                 detail,
-                hint: parser::HINT_NUMBER,
+                hint: tokens::HINT_NUMBER,
                 span: span(self.range(start, end)),
             });
         };
         let start = self.pos;
         self.pos += rest.len() - after.len();
-        if parser::starts_exponent(after) {
-            let len = parser::token_len(after);
+        if tokens::starts_exponent(after) {
+            let len = tokens::token_len(after);
             let detail = format!("exponent `{}` is not G-code", &after[..len]);
             return Err(GcodeDiagnostic::Syntax {
                 detail,
-                hint: parser::HINT_NUMBER,
+                hint: tokens::HINT_NUMBER,
                 span: span(self.range(self.pos, self.pos + len)),
             });
         }
-        let value = parser::number_value(text);
+        let value = tokens::number_value(text);
         if !value.is_finite() {
             let shown: String = text.chars().take(24).collect();
             let more = if text.len() > 24 { "…" } else { "" };
@@ -234,7 +234,7 @@ impl<'a> Reader<'a> {
                 },
                 Some(_) => self.syntax_here(format!(
                     "expected an operator or `]`, found `{}`",
-                    &self.rest()[..parser::token_len(self.rest())]
+                    &self.rest()[..tokens::token_len(self.rest())]
                 )),
             });
         }

@@ -1,7 +1,7 @@
 //! Throughput of the pipeline: parse only ([`pvt_gcode::check_syntax`]: words, values,
 //! spans and diagnostics, no meaning), parse and interpret, plan only, end to end in
 //! memory (`compile-to-pmac`) and as the CLI does it (`stream-to-pmac`: a file on disk
-//! through [`pvtc::stream::compile_streaming`] into a file, prescan included), and the
+//! through [`pvtc::route::compile_streaming`] into a file, prescan included), and the
 //! `gcode` crate parsing the same text as a peer baseline.
 //!
 //! ```sh
@@ -95,7 +95,7 @@ fn bench(c: &mut Criterion) {
                     };
                     target.restart().expect("empties the file");
                     let options = contour_options();
-                    pvtc::stream::compile_streaming(
+                    pvtc::route::compile_streaming(
                         black_box(p),
                         "bench.ngc",
                         &options,

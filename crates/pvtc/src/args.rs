@@ -1,13 +1,14 @@
 //! Command-line arguments.
 //!
-//! Owns the flags, their help text and their conversion into pipeline options (reading
-//! the `--offsets`, `--tool-table` and `--machine` files once per run,
-//! [`PipelineArgs::read_files`]; the first two are parsed by pvt-gcode, whose errors are
-//! shown on the file's text). It must not compile anything.
+//! Owns the flags, their help text, the usage errors of options that would do nothing,
+//! and their conversion into what was asked ([`crate::options::Asked`], as given, the
+//! `--offsets`, `--tool-table` and `--machine` files read once per run,
+//! [`PipelineArgs::read_files`]). It must not apply a default (`settings` does) or
+//! compile anything.
 
-use crate::pipeline::{CompileOptions, DrawingOptions, Failure, InputKind, VelocitySource};
+use crate::options::{Asked, CompileOptions, Failure, InputKind, VelocitySource};
 use clap::{Parser, Subcommand, ValueEnum};
-use pvt_core::{AxisLimits, Planner, Rounding, Timing, Units};
+use pvt_core::{AxisLimits, Planner, Rounding, Units};
 use pvt_emit::Format;
 use std::path::PathBuf;
 
@@ -76,7 +77,7 @@ impl From<FormatArg> for Format {
             FormatArg::Zaber => Format::Zaber,
             FormatArg::Powerpmac => Format::PowerPmac,
             FormatArg::Csv => Format::Csv,
-            // `toolpath` stops before planning (crate::toolpath): no back end sees it.
+            // `toolpath` stops before planning (crate::commands::toolpath): no back end sees it.
             FormatArg::Toolpath => Format::Json,
         }
     }
@@ -385,10 +386,10 @@ impl PipelineArgs {
     /// [`PipelineArgs::compile_options`] then reads none.
     pub fn read_files(&mut self) -> Result<(), Failure> {
         if let (Some(path), None) = (&self.offsets, self.work_offsets) {
-            self.work_offsets = Some(read_offsets(path)?);
+            self.work_offsets = Some(crate::options::read_offsets(path)?);
         }
         if self.tools_read.is_none() {
-            self.tools_read = Some(self.read_tool_table()?);
+            self.tools_read = Some(self.read_tool_table()?.unwrap_or_default());
         }
         if let (Some(path), None) = (&self.machine, &self.machine_read) {
             self.machine_read = Some(crate::machine::Machine::read(path)?);
@@ -396,92 +397,79 @@ impl PipelineArgs {
         Ok(())
     }
 
-    /// The `--tool-table` file in millimetres, or an empty table.
-    fn read_tool_table(&self) -> Result<pvt_gcode::ToolTable, Failure> {
-        let Some(path) = &self.tool_table else {
-            return Ok(pvt_gcode::ToolTable::default());
-        };
-        let mut table = read_side_file(path, pvt_gcode::ToolTable::parse)?;
-        if self.tool_table_units == Some(UnitsArg::In) {
-            table.scale_lengths(25.4);
-        }
-        Ok(table)
+    /// The `--tool-table` file in millimetres, if one is given.
+    fn read_tool_table(&self) -> Result<Option<pvt_gcode::ToolTable>, Failure> {
+        let inch = self.tool_table_units == Some(UnitsArg::In);
+        self.tool_table
+            .as_deref()
+            .map(|path| crate::options::read_tool_table(path, inch))
+            .transpose()
     }
 
-    /// The pipeline options these arguments ask for, for a source named `name`. The
-    /// `--offsets` rows, tool table and machine are those [`PipelineArgs::read_files`]
-    /// read; without that call the files are read here.
-    pub fn compile_options(&self, name: &str, format: Format) -> Result<CompileOptions, Failure> {
+    /// What these arguments ask for, as given (no defaults), with the side files: those
+    /// [`PipelineArgs::read_files`] read, else read here.
+    pub fn asked(&self) -> Result<Asked, Failure> {
         let work_offsets = match (&self.offsets, self.work_offsets) {
-            (_, Some(rows)) => rows,
-            (Some(path), None) => read_offsets(path)?,
-            (None, None) => [[0.0; 6]; 9],
+            (_, Some(rows)) => Some(rows),
+            (Some(path), None) => Some(crate::options::read_offsets(path)?),
+            (None, None) => None,
         };
         let tool_table = match &self.tools_read {
-            Some(table) => table.clone(),
+            Some(table) => Some(table.clone()),
             None => self.read_tool_table()?,
         };
-        let defaults = pvt_gcode::GcodeOptions::default();
-        let input = match self.input_format {
-            Some(InputArg::Gcode) => InputKind::Gcode,
-            Some(InputArg::Dxf) => InputKind::Dxf,
-            Some(InputArg::Csv) => InputKind::Csv,
-            None => InputKind::from_name(name),
-        };
-        let planner = self.planner.unwrap_or(input.default_planner());
-        self.check_used(input, planner)?;
         let machine = match (&self.machine, &self.machine_read) {
             (_, Some(machine)) => Some(machine.clone()),
             (Some(path), None) => Some(crate::machine::Machine::read(path)?),
             (None, None) => None,
         };
-        let quantize = match self.quantize {
-            Some(Quantum(q)) => q,
-            None => {
-                crate::pipeline::default_quantum(format, machine.as_ref(), &self.counts_per_unit)
-            }
-        };
-        Ok(CompileOptions {
-            format,
-            input,
+        Ok(Asked {
+            input: self.input_format.map(|kind| match kind {
+                InputArg::Gcode => InputKind::Gcode,
+                InputArg::Dxf => InputKind::Dxf,
+                InputArg::Csv => InputKind::Csv,
+            }),
+            planner: self.planner,
             machine,
             corner_tolerance: self.corner_tolerance,
             feed: self.feed,
             rapid: self.rapid,
             tolerance: self.tolerance,
-            planner,
-            timing: self.time_slice.map_or(Timing::FromFeed, Timing::TimeSlice),
+            time_slice: self.time_slice,
             accel: self.accel,
-            quantize,
+            quantize: self.quantize.map(|Quantum(q)| q),
+            quantize_rounding: self.quantize_rounding,
             counts_per_unit: self.counts_per_unit.clone(),
-            quantize_rounding: self.quantize_rounding.unwrap_or_default(),
             work_offsets,
             subroutine_path: self.subroutine_path.clone(),
             tool_table,
             hal_pins: self.hal.clone(),
             probe_results: self.probe_result.clone(),
-            arc_abs_tolerance_mm: self
-                .arc_abs_tolerance
-                .unwrap_or(defaults.arc_abs_tolerance_mm),
-            arc_rel_tolerance: self.arc_rel_tolerance.unwrap_or(defaults.arc_rel_tolerance),
-            drawing: DrawingOptions {
-                layers: self.layers.clone(),
-                join_tolerance: self.join_tolerance,
-                start_point: self.start_point.unwrap_or([0.0, 0.0]),
-                safe_z: self.safe_z,
-                max_points: self.max_points,
-                units: self.units.map(|u| match u {
-                    UnitsArg::Mm => Units::Millimetre,
-                    UnitsArg::In => Units::Inch,
-                }),
-            },
+            arc_abs_tolerance_mm: self.arc_abs_tolerance,
+            arc_rel_tolerance: self.arc_rel_tolerance,
+            layers: self.layers.clone(),
+            join_tolerance: self.join_tolerance,
+            start_point: self.start_point,
+            safe_z: self.safe_z,
+            max_points: self.max_points,
+            units: self.units.map(|u| match u {
+                UnitsArg::Mm => Units::Millimetre,
+                UnitsArg::In => Units::Inch,
+            }),
             velocities: self.velocities.map(|v| match v {
                 VelocitiesArg::File => VelocitySource::File,
                 VelocitiesArg::Plan => VelocitySource::Plan,
             }),
-            pmac: pvt_emit::PmacSettings::default(),
-            triggers: None,
         })
+    }
+
+    /// The pipeline options these arguments ask for, for a source named `name`, every
+    /// default applied by [`crate::settings::compile_options`]; a usage error for an
+    /// option that would do nothing there.
+    pub fn compile_options(&self, name: &str, format: Format) -> Result<CompileOptions, Failure> {
+        let options = crate::settings::compile_options(&self.asked()?, name, format);
+        self.check_used(options.input, options.planner)?;
+        Ok(options)
     }
 }
 
@@ -573,7 +561,9 @@ impl PmacArgs {
             )));
         }
         let settings = pvt_emit::PmacSettings {
-            program: self.program.unwrap_or(1),
+            program: self
+                .program
+                .unwrap_or(pvt_emit::PmacSettings::default().program),
             coord: self.coord,
             axes: self.axes.clone(),
             events: match self.events {
@@ -610,31 +600,6 @@ impl CompileArgs {
         options.triggers = self.trigger_every;
         Ok(options)
     }
-}
-
-/// Reads the `--offsets` table at `path` (G-code words, parsed by pvt-gcode).
-/// Reads a file that holds the same for every input of a run (the `--offsets` table, the
-/// `--tool-table`) and parses it; a parse error is shown on the file's own text.
-fn read_side_file<T, E>(
-    path: &std::path::Path,
-    parse: impl FnOnce(&str) -> Result<T, E>,
-) -> Result<T, Failure>
-where
-    E: miette::Diagnostic + Send + Sync + 'static,
-{
-    let text = std::fs::read_to_string(path).map_err(|error| Failure::Io {
-        path: path.to_path_buf(),
-        action: "read",
-        error,
-    })?;
-    parse(&text).map_err(|e| {
-        let named = miette::NamedSource::new(path.display().to_string(), text.clone());
-        Failure::Input(vec![miette::Report::new(e).with_source_code(named)])
-    })
-}
-
-fn read_offsets(path: &std::path::Path) -> Result<[[f64; 6]; 9], Failure> {
-    read_side_file(path, pvt_gcode::parse_offsets)
 }
 
 /// Arguments of `pvtc check`.

@@ -99,13 +99,13 @@ fn dxf(source: &Source, options: &CompileOptions) -> FrontResult {
         feed,
         rapid: options.rapid,
         tolerance: options.tolerance,
-        curve_share: options.curve_share(),
+        curve_share: crate::settings::curve_share(options),
         join_tolerance: d.join_tolerance,
         layers: d.layers.clone(),
         units: d.units,
         start_point: d.start_point,
         safe_z: d.safe_z,
-        max_points: d.max_points.unwrap_or(pvt_dxf::DEFAULT_MAX_POINTS),
+        max_points: crate::settings::max_points(options),
     };
     match pvt_dxf::read_drawing(bytes, &dxf_options) {
         Ok(drawing) => Ok((

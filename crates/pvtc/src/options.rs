@@ -1,23 +1,23 @@
-//! The plain data every phase of a compile shares: the input ([`Source`], [`InputKind`]),
-//! the options ([`CompileOptions`], [`DrawingOptions`]) and a diagnostic labelling a
-//! source line ([`at_line`]); why a run failed is [`crate::failure`]'s (re-exported).
+//! The plain data every phase of a compile shares: what the command line asked
+//! ([`Asked`], with the side files it names read once: [`read_offsets`],
+//! [`read_tool_table`]), the input ([`Source`], [`InputKind`]), the resolved options
+//! ([`CompileOptions`], [`DrawingOptions`], built by `settings` alone) and a diagnostic
+//! labelling a source line ([`at_line`]); why a run failed is [`crate::failure`]'s
+//! (re-exported).
 //!
-//! Owns these types so that data flows one way: `front` and `pipeline` (and the rest of
-//! the CLI) import them from here, and this module imports no pvtc module but `machine`
-//! (`tests/tidy.rs` fails on an import cycle between pvtc's modules). It must not read a
-//! format, plan or write: it is data and its constructors.
+//! Owns these types so that data flows one way: `settings`, `front` and `route` (and
+//! the rest of the CLI) import them from here, and this module imports no pvtc module
+//! but `machine` and `failure` (`tests/tidy.rs` fails on an import cycle between pvtc's
+//! modules). It must not apply a default, read an input's format, plan or write.
 
 use miette::{LabeledSpan, NamedSource, Report};
-use pvt_core::{Planner, Rounding, Timing, Units};
+use pvt_core::{Axis, Planner, Rounding, Timing, Units};
 use pvt_emit::Format;
 use std::io::Read;
 use std::path::Path;
 use std::sync::Arc;
 
 pub use crate::failure::Failure;
-
-/// Default rapid rate, mm/min.
-pub use pvt_core::defaults::RAPID_MM_PER_MIN as DEFAULT_RAPID_MM_PER_MIN;
 
 /// An input, read whole.
 #[derive(Debug, Clone)]
@@ -98,16 +98,6 @@ pub enum InputKind {
 }
 
 impl InputKind {
-    /// The planner used when none is asked for: `path` for geometry (G-code, DXF),
-    /// `spline` for a point-time series, which keeps the series' times (and its velocity
-    /// columns, when it has them).
-    pub fn default_planner(self) -> Planner {
-        match self {
-            InputKind::Gcode | InputKind::Dxf => Planner::Path,
-            InputKind::Csv => Planner::Spline,
-        }
-    }
-
     /// The front end a file name suggests: `.dxf` drawing, `.csv` series, else G-code.
     pub fn from_name(name: &str) -> InputKind {
         let lower = name.to_ascii_lowercase();
@@ -201,49 +191,6 @@ pub enum VelocitySource {
     Plan,
 }
 
-impl CompileOptions {
-    /// Share of the tolerance a drawing's splines and ellipses are flattened within: the
-    /// path planner keeps the motion within the rest of it, so that the motion is within
-    /// the whole tolerance of the true curve; the other planners' chords take all of it.
-    pub fn curve_share(&self) -> f64 {
-        if self.input == InputKind::Dxf && self.planner == Planner::Path {
-            0.5
-        } else {
-            1.0
-        }
-    }
-
-    /// Default options writing `format` (with the format's default `--quantize`).
-    pub fn new(format: Format) -> CompileOptions {
-        CompileOptions {
-            format,
-            input: InputKind::Gcode,
-            machine: None,
-            corner_tolerance: None,
-            feed: None,
-            rapid: None,
-            tolerance: None,
-            planner: Planner::Path,
-            timing: Timing::FromFeed,
-            accel: None,
-            quantize: format.caps().default_quantum,
-            counts_per_unit: Vec::new(),
-            quantize_rounding: Rounding::Up,
-            work_offsets: [[0.0; 6]; 9],
-            subroutine_path: Vec::new(),
-            tool_table: pvt_gcode::ToolTable::default(),
-            hal_pins: Vec::new(),
-            probe_results: Vec::new(),
-            arc_abs_tolerance_mm: pvt_core::defaults::ARC_ABS_TOLERANCE_MM,
-            arc_rel_tolerance: pvt_core::defaults::ARC_REL_TOLERANCE,
-            drawing: DrawingOptions::default(),
-            velocities: None,
-            pmac: pvt_emit::PmacSettings::default(),
-            triggers: None,
-        }
-    }
-}
-
 /// A diagnostic labelling the whole of 1-based `line` of the source.
 pub(crate) fn at_line(code: &str, message: &str, line: u32, source: &Source) -> Report {
     let range = pvt_core::text::line_range(&source.bytes, line as usize);
@@ -252,4 +199,95 @@ pub(crate) fn at_line(code: &str, message: &str, line: u32, source: &Source) -> 
         labels = vec![LabeledSpan::at(range, "this line")],
         "{message}"
     )
+}
+
+/// What the command line asked for a compile, as given: `None` (or empty) where an
+/// option was not given, with the side files it names already read. `settings` turns it
+/// into [`CompileOptions`], applying every default.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Asked {
+    /// `--input-format`.
+    pub input: Option<InputKind>,
+    /// `--planner`.
+    pub planner: Option<Planner>,
+    /// The `--machine` file, read.
+    pub machine: Option<crate::machine::Machine>,
+    /// `--corner-tolerance`, program units.
+    pub corner_tolerance: Option<f64>,
+    /// `--feed`, units per minute.
+    pub feed: Option<f64>,
+    /// `--rapid`, program units per minute.
+    pub rapid: Option<f64>,
+    /// `--tolerance`, program units.
+    pub tolerance: Option<f64>,
+    /// `--time-slice`, seconds.
+    pub time_slice: Option<f64>,
+    /// `--accel`, units/s².
+    pub accel: Option<f64>,
+    /// `--quantize`: `Some(None)` is `off`.
+    pub quantize: Option<Option<f64>>,
+    /// `--quantize-rounding`.
+    pub quantize_rounding: Option<Rounding>,
+    /// `--counts-per-unit`.
+    pub counts_per_unit: Vec<(Axis, f64)>,
+    /// The `--offsets` table, read.
+    pub work_offsets: Option<[[f64; 6]; 9]>,
+    /// `--subroutine-path`.
+    pub subroutine_path: Vec<String>,
+    /// The `--tool-table` file, read (millimetres).
+    pub tool_table: Option<pvt_gcode::ToolTable>,
+    /// `--hal`.
+    pub hal_pins: Vec<(String, f64)>,
+    /// `--probe-result`.
+    pub probe_results: Vec<[f64; 3]>,
+    /// `--arc-abs-tolerance`, mm.
+    pub arc_abs_tolerance_mm: Option<f64>,
+    /// `--arc-rel-tolerance`.
+    pub arc_rel_tolerance: Option<f64>,
+    /// `--layer`.
+    pub layers: Vec<String>,
+    /// `--join-tolerance`.
+    pub join_tolerance: Option<f64>,
+    /// `--start-point`.
+    pub start_point: Option<[f64; 2]>,
+    /// `--safe-z`.
+    pub safe_z: Option<f64>,
+    /// `--max-points`.
+    pub max_points: Option<usize>,
+    /// `--units`.
+    pub units: Option<Units>,
+    /// `--velocities`.
+    pub velocities: Option<VelocitySource>,
+}
+
+/// Reads a file that holds the same for every input of a run (the `--offsets` table, the
+/// `--tool-table`) and parses it; a parse error is shown on the file's own text.
+fn read_side_file<T, E>(path: &Path, parse: impl FnOnce(&str) -> Result<T, E>) -> Result<T, Failure>
+where
+    E: miette::Diagnostic + Send + Sync + 'static,
+{
+    let text = std::fs::read_to_string(path).map_err(|error| Failure::Io {
+        path: path.to_path_buf(),
+        action: "read",
+        error,
+    })?;
+    parse(&text).map_err(|e| {
+        let named = NamedSource::new(path.display().to_string(), text.clone());
+        Failure::Input(vec![Report::new(e).with_source_code(named)])
+    })
+}
+
+/// Reads the `--offsets` table at `path` (G-code words, parsed by pvt-gcode).
+pub fn read_offsets(path: &Path) -> Result<[[f64; 6]; 9], Failure> {
+    read_side_file(path, pvt_gcode::parse_offsets)
+}
+
+/// Reads the `--tool-table` file at `path`, its lengths in inches when `inch`, into
+/// millimetres.
+pub fn read_tool_table(path: &Path, inch: bool) -> Result<pvt_gcode::ToolTable, Failure> {
+    let mut table = read_side_file(path, pvt_gcode::ToolTable::parse)?;
+    if inch {
+        table.scale_lengths(25.4);
+    }
+    Ok(table)
 }

@@ -12,7 +12,7 @@
 //! either): what survives a power loss just after a compile is the file system's choice.
 //! A failure or an interrupt never leaves a partial file.
 
-use crate::pipeline::Failure;
+use crate::failure::Failure;
 use std::io::{Seek, Write};
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, MutexGuard};

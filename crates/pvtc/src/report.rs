@@ -4,11 +4,14 @@
 //! line, column, a label under the offending text and a help line; for tools
 //! (`--diagnostics json`), one JSON object per line. Repeats of one code in one input are
 //! one diagnostic ([`group`]): the count, the lines of every place, labels on the first
-//! [`SHOWN_PLACES`]. It must not decide what is an error.
+//! [`SHOWN_PLACES`]. It also holds the one `--deny-warnings` policy: [`deny`] before
+//! anything is written, [`Reporter::warnings`] after, counting warnings the same way.
+//! It must not decide what is an error.
 
 use crate::args::{DiagnosticsArg, PipelineArgs};
-use crate::pipeline::Failure;
+use crate::failure::Failure;
 use miette::{Diagnostic, LabeledSpan, Report, ReportHandler, Severity, SourceCode, SourceSpan};
+use pvt_core::text::SourceLocation;
 use std::fmt;
 use std::process::ExitCode;
 
@@ -100,7 +103,7 @@ impl Repeated<'_> {
     pub fn lines(&self) -> Vec<usize> {
         self.members
             .iter()
-            .map(|r| place(r).map_or(0, |p| p.line))
+            .map(|r| place(r).map_or(0, |p| p.at.line as usize))
             .collect()
     }
 }
@@ -190,24 +193,26 @@ impl SourceCode for Repeated<'_> {
     }
 }
 
-/// Where a report's first label is: file, 1-based line and column, offset and length.
+/// Where a report's first label is: its file and [`SourceLocation`] (1-based line and
+/// column, offset and length), as its source code (the text, or a streamed file's
+/// excerpt) answers.
 struct Place {
     file: Option<String>,
-    line: usize,
-    column: usize,
-    offset: usize,
-    length: usize,
+    at: SourceLocation,
 }
 
 fn place(report: &Report) -> Option<Place> {
     let label = report.labels()?.next()?;
     let contents = report.source_code()?.read_span(label.inner(), 0, 0).ok()?;
+    let number = |n: usize| u32::try_from(n + 1).unwrap_or(u32::MAX);
     Some(Place {
         file: contents.name().map(str::to_owned),
-        line: contents.line() + 1,
-        column: contents.column() + 1,
-        offset: label.offset(),
-        length: label.len(),
+        at: SourceLocation {
+            line: number(contents.line()),
+            column: number(contents.column()),
+            offset: label.offset(),
+            length: label.len(),
+        },
     })
 }
 
@@ -218,6 +223,31 @@ impl fmt::Display for Rendered<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         miette::MietteHandler::default().debug(self.0, f)
     }
+}
+
+/// The warnings, or, when any is a warning and `deny_warnings`, a failure holding them
+/// (sources and labels kept) and one error saying nothing was written.
+pub fn deny(warnings: Vec<Report>, deny_warnings: bool) -> Result<Vec<Report>, Failure> {
+    let count = warning_count(&warnings);
+    if !deny_warnings || count == 0 {
+        return Ok(warnings);
+    }
+    let mut reports: Vec<Report> = warnings.into_iter().filter(is_warning).collect();
+    reports.push(miette::miette!(
+        code = "pvtc::deny_warnings",
+        "{count} warning(s) and --deny-warnings; nothing was written"
+    ));
+    Err(Failure::Input(reports))
+}
+
+/// True for a warning (not an error or a note): what `--deny-warnings` fails on.
+fn is_warning(report: &Report) -> bool {
+    report.severity() == Some(Severity::Warning)
+}
+
+/// How many of `reports` are warnings.
+fn warning_count(reports: &[Report]) -> usize {
+    reports.iter().filter(|r| is_warning(r)).count()
 }
 
 /// Prints diagnostics the way the command line asked.
@@ -291,10 +321,7 @@ impl Reporter {
     /// Prints warnings; with `--deny-warnings` any warning fails the run.
     pub fn warnings(&self, reports: &[Report]) -> Result<(), ExitCode> {
         self.print_all(reports);
-        let denied = reports
-            .iter()
-            .filter(|r| r.severity() == Some(Severity::Warning))
-            .count();
+        let denied = warning_count(reports);
         if self.deny_warnings && denied > 0 {
             if !self.json {
                 eprintln!("error: {denied} warning(s) and --deny-warnings; nothing was written");
@@ -438,10 +465,10 @@ pub fn repeated_json(repeated: &Repeated<'_>) -> serde_json::Value {
         .map(|p| {
             serde_json::json!({
                 "file": p.file,
-                "line": p.line,
-                "column": p.column,
-                "offset": p.offset,
-                "length": p.length,
+                "line": p.at.line,
+                "column": p.at.column,
+                "offset": p.at.offset,
+                "length": p.at.length,
             })
         })
         .collect();
@@ -462,15 +489,12 @@ pub fn to_json(report: &Report) -> serde_json::Value {
         "message": report.to_string(),
         "help": report.help().map(|h| h.to_string()),
     });
-    let label = report.labels().and_then(|mut labels| labels.next());
-    if let (Some(label), Some(source)) = (label, report.source_code()) {
-        if let Ok(contents) = source.read_span(label.inner(), 0, 0) {
-            value["file"] = serde_json::json!(contents.name());
-            value["line"] = serde_json::json!(contents.line() + 1);
-            value["column"] = serde_json::json!(contents.column() + 1);
-            value["offset"] = serde_json::json!(label.offset());
-            value["length"] = serde_json::json!(label.len());
-        }
+    if let Some(Place { file, at }) = place(report) {
+        value["file"] = serde_json::json!(file);
+        value["line"] = serde_json::json!(at.line);
+        value["column"] = serde_json::json!(at.column);
+        value["offset"] = serde_json::json!(at.offset);
+        value["length"] = serde_json::json!(at.length);
     }
     value
 }

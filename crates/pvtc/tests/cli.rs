@@ -1675,10 +1675,10 @@ fn null_device_and_files_take_one_pass_and_a_stream_two() {
     let program = common::root().join("samples/gcode/an208_zigzag.ngc");
     let program = program.to_str().unwrap();
     let passes = |output: &str| {
-        let before = pvtc::stream::front_end_passes();
+        let before = pvtc::route::front_end_passes();
         let cli = pvtc::Cli::parse_from(["pvtc", "compile", program, "-o", output]);
         assert_eq!(pvtc::run(cli), std::process::ExitCode::SUCCESS);
-        pvtc::stream::front_end_passes() - before
+        pvtc::route::front_end_passes() - before
     };
     let file = dir.path().join("out.pmac");
     assert_eq!(passes("/dev/null"), 1);
@@ -1690,11 +1690,11 @@ fn null_device_and_files_take_one_pass_and_a_stream_two() {
     };
     let options = args.compile_options(program).unwrap();
     let mut piped = Vec::new();
-    let before = pvtc::stream::front_end_passes();
+    let before = pvtc::route::front_end_passes();
     let mut stream = pvtc::output::Target::Stream(&mut piped);
-    let warnings = pvtc::stream::compile_to(program.as_ref(), &options, false, &mut stream);
+    let warnings = pvtc::route::compile_to(program.as_ref(), &options, false, &mut stream);
     assert!(warnings.is_ok());
-    assert_eq!(pvtc::stream::front_end_passes() - before, 2);
+    assert_eq!(pvtc::route::front_end_passes() - before, 2);
     assert_eq!(piped, std::fs::read(&file).unwrap());
 }
 

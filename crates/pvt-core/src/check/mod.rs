@@ -23,6 +23,7 @@ mod timeline;
 use std::collections::BTreeMap;
 
 use crate::axis::Axis;
+pub use crate::limits::AxisLimits;
 use crate::program::PvtProgram;
 use crate::toolpath::Toolpath;
 use geometry::{golden, Source};
@@ -30,17 +31,6 @@ use timeline::Timeline;
 
 /// Samples per piece for the path error search (plus one: both ends).
 const PATH_SAMPLES: usize = 16;
-
-/// Limits of one axis; `None` means unchecked.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct AxisLimits {
-    /// Largest |velocity|, units/s.
-    pub velocity: Option<f64>,
-    /// Largest |acceleration|, units/s².
-    pub acceleration: Option<f64>,
-    /// Largest |jerk|, units/s³.
-    pub jerk: Option<f64>,
-}
 
 /// What to check and how the servo loop samples.
 #[derive(Debug, Clone, PartialEq)]

@@ -1,8 +1,12 @@
 //! The planner and timing choices a user makes, by name.
 //!
-//! Owns the [`Planner`] and [`Timing`] enums and their spellings on a command line. It
-//! must not plan: the planners themselves live in their own modules.
+//! Owns the [`Planner`] and [`Timing`] enums and their spellings on a command line, and
+//! [`PlanOptions`], everything a planning run is told. It must not plan: the planners
+//! themselves live in their own modules.
 
+use super::path::PathOptions;
+use super::quantize::{self, Rounding};
+use crate::discretize::ChordTolerance;
 use std::fmt;
 use std::str::FromStr;
 
@@ -121,5 +125,80 @@ mod tests {
         assert_eq!("chord".parse::<Planner>(), Ok(Planner::Chord));
         assert_eq!("chord-back".parse::<Planner>(), Ok(Planner::ChordBack));
         assert!("cubic".parse::<Planner>().is_err());
+    }
+}
+
+/// How to turn a toolpath into a program.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlanOptions {
+    /// Chord tolerance for arcs, program units.
+    pub tolerance: ChordTolerance,
+    /// Path tolerance of the path planner, program units; `None` is the chord tolerance.
+    pub path_tolerance: Option<f64>,
+    /// Corner tolerance of the path planner's blends, program units (`None`: the path
+    /// tolerance, and no blend without limits).
+    pub corner_tolerance: Option<f64>,
+    /// Per-axis machine limits the path planner honours (and `check` verifies).
+    pub limits: std::collections::BTreeMap<crate::axis::Axis, crate::limits::AxisLimits>,
+    /// Which planner chooses velocities and times.
+    pub planner: Planner,
+    /// Where segment times come from, for every planner but contour.
+    pub timing: Timing,
+    /// Acceleration limit, units/s², per axis (required by lspb).
+    pub accel: Option<f64>,
+    /// Make every piece time a whole multiple of this many seconds (e.g. 0.001).
+    pub quantize: Option<f64>,
+    /// Which way piece times go onto the `quantize` grid.
+    pub quantize_rounding: Rounding,
+    /// Servo period, seconds, over which the path planner bounds the acceleration step
+    /// at a knot under a jerk limit (`None`: [`crate::defaults::SERVO_PERIOD_S`]).
+    pub servo_period: Option<f64>,
+    /// The resolution positions are written with, program units (PMAC text: 10⁻⁶; 0 when
+    /// they are written exactly): under a jerk limit the path planner keeps room in each
+    /// knot's step for the rounding (see [`PathOptions::position_resolution`]).
+    pub position_resolution: f64,
+}
+
+impl PlanOptions {
+    /// What the path planner runs with: the path tolerance (the chord tolerance unless
+    /// set), the corner tolerance and the limits.
+    pub fn path_options(&self) -> PathOptions {
+        PathOptions {
+            tolerance: self.path_tolerance.unwrap_or(self.tolerance.get()),
+            corner_tolerance: self.corner_tolerance,
+            limits: self.limits.clone(),
+            quantum: self.quantize.map(|seconds| quantize::Quantum {
+                seconds,
+                rounding: self.quantize_rounding,
+            }),
+            servo_period: self.servo_period.unwrap_or(crate::defaults::SERVO_PERIOD_S),
+            position_resolution: self.position_resolution,
+        }
+    }
+
+    /// How the controller moves between points under the chosen planner.
+    pub fn interpolation(&self) -> crate::program::Interpolation {
+        match self.planner {
+            Planner::Pt => crate::program::Interpolation::Pt,
+            _ => crate::program::Interpolation::Pvt,
+        }
+    }
+}
+
+impl Default for PlanOptions {
+    fn default() -> PlanOptions {
+        PlanOptions {
+            tolerance: ChordTolerance::new(ChordTolerance::DEFAULT_MM).expect("positive"),
+            path_tolerance: None,
+            corner_tolerance: None,
+            limits: std::collections::BTreeMap::new(),
+            planner: Planner::default(),
+            timing: Timing::default(),
+            accel: None,
+            quantize: None,
+            quantize_rounding: Rounding::Up,
+            servo_period: None,
+            position_resolution: 0.0,
+        }
     }
 }

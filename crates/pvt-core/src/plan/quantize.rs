@@ -180,6 +180,11 @@ pub fn mid_speed_change(
     worst
 }
 
+/// The shortest piece the LSPB planner writes, seconds: 0.1 µs, the finest time an output
+/// prints (PMAC: 4 decimals of milliseconds). Shorter pieces print as `TA0.0000`, and the
+/// rounding of their end positions swamps their acceleration.
+pub const MIN_PIECE_SECONDS: f64 = 1e-7;
+
 #[cfg(test)]
 mod tests {
     use super::*;

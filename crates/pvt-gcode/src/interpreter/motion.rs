@@ -263,11 +263,7 @@ impl Interpreter<'_> {
 
     /// The rapid rate, units per second.
     pub(super) fn rapid_rate(&self) -> f64 {
-        let per_minute = match self.options.rapid {
-            Some(rapid) if rapid > 0.0 && rapid.is_finite() => rapid,
-            _ => self.output().from_mm(crate::DEFAULT_RAPID_MM_PER_MIN),
-        };
-        per_minute / 60.0
+        pvt_core::defaults::rapid_per_minute(self.options.rapid, self.output()) / 60.0
     }
 
     fn line_move(&mut self, mode: MotionMode, request: &Request, block: &Block) {

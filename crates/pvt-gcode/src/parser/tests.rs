@@ -1,6 +1,7 @@
 //! Parser tests, and the check that `grammars/gcode.ebnf` and the parser agree.
 
 use super::*;
+use crate::tokens::short_decimal;
 use crate::value::Reader;
 
 /// Parameters the examples may read: `#1` = 3, `#<scale>` = 2.

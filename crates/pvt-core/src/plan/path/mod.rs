@@ -184,7 +184,7 @@ mod resample;
 
 use super::PlanError;
 use crate::axis::Axis;
-use crate::check::AxisLimits;
+use crate::limits::AxisLimits;
 use crate::plan::quantize::Quantum;
 use crate::program::{PvtContour, SegmentRef};
 use crate::toolpath::Contour;

@@ -6,9 +6,10 @@
 //! compute any of the numbers.
 
 use crate::args::CheckArgs;
-use crate::pipeline::{plan, CompileOptions, Failure, Source};
+use crate::options::{CompileOptions, Failure, Source};
 use crate::report::Reporter;
 use crate::report::EXIT_INPUT_ERROR;
+use crate::route::plan;
 use pvt_core::{check_program, CheckOptions, CheckReport, Peak, PvtProgram, Toolpath};
 use pvt_emit::Format;
 use std::fmt::Write as _;
@@ -62,39 +63,19 @@ pub fn run(args: &CheckArgs) -> ExitCode {
     }
 }
 
-/// The limits to check: the machine file's, in the program's units, then each
-/// `--max-vel`/`--max-accel`/`--max-jerk` over them; the servo period given, else the
-/// machine file's, else 0.5 ms.
+/// The limits and servo period to check against, resolved by [`crate::settings`].
 fn check_options(
     args: &CheckArgs,
     options: &CompileOptions,
     program: &PvtProgram,
 ) -> Result<CheckOptions, Failure> {
-    let mut limits = match &options.machine {
-        Some(m) => m
-            .limits_in(program.units, &program.axes)
-            .map_err(|e| Failure::Input(vec![miette::Report::new(e)]))?,
-        None => Default::default(),
-    };
-    for (axis, given) in args.limits() {
-        let l = limits.entry(axis).or_default();
-        l.velocity = given.velocity.or(l.velocity);
-        l.acceleration = given.acceleration.or(l.acceleration);
-        l.jerk = given.jerk.or(l.jerk);
-    }
-    let servo_period = args
-        .servo_period
-        .or(options.machine.as_ref().and_then(|m| m.servo_period))
-        .unwrap_or(DEFAULT_SERVO_PERIOD);
-    Ok(CheckOptions {
-        servo_period,
-        limits,
-    })
+    crate::settings::check_options(
+        options.machine.as_ref(),
+        program,
+        args.limits(),
+        args.servo_period,
+    )
 }
-
-/// Servo period `check` samples at when neither the command line nor the machine file
-/// gives one (seed 001's XMP: 500 µs).
-pub use pvt_core::defaults::SERVO_PERIOD_S as DEFAULT_SERVO_PERIOD;
 
 /// Refuses a program whose motion lasts more than `--max-samples` servo periods: a guard on
 /// time, not memory (sampling streams over the pieces in constant memory, but a JSON
@@ -181,7 +162,7 @@ pub fn load(
 /// What an emitted text does not say: `--units` (default mm) and counts per unit, from
 /// `--counts-per-unit` over the machine file's.
 fn read_hint(options: &CompileOptions) -> pvt_emit::readback::ReadHint {
-    let units = options.drawing.units.unwrap_or(pvt_core::Units::Millimetre);
+    let units = crate::settings::readback_units(options);
     let mut counts: std::collections::BTreeMap<_, _> = options
         .machine
         .as_ref()

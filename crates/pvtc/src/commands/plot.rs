@@ -5,8 +5,8 @@
 //! must not draw anything itself.
 
 use crate::args::PlotArgs;
+use crate::options::Failure;
 use crate::output;
-use crate::pipeline::Failure;
 use crate::report::Reporter;
 use std::path::Path;
 use std::process::ExitCode;
@@ -18,22 +18,16 @@ pub fn run(args: &PlotArgs) -> ExitCode {
         Ok(format) => format,
         Err(failure) => return reporter.fail(&failure),
     };
-    let loaded = match crate::check::load(&args.input, &args.pipeline, &reporter) {
+    let loaded = match crate::commands::verify::load(&args.input, &args.pipeline, &reporter) {
         Ok(loaded) => loaded,
         Err(code) => return code,
     };
     let program = loaded.program;
     let geometry = loaded.toolpath;
-    let limits = match &loaded.options.machine {
-        Some(m) => match m.limits_in(program.units, &program.axes) {
-            Ok(limits) => limits,
-            Err(e) => {
-                return reporter.fail(&crate::options::Failure::Input(vec![miette::Report::new(
-                    e,
-                )]))
-            }
-        },
-        None => Default::default(),
+    let machine = loaded.options.machine.as_ref();
+    let limits = match crate::settings::machine_limits(machine, program.units, &program.axes) {
+        Ok(limits) => limits,
+        Err(failure) => return reporter.fail(&failure),
     };
     let options = pvt_emit::plot::PlotOptions {
         title: format!(

@@ -7,8 +7,8 @@
 //! stream that cannot start over gets a first pass into nothing.
 
 use crate::args::CompileArgs;
+use crate::options::{CompileOptions, Failure, InputKind, Source};
 use crate::output::{self, Target};
-use crate::pipeline::{CompileOptions, Failure, InputKind, Source};
 use crate::report::Reporter;
 use pvt_emit::toolpath::{replay, ToolpathWriter};
 use std::path::Path;
@@ -49,15 +49,15 @@ fn gcode(
     let (path, name) = (spooled.path.as_path(), spooled.name.as_str());
     let gcode = crate::front::gcode_options(options);
     let deny = args.pipeline.deny_warnings;
-    let warned = |warnings| crate::stream::deny(crate::stream::reports(path, name, warnings), deny);
+    let warned = |warnings| crate::report::deny(crate::route::reports(path, name, warnings), deny);
     output::write_with(args.output.as_deref(), |out| {
         if !out.can_restart() {
             // A stream keeps what it is given: errors and denied warnings come first.
-            let mut nothing = crate::stream::MovedAxes::default();
-            warned(crate::stream::compile_read(path, name, &gcode, &mut nothing)?.warnings)?;
+            let mut nothing = crate::route::MovedAxes::default();
+            warned(crate::route::compile_read(path, name, &gcode, &mut nothing)?.warnings)?;
         }
         let mut writer = ToolpathWriter::new(std::io::BufWriter::new(&mut *out));
-        let summary = crate::stream::compile_read(path, name, &gcode, &mut writer)?;
+        let summary = crate::route::compile_read(path, name, &gcode, &mut writer)?;
         let warnings = warned(summary.warnings)?;
         writer.finish(summary.units).map_err(write_failure)?;
         Ok(warnings)
@@ -79,7 +79,7 @@ fn drawing(
             ))
         }
     };
-    let warnings = crate::stream::deny(warnings, args.pipeline.deny_warnings)?;
+    let warnings = crate::report::deny(warnings, args.pipeline.deny_warnings)?;
     output::write_with(args.output.as_deref(), |out: &mut Target<'_>| {
         let mut writer = ToolpathWriter::new(std::io::BufWriter::new(out));
         replay(&toolpath, &mut writer);

@@ -4,13 +4,13 @@
 //! directory's tree is mirrored under the output directory), running
 //! the jobs on a rayon pool with a progress bar (drawn only on a terminal), each file's
 //! diagnostics (errors, warnings and notes, under the file's name, in input order) and the
-//! summary. Every job is the single-file pipeline unchanged, so a batch output is
+//! summary. Every job is the single-file route unchanged, so a batch output is
 //! byte-identical to compiling that file alone; a failing file never stops the others and
 //! never leaves a partial output. It must not compile anything itself.
 
 use crate::args::CompileArgs;
+use crate::failure::Failure;
 use crate::output;
-use crate::pipeline::Failure;
 use crate::report::EXIT_INPUT_ERROR;
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
@@ -134,7 +134,7 @@ fn run_job(job: &Job, args: &CompileArgs) -> Outcome {
     let result = args.compile_options(&name).and_then(|options| {
         output::write_file_with(&job.output, |out| {
             let deny = args.pipeline.deny_warnings;
-            crate::stream::compile_to(&job.input, &options, deny, out)
+            crate::route::compile_to(&job.input, &options, deny, out)
         })
     });
     outcome(job, result)

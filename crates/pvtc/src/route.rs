@@ -1,0 +1,846 @@
+//! The one compile route of pvtc: every input kind goes into the same planning sink
+//! ([`PlanningSink`]: pvt-core's [`PlanStage`], the PMAC splitter and pvt-emit's
+//! [`Checked`] writer). G-code streams from its file in bounded memory, whatever the
+//! program's length ([`compile_streaming`]); a drawing, a series, or any source held in
+//! memory is read whole by its front end and pushed into the same sink ([`compile`]).
+//! [`compile_to`] is `pvtc compile`'s entry, single or batch; [`plan`] plans without
+//! writing, for `check` and `plot`. Plan and emit errors become reports here, once.
+//!
+//! Owns the glue between the front ends, pvt-core's [`PlanStage`] and pvt-emit's
+//! [`Checked`] writer, and the notes on what planning did. It must not parse, plan,
+//! format or apply a default: each of those stays in its crate, and every default in
+//! [`crate::settings`].
+
+use crate::front::{self, Input};
+use crate::options::{at_line, CompileOptions, Failure, InputKind, Source, VelocitySource};
+use crate::output::Target;
+use crate::settings::{emit_options, header_lines, plan_options, split_grid};
+use miette::{Report, Severity};
+use pvt_core::{
+    plan::PlanError, plan_timed, plan_toolpath_report, Axis, Element, EventKind, Motion, PieceSink,
+    PieceSplitter, PlanOptions, PlanReport, PlanStage, Planned, Planner, ProgramEvent, PvtContour,
+    PvtProgram, SegmentRef, Timing, Toolpath, ToolpathSink, Units,
+};
+use pvt_emit::stream::Totals;
+use pvt_emit::{Checked, Format, ProgramWriter, StreamError};
+use std::path::PathBuf;
+
+/// Why streaming stopped.
+#[derive(Debug)]
+pub enum StreamFailure {
+    /// A planner error (a bad feed or point).
+    Plan(PlanError),
+    /// A back end refused a value or could not write.
+    Emit(StreamError),
+}
+
+/// Where the plan stage's pieces go: through the splitter (PMAC's longest piece) into
+/// the back end, counted; the first write error is kept and later pieces are dropped.
+pub struct WriterSink<W: ProgramWriter> {
+    writer: Checked<W>,
+    /// Segments written, their time, and those whose time is not a whole millisecond.
+    pub totals: Totals,
+    splitter: Option<PieceSplitter>,
+    error: Option<StreamError>,
+    /// The program written, piece by piece, when it is kept ([`compile`]).
+    kept: Option<PvtProgram>,
+}
+
+impl<W: ProgramWriter> PieceSink for WriterSink<W> {
+    fn contour(&mut self, motion: Motion, start: &[f64], line: u32) {
+        if self.error.is_none() {
+            self.error = self.writer.contour(motion, start, line).err();
+        }
+        if let Some(program) = self.kept.as_mut() {
+            program
+                .contours
+                .push(PvtContour::new(motion, start.to_vec()));
+        }
+        if let Some(splitter) = self.splitter.as_mut() {
+            splitter.start(start);
+        }
+    }
+
+    fn piece(&mut self, seg: &SegmentRef<'_>) {
+        let (writer, totals, error) = (&mut self.writer, &mut self.totals, &mut self.error);
+        let mut kept = self.kept.as_mut().and_then(|p| p.contours.last_mut());
+        let mut write = |piece: &SegmentRef<'_>| {
+            totals.add_segment(piece.duration);
+            if let Some(contour) = kept.as_mut() {
+                contour.push(piece.end, piece.velocity, piece.duration, piece.line);
+            }
+            if error.is_none() {
+                *error = writer.segment(piece).err();
+            }
+        };
+        match self.splitter.as_mut() {
+            Some(splitter) => splitter.push(seg, &mut write),
+            None => write(seg),
+        }
+    }
+
+    fn event(&mut self, event: &ProgramEvent) {
+        if self.error.is_none() {
+            self.error = self.writer.event(event).err();
+        }
+        if let Some(program) = self.kept.as_mut() {
+            program.events.push(event.clone());
+        }
+    }
+}
+
+/// A G-code sink that plans and writes as elements arrive: pvt-core's [`PlanStage`] into
+/// a [`WriterSink`], noting the axes the elements move.
+pub struct PlanningSink<W: ProgramWriter> {
+    stage: PlanStage<WriterSink<W>>,
+    /// The axes the elements moved, to check the header's axes against.
+    moved: MovedAxes,
+}
+
+impl<W: ProgramWriter> PlanningSink<W> {
+    /// A sink planning with `options` on `axes` into `writer` (already begun), cutting
+    /// pieces longer than `max_piece` seconds along their cubic (on `grid` where their
+    /// time is on it).
+    pub fn new(
+        writer: Checked<W>,
+        axes: Vec<Axis>,
+        options: PlanOptions,
+        max_piece: Option<f64>,
+        grid: Option<f64>,
+    ) -> Result<PlanningSink<W>, PlanError> {
+        PlanningSink::keeping(writer, axes, options, max_piece, grid, None)
+    }
+
+    /// [`PlanningSink::new`], also keeping the program it writes (after the splitter)
+    /// when `kept` is given: its axes, units and interpolation, contours and events
+    /// empty.
+    fn keeping(
+        writer: Checked<W>,
+        axes: Vec<Axis>,
+        options: PlanOptions,
+        max_piece: Option<f64>,
+        grid: Option<f64>,
+        kept: Option<PvtProgram>,
+    ) -> Result<PlanningSink<W>, PlanError> {
+        let sink = WriterSink {
+            writer,
+            totals: Totals::default(),
+            splitter: max_piece.map(|max| PieceSplitter::new(max, grid)),
+            error: None,
+            kept,
+        };
+        Ok(PlanningSink {
+            stage: PlanStage::new(axes, options, sink)?,
+            moved: MovedAxes::default(),
+        })
+    }
+
+    /// Ends the program: the back end, the totals and the plan report, or the first
+    /// failure.
+    pub fn finish(self) -> Result<(W, Totals, PlanReport), StreamFailure> {
+        self.finish_kept()
+            .map(|(writer, totals, report, _)| (writer, totals, report))
+    }
+
+    /// [`PlanningSink::finish`], with the program kept (empty when none is kept).
+    fn finish_kept(self) -> Result<(W, Totals, PlanReport, PvtProgram), StreamFailure> {
+        let (sink, report) = self.stage.finish().map_err(StreamFailure::Plan)?;
+        if let Some(e) = sink.error {
+            return Err(StreamFailure::Emit(e));
+        }
+        let writer = sink.writer.finish().map_err(StreamFailure::Emit)?;
+        let kept = sink.kept.unwrap_or_else(|| PvtProgram {
+            axes: Vec::new(),
+            units: Units::default(),
+            interpolation: pvt_core::Interpolation::Pvt,
+            contours: Vec::new(),
+            events: Vec::new(),
+        });
+        Ok((writer, sink.totals, report, kept))
+    }
+}
+
+impl<W: ProgramWriter> ToolpathSink for PlanningSink<W> {
+    fn element(&mut self, motion: Motion, element: &Element) {
+        self.moved.note(element);
+        self.stage.element(motion, element);
+    }
+    fn end_contour(&mut self) {
+        self.stage.end_contour();
+    }
+    fn event(&mut self, event: &EventKind, line: u32) {
+        self.stage.event(event, line);
+    }
+    fn path_tolerance(&mut self, tolerance: f64) {
+        self.stage.path_tolerance(tolerance);
+    }
+}
+
+/// A sink that only notes which axes move (pass 1 of streaming: the header needs them).
+#[derive(Debug, Default)]
+pub struct MovedAxes {
+    moved: [bool; pvt_core::AXIS_COUNT],
+}
+
+impl MovedAxes {
+    /// Notes the axes `element` moves.
+    pub fn note(&mut self, element: &Element) {
+        element.mark_moved_axes(&mut self.moved);
+    }
+
+    /// The moved axes in X Y Z A B C order, as [`pvt_core::Toolpath::moved_axes`] gives them.
+    pub fn axes(&self) -> Vec<Axis> {
+        Axis::ALL
+            .into_iter()
+            .filter(|a| self.moved[a.index()])
+            .collect()
+    }
+}
+
+impl ToolpathSink for MovedAxes {
+    fn element(&mut self, _: Motion, element: &Element) {
+        self.note(element);
+    }
+    fn end_contour(&mut self) {}
+    fn event(&mut self, _: &EventKind, _: u32) {}
+}
+
+fn open(path: &std::path::Path) -> Result<std::io::BufReader<std::fs::File>, Failure> {
+    std::fs::File::open(path)
+        .map(|f| std::io::BufReader::with_capacity(1 << 18, f))
+        .map_err(|error| read_failure(path, error))
+}
+
+fn read_failure(path: &std::path::Path, error: std::io::Error) -> Failure {
+    Failure::Io {
+        path: path.to_path_buf(),
+        action: "read",
+        error,
+    }
+}
+
+thread_local! {
+    /// Passes of the G-code front end over an input run on this thread.
+    static PASSES: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
+}
+
+/// How many passes of the G-code front end over an input (each a parse, and a plan
+/// where one is made) this thread has run: the evidence tests take of the route a
+/// compile took (one pass into a file or the null device, two into a pipe).
+pub fn front_end_passes() -> usize {
+    PASSES.with(std::cell::Cell::get)
+}
+
+/// One pass of the G-code front end over the file into `sink`; its errors as reports.
+pub(crate) fn compile_read(
+    path: &std::path::Path,
+    name: &str,
+    gcode: &pvt_gcode::GcodeOptions,
+    sink: &mut dyn pvt_gcode::ToolpathSink,
+) -> Result<pvt_gcode::StreamSummary, Failure> {
+    PASSES.with(|passes| passes.set(passes.get() + 1));
+    pvt_gcode::compile_read(&mut open(path)?, gcode, sink)
+        .map_err(|error| read_failure(path, error))?
+        .map_err(|errors| Failure::Input(reports(path, name, errors.diagnostics)))
+}
+
+/// Diagnostics as reports, each with the lines of the file around it (read again, a
+/// few lines kept per diagnostic, so memory stays flat however long the file).
+pub(crate) fn reports(
+    path: &std::path::Path,
+    name: &str,
+    diagnostics: Vec<pvt_gcode::GcodeDiagnostic>,
+) -> Vec<miette::Report> {
+    let spans: Vec<_> = diagnostics.iter().map(|d| d.span()).collect();
+    let excerpts = match open(path) {
+        Ok(mut input) => crate::excerpt::cut(&mut input, &spans).unwrap_or_default(),
+        Err(_) => Vec::new(),
+    };
+    let mut excerpts = excerpts.into_iter();
+    diagnostics
+        .into_iter()
+        .map(|d| match excerpts.next().flatten() {
+            Some(excerpt) => {
+                miette::Report::new(d).with_source_code(miette::NamedSource::new(name, excerpt))
+            }
+            // An empty file still names its one line.
+            None => miette::Report::new(d)
+                .with_source_code(miette::NamedSource::new(name, String::new())),
+        })
+        .collect()
+}
+
+/// A planning error as a report labelling its whole source line, as the in-memory path
+/// labels it ([`crate::options`]'s `at_line`), with the lines around it cut from the file.
+fn plan_failure(path: &std::path::Path, name: &str, e: &PlanError) -> Failure {
+    let span = open(path).ok().and_then(|mut input| {
+        crate::excerpt::line_span(&mut input, e.line())
+            .ok()
+            .flatten()
+    });
+    let excerpt = span.clone().and_then(|s| {
+        let mut input = open(path).ok()?;
+        crate::excerpt::cut(&mut input, &[s]).ok()?.pop().flatten()
+    });
+    let report = match (span, excerpt) {
+        (Some(span), Some(excerpt)) if e.line() > 0 => miette::miette!(
+            code = e.code().to_string(),
+            labels = vec![miette::LabeledSpan::at(span, "this line")],
+            "{e}"
+        )
+        .with_source_code(miette::NamedSource::new(name, excerpt)),
+        _ => miette::miette!(code = e.code().to_string(), "{name}: {e}"),
+    };
+    Failure::Input(vec![report])
+}
+
+/// What the header fixes before the first piece is written.
+#[derive(Debug, Clone, PartialEq)]
+struct Layout {
+    axes: Vec<Axis>,
+    units: pvt_core::Units,
+}
+
+impl Layout {
+    /// The layout a [`pvt_gcode::Prescan`] suggests under `gcode`'s units option.
+    fn guess(prescan: &pvt_gcode::Prescan, gcode: &pvt_gcode::GcodeOptions) -> Layout {
+        Layout {
+            axes: Axis::ALL
+                .into_iter()
+                .filter(|a| prescan.axis_words[a.index()])
+                .collect(),
+            units: gcode.units.or(prescan.units).unwrap_or_default(),
+        }
+    }
+}
+
+/// One pass over the file that plans and writes under a layout.
+struct Pass {
+    /// The layout the program really has.
+    layout: Layout,
+    warnings: Vec<pvt_gcode::GcodeDiagnostic>,
+    outcome: Result<(Totals, PlanReport), StreamFailure>,
+}
+
+/// Compiles the input at `input` (`-`: standard input) into `out` and returns its
+/// warnings and notes: the one route of `pvtc compile`, single or batch.
+///
+/// G-code streams in bounded memory (standard input is spooled to a temporary file
+/// first); a drawing or a point series is read whole and planned through the same stage
+/// into a collector. With `deny_warnings`, a warning fails the run before anything is
+/// written; a failure leaves `out` for the caller to discard.
+pub fn compile_to(
+    input: &std::path::Path,
+    options: &CompileOptions,
+    deny_warnings: bool,
+    out: &mut Target<'_>,
+) -> Result<Vec<miette::Report>, Failure> {
+    if options.input == InputKind::Gcode {
+        let input = crate::input::spool(input)?;
+        return compile_streaming(&input.path, &input.name, options, deny_warnings, out);
+    }
+    let source = Source::read(input)?;
+    let compiled = compile_whole(&source, options, false)?;
+    let warnings = crate::report::deny(compiled.warnings, deny_warnings)?;
+    std::io::Write::write_all(out, &compiled.bytes).map_err(|error| Failure::Io {
+        path: "<output>".into(),
+        action: "write",
+        error,
+    })?;
+    Ok(warnings)
+}
+
+/// Compiles the G-code file at `path` into `out` in constant memory and returns the
+/// warnings; the bytes are those [`crate::compile`] gives.
+///
+/// The header needs the moved axes and the units before the first piece. Into a file
+/// (an output file, or standard output redirected to one), a lexical
+/// [`pvt_gcode::prescan`] guesses them and one pass plans and writes; when the compile
+/// finds otherwise, the file is cut back and a second pass writes again. The null device
+/// is such a file. Into a stream (a pipe, a terminal), which cannot start over, a first
+/// pass plans into nothing, checking the program and finding them, and a second writes.
+pub fn compile_streaming(
+    path: &std::path::Path,
+    name: &str,
+    options: &CompileOptions,
+    deny_warnings: bool,
+    out: &mut Target<'_>,
+) -> Result<Vec<miette::Report>, Failure> {
+    if out.is_file_at(path) {
+        return Err(Failure::Usage(format!(
+            "standard output is the input file {}: pvtc would read what it writes",
+            path.display()
+        )));
+    }
+    let gcode = crate::front::gcode_options(options);
+    let prescan = pvt_gcode::prescan(&mut open(path)?).map_err(|e| read_failure(path, e))?;
+    let mut layout = Layout::guess(&prescan, &gcode);
+    if !out.can_restart() {
+        // A stream cannot start over: a first pass plans the whole program into nothing,
+        // so that a pipe never receives a program that an error, or a warning under
+        // --deny-warnings, would cut short. It finds the axes and units too (checking
+        // again under them when the prescan guessed otherwise).
+        let mut nothing = std::io::sink();
+        let mut null = Target::Stream(&mut nothing);
+        let mut check = write_pass(path, name, options, &gcode, &layout, &mut null)?;
+        if check.layout != layout {
+            layout = check.layout.clone();
+            check = write_pass(path, name, options, &gcode, &layout, &mut null)?;
+        }
+        crate::report::deny(outcome_warnings(path, name, options, check)?, deny_warnings)?;
+    }
+    let mut pass = write_pass(path, name, options, &gcode, &layout, out)?;
+    if pass.layout != layout {
+        let restart = |error| Failure::Io {
+            path: "<output>".into(),
+            action: "rewrite",
+            error,
+        };
+        out.restart().map_err(restart)?;
+        pass = write_pass(path, name, options, &gcode, &pass.layout.clone(), out)?;
+    }
+    crate::report::deny(outcome_warnings(path, name, options, pass)?, deny_warnings)
+}
+
+/// What a pass ended with: its warnings, notes and summary, or its failure.
+fn outcome_warnings(
+    path: &std::path::Path,
+    name: &str,
+    options: &CompileOptions,
+    pass: Pass,
+) -> Result<Vec<miette::Report>, Failure> {
+    let (totals, report) = match pass.outcome {
+        Ok(done) => done,
+        Err(StreamFailure::Plan(e)) => return Err(plan_failure(path, name, &e)),
+        Err(StreamFailure::Emit(e)) => return Err(emit_failure(e, options, None)),
+    };
+    let mut warnings = reports(path, name, pass.warnings);
+    warnings.extend(plan_notes(&report, options));
+    warnings.extend(summary_note(&report, &totals, pass.layout.units));
+    if options.format == pvt_emit::Format::Pmac {
+        warnings.extend(fractional_ms_report(totals.fractional_ms, totals.segments));
+    }
+    Ok(warnings)
+}
+
+/// Plans and writes the program under `layout`; G-code errors fail the pass, a planning
+/// or writing failure is returned in [`Pass::outcome`] with the layout found.
+fn write_pass(
+    path: &std::path::Path,
+    name: &str,
+    options: &CompileOptions,
+    gcode: &pvt_gcode::GcodeOptions,
+    layout: &Layout,
+    out: &mut Target<'_>,
+) -> Result<Pass, Failure> {
+    let plan_options = plan_options(options, layout.units, &layout.axes)?;
+    check_pmac_axes(options, &layout.axes)?;
+    let interpolation = plan_options.interpolation();
+    let emit_options = emit_options(
+        options,
+        name,
+        header_lines(options, layout.units),
+        layout.units,
+    );
+    let buffered = std::io::BufWriter::with_capacity(1 << 16, out);
+    let mut writer = Checked::new(options.format.writer(buffered));
+    let header = pvt_emit::Header {
+        axes: &layout.axes,
+        units: layout.units,
+        interpolation,
+        options: &emit_options,
+    };
+    let failed = |failure| Pass {
+        layout: layout.clone(),
+        warnings: Vec::new(),
+        outcome: Err(failure),
+    };
+    if let Err(e) = writer.begin(&header) {
+        return Ok(failed(StreamFailure::Emit(e)));
+    }
+    let max_piece = options.format.max_piece_seconds();
+    let grid = split_grid(options);
+    let mut sink =
+        match PlanningSink::new(writer, layout.axes.clone(), plan_options, max_piece, grid) {
+            Ok(sink) => sink,
+            Err(e) => return Ok(failed(StreamFailure::Plan(e))),
+        };
+    let summary = compile_read(path, name, gcode, &mut sink)?;
+    let found = Layout {
+        axes: sink.moved.axes(),
+        units: summary.units,
+    };
+    Ok(Pass {
+        layout: found,
+        warnings: summary.warnings,
+        outcome: sink.finish().map(|(_, totals, report)| (totals, report)),
+    })
+}
+
+/// Refuses PMAC axis definitions that leave a moved axis undefined
+/// (`pvtc::pmac::undefined_axis`): the controller would not move it.
+fn check_pmac_axes(options: &CompileOptions, moved: &[pvt_core::Axis]) -> Result<(), Failure> {
+    if options.format != Format::Pmac {
+        return Ok(());
+    }
+    let missing = options.pmac.undefined_axes(moved);
+    if missing.is_empty() {
+        return Ok(());
+    }
+    let names: Vec<String> = missing.iter().map(|a| a.to_string()).collect();
+    Err(Failure::Input(vec![miette::miette!(
+        code = "pvtc::pmac::undefined_axis",
+        help = "add a definition like --pmac-axis '#3->1000Z' for each, or leave out --pmac-axis",
+        "the program moves {} but no --pmac-axis defines {}",
+        names.join(" "),
+        if names.len() == 1 { "it" } else { "them" },
+    )]))
+}
+
+/// A successful compilation.
+#[derive(Debug)]
+pub struct Compiled {
+    /// The output, exactly as it is to be written.
+    pub bytes: Vec<u8>,
+    /// The planned program.
+    pub program: PvtProgram,
+    /// The geometry the program was planned from (for checking and plotting).
+    pub toolpath: Toolpath,
+    /// What planning changed.
+    pub report: PlanReport,
+    /// Warnings, ready to print.
+    pub warnings: Vec<Report>,
+}
+
+/// Reads `source` whole with its front end, `--velocities` applied to a series.
+fn read_whole(source: &Source, options: &CompileOptions) -> Result<(Input, Vec<Report>), Failure> {
+    let (mut input, mut warnings) = front::read(source, options)?;
+    if let Input::Series(series) = &mut input {
+        warnings.extend(choose_velocities(&mut series.points, options)?);
+    }
+    Ok((input, warnings))
+}
+
+/// Reads and plans `source` into a program, without writing any format: the same front
+/// end and stage as [`compile`], into pvt-core's collector (`check`, `plot`).
+pub fn plan(
+    source: &Source,
+    options: &CompileOptions,
+) -> Result<(Planned, Toolpath, Vec<Report>), Failure> {
+    let (input, mut warnings) = read_whole(source, options)?;
+    let moved = match &input {
+        Input::Toolpath(t) => t.moved_axes(),
+        Input::Series(s) => s.axes.clone(),
+    };
+    let plan_options = plan_options(options, input.units(), &moved)?;
+    let (planned, toolpath) = match input {
+        Input::Toolpath(toolpath) => (plan_toolpath_report(&toolpath, &plan_options), toolpath),
+        Input::Series(series) => (
+            plan_timed(
+                &series.points,
+                series.axes.clone(),
+                series.units,
+                &plan_options,
+            ),
+            series.toolpath(),
+        ),
+    };
+    let planned = planned.map_err(|e| plan_failure_in(source, &e))?;
+    warnings.extend(plan_notes(&planned.report, options));
+    Ok((planned, toolpath, warnings))
+}
+
+/// A planning error as a report labelling its whole line of `source`.
+fn plan_failure_in(source: &Source, e: &PlanError) -> Failure {
+    let report = if e.line() == 0 {
+        miette::miette!(code = e.code().to_string(), "{e}")
+    } else {
+        at_line(e.code(), &e.to_string(), e.line(), source).with_source_code(source.named_text())
+    };
+    Failure::Input(vec![report])
+}
+
+/// Applies `--velocities` to a series: drops its velocity columns for `plan` (with a
+/// note), refuses `file` when it has none or the planner takes no velocities, and says
+/// which velocities a velocity method uses, and when a planner replaces the series' times.
+fn choose_velocities(
+    points: &mut pvt_core::TimedPoints,
+    options: &CompileOptions,
+) -> Result<Vec<Report>, Failure> {
+    let planner = options.planner;
+    let name = planner.name();
+    let given = points.velocities.is_some();
+    let mut notes = Vec::new();
+    match options.velocities {
+        Some(VelocitySource::Plan) if given => {
+            points.velocities = None;
+            notes.push(miette::miette!(
+                severity = Severity::Advice,
+                code = "pvtc::plan::velocity_columns_ignored",
+                "the series' velocity columns are ignored (--velocities plan): the {name} planner chooses the velocities"
+            ));
+        }
+        Some(VelocitySource::File) if !given => {
+            return Err(Failure::Usage(
+                "--velocities file: the series has no velocity columns (v<axis>, e.g. vx)".into(),
+            ));
+        }
+        Some(VelocitySource::File) if !planner.is_velocity_method() => {
+            return Err(Failure::Usage(format!(
+                "--velocities file does nothing with the {name} planner, which chooses its own \
+                 velocities: use chord-forward, chord-back, const-accel or spline"
+            )));
+        }
+        None if given && planner.is_velocity_method() => notes.push(miette::miette!(
+            severity = Severity::Advice,
+            code = "pvtc::plan::file_velocities",
+            help = format!("pass --velocities plan to use the {name} method's velocities instead"),
+            "the velocities are the series' velocity columns, as given, not the {name} method's"
+        )),
+        _ => {}
+    }
+    if matches!(planner, Planner::Contour | Planner::Path) {
+        notes.push(miette::miette!(
+            severity = Severity::Advice,
+            code = "pvtc::plan::times_replaced",
+            help = "pt, chord-forward, chord-back, const-accel and spline keep the series' times",
+            "the {name} planner chooses its own piece times: the series' times only set each segment's speed (chord / time)"
+        ));
+    }
+    Ok(notes)
+}
+
+/// What the path planner achieved, for standard error: pieces, the path error bound and
+/// the total time against the time at the feeds; `None` for the other planners.
+fn summary_note(report: &PlanReport, totals: &Totals, units: Units) -> Option<Report> {
+    let error = report.path_error?;
+    // A point series has no feed to compare with: its pieces come from the points.
+    let ratio = match report.feed_time > 0.0 {
+        true => format!(" ({:.3} x length / feed)", totals.time / report.feed_time),
+        false => String::new(),
+    };
+    Some(miette::miette!(
+        severity = Severity::Advice,
+        code = "pvtc::plan::summary",
+        "{} pieces; path error at most {error:.6} {}; total time {:.4} s{ratio}",
+        totals.segments,
+        units.name(),
+        totals.time
+    ))
+}
+
+/// Compiles `source`, held in memory, into the bytes of `options.format`, keeping the
+/// program written.
+pub fn compile(source: &Source, options: &CompileOptions) -> Result<Compiled, Failure> {
+    compile_whole(source, options, true)
+}
+
+/// The route of a source read whole: its front end's toolpath or series pushed into the
+/// planning sink, written into memory (so that a failure or `--deny-warnings` leaves the
+/// target untouched), the program kept when `keep`.
+fn compile_whole(
+    source: &Source,
+    options: &CompileOptions,
+    keep: bool,
+) -> Result<Compiled, Failure> {
+    let (input, mut warnings) = read_whole(source, options)?;
+    let (axes, units) = match &input {
+        Input::Toolpath(t) => (t.moved_axes(), t.units),
+        Input::Series(s) => (s.axes.clone(), s.units),
+    };
+    let plan_options = whole_plan_options(&input, options, units, &axes, source)?;
+    let interpolation = plan_options.interpolation();
+    let emit_options = emit_options(options, &source.name, header_lines(options, units), units);
+    let mut bytes = Vec::new();
+    let mut writer = Checked::new(options.format.writer(&mut bytes));
+    let header = pvt_emit::Header {
+        axes: &axes,
+        units,
+        interpolation,
+        options: &emit_options,
+    };
+    let begun = writer.begin(&header);
+    let (max_piece, grid) = (options.format.max_piece_seconds(), split_grid(options));
+    let kept = keep.then(|| PvtProgram {
+        axes: axes.clone(),
+        units,
+        interpolation,
+        contours: Vec::new(),
+        events: Vec::new(),
+    });
+    let mut sink = PlanningSink::keeping(writer, axes.clone(), plan_options, max_piece, grid, kept)
+        .map_err(|e| plan_failure_in(source, &e))?;
+    push_whole(&input, &mut sink);
+    // The writer (which borrows `bytes`) is dropped here.
+    let finished = sink
+        .finish_kept()
+        .map(|(_, totals, report, program)| (totals, report, program));
+    let (totals, report, program) = match finished {
+        Err(StreamFailure::Plan(e)) => return Err(plan_failure_in(source, &e)),
+        Ok((totals, report, program)) => (totals, report, Ok(program)),
+        Err(StreamFailure::Emit(e)) => (Totals::default(), PlanReport::default(), Err(e)),
+    };
+    check_pmac_axes(options, &axes)?;
+    begun.map_err(|e| emit_failure(e, options, Some(source)))?;
+    let program = program.map_err(|e| emit_failure(e, options, Some(source)))?;
+    warnings.extend(whole_notes(&report, &totals, units, options));
+    Ok(Compiled {
+        bytes,
+        program,
+        toolpath: match input {
+            Input::Toolpath(toolpath) => toolpath,
+            Input::Series(series) => series.toolpath(),
+        },
+        report,
+        warnings,
+    })
+}
+
+/// The planner's options for an input read whole: a series is timed by its own times
+/// and checked as `pvt_core::plan_timed` checks it (finite points, positive times, one
+/// coordinate per axis).
+fn whole_plan_options(
+    input: &Input,
+    options: &CompileOptions,
+    units: Units,
+    axes: &[Axis],
+    source: &Source,
+) -> Result<PlanOptions, Failure> {
+    let mut plan_options = plan_options(options, units, axes)?;
+    if let Input::Series(series) = input {
+        plan_options.timing = Timing::FromFeed;
+        let failed = |e: PlanError| plan_failure_in(source, &e);
+        series.points.validate().map_err(failed)?;
+        if axes.len() != series.points.dim {
+            return Err(failed(PlanError::BadShape));
+        }
+    }
+    Ok(plan_options)
+}
+
+/// Pushes an input read whole into the planning sink: a toolpath by the one traversal,
+/// a series point by point.
+fn push_whole<W: ProgramWriter>(input: &Input, sink: &mut PlanningSink<W>) {
+    match input {
+        Input::Toolpath(toolpath) => pvt_core::traverse::replay(toolpath, sink),
+        Input::Series(series) => push_series(&series.points, &mut sink.stage),
+    }
+}
+
+/// The notes on a program read whole: what planning changed, the path planner's
+/// summary and, for PMAC without a quantum, the piece times that are not whole ms.
+fn whole_notes(
+    report: &PlanReport,
+    totals: &Totals,
+    units: Units,
+    options: &CompileOptions,
+) -> Vec<Report> {
+    let mut notes = plan_notes(report, options);
+    notes.extend(summary_note(report, totals, units));
+    if options.format == Format::Pmac && options.quantize.is_none() {
+        notes.extend(fractional_ms_report(totals.fractional_ms, totals.segments));
+    }
+    notes
+}
+
+/// Pushes a series' points into `stage`, each with its time and any given velocity.
+fn push_series<S: PieceSink>(points: &pvt_core::TimedPoints, stage: &mut PlanStage<S>) {
+    let dim = points.dim;
+    for i in 0..points.len() {
+        let (duration, line) = match i.checked_sub(1) {
+            Some(k) => (points.durations[k], points.lines[k]),
+            None => (0.0, points.line_of_point(0)),
+        };
+        let velocity = points
+            .velocities
+            .as_ref()
+            .map(|v| &v[i * dim..(i + 1) * dim]);
+        stage.timed_point(points.point(i), duration, velocity, line);
+    }
+}
+
+/// A back end's refusal as a failure; `source` (when known) labels the line at fault.
+fn emit_failure(e: StreamError, options: &CompileOptions, source: Option<&Source>) -> Failure {
+    match e {
+        StreamError::Invalid(invalid) => {
+            let report = match source {
+                Some(source) => at_line(
+                    invalid.code,
+                    &invalid.to_string(),
+                    invalid.line,
+                    source,
+                )
+                .with_source_code(source.named_text()),
+                None => miette::miette!(code = invalid.code, "{invalid}"),
+            };
+            Failure::Input(vec![report])
+        }
+        StreamError::Io(error) => Failure::Io {
+            path: PathBuf::from("<output>"),
+            action: "write",
+            error,
+        },
+        StreamError::NoTriggers(..) => Failure::Input(vec![miette::miette!(
+            code = "pvtc::emit::no_triggers",
+            help = "leave out --trigger-every, or write pmac, powerpmac, zaber, json or csv",
+            "{e}"
+        )]),
+        StreamError::MissingScale(..) => Failure::Input(vec![miette::miette!(
+            code = "pvtc::emit::no_scale",
+            help = "give --counts-per-unit AXIS=N for each moved axis, or counts_per_unit in the machine file's [axes.AXIS]",
+            "{e}"
+        )]),
+        StreamError::Unsupported(interpolation) => Failure::Input(vec![miette::miette!(
+            code = "pvtc::emit::unsupported_interpolation",
+            help =
+                "PMAC PVT mode needs velocities: choose a PVT planner, or --format movepvt (MovePT arrays) or json",
+            "the {} format cannot express {interpolation:?} motion",
+            options.format.name()
+        )]),
+    }
+}
+
+/// The warning for `fractional` of `segments` piece times that are not whole ms.
+fn fractional_ms_report(fractional: usize, segments: usize) -> Option<Report> {
+    (fractional > 0).then(|| {
+        miette::miette!(
+            severity = Severity::Warning,
+            code = "pvtc::emit::fractional_ms",
+            help = "pass --quantize 1ms to make every piece time whole while keeping the path",
+            "{fractional} of {segments} piece times are not whole milliseconds; PMAC rounds TA to whole ms, which changes speeds and times"
+        )
+    })
+}
+
+/// Notes on what planning changed (quantization, lengthened blends, ignored velocities).
+fn plan_notes(report: &PlanReport, options: &CompileOptions) -> Vec<Report> {
+    let mut notes = Vec::new();
+    if let Some(q) = options.quantize {
+        notes.push(miette::miette!(
+            severity = Severity::Advice,
+            code = "pvtc::plan::quantized",
+            "piece times made whole multiples of {} ms (rounded {}); largest change of mid-segment speed: {:.4} %",
+            q * 1000.0,
+            crate::settings::rounding_words(options.quantize_rounding),
+            report.quantize_speed_change * 100.0
+        ));
+    }
+    if report.lengthened_segments > 0 {
+        notes.push(miette::miette!(
+            severity = Severity::Warning,
+            code = "pvtc::plan::lengthened",
+            "{} segments were too short for their blends at --accel; their times were raised",
+            report.lengthened_segments
+        ));
+    }
+    if report.velocities_ignored {
+        notes.push(miette::miette!(
+            severity = Severity::Warning,
+            code = "pvtc::plan::velocities_ignored",
+            help = "--velocities plan ignores the velocity columns without a warning",
+            "the input gives velocities, which the {} planner does not use",
+            options.planner.name()
+        ));
+    }
+    notes
+}
