@@ -15,6 +15,7 @@
 //! - data flows one way: nothing here calls back into a front end.
 
 pub mod axis;
+pub mod bezier;
 pub mod check;
 pub mod compensate;
 pub mod defaults;
@@ -46,6 +47,6 @@ pub use program::{Interpolation, PvtContour, PvtProgram, SegmentRef};
 pub use split::{split_long_pieces, PieceSplitter};
 pub use stream::{PieceSink, PlanStage, ToolpathSink};
 pub use toolpath::{
-    Arc, ArcDirection, CodeWords, Contour, CoolantState, Element, ElementKind, EventKind, Motion,
-    Plane, ProgramEvent, Span, SpindleState, Toolpath,
+    Arc, ArcDirection, Bezier, CodeWords, Contour, CoolantState, Element, ElementKind, EventKind,
+    Motion, Plane, ProgramEvent, Span, SpindleState, Toolpath,
 };

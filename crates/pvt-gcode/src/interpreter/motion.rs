@@ -444,17 +444,20 @@ impl Interpreter<'_> {
         self.tool.moved_with = self.tool.offset;
         let mut element = *element;
         if let Some(at) = self.tool.machine_at.take() {
-            match element.kind {
-                ElementKind::Line => element.start = at,
-                // Off its plane (a Z offset under G17) the arc starts where the machine
-                // is, a helix; in its plane it keeps its start and the machine gets
-                // there first, straight.
-                ElementKind::Arc(arc)
-                    if arc.plane.project(&at) == arc.plane.project(&element.start) =>
-                {
+            let plane = match element.kind {
+                ElementKind::Line => None,
+                ElementKind::Arc(arc) => Some(arc.plane),
+                ElementKind::Bezier(bezier) => Some(bezier.plane),
+            };
+            match plane {
+                None => element.start = at,
+                // Off its plane (a Z offset under G17) an arc or spline starts where the
+                // machine is (a helix); in its plane it keeps its start and the machine
+                // gets there first, straight.
+                Some(plane) if plane.project(&at) == plane.project(&element.start) => {
                     element.start = at;
                 }
-                ElementKind::Arc(_) => {
+                Some(_) => {
                     let to_start = Element {
                         kind: ElementKind::Line,
                         start: at,
