@@ -944,8 +944,8 @@ proptest! {
     }
 }
 
-/// A smooth S-shaped Bézier takes few pieces at the feed: its pieces are placed by the
-/// cubic's own error bound, not by chords.
+/// A smooth S-shaped Bézier takes few pieces from rest to rest: its pieces are placed by
+/// the cubic's own error bound, not by chords.
 #[test]
 fn a_smooth_bezier_is_few_pieces() {
     let c = contour(vec![bezier_step(
@@ -956,5 +956,6 @@ fn a_smooth_bezier_is_few_pieces() {
     )]);
     let planned = plan(&c, 1e-3, &BTreeMap::new());
     assert_follows(&c, &planned, 1e-3);
-    assert!(planned.len() <= 12, "{} pieces", planned.len());
+    // Chords within 1e-3 would be √(max|B''|/(8·1e-3)) = √(360/0.008) = 213.
+    assert!(planned.len() <= 32, "{} pieces", planned.len());
 }

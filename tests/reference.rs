@@ -189,27 +189,36 @@ fn bezier_point(b: &Bezier, e: &Element, axes: &[Axis], f: f64) -> Vec<f64> {
 }
 
 /// Distance from `p` to a Bézier element by search over its parameter: a grid of 512,
-/// then a golden-section search between the grid neighbours of the best.
+/// then a golden-section search between the grid neighbours of every grid point nearer
+/// than both its neighbours (a loop passes near itself: the nearest grid point may lie
+/// on the other branch).
 fn to_bezier(p: &[f64], b: &Bezier, e: &Element, axes: &[Axis]) -> f64 {
     let n: usize = 512;
     let d = |f: f64| dist(p, &bezier_point(b, e, axes, f));
-    let best = (0..=n)
-        .min_by(|&i, &j| d(i as f64 / n as f64).total_cmp(&d(j as f64 / n as f64)))
-        .unwrap_or(0);
-    let (mut lo, mut hi) = (
-        best.saturating_sub(1) as f64 / n as f64,
-        (best + 1).min(n) as f64 / n as f64,
-    );
+    let grid: Vec<f64> = (0..=n).map(|i| d(i as f64 / n as f64)).collect();
+    let mut best = grid.iter().copied().fold(f64::INFINITY, f64::min);
     let g = (5f64.sqrt() - 1.0) / 2.0;
-    for _ in 0..80 {
-        let (x1, x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
-        if d(x1) < d(x2) {
-            hi = x2;
-        } else {
-            lo = x1;
+    for i in 0..=n {
+        let left = if i == 0 { f64::INFINITY } else { grid[i - 1] };
+        let right = if i == n { f64::INFINITY } else { grid[i + 1] };
+        if grid[i] > left || grid[i] > right {
+            continue;
         }
+        let (mut lo, mut hi) = (
+            i.saturating_sub(1) as f64 / n as f64,
+            (i + 1).min(n) as f64 / n as f64,
+        );
+        for _ in 0..80 {
+            let (x1, x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+            if d(x1) < d(x2) {
+                hi = x2;
+            } else {
+                lo = x1;
+            }
+        }
+        best = best.min(d(0.5 * (lo + hi)));
     }
-    d(0.5 * (lo + hi)).min(d(best as f64 / n as f64))
+    best
 }
 
 /// Distance from `p` (on `axes`) to element `e`: closed form for lines and flat circular

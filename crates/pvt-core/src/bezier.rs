@@ -153,9 +153,10 @@ impl Bezier {
         (part(left), mid, part(right))
     }
 
-    /// Distance from `point` (the values of the axes `columns`) to the curve: the
-    /// nearest of 64 equally spaced parameters (and both ends), refined by golden-section
-    /// search over the neighbouring intervals.
+    /// Distance from `point` (the values of the axes `columns`) to the curve: 64 equally
+    /// spaced parameters, each one nearer than both its neighbours refined by
+    /// golden-section search over the intervals beside it (a loop passes near itself, so
+    /// the nearest sample may lie on the other branch).
     pub fn distance(
         &self,
         start: &Position,
@@ -174,21 +175,28 @@ impl Bezier {
         };
         const SAMPLES: usize = 64;
         let h = 1.0 / SAMPLES as f64;
-        let best = (0..=SAMPLES)
-            .map(|k| k as f64 * h)
-            .min_by(|a, b| at(*a).total_cmp(&at(*b)))
-            .unwrap_or(0.0);
-        let (mut lo, mut hi) = ((best - h).max(0.0), (best + h).min(1.0));
+        let grid: Vec<f64> = (0..=SAMPLES).map(|k| at(k as f64 * h)).collect();
+        let mut best = grid.iter().copied().fold(f64::INFINITY, f64::min);
         let g = 0.5 * (5f64.sqrt() - 1.0);
-        for _ in 0..60 {
-            let (x1, x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
-            if at(x1) < at(x2) {
-                hi = x2;
-            } else {
-                lo = x1;
+        for k in 0..=SAMPLES {
+            let left = if k == 0 { f64::INFINITY } else { grid[k - 1] };
+            let right = grid.get(k + 1).copied().unwrap_or(f64::INFINITY);
+            if grid[k] > left || grid[k] > right {
+                continue;
             }
+            let u = k as f64 * h;
+            let (mut lo, mut hi) = ((u - h).max(0.0), (u + h).min(1.0));
+            for _ in 0..60 {
+                let (x1, x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+                if at(x1) < at(x2) {
+                    hi = x2;
+                } else {
+                    lo = x1;
+                }
+            }
+            best = best.min(at(0.5 * (lo + hi)));
         }
-        at(0.5 * (lo + hi)).min(at(best))
+        best
     }
 }
 

@@ -6,9 +6,9 @@
 //! candidates (its two ends and every turn of the point's polar angle about the centre,
 //! which is exact for a flat circle) refined by golden-section search over the arc
 //! parameter within ±0.2 rad, which finds it on helices and spirals too. A Bézier's
-//! nearest point is the nearest of 65 parameters refined by golden-section search over
-//! the intervals beside it ([`crate::bezier::Bezier::distance`]). The elements a
-//! piece may follow are found through a [`BoxTree`] per source line, so a line of many
+//! nearest point is found among 65 equal parameter steps, each one nearer than its
+//! neighbours refined by golden-section search over the intervals beside it
+//! ([`crate::bezier::Bezier::distance`]). The elements a piece may follow are found through a [`BoxTree`] per source line, so a line of many
 //! elements (a 4,000-vertex polyline, a loop's body) costs a piece a walk down a tree,
 //! not a scan. It must not evaluate the motion.
 
