@@ -63,6 +63,11 @@ impl Interpreter<'_> {
                 }
             }
             Some(MotionMode::Unsupported) => {}
+            Some(MotionMode::Spline { quadratic }) => {
+                if has_axes {
+                    self.spline_move(quadratic, request, block);
+                }
+            }
             Some(MotionMode::Probe(code)) => {
                 if has_axes {
                     self.probe_move(MotionMode::Probe(code), request, block);
@@ -710,7 +715,7 @@ fn center_words(
 }
 
 /// The words that make the move (motion code, axes, centre), or the whole block.
-fn move_span(request: &Request, block: &Block) -> Range<usize> {
+pub(super) fn move_span(request: &Request, block: &Block) -> Range<usize> {
     let motion = request.motion.as_ref().map(|(_, w)| w);
     let words = motion
         .into_iter()
@@ -720,7 +725,7 @@ fn move_span(request: &Request, block: &Block) -> Range<usize> {
     cover(words).unwrap_or_else(|| block.span())
 }
 
-fn element_span(block: &Block) -> Span {
+pub(super) fn element_span(block: &Block) -> Span {
     Span {
         start: block.start,
         end: block.end,
