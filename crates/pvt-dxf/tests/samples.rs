@@ -676,3 +676,115 @@ fn safe_z_rapids_plunge_and_retract() {
         .all(|c| c.elements.len() == 1));
     assert_eq!(c.last().unwrap().elements[0].end[2], 5.0);
 }
+
+/// The planned motion of splines.dxf's control-point splines against the true NURBS
+/// (Cox–de Boor, evaluated here): with the drawing's curves within half the tolerance
+/// (as pvtc reads them for the path planner) and the motion planned within the other
+/// half of those Béziers, every cubic piece, evaluated at 32 points from its end states
+/// (Bézier p₀, p₀ + v₀T/3, p₁ − v₁T/3, p₁), is within the tolerance of the true curve.
+#[test]
+fn spline_motion_stays_within_the_tolerance_of_the_true_nurbs() {
+    let mut o = DxfOptions::with_feed(6000.0);
+    o.tolerance = Some(TOL);
+    o.curve_share = 0.5;
+    let dr = read_drawing(&sample("splines.dxf"), &o).unwrap();
+    let truth = [
+        nurbs(
+            3,
+            &[0.0, 0.0, 0.0, 0.0, 1.0, 2.0, 3.0, 3.0, 3.0, 3.0],
+            &[
+                [0.0, 0.0, 0.0],
+                [10.0, 20.0, 0.0],
+                [20.0, -10.0, 0.0],
+                [30.0, 15.0, 0.0],
+                [40.0, 0.0, 0.0],
+                [50.0, 10.0, 0.0],
+            ],
+            &[],
+        ),
+        nurbs(
+            2,
+            &[0.0, 0.0, 0.0, 1.0, 1.0, 2.0, 2.0, 2.0],
+            &[
+                [90.0, 0.0, 0.0],
+                [90.0, 10.0, 0.0],
+                [80.0, 10.0, 0.0],
+                [70.0, 10.0, 0.0],
+                [70.0, 0.0, 0.0],
+            ],
+            &[
+                1.0,
+                std::f64::consts::FRAC_1_SQRT_2,
+                1.0,
+                std::f64::consts::FRAC_1_SQRT_2,
+                1.0,
+            ],
+        ),
+        nurbs(
+            5,
+            &[
+                0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.3, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0,
+            ],
+            &[
+                [0.0, 30.0, 0.0],
+                [5.0, 45.0, 0.0],
+                [15.0, 25.0, 0.0],
+                [25.0, 50.0, 0.0],
+                [35.0, 20.0, 0.0],
+                [45.0, 45.0, 0.0],
+                [50.0, 30.0, 0.0],
+            ],
+            &[],
+        ),
+    ];
+    let options = pvt_core::PathOptions {
+        tolerance: 0.5 * TOL,
+        corner_tolerance: None,
+        limits: Default::default(),
+        quantum: None,
+        servo_period: 0.0005,
+        position_resolution: 0.0,
+    };
+    let xyz = [Axis::X, Axis::Y, Axis::Z];
+    let mut measured = 0;
+    for c in feeds(&dr) {
+        let s = c.elements[0].start;
+        let on = |t: &Vec<P>| {
+            d(t[0], [s[0], s[1], s[2]]) < 1e-9 || d(*t.last().unwrap(), [s[0], s[1], s[2]]) < 1e-9
+        };
+        let Some(t) = truth.iter().find(|t| on(t)) else {
+            continue;
+        };
+        let (planned, _) = pvt_core::plan_path(c, &xyz, &options).unwrap();
+        let mut p0: Vec<f64> = planned.start.clone();
+        let mut v0 = vec![0.0; 3];
+        for i in 0..planned.len() {
+            let seg = planned.segment(i);
+            let tt = seg.duration;
+            let cp: Vec<P> = vec![
+                [p0[0], p0[1], p0[2]],
+                std::array::from_fn(|k| p0[k] + v0[k] * tt / 3.0),
+                std::array::from_fn(|k| seg.end[k] - seg.velocity[k] * tt / 3.0),
+                [seg.end[0], seg.end[1], seg.end[2]],
+            ];
+            for j in 0..=32 {
+                let u = f64::from(j) / 32.0;
+                let w = [
+                    (1.0 - u).powi(3),
+                    3.0 * (1.0 - u).powi(2) * u,
+                    3.0 * (1.0 - u) * u * u,
+                    u.powi(3),
+                ];
+                let p: P = std::array::from_fn(|k| (0..4).map(|m| w[m] * cp[m][k]).sum());
+                let e = poly_dist(p, t);
+                assert!(
+                    e <= TOL + 1e-5,
+                    "piece {i}: {p:?} is {e} from the true NURBS"
+                );
+            }
+            (p0, v0) = (seg.end.to_vec(), seg.velocity.to_vec());
+        }
+        measured += 1;
+    }
+    assert_eq!(measured, 3, "the three open control-point splines");
+}
