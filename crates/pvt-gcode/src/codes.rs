@@ -314,7 +314,7 @@ fn unsupported_g(tenths: u32) -> Option<Feature> {
 /// The feature of a motion-group code pvtc does not execute.
 pub(crate) fn motion_feature(tenths: u32) -> &'static str {
     match tenths {
-        52 | 53 | 62 => "NURBS",
+        52 | 53 | 62 => "splines and NURBS",
         330 | 331 => "spindle-synchronized motion",
         760 => "lathe threading cycles",
         _ => "motion modes",
