@@ -29,10 +29,11 @@ pub struct Bezier {
     pub controls: [[f64; 2]; 2],
 }
 
-/// Weights of the 8-point Gauss–Legendre rule on `[−1, 1]` (abscissa, weight).
+/// The 8-point Gauss–Legendre rule on `[−1, 1]`: its positive abscissas with their
+/// weights (the negative ones mirror them).
 const GAUSS: [(f64, f64); 4] = [
-    (0.183_434_642_495_649_8, 0.362_683_783_378_362_0),
-    (0.525_532_409_916_329_0, 0.313_706_645_877_887_3),
+    (0.183_434_642_495_649_8, 0.362_683_783_378_362),
+    (0.525_532_409_916_329, 0.313_706_645_877_887_3),
     (0.796_666_477_413_626_7, 0.222_381_034_453_374_5),
     (0.960_289_856_497_536_2, 0.101_228_536_290_376_3),
 ];

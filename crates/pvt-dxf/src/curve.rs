@@ -418,153 +418,6 @@ impl PieceCurve for FitSpline {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::geom::dist;
-
-    #[test]
-    fn rational_quadratic_is_an_exact_quarter_circle() {
-        let w = std::f64::consts::FRAC_1_SQRT_2;
-        let nurbs = Nurbs::new(
-            2,
-            &[0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
-            &[[1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
-            &[1.0, w, 1.0],
-        )
-        .unwrap();
-        let curve = NurbsCurve::new(nurbs);
-        for i in 0..=100 {
-            let p = curve.eval(0, f64::from(i) / 100.0);
-            assert!((norm(p) - 1.0).abs() < 1e-14);
-        }
-        let pts = flatten(&curve, 1e-4).unwrap();
-        assert_eq!(pts[0], [1.0, 0.0, 0.0]);
-        assert!(dist(*pts.last().unwrap(), [0.0, 1.0, 0.0]) < 1e-15);
-        // Chords of a unit circle within 1e-4: each spans at most 2·acos(1 − 1e-4).
-        let widest = 2.0 * libm::acos(1.0 - 1e-4);
-        assert!(pts.len() > (std::f64::consts::FRAC_PI_2 / widest).ceil() as usize);
-        for w in pts.windows(2) {
-            let mid = scale(add(w[0], w[1]), 0.5);
-            assert!(1.0 - norm(mid) <= 1e-4, "sagitta {}", 1.0 - norm(mid));
-        }
-    }
-
-    #[test]
-    fn invalid_nurbs_are_refused() {
-        let p = [[0.0; 3], [1.0, 0.0, 0.0]];
-        assert!(Nurbs::new(1, &[0.0, 0.0, 1.0], &p, &[]).is_err());
-        assert!(Nurbs::new(1, &[0.0, 0.0, 0.0, 0.0], &p, &[]).is_err());
-        assert!(Nurbs::new(1, &[0.0, 0.0, 1.0, 1.0], &p, &[1.0, -1.0]).is_err());
-        assert!(Nurbs::new(1, &[0.0, 1.0, 0.5, 1.0], &p, &[]).is_err());
-        assert!(Nurbs::new(0, &[0.0, 1.0], &p[..1], &[]).is_err());
-        assert!(Nurbs::new(1, &[0.0, 0.0, 1.0, 1.0], &p, &[]).is_ok());
-    }
-
-    #[test]
-    fn fit_spline_passes_through_points_with_given_tangent() {
-        let pts = [
-            [0.0, 0.0, 0.0],
-            [1.0, 1.0, 0.0],
-            [2.0, 0.0, 0.0],
-            [3.0, 1.0, 0.0],
-        ];
-        let s = FitSpline::new(&pts, Some([1.0, 0.0, 0.0]), None).unwrap();
-        for (i, p) in pts.iter().enumerate().take(3) {
-            assert!(dist(s.eval(i, s.t[i]), *p) < 1e-12);
-        }
-        assert!(dist(s.eval(2, s.t[3]), pts[3]) < 1e-12);
-        // Start derivative is the unit tangent (finite difference).
-        let e = 1e-6;
-        let d = scale(sub(s.eval(0, e), s.eval(0, 0.0)), 1.0 / e);
-        assert!((d[0] - 1.0).abs() < 1e-5 && d[1].abs() < 1e-5);
-        // Natural end: second derivative zero at the last point.
-        let last = s.m.last().unwrap();
-        assert!(last.iter().all(|v| v.abs() < 1e-12));
-        // Two points and natural ends: the straight line.
-        let line = FitSpline::new(&[[0.0; 3], [0.0; 3], [2.0, 2.0, 0.0]], None, None).unwrap();
-        assert!(dist(line.eval(0, 1.0), [libm::sqrt(0.5), libm::sqrt(0.5), 0.0]) < 1e-12);
-    }
-
-    /// The ellipse's cubics, evaluated densely, against the ellipse itself: the distance
-    /// from each cubic point to the ellipse (by a fine search over its parameter) stays
-    /// within the tolerance; and the circle bound holds where the module says it does.
-    #[test]
-    fn ellipse_cubics_stay_within_tolerance() {
-        for theta in [0.1, 0.5, 1.0, std::f64::consts::FRAC_PI_2] {
-            let k = 4.0 / 3.0 * (theta / 4.0f64).tan();
-            let c = [
-                [1.0, 0.0, 0.0],
-                [1.0, k, 0.0],
-                [
-                    theta.cos() + k * theta.sin(),
-                    theta.sin() - k * theta.cos(),
-                    0.0,
-                ],
-                [theta.cos(), theta.sin(), 0.0],
-            ];
-            let worst = (0..=1000)
-                .map(|i| {
-                    let p = cubic_at(&c, f64::from(i) / 1000.0);
-                    (p[0].hypot(p[1]) - 1.0).abs()
-                })
-                .fold(0.0, f64::max);
-            let bound = circle_cubic_error(theta);
-            assert!(
-                worst <= bound * (1.0 + 1e-6) + 1e-14 && worst >= 0.9 * bound,
-                "{theta}: {worst} vs {bound}"
-            );
-        }
-        let e = EllipseArc {
-            c: [3.0, -1.0, 2.0],
-            u: [40.0, 10.0, 0.0],
-            v: [-2.0, 8.0, 0.0],
-            t0: 0.3,
-            t1: 0.3 + 5.0,
-        };
-        // Chords of 1/20,000 of the sweep lie within 1e-5 of this ellipse.
-        let fine: Vec<P3> = (0..=20_000)
-            .map(|i| e.at(0.3 + 5.0 * f64::from(i) / 20_000.0))
-            .collect();
-        for tol in [1e-2, 1e-3] {
-            let cubics = e.cubics(tol).unwrap();
-            for c in &cubics {
-                for i in 0..=64 {
-                    let p = cubic_at(c, f64::from(i) / 64.0);
-                    let d = fine
-                        .windows(2)
-                        .map(|w| dist_to_segment(p, w[0], w[1]))
-                        .fold(f64::INFINITY, f64::min);
-                    assert!(d <= tol + 1e-5, "{tol}: {d}");
-                }
-            }
-        }
-    }
-
-    #[test]
-    fn ellipse_flattening_keeps_sagitta() {
-        let e = EllipseArc {
-            c: [1.0, 2.0, 0.0],
-            u: [10.0, 0.0, 0.0],
-            v: [0.0, 3.0, 0.0],
-            t0: 0.5,
-            t1: -4.0,
-        };
-        let pts = flatten(&e, 1e-3).unwrap();
-        assert_eq!(pts[0], e.at(0.5));
-        assert_eq!(*pts.last().unwrap(), e.at(-4.0));
-        for i in 0..=20_000 {
-            let t = 0.5 - 4.5 * f64::from(i) / 20_000.0;
-            let p = e.at(t);
-            let d = pts
-                .windows(2)
-                .map(|w| dist_to_segment(p, w[0], w[1]))
-                .fold(f64::INFINITY, f64::min);
-            assert!(d <= 1e-3, "t={t}: {d}");
-        }
-    }
-}
-
 impl CubicCurve for EllipseArc {
     fn cubics(&self, tolerance: f64) -> Result<Vec<Cubic>, String> {
         let sweep = self.t1 - self.t0;
@@ -728,5 +581,152 @@ impl CubicCurve for FitSpline {
                 ]
             })
             .collect())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::dist;
+
+    #[test]
+    fn rational_quadratic_is_an_exact_quarter_circle() {
+        let w = std::f64::consts::FRAC_1_SQRT_2;
+        let nurbs = Nurbs::new(
+            2,
+            &[0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
+            &[[1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
+            &[1.0, w, 1.0],
+        )
+        .unwrap();
+        let curve = NurbsCurve::new(nurbs);
+        for i in 0..=100 {
+            let p = curve.eval(0, f64::from(i) / 100.0);
+            assert!((norm(p) - 1.0).abs() < 1e-14);
+        }
+        let pts = flatten(&curve, 1e-4).unwrap();
+        assert_eq!(pts[0], [1.0, 0.0, 0.0]);
+        assert!(dist(*pts.last().unwrap(), [0.0, 1.0, 0.0]) < 1e-15);
+        // Chords of a unit circle within 1e-4: each spans at most 2·acos(1 − 1e-4).
+        let widest = 2.0 * libm::acos(1.0 - 1e-4);
+        assert!(pts.len() > (std::f64::consts::FRAC_PI_2 / widest).ceil() as usize);
+        for w in pts.windows(2) {
+            let mid = scale(add(w[0], w[1]), 0.5);
+            assert!(1.0 - norm(mid) <= 1e-4, "sagitta {}", 1.0 - norm(mid));
+        }
+    }
+
+    #[test]
+    fn invalid_nurbs_are_refused() {
+        let p = [[0.0; 3], [1.0, 0.0, 0.0]];
+        assert!(Nurbs::new(1, &[0.0, 0.0, 1.0], &p, &[]).is_err());
+        assert!(Nurbs::new(1, &[0.0, 0.0, 0.0, 0.0], &p, &[]).is_err());
+        assert!(Nurbs::new(1, &[0.0, 0.0, 1.0, 1.0], &p, &[1.0, -1.0]).is_err());
+        assert!(Nurbs::new(1, &[0.0, 1.0, 0.5, 1.0], &p, &[]).is_err());
+        assert!(Nurbs::new(0, &[0.0, 1.0], &p[..1], &[]).is_err());
+        assert!(Nurbs::new(1, &[0.0, 0.0, 1.0, 1.0], &p, &[]).is_ok());
+    }
+
+    #[test]
+    fn fit_spline_passes_through_points_with_given_tangent() {
+        let pts = [
+            [0.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [2.0, 0.0, 0.0],
+            [3.0, 1.0, 0.0],
+        ];
+        let s = FitSpline::new(&pts, Some([1.0, 0.0, 0.0]), None).unwrap();
+        for (i, p) in pts.iter().enumerate().take(3) {
+            assert!(dist(s.eval(i, s.t[i]), *p) < 1e-12);
+        }
+        assert!(dist(s.eval(2, s.t[3]), pts[3]) < 1e-12);
+        // Start derivative is the unit tangent (finite difference).
+        let e = 1e-6;
+        let d = scale(sub(s.eval(0, e), s.eval(0, 0.0)), 1.0 / e);
+        assert!((d[0] - 1.0).abs() < 1e-5 && d[1].abs() < 1e-5);
+        // Natural end: second derivative zero at the last point.
+        let last = s.m.last().unwrap();
+        assert!(last.iter().all(|v| v.abs() < 1e-12));
+        // Two points and natural ends: the straight line.
+        let line = FitSpline::new(&[[0.0; 3], [0.0; 3], [2.0, 2.0, 0.0]], None, None).unwrap();
+        assert!(dist(line.eval(0, 1.0), [libm::sqrt(0.5), libm::sqrt(0.5), 0.0]) < 1e-12);
+    }
+
+    /// The ellipse's cubics, evaluated densely, against the ellipse itself: the distance
+    /// from each cubic point to the ellipse (by a fine search over its parameter) stays
+    /// within the tolerance; and the circle bound holds where the module says it does.
+    #[test]
+    fn ellipse_cubics_stay_within_tolerance() {
+        for theta in [0.1, 0.5, 1.0, std::f64::consts::FRAC_PI_2] {
+            let k = 4.0 / 3.0 * libm::tan(theta / 4.0);
+            let c = [
+                [1.0, 0.0, 0.0],
+                [1.0, k, 0.0],
+                [
+                    libm::cos(theta) + k * libm::sin(theta),
+                    libm::sin(theta) - k * libm::cos(theta),
+                    0.0,
+                ],
+                [libm::cos(theta), libm::sin(theta), 0.0],
+            ];
+            let worst = (0..=1000)
+                .map(|i| {
+                    let p = cubic_at(&c, f64::from(i) / 1000.0);
+                    (libm::hypot(p[0], p[1]) - 1.0).abs()
+                })
+                .fold(0.0, f64::max);
+            let bound = circle_cubic_error(theta);
+            assert!(
+                worst <= bound * (1.0 + 1e-6) + 1e-14 && worst >= 0.9 * bound,
+                "{theta}: {worst} vs {bound}"
+            );
+        }
+        let e = EllipseArc {
+            c: [3.0, -1.0, 2.0],
+            u: [40.0, 10.0, 0.0],
+            v: [-2.0, 8.0, 0.0],
+            t0: 0.3,
+            t1: 0.3 + 5.0,
+        };
+        // Chords of 1/20,000 of the sweep lie within 1e-5 of this ellipse.
+        let fine: Vec<P3> = (0..=20_000)
+            .map(|i| e.at(0.3 + 5.0 * f64::from(i) / 20_000.0))
+            .collect();
+        for tol in [1e-2, 1e-3] {
+            let cubics = e.cubics(tol).unwrap();
+            for c in &cubics {
+                for i in 0..=64 {
+                    let p = cubic_at(c, f64::from(i) / 64.0);
+                    let d = fine
+                        .windows(2)
+                        .map(|w| dist_to_segment(p, w[0], w[1]))
+                        .fold(f64::INFINITY, f64::min);
+                    assert!(d <= tol + 1e-5, "{tol}: {d}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn ellipse_flattening_keeps_sagitta() {
+        let e = EllipseArc {
+            c: [1.0, 2.0, 0.0],
+            u: [10.0, 0.0, 0.0],
+            v: [0.0, 3.0, 0.0],
+            t0: 0.5,
+            t1: -4.0,
+        };
+        let pts = flatten(&e, 1e-3).unwrap();
+        assert_eq!(pts[0], e.at(0.5));
+        assert_eq!(*pts.last().unwrap(), e.at(-4.0));
+        for i in 0..=20_000 {
+            let t = 0.5 - 4.5 * f64::from(i) / 20_000.0;
+            let p = e.at(t);
+            let d = pts
+                .windows(2)
+                .map(|w| dist_to_segment(p, w[0], w[1]))
+                .fold(f64::INFINITY, f64::min);
+            assert!(d <= 1e-3, "t={t}: {d}");
+        }
     }
 }

@@ -78,8 +78,8 @@ fn element_points(e: &pvt_core::Element) -> Vec<Position> {
             for (i, q) in p.iter_mut().enumerate() {
                 *q = e.start[i] + (e.end[i] - e.start[i]) * t;
             }
-            for j in 0..2 {
-                p[j] = w[0] * e.start[j]
+            for (j, q) in p.iter_mut().take(2).enumerate() {
+                *q = w[0] * e.start[j]
                     + w[1] * b.controls[0][j]
                     + w[2] * b.controls[1][j]
                     + w[3] * e.end[j];

@@ -367,7 +367,7 @@ fn bezier_parts(element: &Element, bezier: &Bezier, axes: &[Axis]) -> Option<Vec
         let scale = part_length(element, &points, u1 - u0);
         let cusp = rates(element, &points, u1 - u0)
             .iter()
-            .any(|r| !(*r > 1e-9 * scale));
+            .any(|r| r.is_nan() || *r <= 1e-9 * scale);
         if cusp || !(scale > 0.0 && scale.is_finite()) {
             out.extend(Curve::whole(&part, axes));
             continue;
