@@ -1,6 +1,7 @@
 //! pvt-core: the data that flows through pvtc and every computation on it.
 //!
 //! Owns the intermediate representation ([`Toolpath`] → [`Polyline`] → [`PvtProgram`]),
+//! the geometry of its cubic Bézier elements and B-splines broken into them ([`bezier`]),
 //! arc discretization by chord tolerance ([`discretize`]), the planners ([`plan`]) and the
 //! cubic Hermite evaluation a controller performs ([`hermite`]), long pieces cut along
 //! their own cubic for controllers with a largest piece time ([`split`]) and the check of

@@ -11,6 +11,7 @@ use super::Interpreter;
 use crate::block::{Block, Word};
 use crate::diagnostic::{span, GcodeDiagnostic};
 use crate::request::Request;
+use miette::SourceSpan;
 use pvt_core::{Bezier, Element, ElementKind, Motion, Plane, Units};
 
 impl Interpreter<'_> {
@@ -19,73 +20,28 @@ impl Interpreter<'_> {
         self.output_units.get_or_insert(Units::Millimetre);
         let code = if quadratic { "G5.1" } else { "G5" };
         let at = span(super::motion::move_span(request, block));
-        if self.modal.plane != Plane::XY {
-            return self.push(GcodeDiagnostic::Unsupported {
-                code: code.to_string(),
-                feature: "splines outside the XY plane (LinuxCNC: G17 only)",
-                places: 1,
-                span: at,
-            });
+        if let Some(refusal) = self.spline_refusal(code, request, at) {
+            return self.push(refusal);
         }
-        if request.axes[2..].iter().any(Option::is_some) {
-            return self.push(GcodeDiagnostic::Unsupported {
-                code: code.to_string(),
-                feature: "splines moving Z, A, B or C (LinuxCNC refuses them)",
-                places: 1,
-                span: at,
-            });
-        }
-        let words = |a: Option<Word>, b: Option<Word>| match (a, b) {
-            (Some(a), Some(b)) => Ok(Some([a.value, b.value])),
-            (None, None) => Ok(None),
-            _ => Err(()),
-        };
-        let needs = |needs: &'static str| GcodeDiagnostic::MissingWord {
-            code: code.to_string(),
-            needs,
-            span: at,
-        };
-        let ij = match words(request.offsets[0], request.offsets[1]) {
-            Ok(ij) => ij,
-            Err(()) => return self.push(needs("both I and J, or neither")),
-        };
         let end = match self.target(request) {
             Ok(end) => end,
             Err(diagnostic) => return self.push(diagnostic),
         };
         let start = self.position;
-        let scale = self.scale();
-        let vector = |v: [f64; 2]| self.rotate_xy([v[0] * scale, v[1] * scale]);
-        let controls = if quadratic {
-            let Some(ij) = ij else {
-                return self.push(needs("both I and J"));
-            };
-            let q = vector(ij);
-            Bezier::from_quadratic(
-                Plane::XY,
-                [start[0], start[1]],
-                [start[0] + q[0], start[1] + q[1]],
-                [end[0], end[1]],
-            )
-            .controls
-        } else {
-            let pq = match words(request.p, request.q) {
-                Ok(Some(pq)) => vector(pq),
-                _ => return self.push(needs("both P and Q")),
-            };
-            let first =
-                match (ij, self.last_spline) {
-                    (Some(ij), _) => vector(ij),
-                    (None, Some(previous)) => [-previous[0], -previous[1]],
-                    (None, None) => return self.push(needs(
-                        "I and J on the first G5 of a series (later ones continue its direction)",
-                    )),
-                };
-            self.last_spline = Some(pq);
-            [
-                [start[0] + first[0], start[1] + first[1]],
-                [end[0] + pq[0], end[1] + pq[1]],
-            ]
+        let controls = match self.spline_controls(
+            quadratic,
+            request,
+            [start[0], start[1]],
+            [end[0], end[1]],
+        ) {
+            Ok(controls) => controls,
+            Err(needs) => {
+                return self.push(GcodeDiagnostic::MissingWord {
+                    code: code.to_string(),
+                    needs,
+                    span: at,
+                })
+            }
         };
         self.position = end;
         let bezier = Bezier {
@@ -104,5 +60,76 @@ impl Interpreter<'_> {
             span: super::motion::element_span(block),
         };
         self.route(Motion::Feed, element);
+    }
+
+    /// What LinuxCNC refuses before it reads a spline's words: a plane other than G17,
+    /// and motion in Z, A, B or C.
+    fn spline_refusal(
+        &self,
+        code: &str,
+        request: &Request,
+        at: SourceSpan,
+    ) -> Option<GcodeDiagnostic> {
+        let feature = if self.modal.plane != Plane::XY {
+            "splines outside the XY plane (LinuxCNC: G17 only)"
+        } else if request.axes[2..].iter().any(Option::is_some) {
+            "splines moving Z, A, B or C (LinuxCNC refuses them)"
+        } else {
+            return None;
+        };
+        Some(GcodeDiagnostic::Unsupported {
+            code: code.to_string(),
+            feature,
+            places: 1,
+            span: at,
+        })
+    }
+
+    /// The two inner control points of the block's cubic from `start` to `end` (machine
+    /// XY), or what the block lacks. Records a G5's P Q for the next one.
+    fn spline_controls(
+        &mut self,
+        quadratic: bool,
+        request: &Request,
+        start: [f64; 2],
+        end: [f64; 2],
+    ) -> Result<[[f64; 2]; 2], &'static str> {
+        let pair = |a: Option<Word>, b: Option<Word>| match (a, b) {
+            (Some(a), Some(b)) => Ok(Some([a.value, b.value])),
+            (None, None) => Ok(None),
+            _ => Err(()),
+        };
+        let scale = self.scale();
+        let vector = |v: [f64; 2]| self.rotate_xy([v[0] * scale, v[1] * scale]);
+        let ij = pair(request.offsets[0], request.offsets[1]);
+        if quadratic {
+            let Ok(Some(ij)) = ij else {
+                return Err("both I and J");
+            };
+            let q = vector(ij);
+            let q = [start[0] + q[0], start[1] + q[1]];
+            return Ok(Bezier::from_quadratic(Plane::XY, start, q, end).controls);
+        }
+        let Ok(ij) = ij else {
+            return Err("both I and J, or neither");
+        };
+        let Ok(Some(pq)) = pair(request.p, request.q) else {
+            return Err("both P and Q");
+        };
+        let pq = vector(pq);
+        let first = match (ij, self.last_spline) {
+            (Some(ij), _) => vector(ij),
+            (None, Some(previous)) => [-previous[0], -previous[1]],
+            (None, None) => {
+                return Err(
+                    "I and J on the first G5 of a series (later ones continue its direction)",
+                )
+            }
+        };
+        self.last_spline = Some(pq);
+        Ok([
+            [start[0] + first[0], start[1] + first[1]],
+            [end[0] + pq[0], end[1] + pq[1]],
+        ])
     }
 }
