@@ -1,6 +1,6 @@
 //! The path planner's promises, checked independently of its own bounds: every cubic is
 //! evaluated densely (as Bézier curves from its end states) and measured against the true
-//! lines, arcs and helices; every programmed element is covered; per-axis peaks are
+//! lines, arcs, helices and Béziers; every programmed element is covered; per-axis peaks are
 //! computed from the Bézier control points; piece counts and times are as documented.
 //!
 //! Long run: `PROPTEST_CASES=2000 cargo test -p pvtc-tests --test path --release`.
@@ -11,9 +11,9 @@
 
 use proptest::prelude::*;
 use pvt_core::{
-    plan_path, Arc, ArcDirection, Axis, AxisLimits, Contour, Element, ElementKind, Interpolation,
-    Motion, PathOptions, PathStream, Plane, Position, PvtContour, PvtProgram, Quantum, Rounding,
-    Span, Toolpath, Units,
+    plan_path, Arc, ArcDirection, Axis, AxisLimits, Bezier, Contour, Element, ElementKind,
+    Interpolation, Motion, PathOptions, PathStream, Plane, Position, PvtContour, PvtProgram,
+    Quantum, Rounding, Span, Toolpath, Units,
 };
 use pvtc_tests::reference::{self, Deviation};
 use std::collections::BTreeMap;
@@ -889,4 +889,73 @@ fn dense_chords_on_grids_under_a_jerk_limit_keep_the_planned_time() {
         let ratio = grid.total_time() / free.total_time();
         assert!(ratio <= most, "{ms} ms: {ratio} of the un-gridded time");
     }
+}
+
+/// A cubic Bézier from `at` by offsets: inner control points `c1`, `c2` and end `e` in XY,
+/// `dz` of Z travel.
+fn bezier_step(at: Position, c: [f64; 6], dz: f64, feed: f64) -> Element {
+    Element {
+        kind: ElementKind::Bezier(Bezier {
+            plane: Plane::XY,
+            controls: [[at[0] + c[0], at[1] + c[1]], [at[0] + c[2], at[1] + c[3]]],
+        }),
+        start: at,
+        end: pos(at[0] + c[4], at[1] + c[5], at[2] + dz),
+        feed,
+        span: Span::default(),
+    }
+}
+
+fn bezier_steps() -> impl Strategy<Value = Vec<([f64; 6], f64)>> {
+    prop::collection::vec(
+        (
+            prop::array::uniform6(-30.0..30.0f64),
+            prop_oneof![3 => Just(0.0), 1 => -3.0..3.0f64],
+        ),
+        1..4,
+    )
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    /// Random cubic Béziers (loops, cusps and near-cusps included), chained, with and
+    /// without limits: every cubic, evaluated densely, is within the tolerance of the
+    /// true curve (its Bernstein form, evaluated by the reference), and covers it.
+    #[test]
+    fn random_beziers_stay_within_tolerance_and_cover_the_curve(
+        steps in bezier_steps(),
+        tol_exp in -3.0..-1.0f64,
+        feed in 5.0..200.0f64,
+        limited in any::<bool>(),
+    ) {
+        let mut at = pos(0.0, 0.0, 0.0);
+        let mut elements = Vec::new();
+        for (c, dz) in &steps {
+            let e = bezier_step(at, *c, *dz, feed);
+            at = e.end;
+            elements.push(e);
+        }
+        let c = contour(elements);
+        let tol = 10f64.powf(tol_exp);
+        let lim = if limited { limits(80.0, 800.0) } else { BTreeMap::new() };
+        let planned = plan(&c, tol, &lim);
+        within(&c, &planned, tol, limited)?;
+    }
+}
+
+/// A smooth S-shaped Bézier takes few pieces from rest to rest: its pieces are placed by
+/// the cubic's own error bound, not by chords.
+#[test]
+fn a_smooth_bezier_is_few_pieces() {
+    let c = contour(vec![bezier_step(
+        pos(0.0, 0.0, 0.0),
+        [10.0, 20.0, 20.0, -20.0, 30.0, 0.0],
+        0.0,
+        100.0,
+    )]);
+    let planned = plan(&c, 1e-3, &BTreeMap::new());
+    assert_follows(&c, &planned, 1e-3);
+    // Chords within 1e-3 would be √(max|B''|/(8·1e-3)) = √(360/0.008) = 213.
+    assert!(planned.len() <= 32, "{} pieces", planned.len());
 }

@@ -7,10 +7,13 @@
 //! p1 − v1·T/3, p1; its velocity is the quadratic Bézier of 3·(P[j+1] − P[j])/T and its
 //! acceleration the line between 6·(P[j] − 2P[j+1] + P[j+2])/T² at the two ends, its
 //! jerk the constant 6·(P₃ − 3P₂ + 3P₁ − P₀)/T³. Arcs
-//! are measured with std's trigonometry (not libm) from centre, direction and turns.
+//! are measured with std's trigonometry (not libm) from centre, direction and turns;
+//! Bézier elements from their Bernstein form (not pvt-core's de Casteljau).
 #![allow(clippy::disallowed_methods)]
 
-use pvt_core::{Arc, ArcDirection, Axis, Element, ElementKind, PvtContour, PvtProgram, Toolpath};
+use pvt_core::{
+    Arc, ArcDirection, Axis, Bezier, Element, ElementKind, PvtContour, PvtProgram, Toolpath,
+};
 use std::f64::consts::PI;
 
 /// Points sampled inside every piece, besides both ends.
@@ -161,10 +164,70 @@ fn to_arc_by_search(p: &[f64], a: &Arc, e: &Element, axes: &[Axis]) -> f64 {
     d(0.5 * (lo + hi)).min(d(best as f64 / n as f64))
 }
 
+/// The point of a Bézier element on `axes` at parameter `f`, from the Bernstein
+/// polynomials; the other axes linear in `f`.
+fn bezier_point(b: &Bezier, e: &Element, axes: &[Axis], f: f64) -> Vec<f64> {
+    let (u, v, _) = b.plane.axes();
+    let g = 1.0 - f;
+    let w = [g.powi(3), 3.0 * g * g * f, 3.0 * g * f * f, f.powi(3)];
+    let coordinate = |axis: Axis, j: usize| {
+        let k = axis.index();
+        w[0] * e.start[k] + w[1] * b.controls[0][j] + w[2] * b.controls[1][j] + w[3] * e.end[k]
+    };
+    axes.iter()
+        .map(|&axis| {
+            if axis == u {
+                coordinate(u, 0)
+            } else if axis == v {
+                coordinate(v, 1)
+            } else {
+                let k = axis.index();
+                e.start[k] + (e.end[k] - e.start[k]) * f
+            }
+        })
+        .collect()
+}
+
+/// Distance from `p` to a Bézier element by search over its parameter: a grid of 512,
+/// then a golden-section search between the grid neighbours of every grid point nearer
+/// than both its neighbours (a loop passes near itself: the nearest grid point may lie
+/// on the other branch).
+fn to_bezier(p: &[f64], b: &Bezier, e: &Element, axes: &[Axis]) -> f64 {
+    let n: usize = 512;
+    let d = |f: f64| dist(p, &bezier_point(b, e, axes, f));
+    let grid: Vec<f64> = (0..=n).map(|i| d(i as f64 / n as f64)).collect();
+    let mut best = grid.iter().copied().fold(f64::INFINITY, f64::min);
+    let g = (5f64.sqrt() - 1.0) / 2.0;
+    for i in 0..=n {
+        let left = if i == 0 { f64::INFINITY } else { grid[i - 1] };
+        let right = if i == n { f64::INFINITY } else { grid[i + 1] };
+        if grid[i] > left || grid[i] > right {
+            continue;
+        }
+        let (mut lo, mut hi) = (
+            i.saturating_sub(1) as f64 / n as f64,
+            (i + 1).min(n) as f64 / n as f64,
+        );
+        for _ in 0..80 {
+            let (x1, x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+            if d(x1) < d(x2) {
+                hi = x2;
+            } else {
+                lo = x1;
+            }
+        }
+        best = best.min(d(0.5 * (lo + hi)));
+    }
+    best
+}
+
 /// Distance from `p` (on `axes`) to element `e`: closed form for lines and flat circular
-/// arcs, by search over the parameter for helices and spirals.
+/// arcs, by search over the parameter for helices, spirals and Béziers.
 pub fn to_element(p: &[f64], e: &Element, axes: &[Axis]) -> f64 {
     let (s, t) = ends(e, axes);
+    if let ElementKind::Bezier(b) = e.kind {
+        return to_bezier(p, &b, e, axes);
+    }
     let ElementKind::Arc(a) = e.kind else {
         return to_segment(p, &s, &t);
     };
@@ -215,6 +278,9 @@ pub fn element_points(e: &Element, axes: &[Axis], n: usize) -> Vec<Vec<f64>> {
         }
         ElementKind::Arc(a) => (0..=n)
             .map(|i| arc_point(&a, e, axes, i as f64 / n as f64))
+            .collect(),
+        ElementKind::Bezier(b) => (0..=n)
+            .map(|i| bezier_point(&b, e, axes, i as f64 / n as f64))
             .collect(),
     }
 }
@@ -299,7 +365,8 @@ impl Bounds {
     }
 }
 
-/// A box holding element `e` on `axes`: its ends, and for an arc its whole circle.
+/// A box holding element `e` on `axes`: its ends, for an arc its whole circle, for a
+/// Bézier its control points.
 fn element_bounds(e: &Element, axes: &[Axis]) -> Bounds {
     let (s, t) = ends(e, axes);
     let mut b = Bounds::of_points([s.as_slice(), t.as_slice()], axes.len());
@@ -311,6 +378,17 @@ fn element_bounds(e: &Element, axes: &[Axis]) -> Bounds {
             if let Some(k) = axes.iter().position(|&x| x == axis) {
                 b.lo[k] = b.lo[k].min(c - r);
                 b.hi[k] = b.hi[k].max(c + r);
+            }
+        }
+    }
+    if let ElementKind::Bezier(bz) = e.kind {
+        let (u, v, _) = bz.plane.axes();
+        for (j, axis) in [u, v].into_iter().enumerate() {
+            if let Some(k) = axes.iter().position(|&x| x == axis) {
+                for c in bz.controls {
+                    b.lo[k] = b.lo[k].min(c[j]);
+                    b.hi[k] = b.hi[k].max(c[j]);
+                }
             }
         }
     }
@@ -335,7 +413,8 @@ pub fn deviation(program: &PvtProgram, toolpath: &Toolpath, reach: f64) -> Devia
         .iter()
         .filter(|c| {
             c.elements.iter().any(|e| {
-                matches!(e.kind, ElementKind::Arc(_)) || ends(e, axes).0 != ends(e, axes).1
+                matches!(e.kind, ElementKind::Arc(_) | ElementKind::Bezier(_))
+                    || ends(e, axes).0 != ends(e, axes).1
             })
         })
         .collect();

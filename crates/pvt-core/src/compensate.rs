@@ -70,6 +70,10 @@ pub enum Gouge {
     /// Two arcs about the same centre meet at a corner.
     #[error("arc to arc motion about the same centre")]
     SameCentre,
+    /// A Bézier (a spline) under compensation, which LinuxCNC refuses too ("Cannot
+    /// convert spline with cutter radius compensation").
+    #[error("a spline cannot be cut with cutter radius compensation")]
+    Spline,
 }
 
 /// What the compensation lets go of, in program order.
@@ -268,6 +272,7 @@ impl Compensation {
     /// One programmed move; what it settles is pushed onto `out`.
     pub fn feed(&mut self, step: Programmed, out: &mut Vec<Released>) -> Result<(), Gouge> {
         match (step.kind, self.first_move) {
+            (ElementKind::Bezier(_), _) => Err(Gouge::Spline),
             (ElementKind::Arc(arc), true) => self.entry_arc(arc, step),
             (ElementKind::Arc(arc), false) => self.arc(arc, step, out),
             (_, true) => self.entry_line(step),

@@ -91,7 +91,8 @@ pub fn project(p: &Position, axes: &[Axis]) -> Vec<f64> {
     axes.iter().map(|a| p[a.index()]).collect()
 }
 
-/// The polyline of a contour on the given axes: lines as they are, arcs by chord tolerance.
+/// The polyline of a contour on the given axes: lines as they are, arcs and Béziers by
+/// chord tolerance.
 ///
 /// # Panics
 /// If the contour has no element.
@@ -107,6 +108,11 @@ pub fn flatten_contour(contour: &Contour, axes: &[Axis], tolerance: ChordToleran
             ElementKind::Line => polyline.push(&project(&element.end, axes), element.feed, line),
             ElementKind::Arc(arc) => {
                 for p in arc_positions(arc, &element.start, &element.end, tolerance) {
+                    polyline.push(&project(&p, axes), element.feed, line);
+                }
+            }
+            ElementKind::Bezier(bezier) => {
+                for p in bezier.flatten(&element.start, &element.end, tolerance.get()) {
                     polyline.push(&project(&p, axes), element.feed, line);
                 }
             }

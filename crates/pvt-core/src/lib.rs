@@ -1,6 +1,7 @@
 //! pvt-core: the data that flows through pvtc and every computation on it.
 //!
 //! Owns the intermediate representation ([`Toolpath`] → [`Polyline`] → [`PvtProgram`]),
+//! the geometry of its cubic Bézier elements and B-splines broken into them ([`bezier`]),
 //! arc discretization by chord tolerance ([`discretize`]), the planners ([`plan`]) and the
 //! cubic Hermite evaluation a controller performs ([`hermite`]), long pieces cut along
 //! their own cubic for controllers with a largest piece time ([`split`]) and the check of
@@ -17,6 +18,7 @@
 //! - data flows one way: nothing here calls back into a front end.
 
 pub mod axis;
+pub mod bezier;
 pub mod check;
 pub mod compensate;
 pub mod defaults;
@@ -50,6 +52,6 @@ pub use program::{Interpolation, PvtContour, PvtProgram, SegmentRef};
 pub use split::{split_long_pieces, PieceSplitter};
 pub use stream::{PieceSink, PlanStage, ToolpathSink};
 pub use toolpath::{
-    Arc, ArcDirection, CodeWords, Contour, CoolantState, Element, ElementKind, EventKind, Motion,
-    Plane, ProgramEvent, Span, SpindleState, Toolpath,
+    Arc, ArcDirection, Bezier, CodeWords, Contour, CoolantState, Element, ElementKind, EventKind,
+    Motion, Plane, ProgramEvent, Span, SpindleState, Toolpath,
 };

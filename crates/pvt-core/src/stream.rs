@@ -208,6 +208,9 @@ impl<S: PieceSink> PlanStage<S> {
                     ElementKind::Arc(arc) => {
                         arc_positions(arc, &element.start, &element.end, self.options.tolerance)
                     }
+                    ElementKind::Bezier(bezier) => {
+                        bezier.flatten(&element.start, &element.end, self.options.tolerance.get())
+                    }
                 };
                 for p in ends {
                     for (slot, axis) in self.point.iter_mut().zip(&self.axes) {

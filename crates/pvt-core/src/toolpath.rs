@@ -1,10 +1,12 @@
 //! The toolpath: what a part program or drawing asks the machine to do, as geometry.
 //!
-//! Owns lines, arcs (with plane, centre and direction), per-element feed and source span,
+//! Owns lines, arcs (with plane, centre and direction), cubic Béziers (their geometry is
+//! [`crate::bezier`]'s), per-element feed and source span,
 //! and the grouping of elements into contours. It must not know any source syntax, and
 //! it holds no planned motion: that is [`crate::program`].
 
 use crate::axis::{Axis, Position, Units, AXIS_COUNT};
+pub use crate::bezier::Bezier;
 
 /// Where in the source an element came from: byte range and 1-based line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -143,12 +145,15 @@ pub enum ElementKind {
     Line,
     /// A circular or helical arc.
     Arc(Arc),
+    /// A cubic Bézier in a plane (G5, G5.1, a B-spline's span, a drawing's spline or
+    /// ellipse); the other axes move linearly with its parameter.
+    Bezier(Bezier),
 }
 
 /// One programmed move: geometry, feed and origin.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Element {
-    /// Line or arc.
+    /// Line, arc or Bézier.
     pub kind: ElementKind,
     /// Position before the move.
     pub start: Position,
@@ -162,7 +167,8 @@ pub struct Element {
 
 impl Element {
     /// Path length: the straight distance of a line; for an arc, its swept length in
-    /// the plane (mean radius) combined with the other axes' travel (a helix).
+    /// the plane (mean radius) combined with the other axes' travel (a helix); for a
+    /// Bézier, its arc length on every axis.
     pub fn length(&self) -> f64 {
         let squared = |skip: &[usize]| -> f64 {
             (0..AXIS_COUNT)
@@ -178,19 +184,25 @@ impl Element {
                 let planar = 0.5 * (sweep.start_radius + sweep.end_radius) * sweep.sweep.abs();
                 (planar * planar + squared(&[a.index(), b.index()])).sqrt()
             }
+            ElementKind::Bezier(bezier) => bezier.length(&self.start, &self.end),
         }
     }
 
-    /// Sets `moved[axis]` for every axis this element moves (an arc always moves the two
-    /// axes of its plane).
+    /// Sets `moved[axis]` for every axis this element moves (an arc or a Bézier always
+    /// moves the two axes of its plane).
     pub fn mark_moved_axes(&self, moved: &mut [bool; AXIS_COUNT]) {
         for (i, flag) in moved.iter_mut().enumerate() {
             if self.start[i] != self.end[i] {
                 *flag = true;
             }
         }
-        if let ElementKind::Arc(arc) = self.kind {
-            let (a, b, _) = arc.plane.axes();
+        let plane = match self.kind {
+            ElementKind::Line => None,
+            ElementKind::Arc(arc) => Some(arc.plane),
+            ElementKind::Bezier(bezier) => Some(bezier.plane),
+        };
+        if let Some(plane) = plane {
+            let (a, b, _) = plane.axes();
             moved[a.index()] = true;
             moved[b.index()] = true;
         }

@@ -30,12 +30,15 @@
 //! move carries the source span of the entity it travels to (the first element of the
 //! next contour); a retract carries the span of the entity it leaves.
 
-use pvt_core::{Arc, ArcDirection, Contour, Element, ElementKind, Motion, Plane, Position, Span};
+use pvt_core::{
+    Arc, ArcDirection, Bezier, Contour, Element, ElementKind, Motion, Plane, Position, Span,
+};
 use std::collections::HashMap;
 
 use crate::geom::{dist, P3};
 
-/// What a piece of geometry is: a line or a circular arc in a plane parallel to XY.
+/// What a piece of geometry is: a line, a circular arc in a plane parallel to XY, or a
+/// cubic Bézier in a plane parallel to XY (Z moving linearly with its parameter).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum SegKind {
     /// Straight line.
@@ -47,12 +50,17 @@ pub enum SegKind {
         /// Signed sweep, radians, positive counter-clockwise seen from +Z.
         sweep: f64,
     },
+    /// Cubic Bézier from `a` to `b` with these inner control points (X, Y).
+    Bezier {
+        /// `P₁` and `P₂`.
+        controls: [[f64; 2]; 2],
+    },
 }
 
-/// One line or arc from `a` to `b`, with the DXF span it came from.
+/// One line, arc or Bézier from `a` to `b`, with the DXF span it came from.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Seg {
-    /// Line or arc.
+    /// Line, arc or Bézier.
     pub kind: SegKind,
     /// Start point.
     pub a: P3,
@@ -70,6 +78,9 @@ impl Seg {
             SegKind::Arc { center, sweep } => SegKind::Arc {
                 center,
                 sweep: -sweep,
+            },
+            SegKind::Bezier { controls } => SegKind::Bezier {
+                controls: [controls[1], controls[0]],
             },
         };
         Seg {
@@ -316,12 +327,18 @@ pub fn chain_elements(chain: &Chain, feed: f64) -> Vec<Element> {
             seg.b
         };
         let a = at;
-        if a == end && !matches!(seg.kind, SegKind::Arc { .. } if seg.a == seg.b) {
+        if a == end
+            && !matches!(seg.kind, SegKind::Arc { .. } | SegKind::Bezier { .. } if seg.a == seg.b)
+        {
             continue; // zero length after snapping
         }
         let kind = match seg.kind {
             SegKind::Line => ElementKind::Line,
             SegKind::Arc { center, sweep } => arc_kind(center, sweep, a, end),
+            SegKind::Bezier { controls } => ElementKind::Bezier(Bezier {
+                plane: Plane::XY,
+                controls,
+            }),
         };
         out.push(Element {
             kind,
@@ -464,7 +481,7 @@ mod tests {
         );
         match arc_kind([0.0, 0.0], -1.0, r.a, r.b) {
             ElementKind::Arc(a) => assert_eq!(a.direction, ArcDirection::Clockwise),
-            ElementKind::Line => panic!("arc lost"),
+            other => panic!("arc lost: {other:?}"),
         }
     }
 

@@ -1,7 +1,32 @@
-//! Exact curves and their flattening: NURBS (de Boor), fit-point splines, ellipses.
+//! Exact curves, as cubic Béziers or as chords: NURBS (de Boor), fit-point splines,
+//! ellipses.
 //!
-//! Owns the evaluation of every curve pvt-core cannot discretize itself and the rule that
-//! turns it into chords. It must not know DXF records, layers or options.
+//! Owns the evaluation of every curve pvt-core cannot discretize itself, its conversion
+//! into cubic Béziers ([`CubicCurve`], see "Cubic Béziers" below) and the rule that turns
+//! it into chords where it cannot be one (a curve off a plane parallel to XY). It must
+//! not know DXF records, layers or options.
+//!
+//! # Cubic Béziers
+//! - A non-rational B-spline of degree 1 to 3 (every weight equal) is its knot spans'
+//!   Béziers ([`pvt_core::bezier::bezier_spans`], by blossoming), raised to degree 3:
+//!   exact.
+//! - A fit-point spline is a cubic polynomial between fit points: exact.
+//! - An ellipse `c + u·cos t + v·sin t` is the image of the unit circle under the linear
+//!   map `[u v]`; each of `n` equal parts of its sweep `θ` is the image of the standard
+//!   circular-arc cubic (handles `4/3·tan(θ/4)` along the tangents), whose radial
+//!   distance from the circle is at most `e(θ) = 2·sin⁶(θ/4)/(27·cos²(θ/4))` (Goldapp).
+//!   Each point of that cubic is `e(θ)` or less from the circle point in its direction,
+//!   and the map stretches that difference by at most its largest singular value, at
+//!   most `√(|u|² + |v|²)`: `n` is the least with `√(|u|² + |v|²)·e(θ/n) ≤` the
+//!   tolerance, and at least one part per quarter turn.
+//! - Any other curve (a rational or degree-4+ NURBS) is cut into Hermite cubics: each
+//!   knot span is halved until the cubic through the exact end points and end
+//!   derivatives (times the interval) stays, at 31 equally spaced interior parameters,
+//!   within 0.99 × the tolerance of the curve at the same parameter, the rule of
+//!   "Flattening rule" below with the cubic in place of the chord.
+//!
+//! The tolerance given is the share of the path tolerance a drawing's curves take
+//! (`pvt_dxf::DxfOptions::curve_share`).
 //!
 //! # Flattening rule
 //! A curve is a sequence of smooth pieces (knot spans of a NURBS, intervals between fit
@@ -16,7 +41,21 @@
 //! within the tolerance. A piece that needs more than [`MAX_DEPTH`] halvings or a curve
 //! that needs more than [`MAX_POINTS`] points is refused rather than emitted coarser.
 
-use crate::geom::{add, dist_to_segment, norm, scale, sub, P3};
+use crate::geom::{add, dist, dist_to_segment, norm, scale, sub, P3};
+use pvt_core::bezier::{bezier_spans, elevate_to_cubic};
+
+/// A cubic Bézier's four control points.
+pub type Cubic = [P3; 4];
+
+/// A curve that can be given as cubic Béziers within a tolerance (see the module's
+/// "Cubic Béziers").
+pub trait CubicCurve {
+    /// The cubics, in order, each starting where the previous one ends.
+    fn cubics(&self, tolerance: f64) -> Result<Vec<Cubic>, String>;
+}
+
+/// Most cubics one curve may become.
+pub const MAX_CUBICS: usize = 1_000_000;
 
 /// Deepest halving of one interval.
 pub const MAX_DEPTH: u32 = 48;
@@ -379,6 +418,172 @@ impl PieceCurve for FitSpline {
     }
 }
 
+impl CubicCurve for EllipseArc {
+    fn cubics(&self, tolerance: f64) -> Result<Vec<Cubic>, String> {
+        let sweep = self.t1 - self.t0;
+        let stretch = (norm(self.u).powi(2) + norm(self.v).powi(2)).sqrt();
+        let quarters = (sweep.abs() / std::f64::consts::FRAC_PI_2 - 1e-9)
+            .ceil()
+            .max(1.0);
+        let mut n = quarters as usize;
+        while stretch * circle_cubic_error(sweep.abs() / n as f64) > tolerance {
+            n = n
+                .checked_mul(2)
+                .filter(|&n| n <= MAX_CUBICS)
+                .ok_or_else(|| {
+                    "it needs more than a million cubics at this tolerance".to_string()
+                })?;
+        }
+        let part = sweep / n as f64;
+        let k = 4.0 / 3.0 * libm::tan(part / 4.0);
+        let tangent = |t: f64| {
+            let (s, c) = libm::sincos(t);
+            add(scale(self.u, -s), scale(self.v, c))
+        };
+        Ok((0..n)
+            .map(|i| {
+                let a = self.t0 + part * i as f64;
+                let b = if i + 1 == n { self.t1 } else { a + part };
+                let (p0, p3) = (self.at(a), self.at(b));
+                [
+                    p0,
+                    add(p0, scale(tangent(a), k)),
+                    sub(p3, scale(tangent(b), k)),
+                    p3,
+                ]
+            })
+            .collect())
+    }
+}
+
+/// The largest radial distance from the unit circle of the standard cubic for an arc of
+/// `theta` radians (handles `4/3·tan(θ/4)`): `2·sin⁶(θ/4)/(27·cos²(θ/4))`.
+pub fn circle_cubic_error(theta: f64) -> f64 {
+    let (s, c) = libm::sincos(theta / 4.0);
+    2.0 * s.powi(6) / (27.0 * c * c)
+}
+
+impl CubicCurve for Nurbs {
+    fn cubics(&self, tolerance: f64) -> Result<Vec<Cubic>, String> {
+        let spans =
+            bezier_spans(self.degree, &self.knots, &self.ctrl).map_err(|e| e.to_string())?;
+        let mut out = Vec::new();
+        for span in spans {
+            let w = span[0][3];
+            let cartesian: Vec<P3> = span
+                .iter()
+                .map(|h| [h[0] / h[3], h[1] / h[3], h[2] / h[3]])
+                .collect();
+            let polynomial = span.iter().all(|h| h[3] == w);
+            match elevate_to_cubic(&cartesian).filter(|_| polynomial) {
+                Some(cubic) => out.push(cubic),
+                None => fit_cubics(&RationalBezier(span), 0.0, 1.0, tolerance, 0, &mut out)?,
+            }
+            if out.len() > MAX_CUBICS {
+                return Err("it needs more than a million cubics at this tolerance".to_string());
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// A rational Bézier in homogeneous coordinates `(w·x, w·y, w·z, w)`, on `[0, 1]`.
+struct RationalBezier(Vec<[f64; 4]>);
+
+impl RationalBezier {
+    /// The point and the derivative at `t` (de Casteljau; the last level's difference
+    /// times the degree is the homogeneous derivative).
+    fn point_and_derivative(&self, t: f64) -> (P3, P3) {
+        let mut d = self.0.clone();
+        let p = d.len() - 1;
+        for level in 1..=p {
+            if level == p {
+                let (h0, h1) = (d[0], d[1]);
+                let h: [f64; 4] = std::array::from_fn(|c| (1.0 - t) * h0[c] + t * h1[c]);
+                let dh: [f64; 4] = std::array::from_fn(|c| p as f64 * (h1[c] - h0[c]));
+                let point = [h[0] / h[3], h[1] / h[3], h[2] / h[3]];
+                let derivative = std::array::from_fn(|c| (dh[c] - point[c] * dh[3]) / h[3]);
+                return (point, derivative);
+            }
+            for j in 0..=p - level {
+                let next = d[j + 1];
+                for (v, q) in d[j].iter_mut().zip(next) {
+                    *v = (1.0 - t) * *v + t * q;
+                }
+            }
+        }
+        unreachable!("a Bézier has degree 1 or more")
+    }
+}
+
+/// Hermite cubics on `[a, b]` of `curve` within `tolerance` (see the module's "Cubic
+/// Béziers"), halving where the sampled error is over.
+fn fit_cubics(
+    curve: &RationalBezier,
+    a: f64,
+    b: f64,
+    tolerance: f64,
+    depth: u32,
+    out: &mut Vec<Cubic>,
+) -> Result<(), String> {
+    let ((p0, d0), (p3, d3)) = (curve.point_and_derivative(a), curve.point_and_derivative(b));
+    let h = (b - a) / 3.0;
+    let cubic = [p0, add(p0, scale(d0, h)), sub(p3, scale(d3, h)), p3];
+    let worst = (1..=SAMPLES)
+        .map(|s| {
+            let f = s as f64 / (SAMPLES + 1) as f64;
+            dist(
+                cubic_at(&cubic, f),
+                curve.point_and_derivative(a + (b - a) * f).0,
+            )
+        })
+        .fold(0.0, f64::max);
+    if !worst.is_finite() {
+        return Err("the curve evaluates to a non-finite point".to_string());
+    }
+    if worst <= MARGIN * tolerance {
+        out.push(cubic);
+        return Ok(());
+    }
+    if depth >= MAX_DEPTH || out.len() > MAX_CUBICS {
+        return Err(
+            "the tolerance cannot be met (the curve is too large or not smooth)".to_string(),
+        );
+    }
+    let m = 0.5 * (a + b);
+    fit_cubics(curve, a, m, tolerance, depth + 1, out)?;
+    fit_cubics(curve, m, b, tolerance, depth + 1, out)
+}
+
+/// The point at `t` of a cubic Bézier.
+pub fn cubic_at(c: &Cubic, t: f64) -> P3 {
+    let s = 1.0 - t;
+    let w = [s * s * s, 3.0 * s * s * t, 3.0 * s * t * t, t * t * t];
+    std::array::from_fn(|k| w[0] * c[0][k] + w[1] * c[1][k] + w[2] * c[2][k] + w[3] * c[3][k])
+}
+
+impl CubicCurve for FitSpline {
+    fn cubics(&self, _tolerance: f64) -> Result<Vec<Cubic>, String> {
+        Ok((0..self.t.len() - 1)
+            .map(|i| {
+                let h = self.t[i + 1] - self.t[i];
+                let (y0, y1, m0, m1) = (self.y[i], self.y[i + 1], self.m[i], self.m[i + 1]);
+                // Derivatives at the span's ends of the spline's cubic (see `eval`).
+                let d0: P3 =
+                    std::array::from_fn(|c| (y1[c] - y0[c]) / h - h * (2.0 * m0[c] + m1[c]) / 6.0);
+                let d1: P3 =
+                    std::array::from_fn(|c| (y1[c] - y0[c]) / h + h * (m0[c] + 2.0 * m1[c]) / 6.0);
+                [
+                    y0,
+                    add(y0, scale(d0, h / 3.0)),
+                    sub(y1, scale(d1, h / 3.0)),
+                    y1,
+                ]
+            })
+            .collect())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -445,6 +650,61 @@ mod tests {
         // Two points and natural ends: the straight line.
         let line = FitSpline::new(&[[0.0; 3], [0.0; 3], [2.0, 2.0, 0.0]], None, None).unwrap();
         assert!(dist(line.eval(0, 1.0), [libm::sqrt(0.5), libm::sqrt(0.5), 0.0]) < 1e-12);
+    }
+
+    /// The ellipse's cubics, evaluated densely, against the ellipse itself: the distance
+    /// from each cubic point to the ellipse (by a fine search over its parameter) stays
+    /// within the tolerance; and the circle bound holds where the module says it does.
+    #[test]
+    fn ellipse_cubics_stay_within_tolerance() {
+        for theta in [0.1, 0.5, 1.0, std::f64::consts::FRAC_PI_2] {
+            let k = 4.0 / 3.0 * libm::tan(theta / 4.0);
+            let c = [
+                [1.0, 0.0, 0.0],
+                [1.0, k, 0.0],
+                [
+                    libm::cos(theta) + k * libm::sin(theta),
+                    libm::sin(theta) - k * libm::cos(theta),
+                    0.0,
+                ],
+                [libm::cos(theta), libm::sin(theta), 0.0],
+            ];
+            let worst = (0..=1000)
+                .map(|i| {
+                    let p = cubic_at(&c, f64::from(i) / 1000.0);
+                    (libm::hypot(p[0], p[1]) - 1.0).abs()
+                })
+                .fold(0.0, f64::max);
+            let bound = circle_cubic_error(theta);
+            assert!(
+                worst <= bound * (1.0 + 1e-6) + 1e-14 && worst >= 0.9 * bound,
+                "{theta}: {worst} vs {bound}"
+            );
+        }
+        let e = EllipseArc {
+            c: [3.0, -1.0, 2.0],
+            u: [40.0, 10.0, 0.0],
+            v: [-2.0, 8.0, 0.0],
+            t0: 0.3,
+            t1: 0.3 + 5.0,
+        };
+        // Chords of 1/20,000 of the sweep lie within 1e-5 of this ellipse.
+        let fine: Vec<P3> = (0..=20_000)
+            .map(|i| e.at(0.3 + 5.0 * f64::from(i) / 20_000.0))
+            .collect();
+        for tol in [1e-2, 1e-3] {
+            let cubics = e.cubics(tol).unwrap();
+            for c in &cubics {
+                for i in 0..=64 {
+                    let p = cubic_at(c, f64::from(i) / 64.0);
+                    let d = fine
+                        .windows(2)
+                        .map(|w| dist_to_segment(p, w[0], w[1]))
+                        .fold(f64::INFINITY, f64::min);
+                    assert!(d <= tol + 1e-5, "{tol}: {d}");
+                }
+            }
+        }
     }
 
     #[test]

@@ -24,7 +24,9 @@ use dxf::enums::Units as DxfUnits;
 use pvt_core::Span;
 
 use crate::chain::{Piece, Seg, SegKind};
-use crate::curve::{flatten, EllipseArc, FitSpline, Nurbs, NurbsCurve, PieceCurve};
+use crate::curve::{
+    flatten, Cubic, CubicCurve, EllipseArc, FitSpline, Nurbs, NurbsCurve, PieceCurve,
+};
 use crate::diag::{DxfDiagnostic, DxfError, EntityRef};
 use crate::geom::{cross, dist, dot, norm, scale, Affine, P3};
 use crate::source::SourceMap;
@@ -593,27 +595,40 @@ impl<'a> Reader<'a> {
 
     fn spline(&self, s: &dxf::entities::Spline, place: &Place, span: Span) -> PieceResult {
         let xf = place.xf;
-        let points: Vec<P3> = if !s.control_points.is_empty() {
+        if !s.control_points.is_empty() {
             let degree = usize::try_from(s.degree_of_curve)
                 .map_err(|_| format!("degree {} is negative", s.degree_of_curve))?;
-            let ctrl: Vec<P3> = s.control_points.iter().map(p3).collect();
+            let ctrl: Vec<P3> = s.control_points.iter().map(|p| xf.point(p3(p))).collect();
             let nurbs = Nurbs::new(degree, &s.knot_values, &ctrl, &s.weight_values)?;
-            flatten(&Mapped(NurbsCurve::new(nurbs), xf), self.tolerance)?
-        } else if s.fit_points.len() >= 2 {
-            let mut fit: Vec<P3> = s.fit_points.iter().map(p3).collect();
-            if s.flags & 1 != 0 && fit.first() != fit.last() {
-                fit.push(fit[0]);
+            if let Some(piece) = cubic_piece(&nurbs.cubics(self.tolerance)?, span) {
+                return Ok(piece);
             }
-            let tangent = |p: &dxf::Point| {
-                let v = p3(p);
-                (norm(v) > 0.0).then_some(v)
-            };
-            let spline = FitSpline::new(&fit, tangent(&s.start_tangent), tangent(&s.end_tangent))?;
-            flatten(&Mapped(spline, xf), self.tolerance)?
-        } else {
+            let points = flatten(&NurbsCurve::new(nurbs), self.tolerance)?;
+            return points_to_piece(&points, span);
+        }
+        if s.fit_points.len() < 2 {
             return Err("the spline has neither control points nor two fit points".into());
+        }
+        let mut fit: Vec<P3> = s.fit_points.iter().map(p3).collect();
+        if s.flags & 1 != 0 && fit.first() != fit.last() {
+            fit.push(fit[0]);
+        }
+        let tangent = |p: &dxf::Point| {
+            let v = p3(p);
+            (norm(v) > 0.0).then_some(v)
         };
-        points_to_piece(&points, span)
+        let spline = FitSpline::new(&fit, tangent(&s.start_tangent), tangent(&s.end_tangent))?;
+        // The spline is built where the drawing defines it; an affine map takes a
+        // Bézier's control points to those of its image.
+        let cubics: Vec<Cubic> = spline
+            .cubics(self.tolerance)?
+            .iter()
+            .map(|c| c.map(|p| xf.point(p)))
+            .collect();
+        if let Some(piece) = cubic_piece(&cubics, span) {
+            return Ok(piece);
+        }
+        points_to_piece(&flatten(&Mapped(spline, xf), self.tolerance)?, span)
     }
 
     fn insert(&mut self, e: &Entity, ins: &dxf::entities::Insert, place: &Place, origin: Origin) {
@@ -799,6 +814,32 @@ pub fn normalize_ellipse(n: P3, major: P3, ratio: f64, s: f64, e: f64) -> (P3, f
     )
 }
 
+/// Cubics as Bézier segments, when every one has Z linear in its parameter (a plane
+/// parallel to XY, or a ramp); `None` otherwise, for the caller to flatten.
+fn cubic_piece(cubics: &[Cubic], span: Span) -> Option<Piece> {
+    let mut piece = Vec::with_capacity(cubics.len());
+    for c in cubics {
+        let size = c.iter().flatten().fold(1.0f64, |m, v| m.max(v.abs()));
+        let linear_z = (3.0 * c[1][2] - 2.0 * c[0][2] - c[3][2]).abs() <= 1e-9 * size
+            && (3.0 * c[2][2] - c[0][2] - 2.0 * c[3][2]).abs() <= 1e-9 * size;
+        if !linear_z || !c.iter().flatten().all(|v| v.is_finite()) {
+            return None;
+        }
+        if c.iter().all(|p| *p == c[0]) {
+            continue;
+        }
+        piece.push(Seg {
+            kind: SegKind::Bezier {
+                controls: [[c[1][0], c[1][1]], [c[2][0], c[2][1]]],
+            },
+            a: c[0],
+            b: c[3],
+            span,
+        });
+    }
+    (!piece.is_empty()).then_some(piece)
+}
+
 fn points_to_piece(points: &[P3], span: Span) -> PieceResult {
     check_points(points)?;
     let piece: Piece = points
@@ -817,7 +858,8 @@ fn points_to_piece(points: &[P3], span: Span) -> PieceResult {
     Ok(piece)
 }
 
-/// An elliptical arc as segments: one arc when it is a circle parallel to XY, else chords.
+/// An elliptical arc as segments: one arc when it is a circle parallel to XY, cubic
+/// Béziers when it lies in a plane parallel to XY, else chords.
 ///
 /// `ends` replaces the computed end points (exact polyline vertices).
 pub fn ellipse_segs(
@@ -855,6 +897,15 @@ pub fn ellipse_segs(
             b,
             span,
         }]);
+    }
+    if let Some(mut piece) = cubic_piece(&e.cubics(tolerance)?, span) {
+        let last = piece.len() - 1;
+        if let Some((a, b)) = ends {
+            (piece[0].a, piece[last].b) = (a, b);
+        } else if full {
+            piece[last].b = piece[0].a;
+        }
+        return Ok(piece);
     }
     let mut points = flatten(e, tolerance)?;
     if let Some((a, b)) = ends {
@@ -906,12 +957,11 @@ mod tests {
             v: [0.0, 1.0, 0.0],
             ..e
         };
-        assert!(
-            ellipse_segs(&skew, 1e-3, Span::default(), None)
-                .unwrap()
-                .len()
-                > 1
-        );
+        // Not a circle: cubic Béziers, not an arc.
+        let skewed = ellipse_segs(&skew, 1e-3, Span::default(), None).unwrap();
+        assert!(skewed
+            .iter()
+            .all(|s| matches!(s.kind, SegKind::Bezier { .. })));
         assert!(sub(
             segs[0].b,
             [-1.0 - 2.0 * libm::cos(1.0), 2.0 * libm::sin(1.0), 0.0]

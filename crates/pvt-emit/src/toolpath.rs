@@ -13,6 +13,9 @@
 //!   feed, G93's worked out, or the rapid rate);
 //! - `arc`: the same, plus `plane` (`XY`, `ZX`, `YZ`), `center` (the plane's first and
 //!   second coordinates), `direction` (`cw`, `ccw`) and `turns` (extra full turns);
+//! - `bezier`: the same as `line`, plus `plane` and `controls` (the cubic's two inner
+//!   control points, each in the plane's first and second coordinates; the other axes
+//!   move linearly with the curve's parameter);
 //! - `end_contour`: the machine comes to rest;
 //! - `event`: `line`, `event` (its name, as every output names it) and its value, if any
 //!   (`seconds`, `rpm`, `tool`, `text`);
@@ -75,7 +78,7 @@ impl<W: Write> ToolpathWriter<W> {
     }
 }
 
-/// An element as its `line` or `arc` object.
+/// An element as its `line`, `arc` or `bezier` object.
 pub fn element_value(motion: Motion, element: &Element) -> Value {
     let motion = match motion {
         Motion::Rapid => "rapid",
@@ -98,6 +101,11 @@ pub fn element_value(motion: Motion, element: &Element) -> Value {
             ArcDirection::CounterClockwise => "ccw",
         });
         value["turns"] = json!(arc.extra_turns);
+    }
+    if let ElementKind::Bezier(bezier) = &element.kind {
+        value["kind"] = json!("bezier");
+        value["plane"] = json!(plane_name(bezier.plane));
+        value["controls"] = json!(bezier.controls);
     }
     value
 }

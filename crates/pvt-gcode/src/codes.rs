@@ -22,7 +22,12 @@ pub(crate) enum MotionMode {
     Cycle(Cycle),
     /// G38.2…G38.5 (the code in tenths): a probing move, run where a result is given.
     Probe(u32),
-    /// A motion code pvtc does not execute (probing, splines…);
+    /// G5 (cubic, `quadratic` false) or G5.1 (quadratic): a spline in the XY plane.
+    Spline {
+        /// G5.1.
+        quadratic: bool,
+    },
+    /// A motion code pvtc does not execute (NURBS, threading…);
     /// blocks in this mode are skipped (the code itself was reported).
     Unsupported,
 }
@@ -41,6 +46,8 @@ impl MotionMode {
             MotionMode::Probe(383) => "G38.3",
             MotionMode::Probe(384) => "G38.4",
             MotionMode::Probe(_) => "G38.5",
+            MotionMode::Spline { quadratic: false } => "G5",
+            MotionMode::Spline { quadratic: true } => "G5.1",
             MotionMode::Unsupported => "an unsupported cycle",
         }
     }
@@ -287,7 +294,9 @@ pub(crate) fn g_code(tenths: u32) -> Option<GCode> {
         880 => Motion(MotionMode::Cycle(self::Cycle::BoreManual)),
         890 => Motion(MotionMode::Cycle(self::Cycle::BoreDwell)),
         382..=385 => Motion(MotionMode::Probe(tenths)),
-        50..=53 | 62 | 330 | 331 | 760 => Motion(MotionMode::Unsupported),
+        50 => Motion(MotionMode::Spline { quadratic: false }),
+        51 => Motion(MotionMode::Spline { quadratic: true }),
+        52 | 53 | 62 | 330 | 331 | 760 => Motion(MotionMode::Unsupported),
         _ => return unsupported_g(tenths).map(Unsupported),
     })
 }
@@ -305,7 +314,7 @@ fn unsupported_g(tenths: u32) -> Option<Feature> {
 /// The feature of a motion-group code pvtc does not execute.
 pub(crate) fn motion_feature(tenths: u32) -> &'static str {
     match tenths {
-        50..=53 | 62 => "splines and NURBS",
+        52 | 53 | 62 => "splines and NURBS",
         330 | 331 => "spindle-synchronized motion",
         760 => "lathe threading cycles",
         _ => "motion modes",

@@ -670,7 +670,7 @@ pub enum GcodeDiagnostic {
 
     /// A code or move that cutter radius compensation does not allow (LinuxCNC refuses
     /// these too): G41/G42 while on, an arc straight after G40, a plane, offset or tool
-    /// change while on.
+    /// change while on, a spline while on.
     #[error("{what} with cutter radius compensation")]
     #[diagnostic(
         code(pvtc::gcode::compensation_conflict),

@@ -20,6 +20,7 @@ mod compensation;
 mod cycles;
 mod machine;
 mod motion;
+mod spline;
 
 use pvt_core::{EventKind, Position, SpindleState, Units, AXIS_COUNT};
 
@@ -134,6 +135,8 @@ pub(crate) struct Interpreter<'a> {
     pub(crate) probe: Option<[f64; 6]>,
     /// Cutter-radius compensation (G40/G41/G42).
     cutter: compensation::CutterState,
+    /// The last G5's P Q (machine frame, output units): a G5 without I J continues it.
+    last_spline: Option<[f64; 2]>,
 }
 
 impl<'a> Interpreter<'a> {
@@ -176,6 +179,7 @@ impl<'a> Interpreter<'a> {
             probes: 0,
             probe: None,
             cutter: compensation::CutterState::default(),
+            last_spline: None,
         }
     }
 

@@ -27,7 +27,9 @@
 //! does. Every axis starts at 0. Lines with block delete (`/`) are executed (the switch
 //! is off). A program number (`O1001`) names the program. G76, cutter compensation,
 //! G38.2–G38.5 move to the points [`GcodeOptions::probe_results`] gives, each one
-//! without a point is `pvtc::gcode::probe`. G5.x, G33 and reads of machine-specific
+//! without a point is `pvtc::gcode::probe`. G5 and G5.1 splines (G17 only, as LinuxCNC)
+//! are cubic Bézier elements (`interpreter/spline.rs`). G5.2/G5.3, G6.2, G33 and reads
+//! of machine-specific
 //! parameters are `unsupported`, one
 //! diagnostic per feature with the count of places, and the program fails. A block with
 //! an unknown G code runs nothing and the blocks after it in its motion mode are

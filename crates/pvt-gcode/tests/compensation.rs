@@ -73,6 +73,7 @@ fn samples(element: &Element, count: usize) -> Vec<[f64; 2]> {
                     let (sin, cos) = libm::sincos(a0 + t * sweep);
                     [c[0] + r * cos, c[1] + r * sin]
                 }
+                ElementKind::Bezier(_) => panic!("compensation never makes a spline"),
             }
         })
         .collect()

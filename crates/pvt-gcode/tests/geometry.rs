@@ -19,7 +19,7 @@ fn elements(source: &str) -> Vec<Element> {
 fn arc_of(element: &Element) -> Arc {
     match element.kind {
         ElementKind::Arc(arc) => arc,
-        ElementKind::Line => panic!("expected an arc, got a line"),
+        other => panic!("expected an arc, got {other:?}"),
     }
 }
 

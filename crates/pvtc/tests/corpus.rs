@@ -77,6 +77,16 @@ fn toolpath_of(lines: &str) -> (Toolpath, Option<f64>) {
                 },
                 extra_turns: v["turns"].as_u64().unwrap() as u32,
             }),
+            Some("bezier") => ElementKind::Bezier(pvt_core::Bezier {
+                plane: match v["plane"].as_str() {
+                    Some("ZX") => Plane::ZX,
+                    Some("YZ") => Plane::YZ,
+                    _ => Plane::XY,
+                },
+                controls: std::array::from_fn(|i| {
+                    std::array::from_fn(|j| v["controls"][i][j].as_f64().unwrap())
+                }),
+            }),
             Some("end_contour") => {
                 toolpath.contours.extend(open.take());
                 continue;

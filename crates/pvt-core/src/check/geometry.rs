@@ -1,12 +1,14 @@
-//! The source geometry a program should follow: true lines and arcs, not chords.
+//! The source geometry a program should follow: true lines, arcs and Béziers, not chords.
 //!
 //! Owns the distance from a point (on the program's axes) to a toolpath element and the
 //! lookup of a piece's source elements and feed by source line. A line's distance is
 //! closed form (projection clamped to the segment). An arc's nearest point is found from
 //! candidates (its two ends and every turn of the point's polar angle about the centre,
 //! which is exact for a flat circle) refined by golden-section search over the arc
-//! parameter within ±0.2 rad, which finds it on helices and spirals too. The elements a
-//! piece may follow are found through a [`BoxTree`] per source line, so a line of many
+//! parameter within ±0.2 rad, which finds it on helices and spirals too. A Bézier's
+//! nearest point is found among 65 equal parameter steps, each one nearer than its
+//! neighbours refined by golden-section search over the intervals beside it
+//! ([`crate::bezier::Bezier::distance`]). The elements a piece may follow are found through a [`BoxTree`] per source line, so a line of many
 //! elements (a 4,000-vertex polyline, a loop's body) costs a piece a walk down a tree,
 //! not a scan. It must not evaluate the motion.
 
@@ -107,6 +109,7 @@ impl<'a> Source<'a> {
         match &e.kind {
             ElementKind::Line => self.line_distance(e, point),
             ElementKind::Arc(arc) => self.arc_distance(e, arc, point),
+            ElementKind::Bezier(bezier) => bezier.distance(&e.start, &e.end, &self.columns, point),
         }
     }
 
@@ -222,7 +225,8 @@ fn followed(on_line: &[usize], count: usize) -> Vec<usize> {
     out
 }
 
-/// An element's box on `columns`: its ends, and for an arc the square around its circle.
+/// An element's box on `columns`: its ends, for an arc the square around its circle, for
+/// a Bézier its control points.
 fn element_bounds(e: &Element, columns: &[usize]) -> (Vec<f64>, Vec<f64>) {
     let mut lo: Vec<f64> = columns.iter().map(|&c| e.start[c].min(e.end[c])).collect();
     let mut hi: Vec<f64> = columns.iter().map(|&c| e.start[c].max(e.end[c])).collect();
@@ -234,6 +238,18 @@ fn element_bounds(e: &Element, columns: &[usize]) -> (Vec<f64>, Vec<f64>) {
             if let Some(k) = columns.iter().position(|&c| c == axis.index()) {
                 lo[k] = lo[k].min(centre - r);
                 hi[k] = hi[k].max(centre + r);
+            }
+        }
+    }
+    if let ElementKind::Bezier(bezier) = &e.kind {
+        // The curve lies in the convex hull of its control points.
+        let (first, second, _) = bezier.plane.axes();
+        for (j, axis) in [first, second].into_iter().enumerate() {
+            if let Some(k) = columns.iter().position(|&c| c == axis.index()) {
+                for p in bezier.controls {
+                    lo[k] = lo[k].min(p[j]);
+                    hi[k] = hi[k].max(p[j]);
+                }
             }
         }
     }

@@ -80,10 +80,21 @@ fn programmed_points(program: &PvtProgram, max: usize) -> Vec<(f64, &[f64])> {
     out
 }
 
+/// Points drawn along one Bézier element.
+const BEZIER_POINTS: usize = 32;
+
 /// The points of an element in its true shape: a line's two ends; an arc or helix at
 /// most [`ARC_STEP`] apart (the radius and the other axes change linearly with angle, as
-/// [`pvt_core::Arc`] defines).
+/// [`pvt_core::Arc`] defines); a Bézier at [`BEZIER_POINTS`] equal parameter steps.
 fn element_points(kind: &ElementKind, start: &Position, end: &Position) -> Vec<Position> {
+    if let ElementKind::Bezier(bezier) = kind {
+        let mut points = vec![*start];
+        points.extend(
+            (1..=BEZIER_POINTS)
+                .map(|k| bezier.position(start, end, k as f64 / BEZIER_POINTS as f64)),
+        );
+        return points;
+    }
     let ElementKind::Arc(arc) = kind else {
         return vec![*start, *end];
     };

@@ -319,6 +319,10 @@ impl Interpreter<'_> {
                 detail: "two arcs about the same centre meet at the corner",
                 span: at,
             },
+            Gouge::Spline => GcodeDiagnostic::CompensationConflict {
+                what: "a spline (G5, G5.1, G5.2)",
+                span: at,
+            },
         });
     }
 }

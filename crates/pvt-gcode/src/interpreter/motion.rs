@@ -63,6 +63,11 @@ impl Interpreter<'_> {
                 }
             }
             Some(MotionMode::Unsupported) => {}
+            Some(MotionMode::Spline { quadratic }) => {
+                if has_axes {
+                    self.spline_move(quadratic, request, block);
+                }
+            }
             Some(MotionMode::Probe(code)) => {
                 if has_axes {
                     self.probe_move(MotionMode::Probe(code), request, block);
@@ -440,17 +445,20 @@ impl Interpreter<'_> {
         self.tool.moved_with = self.tool.offset;
         let mut element = *element;
         if let Some(at) = self.tool.machine_at.take() {
-            match element.kind {
-                ElementKind::Line => element.start = at,
-                // Off its plane (a Z offset under G17) the arc starts where the machine
-                // is, a helix; in its plane it keeps its start and the machine gets
-                // there first, straight.
-                ElementKind::Arc(arc)
-                    if arc.plane.project(&at) == arc.plane.project(&element.start) =>
-                {
+            let plane = match element.kind {
+                ElementKind::Line => None,
+                ElementKind::Arc(arc) => Some(arc.plane),
+                ElementKind::Bezier(bezier) => Some(bezier.plane),
+            };
+            match plane {
+                None => element.start = at,
+                // Off its plane (a Z offset under G17) an arc or spline starts where the
+                // machine is (a helix); in its plane it keeps its start and the machine
+                // gets there first, straight.
+                Some(plane) if plane.project(&at) == plane.project(&element.start) => {
                     element.start = at;
                 }
-                ElementKind::Arc(_) => {
+                Some(_) => {
                     let to_start = Element {
                         kind: ElementKind::Line,
                         start: at,
@@ -703,7 +711,7 @@ fn center_words(
 }
 
 /// The words that make the move (motion code, axes, centre), or the whole block.
-fn move_span(request: &Request, block: &Block) -> Range<usize> {
+pub(super) fn move_span(request: &Request, block: &Block) -> Range<usize> {
     let motion = request.motion.as_ref().map(|(_, w)| w);
     let words = motion
         .into_iter()
@@ -713,7 +721,7 @@ fn move_span(request: &Request, block: &Block) -> Range<usize> {
     cover(words).unwrap_or_else(|| block.span())
 }
 
-fn element_span(block: &Block) -> Span {
+pub(super) fn element_span(block: &Block) -> Span {
     Span {
         start: block.start,
         end: block.end,

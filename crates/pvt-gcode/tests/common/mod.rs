@@ -78,6 +78,13 @@ pub fn render_compiled(source: &str, compiled: &Compiled) -> String {
                         num(sweep)
                     )
                 }
+                ElementKind::Bezier(b) => format!(
+                    "bezier controls {} {}, {} {}",
+                    num(b.controls[0][0]),
+                    num(b.controls[0][1]),
+                    num(b.controls[1][0]),
+                    num(b.controls[1][1])
+                ),
             };
             writeln!(
                 out,

@@ -1,12 +1,15 @@
 //! One programmed element as a parametric curve on the program's axes.
 //!
-//! Owns the exact position, first derivative and derivative bounds of a line, arc, helix
-//! or spiral arc, by a parameter `φ` (arc length on a line, swept angle on an arc). It
-//! must not choose speeds or pieces: that is the planner's.
+//! Owns the exact position, first derivative and derivative bounds of a line, arc, helix,
+//! spiral arc or cubic Bézier, by a parameter `φ` (arc length on a line, swept angle on an
+//! arc, the Bézier parameter scaled by the part's length on a Bézier), and the split of a
+//! Bézier into parts whose speed `|dc/dφ|` stays near 1 (see [`bezier_parts`]). It must
+//! not choose speeds or pieces: that is the planner's.
 
 use super::Vector;
 use crate::axis::Axis;
-use crate::toolpath::{Element, ElementKind};
+use crate::bezier;
+use crate::toolpath::{Bezier, Element, ElementKind};
 use crate::vector::{distance, norm};
 
 /// An element on the projected axes, parametrized by `φ ∈ [0, span]`.
@@ -31,6 +34,26 @@ enum Shape {
     Line { unit: Vector },
     /// φ is the swept angle; see [`Curve::position`].
     Arc(ArcShape),
+    /// φ = `scale`·u on a part of a Bézier; see [`BezierShape`].
+    Bezier(BezierShape),
+}
+
+/// One part of a Bézier: `c(φ) = B(φ/scale)` in the plane, the other axes linear in φ.
+/// With `D = 1/scale`, `|dⁿc/dφⁿ| = |Bⁿ(u)|·Dⁿ` in the plane, where by the convex hull
+/// property `|B''| ≤ 6·max|ΔP²|`, `|B'''| = 6·|ΔP³|` and `B'''' = 0`.
+#[derive(Debug, Clone)]
+struct BezierShape {
+    /// Indices of the plane's first and second axes among the projected axes.
+    first: usize,
+    second: usize,
+    /// The part's control points in the plane.
+    points: [[f64; 2]; 4],
+    /// φ per unit of the part's parameter u: its length.
+    scale: f64,
+    /// d/dφ of every projected axis that moves linearly (zero on the plane's two axes).
+    linear_rate: Vector,
+    /// `[D₂, D₃, D₄]` of [`Curve::derivative_bounds`].
+    bounds: [f64; 3],
 }
 
 #[derive(Debug, Clone)]
@@ -52,13 +75,24 @@ struct ArcShape {
 }
 
 impl Curve {
-    /// The curve of `element` on `axes`; `None` when it does not move.
-    pub fn new(element: &Element, axes: &[Axis]) -> Option<Curve> {
+    /// The curves of `element` on `axes`: none when it does not move, a Bézier's parts
+    /// ([`bezier_parts`]), else one.
+    pub fn new(element: &Element, axes: &[Axis]) -> Vec<Curve> {
+        if let ElementKind::Bezier(bezier) = element.kind {
+            if let Some(parts) = bezier_parts(element, &bezier, axes) {
+                return parts;
+            }
+        }
+        Curve::whole(element, axes).into_iter().collect()
+    }
+
+    /// The curve of a line or arc (a Bézier off the projected axes: its chord).
+    fn whole(element: &Element, axes: &[Axis]) -> Option<Curve> {
         let start = Vector::from_fn(axes.len(), |i| element.start[axes[i].index()]);
         let end = Vector::from_fn(axes.len(), |i| element.end[axes[i].index()]);
         let shape = match element.kind {
             ElementKind::Arc(arc) => arc_shape(element, &arc, axes),
-            ElementKind::Line => None,
+            ElementKind::Line | ElementKind::Bezier(_) => None,
         };
         let (shape, span) = match shape {
             Some((arc, span)) => (Shape::Arc(arc), span),
@@ -108,6 +142,14 @@ impl Curve {
                 out[a.first] = a.center[0] + r * cos;
                 out[a.second] = a.center[1] + r * sin;
             }
+            Shape::Bezier(b) => {
+                for ((o, s), h) in out.iter_mut().zip(&self.start).zip(&b.linear_rate) {
+                    *o = s + h * phi;
+                }
+                let p = bezier::eval(&b.points, phi / b.scale);
+                out[b.first] = p[0];
+                out[b.second] = p[1];
+            }
         }
     }
 
@@ -122,6 +164,12 @@ impl Curve {
                 out[a.first] = a.radius_rate * cos - a.turn * r * sin;
                 out[a.second] = a.radius_rate * sin + a.turn * r * cos;
             }
+            Shape::Bezier(b) => {
+                out.copy_from_slice(&b.linear_rate);
+                let d = bezier::derivative(&b.points, phi / b.scale);
+                out[b.first] = d[0] / b.scale;
+                out[b.second] = d[1] / b.scale;
+            }
         }
     }
 
@@ -134,16 +182,24 @@ impl Curve {
                 let h = norm(&a.linear_rate);
                 (a.radius_rate * a.radius_rate + r * r + h * h).sqrt()
             }
+            Shape::Bezier(b) => {
+                let d = bezier::derivative(&b.points, phi / b.scale);
+                let (x, y) = (d[0] / b.scale, d[1] / b.scale);
+                let h = norm(&b.linear_rate);
+                (x * x + y * y + h * h).sqrt()
+            }
         }
     }
 
     /// Bounds on |dⁿc/dφⁿ| for n = 2, 3, 4 over the whole element.
     ///
     /// In the plane, c = r(φ)·e^{i(a₀ ± φ)} with r linear, so |dⁿc/dφⁿ| ≤ r_max + n·|dr/dφ|;
-    /// the other axes are linear in φ. A line has none.
+    /// the other axes are linear in φ. A Bézier part's are those of [`BezierShape`]. A
+    /// line has none.
     pub fn derivative_bounds(&self) -> [f64; 3] {
         match &self.shape {
             Shape::Line { .. } => [0.0; 3],
+            Shape::Bezier(b) => b.bounds,
             Shape::Arc(a) => {
                 let r = self.max_radius(a);
                 let k = a.radius_rate.abs();
@@ -153,9 +209,13 @@ impl Curve {
     }
 
     /// Path length between two parameters (exact on lines and circles, the mean rate on
-    /// a spiral).
+    /// a spiral, Simpson's rule on a Bézier part).
     pub fn length(&self, from: f64, to: f64) -> f64 {
         let mid = 0.5 * (from + to);
+        if let Shape::Bezier(_) = &self.shape {
+            let rates = self.rate(from) + 4.0 * self.rate(mid) + self.rate(to);
+            return (to - from) * rates / 6.0;
+        }
         (to - from) * self.rate(mid)
     }
 
@@ -176,6 +236,7 @@ impl Curve {
     pub fn axis_factors(&self, from: f64, to: f64, i: usize) -> (f64, f64) {
         match &self.shape {
             Shape::Line { unit } => (unit[i].abs(), 0.0),
+            Shape::Bezier(b) => self.bezier_factors(b, from, to, i),
             Shape::Arc(a) => {
                 let r = self.max_radius(a);
                 let k = a.radius_rate.abs();
@@ -203,6 +264,45 @@ impl Curve {
         }
     }
 
+    /// [`Curve::axis_factors`] on a Bézier part: `dc_i/dφ` is a quadratic in φ (its
+    /// largest magnitude at an end or its vertex) and `d²c_i/dφ²` linear (at an end); the
+    /// rate is at least `(rate(from) + rate(to) − D₂·(to − from))/2` (it changes by at
+    /// most `D₂` per unit of φ).
+    fn bezier_factors(&self, b: &BezierShape, from: f64, to: f64, i: usize) -> (f64, f64) {
+        let d2 = b.bounds[0];
+        let rate_min = 0.5 * (self.rate(from) + self.rate(to) - d2 * (to - from));
+        if rate_min <= 0.0 {
+            return (f64::INFINITY, f64::INFINITY);
+        }
+        let k = if i == b.first {
+            0
+        } else if i == b.second {
+            1
+        } else {
+            return (b.linear_rate[i].abs() / rate_min, 0.0);
+        };
+        let (u0, u1) = (from / b.scale, to / b.scale);
+        let first = |u: f64| bezier::derivative(&b.points, u)[k].abs();
+        let mut d1 = first(u0).max(first(u1));
+        // The quadratic's vertex, where its derivative (linear) vanishes.
+        let (s0, s1) = (
+            bezier::second_derivative(&b.points, 0.0)[k],
+            bezier::second_derivative(&b.points, 1.0)[k],
+        );
+        if s0 != s1 {
+            let vertex = s0 / (s0 - s1);
+            if vertex > u0 && vertex < u1 {
+                d1 = d1.max(first(vertex));
+            }
+        }
+        let second = |u: f64| bezier::second_derivative(&b.points, u)[k].abs();
+        let d2 = second(u0).max(second(u1));
+        (
+            d1 / b.scale / rate_min,
+            d2 / (b.scale * b.scale) / (rate_min * rate_min),
+        )
+    }
+
     fn max_radius(&self, a: &ArcShape) -> f64 {
         a.start_radius
             .max(a.start_radius + a.radius_rate * self.span)
@@ -228,6 +328,113 @@ impl ArcShape {
 }
 
 use std::f64::consts::{FRAC_PI_2, PI};
+
+/// Largest ratio of the fastest to the slowest rate `|dB/du|` (sampled) on one Bézier
+/// part: a part over it is halved, so φ stays within about this factor of arc length and
+/// the path speed at a constant parameter rate within it of the planned one.
+const RATE_RATIO: f64 = 1.25;
+
+/// Deepest halving of a Bézier into parts (near a cusp, where the rate falls to zero).
+const MAX_DEPTH: u32 = 12;
+
+/// The parts of a Bézier `element` on `axes`, halved until each one's sampled rate
+/// varies by at most [`RATE_RATIO`] (or [`MAX_DEPTH`] is reached); a part whose rate
+/// vanishes at an end (a cusp) or whose control points all coincide becomes its chord.
+/// `None` when the plane's axes are not both projected.
+fn bezier_parts(element: &Element, bezier: &Bezier, axes: &[Axis]) -> Option<Vec<Curve>> {
+    let (a0, a1, _) = bezier.plane.axes();
+    let first = axes.iter().position(|&a| a == a0)?;
+    let second = axes.iter().position(|&a| a == a1)?;
+    let mut out = Vec::new();
+    let mut stack = vec![(0.0, 1.0, 0)];
+    let whole = bezier.points(&element.start, &element.end);
+    while let Some((u0, u1, depth)) = stack.pop() {
+        let points = bezier::sub_curve(&whole, u0, u1);
+        if depth < MAX_DEPTH && !even_rate(element, &points, u1 - u0) {
+            let mid = 0.5 * (u0 + u1);
+            stack.push((mid, u1, depth + 1));
+            stack.push((u0, mid, depth + 1));
+            continue;
+        }
+        let start = bezier.position(&element.start, &element.end, u0);
+        let end = bezier.position(&element.start, &element.end, u1);
+        let part = Element {
+            kind: ElementKind::Line,
+            start,
+            end,
+            ..*element
+        };
+        let scale = part_length(element, &points, u1 - u0);
+        let cusp = rates(element, &points, u1 - u0)
+            .iter()
+            .any(|r| r.is_nan() || *r <= 1e-9 * scale);
+        if cusp || !(scale > 0.0 && scale.is_finite()) {
+            out.extend(Curve::whole(&part, axes));
+            continue;
+        }
+        let mut linear_rate = Vector::from_fn(axes.len(), |i| {
+            let a = axes[i].index();
+            (end[a] - start[a]) / scale
+        });
+        linear_rate[first] = 0.0;
+        linear_rate[second] = 0.0;
+        let bounds = [
+            bezier::second_derivative_bound(&points) / (scale * scale),
+            bezier::third_derivative(&points) / (scale * scale * scale),
+            0.0,
+        ];
+        let shape = BezierShape {
+            first,
+            second,
+            points,
+            scale,
+            linear_rate,
+            bounds,
+        };
+        out.push(Curve {
+            start: Vector::from_fn(axes.len(), |i| start[axes[i].index()]),
+            end: Vector::from_fn(axes.len(), |i| end[axes[i].index()]),
+            span: scale,
+            feed: element.feed,
+            line: element.span.line,
+            shape: Shape::Bezier(shape),
+        });
+    }
+    Some(out)
+}
+
+/// `|dB/du|` of a part (control points `points`, the other axes moving `share` of the
+/// element's travel) at 9 equally spaced parameters, every axis counted.
+fn rates(element: &Element, points: &[[f64; 2]; 4], share: f64) -> [f64; 9] {
+    let ElementKind::Bezier(bezier) = element.kind else {
+        return [1.0; 9];
+    };
+    let (a0, a1, _) = bezier.plane.axes();
+    let other: f64 = (0..crate::axis::AXIS_COUNT)
+        .filter(|&i| i != a0.index() && i != a1.index())
+        .map(|i| (share * (element.end[i] - element.start[i])).powi(2))
+        .sum();
+    std::array::from_fn(|k| {
+        let d = bezier::derivative(points, k as f64 / 8.0);
+        (d[0] * d[0] + d[1] * d[1] + other).sqrt()
+    })
+}
+
+/// True when the sampled rates of a part differ by at most [`RATE_RATIO`].
+fn even_rate(element: &Element, points: &[[f64; 2]; 4], share: f64) -> bool {
+    let r = rates(element, points, share);
+    let (lo, hi) = r.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &x| {
+        (lo.min(x), hi.max(x))
+    });
+    hi <= RATE_RATIO * lo
+}
+
+/// A part's length by Simpson's rule on its 9 sampled rates.
+fn part_length(element: &Element, points: &[[f64; 2]; 4], share: f64) -> f64 {
+    let r = rates(element, points, share);
+    let weights = [1.0, 4.0, 2.0, 4.0, 2.0, 4.0, 2.0, 4.0, 1.0];
+    r.iter().zip(weights).map(|(r, w)| r * w).sum::<f64>() / 24.0
+}
 
 /// The largest |sin x| for x in `[lo, hi]`.
 fn max_abs_sin(lo: f64, hi: f64) -> f64 {

@@ -753,7 +753,13 @@ fn check_element(element: &Element) -> Result<(), PlanError> {
         });
     }
     let finite = |p: &crate::axis::Position| p.iter().all(|x| x.is_finite());
-    if !finite(&element.start) || !finite(&element.end) {
+    let controls_finite = match element.kind {
+        crate::toolpath::ElementKind::Bezier(b) => {
+            b.controls.iter().flatten().all(|x| x.is_finite())
+        }
+        _ => true,
+    };
+    if !finite(&element.start) || !finite(&element.end) || !controls_finite {
         return Err(PlanError::NonFinitePoint { line });
     }
     Ok(())
