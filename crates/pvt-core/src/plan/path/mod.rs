@@ -78,10 +78,10 @@
 //! lines and the corner, `u*` where `A = E`; `L·sin(α/2)/3` at equal speeds, and `L` is
 //! sized for that (at most 0.49 of either line). At equal speeds its acceleration peaks at
 //! `v²·|t₂ᵢ − t₁ᵢ|/L` and its jerk is `v³·|t₂ᵢ − t₁ᵢ|/L²` on axis `i`: the blend's cap
-//! keeps both within the limits, the jerk within 0.75 of it, and the passes let it change
-//! speed as an S-curve over `2L` at 0.15 of the least jerk limit. Its cost is on dense
+//! keeps both within the limits, the jerk within 0.5 of it, and the passes let it change
+//! speed as an S-curve over `2L` at 0.45 of the least jerk limit. Its cost is on dense
 //! chords of a curve of radius `R`, where `L` is about half a chord `c ≈ √(8·R·tol)`: its
-//! cap `∛(0.75·Jᵢ·L²·R/c)` is below the curve's own, `√(Aᵢ·R)`.
+//! cap `∛(0.5·Jᵢ·L²·R/c)` is below the curve's own, `√(Aᵢ·R)`.
 //!
 //! What still steps (a junction passed at speed, a change of
 //! curvature `v²·Δκ`, the interpolation of a curve) grows with the square of the
