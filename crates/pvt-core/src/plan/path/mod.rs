@@ -64,15 +64,31 @@
 //! cubic. The passes and the trapezoid knots use the S-curve's shortest distance from
 //! `va` to `vb`, `(va + vb)/2·(Δv/a + a/j)` when `Δv ≥ a²/j`, else `(va + vb)·√(Δv/j)`:
 //! the passes invert it in closed form (a cubic in `√Δv`, a quadratic in `Δv`), the
-//! trapezoid's peak by a fixed number of bisections. A corner blend is one cubic: it changes
-//! speed at most at half the least step bound.
+//! trapezoid's peak by a fixed number of bisections.
 //!
-//! What still steps (a corner blend's turn, a junction passed at speed, a change of
+//! A corner blend is a pulse of acceleration, at rest in acceleration at both of its
+//! knots, so that it does not step against the lines beside it: from `L` before the
+//! corner at `va` along `t₁` to `L` after it at `vb` along `t₂`, its acceleration is
+//! `s(t)·(vb·t₂ − va·t₁)` with `s` the triangle of area 1 over `T = L/va + L/vb` whose apex
+//! is at `θ·T`, `θ = (2vb − va)/(va + vb)` (the only such pulse that meets both lines at
+//! `L`; it needs `va/2 < vb < 2va`, and the passes keep the ratio within 1.5). Its
+//! acceleration is linear on `[0, θT]` and on `[θT, T]`, so it is two cubics, exact. With
+//! `u = t/T` it runs at `C − A(u)·t₁ + E(u)·t₂`, `A` falling from `L` to 0 and `E` rising
+//! from 0 to `L`, so the corner blend's bound holds: within `2·A(u*)·sin(α/2)` of the
+//! lines and the corner, `u*` where `A = E`; `L·sin(α/2)/3` at equal speeds, and `L` is
+//! sized for that (at most 0.49 of either line). At equal speeds its acceleration peaks at
+//! `v²·|t₂ᵢ − t₁ᵢ|/L` and its jerk is `v³·|t₂ᵢ − t₁ᵢ|/L²` on axis `i`: the blend's cap
+//! keeps both within the limits, the jerk within 0.5 of it, and the passes let it change
+//! speed as an S-curve over `2L` at 0.45 of the least jerk limit. Its cost is on dense
+//! chords of a curve of radius `R`, where `L` is about half a chord `c ≈ √(8·R·tol)`: its
+//! cap `∛(0.5·Jᵢ·L²·R/c)` is below the curve's own, `√(Aᵢ·R)`.
+//!
+//! What still steps (a junction passed at speed, a change of
 //! curvature `v²·Δκ`, the interpolation of a curve) grows with the square of the
 //! speeds: every knot's step is computed in closed form from the two cubics beside it,
 //! and where it exceeds the bound the knot's cap is lowered by the square root of the
-//! excess (a blend beside it, and an S-curve whose inner point steps, have both their
-//! knots lowered) and the contour is planned again. The cost: speed changes take longer
+//! excess (a blend beside it, and an S-curve or blend whose inner point steps, have both
+//! their knots lowered) and the contour is planned again. The cost: speed changes take longer
 //! (the ramps, and the return to zero tangential acceleration at every knot, on arcs
 //! too), and corners and curvature jumps are taken slower (a line into an arc of radius
 //! `R` at most at `√(Jᵢ·Tₛ·R)`). A contour under a jerk limit is planned whole, not in a
@@ -81,8 +97,9 @@
 //! On a quantum grid the jerk-limited plan is resampled in time (see "Resampling in
 //! time" below), and the resampled pieces are checked against the same bounds: each
 //! piece's jerk and every grid knot's acceleration step, from the cubics beside it.
-//! Where only the stretched grid converges, each knot's piece (its S-curve's parts
-//! joined) gets whole quanta, at least three when it spans 1.5 quanta or more, and each
+//! Where only the stretched grid converges, each knot's piece (its S-curve's or
+//! blend's parts joined: a blend is one cubic there, within the triangle bound
+//! `L·sin(α/2)` that sizes blends on a grid) gets whole quanta, at least three when it spans 1.5 quanta or more, and each
 //! knot's velocity is divided by the larger stretch beside it, as without a jerk limit.
 //! A piece that is not a blend and not at rest is then three parts of whole quanta
 //! (ramp, middle, ramp) whose parameter acceleration is linear on each part, zero at

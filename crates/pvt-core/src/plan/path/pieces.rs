@@ -3,8 +3,9 @@
 //! Owns the piece time from the reference motion (constant parameter acceleration), the
 //! per-piece error bound of the module documentation, and the closed-form per-axis peaks
 //! that limits are checked against, and the same pieces on a quantum grid; under a jerk
-//! limit, each piece's S-curve parts (and their C² parts on the grid) and each cubic's end
-//! accelerations. It must not move knots or change speeds.
+//! limit, each piece's S-curve parts (and their C² parts on the grid), each corner
+//! blend's two parts (a pulse of acceleration at rest at both ends) with their error
+//! bound, and each cubic's end accelerations. It must not move knots or change speeds.
 
 use super::curve::Curve;
 use super::knots::Knots;
@@ -121,7 +122,11 @@ impl Knots {
         whole: Piece,
         out: &mut Vec<Piece>,
     ) {
-        if self.knots[k].blend.is_some() || whole.at_rest() {
+        if let Some(j) = self.knots[k].blend {
+            self.smooth_blend(k, j, whole, out);
+            return;
+        }
+        if whole.at_rest() {
             out.push(whole);
             return;
         }
@@ -189,6 +194,49 @@ impl Knots {
             part.error = bend(curve, &phi) + self.turn(dt, ends);
             out.push(part);
         }
+    }
+
+    /// Piece `k` in jerk mode when it is the corner blend of junction `j` (see "Jerk" in
+    /// [`super`]): two cubics whose acceleration rises linearly from zero to `2·Δv/T` and
+    /// falls back to zero, along `Δv = vb·t₂ − va·t₁`, so that neither knot steps. Its
+    /// apex is at `θ·T`, `θ = (2vb − va)/(va + vb)`, and `T = L/va + L/vb`: the only
+    /// pulse of that shape that leaves the first line at `L` before the corner and joins
+    /// the second at `L` after it. Each cubic is the motion itself (its acceleration is
+    /// linear), so it is exact; the error is [`smooth_blend_error`]. Speeds more than a
+    /// factor of two apart (`θ` outside `(0, 1)`; the passes keep them within 1.5) keep
+    /// the one-cubic blend `whole`.
+    fn smooth_blend(&self, k: usize, j: usize, whole: Piece, out: &mut Vec<Piece>) {
+        let junction = &self.junctions[j];
+        let l = junction.blend.unwrap_or(0.0);
+        let (va, vb) = (self.knots[k].speed, self.knots[k + 1].speed);
+        let theta = (2.0 * vb - va) / (va + vb);
+        if !(va > 0.0 && vb > 0.0 && theta > 1e-3 && theta < 1.0 - 1e-3 && l > 0.0) {
+            out.push(whole);
+            return;
+        }
+        let t = l / va + l / vb;
+        let [t1, t2] = &junction.tangents;
+        let dim = whole.start.len();
+        let dv = Vector::from_fn(dim, |i| vb * t2[i] - va * t1[i]);
+        let mid = Vector::from_fn(dim, |i| {
+            whole.start[i] + va * t1[i] * theta * t + theta * theta * t / 3.0 * dv[i]
+        });
+        let mid_velocity = Vector::from_fn(dim, |i| va * t1[i] + theta * dv[i]);
+        let error = smooth_blend_error(l, va, vb, junction.half_turn_sin);
+        out.push(Piece {
+            end: mid,
+            end_velocity: mid_velocity,
+            duration: theta * t,
+            error,
+            ..whole.clone()
+        });
+        out.push(Piece {
+            start: mid,
+            start_velocity: mid_velocity,
+            duration: (1.0 - theta) * t,
+            error,
+            ..whole
+        });
     }
 
     /// The error term `4/27·t·(|Δv_a| + |Δv_b|)/K` of a piece's knot ends (`(knot, is
@@ -314,6 +362,43 @@ fn blend_error(l: f64, da: f64, db: f64, half_turn_sin: f64) -> f64 {
 /// Newton steps of [`blend_error`]'s crossing: a fixed count, so the result is the same
 /// on every run (the bound holds at any point; these make it tight to rounding).
 const BLEND_NEWTON_STEPS: usize = 8;
+
+/// How far the jerk-limited corner blend of half-length `l` from speed `va` to `vb` (see
+/// `Knots::smooth_blend`) can be from the two lines and how far the corner C can be from
+/// it. With `u = t/T` its position is `C − A(u)·t₁ + E(u)·t₂`, where `A = l − va·T·(u −
+/// G(u))` falls from l to 0 and `E = vb·T·G(u)` rises from 0 to l, `G` the double
+/// integral of the unit pulse: `u³/(3θ)` up to `θ`, then `u − (1 + θ)/3 + (1 −
+/// u)³/(3(1 − θ))`. The argument of [`blend_error`] holds for any such A and E: the
+/// bound is `2·max(A(u), E(u))·sin(α/2)` at any u, here at the crossing found by a fixed
+/// number of bisections; at equal speeds it is `l·sin(α/2)/3`.
+fn smooth_blend_error(l: f64, va: f64, vb: f64, half_turn_sin: f64) -> f64 {
+    let theta = (2.0 * vb - va) / (va + vb);
+    let t = l / va + l / vb;
+    let g = |u: f64| {
+        if u <= theta {
+            u * u * u / (3.0 * theta)
+        } else {
+            u - (1.0 + theta) / 3.0 + (1.0 - u).powi(3) / (3.0 * (1.0 - theta))
+        }
+    };
+    let first = |u: f64| l - va * t * (u - g(u));
+    let second = |u: f64| vb * t * g(u);
+    let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
+    for _ in 0..SMOOTH_BLEND_BISECTIONS {
+        let mid = 0.5 * (lo + hi);
+        if first(mid) >= second(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let u = 0.5 * (lo + hi);
+    (2.0 * first(u).max(second(u))).clamp(0.0, l) * half_turn_sin
+}
+
+/// Bisections of [`smooth_blend_error`]'s crossing: a fixed count, so the result is the
+/// same on every run (the bound holds at any point; these make it tight to 10⁻⁹ of l).
+const SMOOTH_BLEND_BISECTIONS: usize = 32;
 
 /// Time of a blend of half-length `l` from speed `va` to `vb`: 4L/(va + vb), the
 /// constant-acceleration time over its 2L, while that keeps each inner control point
@@ -806,7 +891,7 @@ fn mid_speeds(pieces: &[Piece]) -> Vec<f64> {
 // std's trigonometry on purpose: the check is independent of the planner's libm.
 #[allow(clippy::disallowed_methods)]
 mod tests {
-    use super::blend_error;
+    use super::{blend_error, smooth_blend_error};
 
     /// Pieces, curves and junctions own no heap memory (nothing to drop): the planner
     /// makes several pieces per element in every round of every window.
@@ -906,6 +991,73 @@ mod tests {
             }
             let equal = blend_error(l, 2.0 * l / 3.0, 2.0 * l / 3.0, half);
             assert!((equal - l * half / 2.0).abs() < 1e-12, "{equal}");
+        }
+    }
+
+    /// The jerk-limited blend against its motion integrated step by step from the pulse
+    /// alone (acceleration `s(t)·(vb·t₂ − va·t₁)`, `s` the triangle of area 1 with its
+    /// apex at `θ·T`): it ends at `L` along the second line with its end velocity, and
+    /// its distance from the lines and the corner's distance from it are within
+    /// [`smooth_blend_error`], for turns from 10° to 170° and speed ratios 2/3 to 3/2.
+    #[test]
+    fn smooth_blend_reaches_its_end_within_its_bound() {
+        let l = 1.0;
+        for degrees in [10.0f64, 45.0, 90.0, 135.0, 170.0] {
+            let alpha = degrees.to_radians();
+            let t1 = [1.0, 0.0];
+            let t2 = [alpha.cos(), alpha.sin()];
+            let half = (alpha / 2.0).sin();
+            for (va, vb) in [(1.0, 1.0), (1.0, 1.5), (1.5, 1.0), (2.0, 1.7), (1.0, 0.7)] {
+                let theta: f64 = (2.0 * vb - va) / (va + vb);
+                let t = l / va + l / vb;
+                let dv = [vb * t2[0] - va * t1[0], vb * t2[1] - va * t1[1]];
+                let pulse = |time: f64| {
+                    let apex = theta * t;
+                    if time <= apex {
+                        2.0 / t * time / apex
+                    } else {
+                        2.0 / t * (t - time) / (t - apex)
+                    }
+                };
+                let steps = 200_000;
+                let h = t / steps as f64;
+                let mut p = [-l * t1[0], -l * t1[1]];
+                let mut v = [va * t1[0], va * t1[1]];
+                let (mut far, mut near) = (0.0f64, f64::INFINITY);
+                for s in 0..steps {
+                    // Midpoint rule on the velocity, trapezoid on the position.
+                    let a0 = pulse(s as f64 * h);
+                    let a1 = pulse((s as f64 + 1.0) * h);
+                    let am = pulse((s as f64 + 0.5) * h);
+                    let v_next = [v[0] + am * h * dv[0], v[1] + am * h * dv[1]];
+                    for i in 0..2 {
+                        p[i] += h * v[i] + h * h * (2.0 * a0 + a1) / 6.0 * dv[i];
+                    }
+                    v = v_next;
+                    let lines = to_ray(p, [-t1[0], -t1[1]]).min(to_ray(p, t2));
+                    far = far.max(lines);
+                    near = near.min(p[0].hypot(p[1]));
+                }
+                let end = [l * t2[0] - p[0], l * t2[1] - p[1]];
+                assert!(end[0].hypot(end[1]) < 1e-9, "{degrees}° {va} {vb}: {end:?}");
+                let vend = [vb * t2[0] - v[0], vb * t2[1] - v[1]];
+                assert!(
+                    vend[0].hypot(vend[1]) < 1e-9,
+                    "{degrees}° {va} {vb}: {vend:?}"
+                );
+                let bound = smooth_blend_error(l, va, vb, half);
+                assert!(
+                    far <= bound * (1.0 + 1e-6),
+                    "lines: {degrees}° {va} {vb}: {far} > {bound}"
+                );
+                assert!(
+                    near <= bound * (1.0 + 1e-4),
+                    "corner: {degrees}° {va} {vb}: {near} > {bound}"
+                );
+                if va == vb {
+                    assert!((bound - l * half / 3.0).abs() < 1e-9, "{bound}");
+                }
+            }
         }
     }
 }
