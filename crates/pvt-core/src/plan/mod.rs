@@ -22,7 +22,7 @@ mod timed;
 pub use chord::chord_velocities;
 pub use const_accel::const_accel_velocities;
 pub use contour::{plan_contour, segment_time, ContourStream, REVERSAL_TOLERANCE};
-pub use driver::{check_options, plan_timed, plan_toolpath_report, PlanReport, Planned};
+pub use driver::{check_options, PlanReport};
 pub(crate) use driver::{plan_buffered, plan_run};
 pub use lspb::{blend_corner_deviation, plan_lspb, LspbPlan};
 pub use options::{Planner, Timing, UnknownPlanner};
@@ -38,8 +38,6 @@ pub use timed::TimedPoints;
 pub const MIN_PIECE_SECONDS: f64 = 1e-7;
 
 use crate::discretize::ChordTolerance;
-use crate::program::PvtProgram;
-use crate::toolpath::Toolpath;
 
 /// Why a contour could not be planned.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -222,10 +220,4 @@ impl Default for PlanOptions {
             position_resolution: 0.0,
         }
     }
-}
-
-/// Plans every contour of a toolpath on the axes it moves with the chosen planner.
-/// Contours that do not move (every point the same) are left out.
-pub fn plan_toolpath(toolpath: &Toolpath, options: &PlanOptions) -> Result<PvtProgram, PlanError> {
-    plan_toolpath_report(toolpath, options).map(|planned| planned.program)
 }
