@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The speed benchmark of issue 22: the streaming compile (`path` planner, PMAC text,
-# `--quantize off`: PMAC's default 1 ms grid holds each contour whole) of three
+# `--quantize off`; PMAC's default 1 ms grid, which streams too, is bench/stream) of three
 # generated programs, against the `gcode` crate's parse of the same file in the
 # same run, with MB/s of input and peak RSS on every output route.
 #

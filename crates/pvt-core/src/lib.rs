@@ -43,14 +43,15 @@ pub use discretize::{flatten_contour, ChordTolerance};
 pub use hermite::{HermiteSegment, State};
 pub use limits::{AxisLimits, MachineLimits};
 pub use plan::{
-    plan_contour, plan_path, plan_timed, plan_toolpath, plan_toolpath_report, PathOptions,
-    PathReport, PathStream, PlanOptions, PlanReport, Planned, Planner, Quantum, Rounding,
-    TimedPoints, Timing,
+    plan_contour, plan_path, PathOptions, PathReport, PathStream, PlanOptions, PlanReport, Planner,
+    Quantum, Rounding, TimedPoints, Timing,
 };
 pub use polyline::Polyline;
 pub use program::{Interpolation, PvtContour, PvtProgram, SegmentRef};
 pub use split::{split_long_pieces, PieceSplitter};
-pub use stream::{PieceSink, PlanStage, ToolpathSink};
+pub use stream::{
+    plan_timed, plan_toolpath, plan_toolpath_report, PieceSink, PlanStage, Planned, ToolpathSink,
+};
 pub use toolpath::{
     Arc, ArcDirection, Bezier, CodeWords, Contour, CoolantState, Element, ElementKind, EventKind,
     Motion, Plane, ProgramEvent, Span, SpindleState, Toolpath,

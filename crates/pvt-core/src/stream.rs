@@ -12,17 +12,18 @@
 //!   run, planned with its own times when it ends, since the timed planners solve over
 //!   every point (the C2 spline, LSPB's blends).
 //!
-//! [`crate::plan::plan_toolpath_report`] and [`crate::plan::plan_timed`] are this stage
-//! with a collecting sink; there is no second pipeline. It must not parse or print.
+//! [`plan_toolpath_report`], [`plan_toolpath`] and [`plan_timed`] are this stage with a
+//! collecting sink; there is no second pipeline. The stage sits above the planners'
+//! dispatch (`crate::plan`'s driver), which never names it. It must not parse or print.
 
-use crate::axis::Axis;
+use crate::axis::{Axis, Units};
 use crate::discretize::{arc_positions, project};
 use crate::plan::{
     plan_buffered, plan_run, ContourStream, PathStream, PlanError, PlanOptions, PlanReport,
-    Planner, TimedPoints,
+    Planner, TimedPoints, Timing,
 };
-use crate::program::{PvtContour, SegmentRef};
-use crate::toolpath::{Contour, Element, ElementKind, EventKind, Motion, ProgramEvent};
+use crate::program::{PvtContour, PvtProgram, SegmentRef};
+use crate::toolpath::{Contour, Element, ElementKind, EventKind, Motion, ProgramEvent, Toolpath};
 
 /// Receives a toolpath in program order, one element at a time.
 ///
@@ -135,7 +136,7 @@ impl<S: PieceSink> PlanStage<S> {
     ///
     /// A run is one rest-to-rest feed contour on the stage's axes. It ends like a contour
     /// ([`ToolpathSink::end_contour`], an event, an element or [`PlanStage::finish`]) and
-    /// is then planned whole with its own times (see [`crate::plan::plan_timed`]), so the
+    /// is then planned whole with its own times (see [`plan_timed`]), so the
     /// stage holds every point of it.
     pub fn timed_point(
         &mut self,
@@ -331,6 +332,138 @@ impl<S: PieceSink> ToolpathSink for PlanStage<S> {
             line,
         });
     }
+}
+
+/// A planned program together with its report.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Planned {
+    /// The program.
+    pub program: PvtProgram,
+    /// What planning changed.
+    pub report: PlanReport,
+}
+
+/// Plans every contour of a toolpath with the chosen planner, timing and quantization:
+/// the toolpath fed through the one planning path ([`PlanStage`]) into a collector.
+///
+/// Contours that do not move are left out. See [`plan_toolpath`] for the program only.
+pub fn plan_toolpath_report(
+    toolpath: &Toolpath,
+    options: &PlanOptions,
+) -> Result<Planned, PlanError> {
+    let axes: Vec<Axis> = toolpath.moved_axes();
+    let collector = Collector {
+        program: PvtProgram {
+            axes: axes.clone(),
+            units: toolpath.units,
+            interpolation: options.interpolation(),
+            contours: Vec::new(),
+            events: Vec::new(),
+        },
+    };
+    let mut stage = PlanStage::new(axes, options.clone(), collector)?;
+    let mut events = toolpath.events.iter().peekable();
+    let mut tolerances = toolpath.path_tolerances.iter().peekable();
+    for (index, contour) in toolpath.contours.iter().enumerate() {
+        while let Some(e) = events.next_if(|e| e.before_contour <= index) {
+            stage.event(&e.kind, e.line);
+        }
+        while let Some(&(_, t)) = tolerances.next_if(|(from, _)| *from <= index) {
+            stage.path_tolerance(t);
+        }
+        for element in &contour.elements {
+            stage.element(contour.motion, element);
+        }
+        stage.end_contour();
+    }
+    for e in events {
+        stage.event(&e.kind, e.line);
+    }
+    let (collector, report) = stage.finish()?;
+    Ok(Planned {
+        program: collector.program,
+        report,
+    })
+}
+
+/// A [`PieceSink`] that keeps the whole program.
+struct Collector {
+    program: PvtProgram,
+}
+
+impl PieceSink for Collector {
+    fn contour(&mut self, motion: Motion, start: &[f64], _line: u32) {
+        self.program
+            .contours
+            .push(PvtContour::new(motion, start.to_vec()));
+    }
+
+    fn piece(&mut self, piece: &SegmentRef<'_>) {
+        if let Some(c) = self.program.contours.last_mut() {
+            c.push(piece.end, piece.velocity, piece.duration, piece.line);
+        }
+    }
+
+    fn event(&mut self, event: &ProgramEvent) {
+        self.program.events.push(event.clone());
+    }
+}
+
+/// Plans every contour of a toolpath on the axes it moves with the chosen planner.
+/// Contours that do not move (every point the same) are left out.
+pub fn plan_toolpath(toolpath: &Toolpath, options: &PlanOptions) -> Result<PvtProgram, PlanError> {
+    plan_toolpath_report(toolpath, options).map(|planned| planned.program)
+}
+
+/// Plans a point-time series (e.g. from CSV) on `axes` as one feed contour: the series
+/// pushed point by point through the one planning path ([`PlanStage::timed_point`]) into
+/// a collector.
+///
+/// The series' own times are used ([`PlanOptions::timing`] applies to toolpaths only);
+/// given velocities are used as given by chord, const-accel and spline. The contour
+/// planner takes each segment's mean speed (chord / time) as its feed, drops zero-length
+/// segments (dwells) and chooses its own times (seed 000).
+pub fn plan_timed(
+    points: &TimedPoints,
+    axes: Vec<Axis>,
+    units: Units,
+    options: &PlanOptions,
+) -> Result<Planned, PlanError> {
+    points.validate()?;
+    if axes.len() != points.dim {
+        return Err(PlanError::BadShape);
+    }
+    let options = PlanOptions {
+        timing: Timing::FromFeed,
+        ..options.clone()
+    };
+    let collector = Collector {
+        program: PvtProgram {
+            axes: axes.clone(),
+            units,
+            interpolation: options.interpolation(),
+            contours: Vec::new(),
+            events: Vec::new(),
+        },
+    };
+    let mut stage = PlanStage::new(axes, options, collector)?;
+    let dim = points.dim;
+    for i in 0..points.len() {
+        let (duration, line) = match i.checked_sub(1) {
+            Some(k) => (points.durations[k], points.lines[k]),
+            None => (0.0, points.line_of_point(0)),
+        };
+        let velocity = points
+            .velocities
+            .as_ref()
+            .map(|v| &v[i * dim..(i + 1) * dim]);
+        stage.timed_point(points.point(i), duration, velocity, line);
+    }
+    let (collector, report) = stage.finish()?;
+    Ok(Planned {
+        program: collector.program,
+        report,
+    })
 }
 
 #[cfg(test)]

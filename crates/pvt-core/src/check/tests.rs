@@ -2,8 +2,9 @@
 
 use super::*;
 use crate::axis::Units;
-use crate::plan::{plan_timed, PlanOptions, Planner, TimedPoints};
+use crate::plan::{PlanOptions, Planner, TimedPoints};
 use crate::program::{Interpolation, PvtContour};
+use crate::stream::plan_timed;
 use crate::toolpath::{Arc, ArcDirection, Contour, Element, ElementKind, Motion, Plane, Span};
 
 fn series(dim: usize, points: &[f64], dt: f64) -> TimedPoints {
@@ -250,7 +251,7 @@ fn straight_line_follows_its_source_at_the_feed() {
         }],
         ..Toolpath::default()
     };
-    let program = crate::plan::plan_toolpath(&toolpath, &PlanOptions::default()).unwrap();
+    let program = crate::stream::plan_toolpath(&toolpath, &PlanOptions::default()).unwrap();
     let report = check_program(&program, Some(&toolpath), &CheckOptions::default());
     assert!(report.max_path_error().unwrap() < 1e-9);
     let speed = report.speed.unwrap();

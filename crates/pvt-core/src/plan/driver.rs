@@ -2,7 +2,8 @@
 //!
 //! Owns the dispatch from [`PlanOptions`] to a planner for every contour or run, the
 //! option checks, quantization of the result and the [`PlanReport`] of what the planning
-//! changed. It must not implement a planner itself.
+//! changed. It must not implement a planner itself, and it sits below the planning stage
+//! ([`crate::stream`]), which calls it: nothing here names the stage.
 
 use super::chord::{chord_back_velocities, chord_velocities};
 use super::const_accel::const_accel_velocities;
@@ -13,12 +14,11 @@ use super::quantize::{mid_speed_change, quantize_time, retime, Quantum};
 use super::spline::spline_velocities;
 use super::timed::{contour_from_velocities, runs_from_polyline, TimedPoints};
 use super::{plan_contour, PlanError, PlanOptions, Planner, Timing};
-use crate::axis::{Axis, Units};
+use crate::axis::Axis;
 use crate::discretize::flatten_contour;
 use crate::polyline::Polyline;
-use crate::program::{Interpolation, PvtContour, PvtProgram, SegmentRef};
-use crate::stream::{PieceSink, PlanStage, ToolpathSink};
-use crate::toolpath::{Contour, Element, ElementKind, Motion, ProgramEvent, Span, Toolpath};
+use crate::program::{Interpolation, PvtContour};
+use crate::toolpath::{Contour, Element, ElementKind, Motion, Span};
 use crate::vector::{distance, max_abs};
 
 /// What planning changed that the user should hear about.
@@ -38,83 +38,8 @@ pub struct PlanReport {
     pub feed_time: f64,
 }
 
-/// A planned program together with its report.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Planned {
-    /// The program.
-    pub program: PvtProgram,
-    /// What planning changed.
-    pub report: PlanReport,
-}
-
-/// Plans every contour of a toolpath with the chosen planner, timing and quantization:
-/// the toolpath fed through the one planning path ([`PlanStage`]) into a collector.
-///
-/// Contours that do not move are left out. See [`super::plan_toolpath`] for the program only.
-pub fn plan_toolpath_report(
-    toolpath: &Toolpath,
-    options: &PlanOptions,
-) -> Result<Planned, PlanError> {
-    let axes: Vec<Axis> = toolpath.moved_axes();
-    let collector = Collector {
-        program: PvtProgram {
-            axes: axes.clone(),
-            units: toolpath.units,
-            interpolation: options.interpolation(),
-            contours: Vec::new(),
-            events: Vec::new(),
-        },
-    };
-    let mut stage = PlanStage::new(axes, options.clone(), collector)?;
-    let mut events = toolpath.events.iter().peekable();
-    let mut tolerances = toolpath.path_tolerances.iter().peekable();
-    for (index, contour) in toolpath.contours.iter().enumerate() {
-        while let Some(e) = events.next_if(|e| e.before_contour <= index) {
-            stage.event(&e.kind, e.line);
-        }
-        while let Some(&(_, t)) = tolerances.next_if(|(from, _)| *from <= index) {
-            stage.path_tolerance(t);
-        }
-        for element in &contour.elements {
-            stage.element(contour.motion, element);
-        }
-        stage.end_contour();
-    }
-    for e in events {
-        stage.event(&e.kind, e.line);
-    }
-    let (collector, report) = stage.finish()?;
-    Ok(Planned {
-        program: collector.program,
-        report,
-    })
-}
-
-/// A [`PieceSink`] that keeps the whole program.
-struct Collector {
-    program: PvtProgram,
-}
-
-impl PieceSink for Collector {
-    fn contour(&mut self, motion: Motion, start: &[f64], _line: u32) {
-        self.program
-            .contours
-            .push(PvtContour::new(motion, start.to_vec()));
-    }
-
-    fn piece(&mut self, piece: &SegmentRef<'_>) {
-        if let Some(c) = self.program.contours.last_mut() {
-            c.push(piece.end, piece.velocity, piece.duration, piece.line);
-        }
-    }
-
-    fn event(&mut self, event: &ProgramEvent) {
-        self.program.events.push(event.clone());
-    }
-}
-
 /// Plans one whole contour with the chosen planner, then quantizes it: the planning of a
-/// contour [`PlanStage`] holds until it ends.
+/// contour [`crate::stream::PlanStage`] holds until it ends.
 pub(crate) fn plan_buffered(
     contour: &Contour,
     axes: &[Axis],
@@ -142,57 +67,6 @@ pub(crate) fn plan_buffered(
             }
             whole
         }
-    })
-}
-
-/// Plans a point-time series (e.g. from CSV) on `axes` as one feed contour: the series
-/// pushed point by point through the one planning path ([`PlanStage::timed_point`]) into
-/// a collector.
-///
-/// The series' own times are used ([`PlanOptions::timing`] applies to toolpaths only);
-/// given velocities are used as given by chord, const-accel and spline. The contour
-/// planner takes each segment's mean speed (chord / time) as its feed, drops zero-length
-/// segments (dwells) and chooses its own times (seed 000).
-pub fn plan_timed(
-    points: &TimedPoints,
-    axes: Vec<Axis>,
-    units: Units,
-    options: &PlanOptions,
-) -> Result<Planned, PlanError> {
-    points.validate()?;
-    if axes.len() != points.dim {
-        return Err(PlanError::BadShape);
-    }
-    let options = PlanOptions {
-        timing: Timing::FromFeed,
-        ..options.clone()
-    };
-    let collector = Collector {
-        program: PvtProgram {
-            axes: axes.clone(),
-            units,
-            interpolation: options.interpolation(),
-            contours: Vec::new(),
-            events: Vec::new(),
-        },
-    };
-    let mut stage = PlanStage::new(axes, options, collector)?;
-    let dim = points.dim;
-    for i in 0..points.len() {
-        let (duration, line) = match i.checked_sub(1) {
-            Some(k) => (points.durations[k], points.lines[k]),
-            None => (0.0, points.line_of_point(0)),
-        };
-        let velocity = points
-            .velocities
-            .as_ref()
-            .map(|v| &v[i * dim..(i + 1) * dim]);
-        stage.timed_point(points.point(i), duration, velocity, line);
-    }
-    let (collector, report) = stage.finish()?;
-    Ok(Planned {
-        program: collector.program,
-        report,
     })
 }
 

@@ -21,12 +21,11 @@ mod pt;
 pub mod quantize;
 mod spline;
 mod timed;
-mod whole;
 
 pub use chord::chord_velocities;
 pub use const_accel::const_accel_velocities;
 pub use contour::{plan_contour, segment_time, ContourStream, REVERSAL_TOLERANCE};
-pub use driver::{check_options, plan_timed, plan_toolpath_report, PlanReport, Planned};
+pub use driver::{check_options, PlanReport};
 pub(crate) use driver::{plan_buffered, plan_run};
 pub use error::PlanError;
 pub use lspb::{blend_corner_deviation, plan_lspb, LspbPlan};
@@ -36,4 +35,3 @@ pub use pt::plan_pt;
 pub use quantize::{Quantum, Rounding, MIN_PIECE_SECONDS};
 pub use spline::spline_velocities;
 pub use timed::TimedPoints;
-pub use whole::plan_toolpath;

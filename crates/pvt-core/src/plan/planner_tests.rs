@@ -1,9 +1,10 @@
 //! Golden tests of every planner on seed 001's series and seed 002's quad circle.
 
 use super::*;
+use crate::axis::Units;
 use crate::discretize::ChordTolerance;
-use crate::plan::plan_toolpath;
-use crate::toolpath::{Arc, ArcDirection, Contour, Element, ElementKind, Plane, Span};
+use crate::stream::{plan_timed, plan_toolpath, plan_toolpath_report, Planned};
+use crate::toolpath::{Arc, ArcDirection, Contour, Element, ElementKind, Plane, Span, Toolpath};
 
 const XY: [Axis; 2] = [Axis::X, Axis::Y];
 

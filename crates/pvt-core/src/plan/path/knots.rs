@@ -604,6 +604,55 @@ impl Knots {
         })
     }
 
+    /// True when knot `k` lies inside a line, the pieces beside it on that line, at least
+    /// `stop(speed)` before the line's end: a window that starts there with its speed
+    /// fixed can come to rest on that line whatever its repairs ask of the knots after
+    /// it, so its plan settles as the contour's start does.
+    pub fn room_to_stop(&self, curves: &[Curve], k: usize, stop: &dyn Fn(f64) -> f64) -> bool {
+        let knot = &self.knots[k];
+        let curve = &curves[knot.after.element];
+        knot.junction.is_none()
+            && self.knots[k - 1].blend.is_none()
+            && knot.before.element == knot.after.element
+            && curve.is_line()
+            && curve.length(knot.after.param, curve.span) >= stop(knot.speed)
+    }
+
+    /// True when a window may end at knot `k`: not the fixed start, not the last knot,
+    /// not a corner blend's start, not on the window's last element.
+    pub fn cuttable(&self, curves: &[Curve], k: usize) -> bool {
+        let knot = &self.knots[k];
+        k > 0 && k + 1 < self.knots.len() && knot.blend.is_none() && {
+            knot.after.element + 1 < curves.len()
+        }
+    }
+
+    /// Inserts a knot `u` seconds into piece `k` (not a blend, not at rest, `u` inside
+    /// its time `T`), where its reference motion `φ(t) = φa + wa·t + (wb − wa)/(2T)·t²`
+    /// is at `u`, with the reference's speed there: the pieces on both sides follow the
+    /// same reference motion and take `u` and `T − u` (see "Streaming on a grid" in
+    /// [`super`]). Returns the new knot's index, `k + 1`.
+    pub fn insert_inside(&mut self, curves: &[Curve], k: usize, u: f64, t: f64) -> usize {
+        let (curve, from, to) = self.piece_span(curves, k);
+        let (a, b) = (&self.knots[k], &self.knots[k + 1]);
+        let (wa, wb) = (a.speed / curve.rate(from), b.speed / curve.rate(to));
+        let param = (from + wa * u + 0.5 * (wb - wa) / t * u * u).clamp(from, to);
+        let w = wa + (wb - wa) * u / t;
+        let place = Place {
+            element: a.after.element,
+            param,
+        };
+        let mut knot = Knot::at(place, w * curve.rate(param));
+        knot.speed = knot.cap;
+        self.knots.insert(k + 1, knot);
+        k + 1
+    }
+
+    /// Removes knot `k` (one [`Knots::insert_inside`] put there).
+    pub fn remove(&mut self, k: usize) {
+        self.knots.remove(k);
+    }
+
     /// Path length of piece `k`.
     fn piece_length(&self, curves: &[Curve], k: usize) -> f64 {
         match self.knots[k].blend {

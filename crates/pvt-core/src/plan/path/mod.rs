@@ -129,9 +129,9 @@
 //! bound: its inner control points only move towards its ends. Every piece's closed-form
 //! peaks are checked; a piece over a limit gets more quanta (which lowers the velocities
 //! beside it), and a piece still over a limit, or over the tolerance, is slowed or split
-//! in the plan and the whole contour is planned and put on the grid again. With a
-//! quantum, [`PathStream`] holds the whole contour (no window): a window's first
-//! velocity, already written, could not be divided again.
+//! in the plan and the whole contour is planned and put on the grid again. This
+//! stretched grid is for a contour planned whole (one window, see "Streaming on a
+//! grid"): a window's first velocity, already written, could not be divided again.
 //!
 //! ## Resampling in time
 //! There is a second way onto the grid ([`resample`]). Without a jerk limit each contour
@@ -187,6 +187,52 @@
 //! piece's jerk, and a jerk change up to `16/27·Δj·q` to a grid knot's step. Where the
 //! first plan does not converge (grids of several servo periods, or finer than one),
 //! the later ones take a lower jerk and step bound so that these fit.
+//!
+//! ## Streaming on a grid
+//! A contour that fills the window ([`WINDOW_ELEMENTS`]) on a grid without a jerk limit
+//! is resampled window by window, in the same bounded memory as without a grid; a
+//! shorter one is planned whole at its end as above, so its pieces are unchanged.
+//! 1. Each window's plan is made as in step 1 of "Resampling in time", at the shares of
+//!    [`resample::Shares`] in turn, and the first that converges is taken (the whole
+//!    contour takes the shortest). Its knots are capped as [`PathStream`]'s windows
+//!    are, at the least tangential acceleration of every share, so the next window,
+//!    whatever share it converges at, can stop from any knot this one cuts at.
+//! 2. The window is cut at a grid time `τ = g·q` of the window (its start is on the
+//!    grid): the last at or before the knot the stopping distance chooses that is a
+//!    cuttable knot's time, or that lies inside a planned piece that follows one element
+//!    at speed (no corner blend), inside a line with at least the stopping distance from
+//!    its speed (at that least acceleration) left after it: whatever the next window's
+//!    repairs ask of the knots after it, its fixed first knot can come to rest on that
+//!    line, so its plan settles as a contour's start does (a cut before a short line's
+//!    blend did not: the blend slowed, the fixed knot could not). A contour whose first
+//!    window has no such time is held whole. There a knot is inserted on the piece's own reference
+//!    motion: at `φ(u)` with the speed `φ'(u)·|c'|`, `u = τ − tᵢ`. The two pieces beside
+//!    it have the same reference motion over `u` and `T − u`, so their error bounds are
+//!    within the piece's, and the plan's motion reaches the inserted knot at `τ`
+//!    exactly, with the knot's position and velocity.
+//! 3. The plan's pieces up to that knot are resampled without scaling (`s = 1`), from
+//!    the window's start to `τ`; the grid knots, the pieces, their exact deviation and
+//!    every limit check are those of "Resampling in time", and a piece over a limit
+//!    slows the window's plan (the inserted knot taken out first) as there. The pieces go
+//!    out; the next window starts at the inserted knot with its speed fixed. Its first
+//!    grid piece starts from the state the last one written ended in: both are the
+//!    knot's position and its velocity along the element's tangent, computed from the
+//!    same element, parameter and speed.
+//! 4. Committed pieces never change: each is checked against the plan of its own
+//!    window, which is within the tolerance of the path from its start to the cut, and
+//!    every later window starts exactly where it ends. What a window cannot know (the
+//!    elements after it) only bounds its speeds through the caps, as without a grid.
+//! 5. The last window (the contour's end) is resampled unscaled too: its total is not
+//!    whole quanta, so its last grid interval ends at the next whole quantum, and the
+//!    reference motion holds the end point, at rest, for the rest of it: that part of
+//!    the deviation is measured exactly too (the reference is a constant there).
+//!
+//! The pieces of a streamed contour differ from those of the contour planned whole: the
+//! whole contour is scaled uniformly to whole quanta and takes the shortest of its
+//! shares, or the stretched grid, which need its total. A window that converges at no
+//! share holds the rest of the contour to its end (the whole contour, as above, where
+//! nothing is out yet). Dense polylines under acceleration limits (lines shorter than
+//! the stopping distance) find no cut and are held whole.
 //!
 //! Hermite resampling can ask more acceleration than the plan: where a short pulse of
 //! acceleration (a blend of 0.8 ms) lies near an interval's end its end acceleration
@@ -393,7 +439,8 @@ pub const WINDOW_ELEMENTS: usize = 1024;
 /// its stopping distance, so the emitted pieces are those the whole contour would have
 /// had; with a window shorter than the stopping distance they are slower, never wrong.
 /// The window then starts at the cut with that knot's speed fixed. With a quantum the
-/// whole contour is held and planned at its end (see "Quantization" above).
+/// window is cut at a grid time and resampled (see "Streaming on a grid" above); under a
+/// jerk limit the whole contour is held and planned at its end (see "Jerk").
 #[derive(Debug)]
 pub struct PathStream {
     axes: Vec<Axis>,
@@ -407,6 +454,16 @@ pub struct PathStream {
     window: usize,
     start: Start,
     report: PathReport,
+    /// Pieces of this contour already went out through the grid's windows (see
+    /// "Streaming on a grid"): its last window keeps its start.
+    streamed: bool,
+    /// The contour is held whole from here on: where a window on the grid did not
+    /// converge or, before any went out, had no knot to cut at.
+    hold: bool,
+    /// On a grid, the window size at which a window with no knot to cut at is planned
+    /// again: twice its size, so that a contour with no such knot costs a few plans of
+    /// its length in all, not one per element.
+    retry_at: usize,
 }
 
 impl PathStream {
@@ -431,6 +488,9 @@ impl PathStream {
                 junction: None,
             },
             report: PathReport::default(),
+            streamed: false,
+            hold: false,
+            retry_at: 0,
         }
     }
 
@@ -449,9 +509,13 @@ impl PathStream {
         }
         check_element(element)?;
         self.curves.extend(Curve::new(element, &self.axes));
-        let whole = self.options.quantum.is_some() || self.bounds.jerk_mode();
-        if !whole && self.curves.len() >= self.window {
-            self.plan(false, emit)?;
+        let whole = self.hold || self.bounds.jerk_mode();
+        if !whole && self.curves.len() >= self.window.max(self.retry_at) {
+            if self.options.quantum.is_some() {
+                self.stream_on_grid(false, emit)?;
+            } else {
+                self.plan(false, emit)?;
+            }
         }
         Ok(())
     }
@@ -461,7 +525,10 @@ impl PathStream {
         mut self,
         emit: &mut dyn FnMut(&SegmentRef<'_>),
     ) -> Result<PathReport, PlanError> {
-        if !self.curves.is_empty() {
+        if self.curves.is_empty() {
+        } else if self.streamed {
+            self.stream_on_grid(true, emit)?;
+        } else {
             self.plan(true, emit)?;
         }
         Ok(self.report)
@@ -533,8 +600,65 @@ impl PathStream {
             let (element, start) = knots.start_after(count);
             self.curves.drain(..element);
             self.start = start;
+            self.retry_at = 0;
         }
         self.knot_storage = knots.into_storage();
+        Ok(())
+    }
+
+    /// Plans the window on the grid of the stream's quantum and emits it up to a grid
+    /// knot (all of it at the contour's end), as "Streaming on a grid" describes. A
+    /// window that does not converge holds the contour from there on, to its end.
+    fn stream_on_grid(
+        &mut self,
+        last: bool,
+        emit: &mut dyn FnMut(&SegmentRef<'_>),
+    ) -> Result<(), PlanError> {
+        let Some(quantum) = self.options.quantum else {
+            return self.plan(last, emit);
+        };
+        let window = grid_window(
+            &self.curves,
+            &self.bounds,
+            &self.options,
+            &self.start,
+            quantum,
+            last,
+        );
+        let w = match window {
+            Window::Planned(w) => w,
+            // Nothing out yet: the contour is held whole (planned as any at its end).
+            Window::NoCut if !self.streamed => {
+                self.hold = true;
+                return Ok(());
+            }
+            Window::NoCut => {
+                self.retry_at = 2 * self.curves.len();
+                return Ok(());
+            }
+            Window::NotMet if last => {
+                return Err(PlanError::PathNotMet {
+                    line: self.curves[0].line,
+                })
+            }
+            // Held to the contour's end: planned whole there when nothing is out yet,
+            // else as the last window.
+            Window::NotMet => {
+                self.hold = true;
+                return Ok(());
+            }
+        };
+        let worst = w.pieces.iter().map(|p| p.error).fold(0.0, f64::max);
+        self.report.error_bound = self.report.error_bound.max(worst);
+        self.report.speed_change = self.report.speed_change.max(w.speed_change);
+        w.knots.emit(&self.curves, &w.pieces, w.count, emit);
+        self.streamed = true;
+        if !last {
+            let (element, start) = w.knots.start_after(w.count);
+            self.curves.drain(..element);
+            self.start = start;
+            self.retry_at = 0;
+        }
         Ok(())
     }
 
@@ -587,27 +711,15 @@ impl PathStream {
         }
     }
 
-    /// The least tangential acceleration any piece has: an axis' acceleration less the
-    /// share its speed caps leave to the centripetal part (infinite without limits).
+    /// The least tangential acceleration any piece has (see [`least_acceleration`]).
     fn least_acceleration(&self) -> f64 {
-        let least = self
-            .bounds
-            .acceleration
-            .iter()
-            .fold(f64::INFINITY, |a, &b| a.min(b));
-        least * (1.0 - NORMAL_SHARE)
+        least_acceleration(&self.bounds)
     }
 
     /// How far the highest feed of the window needs to come to rest at the least
     /// tangential acceleration (0 without acceleration limits).
     fn stopping_distance(&self) -> f64 {
-        let least = self.least_acceleration();
-        let fastest = self.curves.iter().map(|c| c.feed).fold(0.0, f64::max);
-        if least.is_finite() {
-            fastest * fastest / (2.0 * least)
-        } else {
-            0.0
-        }
+        stopping_distance(&self.curves, self.least_acceleration())
     }
 }
 
@@ -758,6 +870,205 @@ fn resample_contour(
         }
     }
     best
+}
+
+/// A window of a contour on the grid (see "Streaming on a grid").
+enum Window {
+    /// Its pieces up to the grid knot it is cut at.
+    Planned(GridWindow),
+    /// No knot to cut at yet: wait for more elements.
+    NoCut,
+    /// No share of the limits converged.
+    NotMet,
+}
+
+/// A window's resampled pieces: those of planned knots `0..count`, ending at knot
+/// `count` on the grid (at the contour's end, all of them).
+struct GridWindow {
+    knots: Knots,
+    pieces: Vec<pieces::Piece>,
+    count: usize,
+    speed_change: f64,
+}
+
+/// Plans a window of a streamed contour on the grid of `quantum` (see "Streaming on a
+/// grid"): the shares of [`resample::Shares`] in turn, the first that converges; each
+/// plan capped (but at the contour's end) to stop before the window's last element at the
+/// least tangential acceleration of every share, cut at a grid time at or before the
+/// stopping-distance cut, and resampled from the window's start without scaling.
+fn grid_window(
+    curves: &[Curve],
+    bounds: &AxisBounds,
+    options: &PathOptions,
+    start: &Start,
+    quantum: Quantum,
+    last: bool,
+) -> Window {
+    let q = quantum.seconds;
+    let shares = resample::Shares::new(bounds, q);
+    let tolerance = shares.tolerance * options.tolerance;
+    let corner = options.corner_tolerance.map(|c| shares.tolerance * c);
+    let tolerances = resample::Tolerances {
+        path: options.tolerance,
+        corner: options.corner_tolerance.unwrap_or(options.tolerance),
+    };
+    let least_share = shares
+        .tries
+        .iter()
+        .map(|t| t.acceleration)
+        .fold(1.0, f64::min);
+    let least = least_share * least_acceleration(bounds);
+    let keep = stopping_distance(curves, least);
+    for try_ in &shares.tries {
+        let planning = AxisBounds {
+            acceleration: bounds
+                .acceleration
+                .iter()
+                .map(|a| a * try_.acceleration)
+                .collect(),
+            resolution: 0.0,
+            ..bounds.clone()
+        };
+        let storage = KnotStorage::default();
+        let mut knots = Knots::new(curves, &planning, tolerance, corner, start, false, storage);
+        if !last {
+            knots.cap_for_window(curves, least);
+        }
+        if settle(&mut knots, curves, &planning, tolerance).is_none() {
+            continue;
+        }
+        knots.add_trapezoids(curves, &planning);
+        if !last {
+            knots.cap_for_window(curves, least);
+        }
+        let Some(mut planned) = settle(&mut knots, curves, &planning, tolerance) else {
+            continue;
+        };
+        for _ in 0..try_.rounds {
+            let (count, inserted) = if last {
+                (knots.knots.len() - 1, false)
+            } else {
+                match grid_cut(
+                    &mut knots,
+                    curves,
+                    &planning,
+                    &mut planned,
+                    (keep, least),
+                    q,
+                ) {
+                    Some(cut) => cut,
+                    None => return Window::NoCut,
+                }
+            };
+            let prefix = &planned[..count];
+            match resample::resample_once(&knots, bounds, tolerances, q, prefix, false) {
+                Ok(r) => {
+                    return Window::Planned(GridWindow {
+                        knots,
+                        pieces: r.pieces,
+                        count,
+                        speed_change: r.speed_change,
+                    })
+                }
+                Err(slow) => {
+                    if inserted {
+                        knots.remove(count);
+                    }
+                    for (range, factor) in slow {
+                        knots.slow_knots(range, factor);
+                    }
+                    match settle(&mut knots, curves, &planning, tolerance) {
+                        Some(p) => planned = p,
+                        None => break,
+                    }
+                }
+            }
+        }
+    }
+    Window::NotMet
+}
+
+/// Where a window of a streamed contour on the grid ends: the last grid time at or before
+/// the knot [`Knots::cut`] chooses (`keep` of known path after it) that is a cuttable
+/// knot's time or inside a piece that follows one element at speed, where a knot is
+/// inserted (and `planned` made again), with room to stop on its line at `least`
+/// ([`Knots::room_to_stop`]). The knot's index (the number of pieces before it) and
+/// whether it was inserted.
+fn grid_cut(
+    knots: &mut Knots,
+    curves: &[Curve],
+    planning: &AxisBounds,
+    planned: &mut Vec<pieces::Piece>,
+    (keep, least): (f64, f64),
+    q: f64,
+) -> Option<(usize, bool)> {
+    let k = knots.cut(curves, keep)?;
+    let stop = |v: f64| {
+        if least.is_finite() {
+            v * v / (2.0 * least)
+        } else {
+            0.0
+        }
+    };
+    let mut starts = Vec::with_capacity(k + 1);
+    let mut t = 0.0;
+    for p in &planned[..k] {
+        starts.push(t);
+        t += p.duration;
+    }
+    let slack = 1e-9 * q;
+    let mut g = quanta_count(t, q);
+    while g >= 1.0 {
+        let tau = crate::plan::quantize::quanta_time(g, q);
+        g -= 1.0;
+        let i = starts.partition_point(|&s| s <= tau + slack) - 1;
+        let (piece, u) = (&planned[i], tau - starts[i]);
+        if u <= slack || piece.duration - u <= slack {
+            let at = if u <= slack { i } else { i + 1 };
+            if at <= k && knots.cuttable(curves, at) && knots.room_to_stop(curves, at, &stop) {
+                return Some((at, false));
+            }
+            continue;
+        }
+        if knots.knots[i].blend.is_some() || piece.at_rest() || piece.part.is_some() {
+            continue;
+        }
+        let at = knots.insert_inside(curves, i, u, piece.duration);
+        if !knots.room_to_stop(curves, at, &stop) {
+            knots.remove(at);
+            continue;
+        }
+        knots.pieces_into(curves, planning, planned);
+        return Some((at, true));
+    }
+    None
+}
+
+/// Whole quanta in `t` seconds, rounded down (times within a billionth of a quantum of
+/// a grid time count as on it).
+fn quanta_count(t: f64, q: f64) -> f64 {
+    (t / q + 1e-9).floor()
+}
+
+/// The least tangential acceleration any piece has: an axis' acceleration less the
+/// share its speed caps leave to the centripetal part (infinite without limits).
+fn least_acceleration(bounds: &AxisBounds) -> f64 {
+    let least = bounds
+        .acceleration
+        .iter()
+        .fold(f64::INFINITY, |a, &b| a.min(b));
+    least * (1.0 - NORMAL_SHARE)
+}
+
+/// How far the highest feed of `curves` needs to come to rest at tangential
+/// acceleration `least` (0 without acceleration limits).
+fn stopping_distance(curves: &[Curve], least: f64) -> f64 {
+    let fastest = curves.iter().map(|c| c.feed).fold(0.0, f64::max);
+    if least.is_finite() {
+        fastest * fastest / (2.0 * least)
+    } else {
+        0.0
+    }
 }
 
 /// Refuses an element with a feed that is not positive or a coordinate that is not finite.

@@ -321,7 +321,7 @@ pub(super) fn resample(
         if quanta_time(grid_count(&planned, q), q) >= bar - 0.5 * q {
             return None;
         }
-        match resample_once(knots, limits.bounds, limits.tolerances, q, &planned) {
+        match resample_once(knots, limits.bounds, limits.tolerances, q, &planned, true) {
             Ok(resampled) => return Some(resampled),
             Err(slow) => {
                 for (knot_range, factor) in slow {
@@ -341,17 +341,26 @@ fn grid_count(planned: &[Piece], q: f64) -> f64 {
 }
 
 /// One resampling of `planned`: the pieces, or the planned knot ranges to slow and by
-/// what factor of their speeds.
-fn resample_once(
+/// what factor of their speeds. With `scaled` the plan is scaled in time to whole quanta
+/// (a whole contour); without, it keeps its times from a start on the grid (a window of
+/// a streamed contour, see "Streaming on a grid" in [`super`]): it ends on the grid
+/// already (a window's prefix up to a knot placed at a grid time), or at rest, where
+/// the last grid interval holds the end until the next whole quantum.
+pub(super) fn resample_once(
     knots: &Knots,
     bounds: &AxisBounds,
     tolerances: Tolerances,
     q: f64,
     planned: &[Piece],
+    scaled: bool,
 ) -> Result<Resampled, Vec<(std::ops::Range<usize>, f64)>> {
     let total: f64 = planned.iter().map(|p| p.duration).sum();
     let count = grid_count(planned, q);
-    let scale = quanta_time(count, q) / total;
+    let scale = if scaled {
+        quanta_time(count, q) / total
+    } else {
+        1.0
+    };
     let motion = Motion::new(planned, scale);
     let last = count as u64;
     // Grid knots: every planned knot's scaled time rounded to the grid, duplicates
@@ -628,6 +637,29 @@ fn interval(
             break;
         }
         i += 1;
+    }
+    // Past the plan's end (an unscaled plan that ends at rest off the grid): the motion
+    // holds the end point, at rest.
+    let end = motion.start(motion.pieces.len());
+    if tb > end && i + 1 == motion.pieces.len() {
+        let last = &motion.pieces[i];
+        let from = ta.max(end);
+        let mut squares = 0.0;
+        for (ax, hx) in h.iter().enumerate() {
+            let r = hx.at(from - ta);
+            let c = [
+                last.end[ax] - r.position,
+                last.end_velocity[ax] - r.velocity,
+                -0.5 * r.acceleration,
+                -r.jerk / 6.0,
+            ];
+            let peak = cubic_peak(c, tb - from);
+            squares += peak * peak;
+        }
+        if squares.sqrt() > tolerances.path {
+            return Err(Over::Tolerance);
+        }
+        error = error.max(squares.sqrt());
     }
     // A piece names one source line; a check looks for the motion near that line's
     // elements and their neighbours. A piece over more than three elements is split
