@@ -783,3 +783,22 @@ fn libraries_apply_defaults_in_their_own_default_or_one_resolution() {
         "a default applied outside a Default, a shared resolution or OWN_DEFAULTS: {found:#?}"
     );
 }
+
+#[test]
+fn the_stage_and_the_check_each_have_one_module_name() {
+    // pvt-core's planning stage is the one `stream` module and its check the one `check`:
+    // pvt-emit's piece writer is `writer.rs`, pvtc's compile path `route.rs`.
+    for name in ["stream", "check"] {
+        let homes: Vec<String> = crate_sources()
+            .into_iter()
+            .map(|(path, _)| path)
+            .filter(|path| {
+                let path = Path::new(path);
+                let stem = path.file_stem().and_then(|s| s.to_str());
+                let dir = path.parent().and_then(|d| d.file_name()?.to_str());
+                stem == Some(name) || (stem == Some("mod") && dir == Some(name))
+            })
+            .collect();
+        assert_eq!(homes.len(), 1, "modules named `{name}`: {homes:?}");
+    }
+}
