@@ -21,7 +21,7 @@ use pvt_core::{
     PieceSplitter, PlanOptions, PlanReport, PlanStage, Planned, Planner, ProgramEvent, PvtContour,
     PvtProgram, SegmentRef, Timing, Toolpath, ToolpathSink, Units,
 };
-use pvt_emit::stream::Totals;
+use pvt_emit::writer::Totals;
 use pvt_emit::{Checked, Format, ProgramWriter, StreamError};
 use std::path::PathBuf;
 

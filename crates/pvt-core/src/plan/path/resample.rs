@@ -10,7 +10,7 @@
 
 use super::curve::Curve;
 use super::knots::Knots;
-use super::pieces::Piece;
+use super::piece::Piece;
 use super::{settle, AxisBounds, Vector, MAX_ROUNDS};
 use crate::hermite::{HermiteSegment, State};
 use crate::plan::quantize::{quanta_time, Quantum};
