@@ -28,7 +28,9 @@
 //! is off). A program number (`O1001`) names the program. G76, cutter compensation,
 //! G38.2–G38.5 move to the points [`GcodeOptions::probe_results`] gives, each one
 //! without a point is `pvtc::gcode::probe`. G5 and G5.1 splines (G17 only, as LinuxCNC)
-//! are cubic Bézier elements (`interpreter/spline.rs`). G5.2/G5.3, G6.2, G33 and reads
+//! are cubic Bézier elements (`interpreter/spline.rs`), and so are G5.2/G5.3 NURBS
+//! blocks of equal weights and order L 2 to 4 (`interpreter/nurbs.rs`, exact). Rational
+//! or higher-order NURBS blocks, G6.2, G33 and reads
 //! of machine-specific
 //! parameters are `unsupported`, one
 //! diagnostic per feature with the count of places, and the program fails. A block with
