@@ -6,10 +6,11 @@
 //! block), LinuxCNC's knot vector (uniform and clamped: `order` zeros, then 1, 2, …,
 //! then `order` copies of `points − order + 1`) and its refusals (X without Y, a missing
 //! or non-positive P after the first line, fewer points than the order, G5.3 without
-//! G5.2). A non-rational block (every weight equal) of order 2 to 4 becomes its knot
-//! spans' cubic Béziers ([`pvt_core::bezier::bezier_spans`]): exact. It must not plan or
-//! flatten the curve (pvt-core does) and refuses what it cannot make exact: unequal
-//! weights (a rational curve), order 5 and above, a plane other than G17, Z/A/B/C words
+//! G5.2). The block becomes cubic Bézier elements by
+//! [`pvt_core::rational::nurbs_cubics`]: a non-rational block (every weight equal) of
+//! order 2 to 4 exactly, its knot spans' Béziers; any other within [`NURBS_FIT_SHARE`]
+//! of the tolerance. It must not plan or flatten the curve (pvt-core does) and refuses
+//! what LinuxCNC's XY-only NURBS cannot be here: a plane other than G17, Z/A/B/C words
 //! and inverse time feed.
 
 use super::Interpreter;
@@ -17,8 +18,9 @@ use crate::block::Block;
 use crate::codes::FeedMode;
 use crate::diagnostic::{span, GcodeDiagnostic};
 use crate::request::Request;
+use crate::NURBS_FIT_SHARE;
 use miette::SourceSpan;
-use pvt_core::bezier::{bezier_spans, elevate_to_cubic};
+use pvt_core::rational::{nurbs_cubics, FitError};
 use pvt_core::{Bezier, Element, ElementKind, Motion, Plane, Position, Units};
 
 /// A G5.2 block being gathered.
@@ -161,27 +163,36 @@ impl Interpreter<'_> {
             let needs = "at least L control points (the start counts as one)";
             return self.push(missing("G5.3", needs, at));
         }
-        let w0 = nurbs.weights[0];
-        if nurbs.weights.iter().any(|&w| w != w0) {
-            return self.push(nurbs_unsupported("rational NURBS (unequal P weights)", at));
-        }
-        if nurbs.order > 4 {
-            return self.push(nurbs_unsupported("NURBS of order L above 4", at));
-        }
         let knots = knot_vector(nurbs.points.len(), nurbs.order);
-        let Ok(spans) = bezier_spans(nurbs.order - 1, &knots, &nurbs.points) else {
-            return self.push(missing("G5.3", "a valid NURBS block", at));
+        let ctrl: Vec<[f64; 4]> = (nurbs.points.iter().zip(&nurbs.weights))
+            .map(|(p, &w)| [p[0] * w, p[1] * w, 0.0, w])
+            .collect();
+        let units = self.output_units.unwrap_or(Units::Millimetre);
+        let tolerance = pvt_core::defaults::tolerance(self.options.tolerance, units);
+        let fitted = nurbs_cubics(nurbs.order - 1, &knots, &ctrl, tolerance * NURBS_FIT_SHARE);
+        let cubics = match fitted {
+            Ok(cubics) => cubics,
+            Err(e) => return self.push(nurbs_unsupported(fit_refusal(&e), at)),
         };
-        let beziers: Vec<([[f64; 2]; 4], Position, Position)> = spans
+        let mut beziers: Vec<([[f64; 2]; 4], Position, Position)> = cubics
             .iter()
-            .filter_map(|s| elevate_to_cubic(s))
-            .map(|p| {
+            .map(|c| {
+                let p = c.map(|q| [q[0], q[1]]);
                 let (mut start, mut end) = (nurbs.start, nurbs.start);
                 start[..2].copy_from_slice(&p[0]);
                 end[..2].copy_from_slice(&p[3]);
                 (p, start, end)
             })
             .collect();
+        // The ends are the control points themselves, not their homogeneous round trip.
+        if let Some(first) = beziers.first_mut() {
+            first.0[0] = nurbs.points[0];
+            first.1 = nurbs.start;
+        }
+        if let Some(last) = beziers.last_mut() {
+            last.0[3] = nurbs.points[nurbs.points.len() - 1];
+            last.2[..2].copy_from_slice(&last.0[3]);
+        }
         let curve = |p: &[[f64; 2]; 4]| Bezier {
             plane: Plane::XY,
             controls: [p[1], p[2]],
@@ -224,6 +235,17 @@ fn bad_value(word: crate::block::Word, expected: &'static str) -> GcodeDiagnosti
         word: word.name(),
         expected,
         span: span(word.span()),
+    }
+}
+
+/// The refusal for a block the cubics cannot follow.
+fn fit_refusal(error: &FitError) -> &'static str {
+    match error {
+        FitError::Spline(_) => "NURBS blocks whose knots make no curve",
+        FitError::NotFinite => "NURBS blocks with no finite point",
+        FitError::Tolerance | FitError::TooMany => {
+            "NURBS blocks no cubics follow at this tolerance"
+        }
     }
 }
 
