@@ -487,7 +487,7 @@ impl<'a> Interpreter<'a> {
             || request.user.is_some()
             || matches!(
                 self.modal.motion,
-                Some(MotionMode::Arc(_) | MotionMode::Cycle(_))
+                Some(MotionMode::Arc(_) | MotionMode::Cycle(_) | MotionMode::Nurbs)
             );
         if !used {
             self.push(GcodeDiagnostic::IgnoredWord {

@@ -428,3 +428,11 @@ fn the_planned_motion_follows_the_nurbs() {
         assert!(worst > 0.0, "{source}");
     }
 }
+
+/// A NURBS block's P and L words are its own: no `ignored_word` warning.
+#[test]
+fn p_and_l_words_of_a_block_are_not_ignored() {
+    let source = "G21 G17 F100\nG5.2 P1 L3\nX0 Y1 P1\nX2 Y2 P1\nX2 Y0 P1\nX0 Y0 P2\nG5.3\nM2\n";
+    let compiled = compile(source, &GcodeOptions::default()).expect("compiles");
+    assert!(compiled.warnings.is_empty(), "{:?}", compiled.warnings);
+}
