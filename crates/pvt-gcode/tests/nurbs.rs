@@ -6,10 +6,11 @@
 //! point count of each curve (`NURBS_FEED(n, …)`). Without rs274 the differential tests
 //! say SKIPPED; with `PVTC_REQUIRE_RS274=1` they fail instead.
 
+mod common;
+
 use proptest::prelude::*;
 use pvt_core::{Element, ElementKind};
 use pvt_gcode::{compile, GcodeOptions};
-use std::process::Command;
 
 fn elements(source: &str) -> Vec<Element> {
     compile(source, &GcodeOptions::default())
@@ -254,50 +255,6 @@ fn refusals_are_at_their_lines() {
     }
 }
 
-/// rs274's reading of `source`: the point counts of its NURBS_FEED calls, or its error;
-/// `None` when rs274 is not installed.
-fn rs274(source: &str, name: &str) -> Option<Result<Vec<usize>, String>> {
-    if Command::new("rs274").arg("-h").output().is_err() {
-        assert!(
-            std::env::var_os("PVTC_REQUIRE_RS274").is_none(),
-            "rs274 is not installed, and PVTC_REQUIRE_RS274 is set"
-        );
-        return None;
-    }
-    let dir = std::env::temp_dir().join(format!("pvtc-nurbs-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let (ngc, out) = (dir.join("p.ngc"), dir.join("out.txt"));
-    std::fs::write(&ngc, source).unwrap();
-    // Two rs274 runs at once can kill each other (shared memory): try again.
-    for _ in 0..20 {
-        let run = Command::new("rs274")
-            .arg("-g")
-            .arg(&ngc)
-            .arg(&out)
-            .stdin(std::process::Stdio::null())
-            .output()
-            .expect("rs274 runs");
-        if run.status.code().is_none() {
-            std::thread::sleep(std::time::Duration::from_millis(200));
-            continue;
-        }
-        let text = std::fs::read_to_string(&out).unwrap_or_default();
-        let counts = text
-            .lines()
-            .filter_map(|l| l.split("NURBS_FEED(").nth(1))
-            .map(|rest| rest.split(',').next().unwrap().trim().parse().unwrap())
-            .collect();
-        let said = String::from_utf8_lossy(&run.stdout).to_string()
-            + &String::from_utf8_lossy(&run.stderr);
-        std::fs::remove_dir_all(&dir).ok();
-        return Some(match run.status.success() {
-            true => Ok(counts),
-            false => Err(said),
-        });
-    }
-    panic!("rs274 was killed 20 times");
-}
-
 fn coordinate() -> impl Strategy<Value = [f64; 2]> {
     [-500i32..500, -500i32..500].prop_map(|v| v.map(|c| f64::from(c) / 10.0))
 }
@@ -322,7 +279,7 @@ proptest! {
             let weights = vec![1.0; points.len()];
             prop_assert!(fit_error(&source, &points, &weights, order) <= bound, "{}", source);
         }
-        let Some(reading) = rs274(&source, "random") else {
+        let Some(reading) = common::rs274_nurbs_counts(&source, "nurbs-random") else {
             eprintln!("SKIPPED: rs274 is not installed");
             return Ok(());
         };
@@ -343,7 +300,7 @@ fn rs274_refuses_what_pvtc_refuses() {
         "G5.2 X1 Y1 L3 P1\nX2 Y0 P1\nG5.3\nX5 Y5\n",
     ] {
         let source = format!("G21 G17 F600\n{body}M2\n");
-        let Some(reading) = rs274(&source, "refused") else {
+        let Some(reading) = common::rs274_nurbs_counts(&source, "nurbs-refused") else {
             eprintln!("SKIPPED: rs274 is not installed");
             return;
         };
