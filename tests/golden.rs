@@ -353,6 +353,31 @@ fn dense_polylines_on_a_1ms_grid_keep_their_limits_and_nearly_their_time() {
     }
 }
 
+/// The drawings of Bézier curves (ellipses.dxf, splines.dxf, F6000) under mill.toml take
+/// at most 1.25 times their time on the same machine without `max_jerk`: at a junction of
+/// two Bézier parts the pieces carry the parameter acceleration that keeps the tangential
+/// acceleration from stepping (with zero parameter acceleration there, ellipses.dxf took
+/// 1.27 times as long). Every limit, jerk and acceleration step and the tolerance hold,
+/// measured independently.
+#[test]
+fn bezier_drawings_under_a_jerk_limit_keep_their_speed() {
+    let mill = pvtc::machine::Machine::read(&root().join("samples/machines/mill.toml")).unwrap();
+    for sample in ["samples/dxf/ellipses.dxf", "samples/dxf/splines.dxf"] {
+        let mut options = options_for(sample, Format::Json);
+        options.feed = Some(6000.0);
+        options.machine = Some(mill_without_jerk());
+        let free = planned(sample, &options).unwrap().0.total_time();
+        options.machine = Some(mill.clone());
+        let held = check_follows_with(sample, &options, Some("mill.toml"))
+            .unwrap()
+            .total_time();
+        assert!(
+            held <= 1.25 * free,
+            "{sample}: {held} s under max_jerk > 1.25 x {free} s without"
+        );
+    }
+}
+
 /// Dense samples under mill.toml's jerk limits on 1, 2 and 0.442 ms grids (drawings at
 /// F6000): the jerk-limited plan is resampled onto the grid, so every piece time is whole
 /// quanta, every limit, jerk and acceleration step and the tolerance hold, measured

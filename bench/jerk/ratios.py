@@ -3,7 +3,8 @@
 without max_jerk, plain and on a 1 ms grid (JSON, and PMAC text read back).
 
 Usage: python3 bench/jerk/ratios.py [PVTC] [SAMPLE...]   (PVTC: target/release/pvtc)
-Prints one row per sample: the four times in seconds and the two ratios.
+Prints one row per sample: the five times in seconds, the three ratios against the machine
+without max_jerk, and the PMAC text's own total against the JSON's on 1 ms ("pmac/json").
 """
 import json, os, subprocess, sys, tempfile
 
@@ -51,15 +52,16 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         mill = os.path.join(ROOT, "samples/machines/mill.toml")
         free = machine_without_jerk(tmp)
-        print(f"{'sample':40} {'free':>8} {'jerk':>8} {'free 1ms':>9} {'jerk 1ms':>9} {'pmac 1ms':>9} {'plain':>6} {'1ms':>6} {'pmac':>6}")
+        print(f"{'sample':40} {'free':>8} {'jerk':>8} {'free 1ms':>9} {'jerk 1ms':>9} {'pmac 1ms':>9} {'plain':>6} {'1ms':>6} {'pmac':>6} {'pmac/json':>9}")
         for s in chosen:
             t = [compile_time(pvtc, s, m, q, f, tmp) for m, q, f in (
                 (free, None, "json"), (mill, None, "json"),
                 (free, "1ms", "json"), (mill, "1ms", "json"), (mill, "1ms", "pmac"))]
             fmt = lambda x: f"{x:8.3f}" if x is not None else "  failed"
             ratio = lambda a, b: f"{a / b:6.2f}" if a and b else "     -"
+            same = f"{t[4] / t[3]:9.4f}" if t[3] and t[4] else "        -"
             print(f"{s:40} {fmt(t[0])} {fmt(t[1])} {fmt(t[2]):>9} {fmt(t[3]):>9} {fmt(t[4]):>9} "
-                  f"{ratio(t[1], t[0])} {ratio(t[3], t[2])} {ratio(t[4], t[2])}", flush=True)
+                  f"{ratio(t[1], t[0])} {ratio(t[3], t[2])} {ratio(t[4], t[2])} {same}", flush=True)
 
 
 if __name__ == "__main__":

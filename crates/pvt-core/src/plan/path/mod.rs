@@ -51,8 +51,8 @@
 //!   that spreads the step over one period sees at most the jerk limit;
 //! - and, as without, every velocity and acceleration limit and the path tolerance.
 //!
-//! Every knot carries zero tangential acceleration, and a piece whose speed changes is an
-//! S-curve in its parameter over the same time `T = 2·span/(wa + wb)`: jerk `+j`,
+//! Every knot inside an element carries zero parameter acceleration, and a piece whose
+//! speed changes is an S-curve in its parameter over the same time `T = 2·span/(wa + wb)`: jerk `+j`,
 //! constant acceleration `A`, jerk `−j`, with `A` the smaller root of `T = Δw/A + A/j`
 //! (two ramps of jerk `4·Δw/T²` when the middle would be under 1 % of `T`). The path jerk
 //! `j` is 0.99 (on a line) or 0.9 (on an arc, whose turn adds jerk) of the least
@@ -61,7 +61,14 @@
 //! of "Quantization" below; on a line the parts are the S-curve itself, so the
 //! acceleration is continuous. A piece whose whole speed change at constant
 //! acceleration would step the acceleration by at most a quarter of `j·Tₛ` stays one
-//! cubic. The passes and the trapezoid knots use the S-curve's shortest distance from
+//! cubic. At a junction passed at speed between two curves whose rates `ρ = |dc/dφ|`
+//! change (two parts of a Bézier), zero parameter acceleration would leave each side the
+//! tangential acceleration `g·v²`, `g = ρ'/ρ²`, which differ: there each piece beside
+//! the junction starts (or ends) with the parameter acceleration that gives both sides
+//! their mean, in three parts whose parameter acceleration is linear on each (ramps of
+//! at least a third of its time) and takes the two inner values that meet its end rate
+//! and its span, so each part's `φ(t)` is again a cubic with the bound below. The
+//! passes and the trapezoid knots use the S-curve's shortest distance from
 //! `va` to `vb`, `(va + vb)/2·(Δv/a + a/j)` when `Δv ≥ a²/j`, else `(va + vb)·√(Δv/j)`:
 //! the passes invert it in closed form (a cubic in `√Δv`, a quadratic in `Δv`), the
 //! trapezoid's peak by a fixed number of bisections.

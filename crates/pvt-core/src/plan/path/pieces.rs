@@ -2,9 +2,10 @@
 //!
 //! Owns the piece time from the reference motion (constant parameter acceleration), the
 //! per-piece error bound of the module documentation, and the same pieces on a quantum
-//! grid; under a jerk limit, each piece's S-curve parts (and their C² parts on the grid)
-//! and each corner blend's two parts (a pulse of acceleration at rest at both ends) with
-//! their error bound. It must not move knots or change speeds, nor define what a piece
+//! grid; under a jerk limit, each piece's S-curve parts (three parts that carry the
+//! parameter acceleration of a junction between two parts of a Bézier, and C² parts on
+//! the grid) and each corner blend's two parts (a pulse of acceleration at rest at both
+//! ends) with their error bound. It must not move knots or change speeds, nor define what a piece
 //! is: that is [`super::knots`] and [`super::piece`].
 
 use super::curve::Curve;
@@ -112,7 +113,20 @@ impl Knots {
         let dw = (wb - wa).abs();
         let rate = curve.rate(from).max(curve.rate(to));
         let jerk = path_jerk(curve, from, to, bounds);
-        if !jerk.is_finite() || dw * rate / t <= 0.25 * jerk * bounds.servo_period {
+        if !jerk.is_finite() {
+            out.push(whole);
+            return;
+        }
+        // The parameter acceleration at each knot that keeps the tangential
+        // acceleration from stepping at a junction of curves whose rates |dc/dφ|
+        // change differently (two parts of a Bézier).
+        let ends = [
+            self.junction_accel(curves, k, true),
+            self.junction_accel(curves, k + 1, false),
+        ];
+        let tangential = ends[0].abs() * curve.rate(from) + ends[1].abs() * curve.rate(to);
+        let turned = tangential > RATE_ACCEL_SHARE * jerk * bounds.servo_period;
+        if !turned && dw * rate / t <= 0.25 * jerk * bounds.servo_period {
             out.push(whole);
             return;
         }
@@ -123,19 +137,32 @@ impl Knots {
         } else {
             (0.5 * t, 0.0, 2.0 * dw / t)
         };
-        let sign = if wb > wa { 1.0 } else { -1.0 };
-        let j = accel / ramp;
-        let w1 = wa + sign * 0.5 * accel * ramp;
-        let p1 = from + wa * ramp + sign * j * ramp.powi(3) / 6.0;
-        let w2 = w1 + sign * accel * hold;
-        let p2 = p1 + w1 * hold + sign * 0.5 * accel * hold * hold;
-        let mut points = vec![(from, wa, ramp)];
-        if hold == 0.0 {
-            points.push((p1, w1, ramp));
+        // Ramps of at least a third of the time, a middle of at least 1 %: the ramps
+        // also carry the knots' accelerations (a ramp between the S-curve's and T/2
+        // keeps the speed change's jerk within `j`).
+        let turn = ramp.clamp(t / 3.0, 0.495 * t);
+        let times = [turn, t - 2.0 * turn, turn];
+        let turned_points = turned
+            .then(|| rate_turn_points([from, to], [wa, wb], ends, times))
+            .filter(|points| moves_forward(points));
+        let points = if let Some(points) = turned_points {
+            points
         } else {
-            points.extend([(p1, w1, hold), (p2, w2, ramp)]);
-        }
-        points.push((to, wb, 0.0));
+            let sign = if wb > wa { 1.0 } else { -1.0 };
+            let j = accel / ramp;
+            let w1 = wa + sign * 0.5 * accel * ramp;
+            let p1 = from + wa * ramp + sign * j * ramp.powi(3) / 6.0;
+            let w2 = w1 + sign * accel * hold;
+            let p2 = p1 + w1 * hold + sign * 0.5 * accel * hold * hold;
+            let mut points = vec![(from, wa, ramp)];
+            if hold == 0.0 {
+                points.push((p1, w1, ramp));
+            } else {
+                points.extend([(p1, w1, hold), (p2, w2, ramp)]);
+            }
+            points.push((to, wb, 0.0));
+            points
+        };
         let last = points.len() - 2;
         for (i, w) in points.windows(2).enumerate() {
             let ((p0, r0, dt), (p1, r1, _)) = (w[0], w[1]);
@@ -223,6 +250,108 @@ impl Knots {
         };
         4.0 / 27.0 * t * (mismatch(ends[0]) + mismatch(ends[1]))
     }
+}
+
+/// Share of `j·Tₛ` (the piece's path jerk times the servo period) above which the
+/// tangential acceleration its knots carry (see [`Knots::junction_accel`]) makes a
+/// piece three parts that carry it, whatever its speed change; below it the piece may
+/// stay one cubic.
+const RATE_ACCEL_SHARE: f64 = 0.25;
+
+impl Knots {
+    /// The parameter acceleration at knot `k` of the piece after it (`after`) or before
+    /// it: zero inside an element, where both pieces have the same rate `ρ`, and at a
+    /// junction passed at speed `v` the one that gives the element the tangential
+    /// acceleration halfway between the two elements' `g·v²` (`g = ρ'/ρ²`, what zero
+    /// parameter acceleration leaves), so that the tangential acceleration does not
+    /// step there.
+    fn junction_accel(&self, curves: &[Curve], k: usize, after: bool) -> f64 {
+        let knot = &self.knots[k];
+        if knot.junction.is_none() || knot.speed <= 0.0 {
+            return 0.0;
+        }
+        let (b, a) = (knot.before, knot.after);
+        let g = |place: super::knots::Place| rate_growth(&curves[place.element], place.param);
+        let (gb, ga) = (g(b), g(a));
+        let v2 = knot.speed * knot.speed;
+        let mean = 0.5 * (gb + ga) * v2;
+        let (place, own) = if after { (a, ga) } else { (b, gb) };
+        (mean - own * v2) / curves[place.element].rate(place.param)
+    }
+}
+
+/// `g = ρ'/ρ²` at `phi` on `curve`, whose rate is `ρ(φ) = |dc/dφ|`: the tangential
+/// acceleration `d(ρ·φ')/dt = ρ'·φ'² + ρ·φ''` is `g·v²` at speed `v` where the parameter
+/// acceleration `φ''` is zero. Zero on a line and a circle (`ρ'` by a central difference
+/// over 10⁻⁵ of the span).
+fn rate_growth(curve: &Curve, phi: f64) -> f64 {
+    if curve.is_line() {
+        return 0.0;
+    }
+    let h = 1e-5 * curve.span;
+    let (lo, hi) = ((phi - h).max(0.0), (phi + h).min(curve.span));
+    if hi <= lo {
+        return 0.0;
+    }
+    let slope = (curve.rate(hi) - curve.rate(lo)) / (hi - lo);
+    slope / curve.rate(phi).powi(2)
+}
+
+/// The points `(φ, φ', time to the next)` of a parameter motion from `φ₀ = phis[0]` at
+/// rate `rates[0]` to `phis[1]` at `rates[1]` in three parts of `times`, whose parameter
+/// acceleration is linear on each part, `ends[0]` and `ends[1]` at the two knots, and
+/// takes the two inner values that meet the end rate and the span (a 2×2 system: the
+/// rate change is the acceleration's integral, the span its moment). The last point is
+/// the end exactly.
+fn rate_turn_points(
+    phis: [f64; 2],
+    rates: [f64; 2],
+    ends: [f64; 2],
+    times: [f64; 3],
+) -> Vec<(f64, f64, f64)> {
+    let total: f64 = times.iter().sum();
+    let starts = [0.0, times[0], times[0] + times[1]];
+    // ∫(T − t)·a(t) dt over a part from `start` of length `h` whose acceleration goes
+    // linearly from α to β.
+    let moment = |alpha: f64, beta: f64, start: f64, h: f64| {
+        let c = total - start;
+        alpha * h * (c - 0.5 * h) + (beta - alpha) * h * (0.5 * c - h / 3.0)
+    };
+    let (a11, a12) = (0.5 * (times[0] + times[1]), 0.5 * (times[1] + times[2]));
+    let a21 = moment(0.0, 1.0, starts[0], times[0]) + moment(1.0, 0.0, starts[1], times[1]);
+    let a22 = moment(0.0, 1.0, starts[1], times[1]) + moment(1.0, 0.0, starts[2], times[2]);
+    let r1 = rates[1] - rates[0] - 0.5 * (ends[0] * times[0] + ends[1] * times[2]);
+    let r2 = (phis[1] - phis[0])
+        - rates[0] * total
+        - moment(ends[0], 0.0, starts[0], times[0])
+        - moment(0.0, ends[1], starts[2], times[2]);
+    let det = a11 * a22 - a12 * a21;
+    let accel = [
+        ends[0],
+        (r1 * a22 - a12 * r2) / det,
+        (a11 * r2 - a21 * r1) / det,
+        ends[1],
+    ];
+    let (mut phi, mut rate) = (phis[0], rates[0]);
+    let mut points = Vec::with_capacity(4);
+    for i in 0..3 {
+        let (h, alpha, beta) = (times[i], accel[i], accel[i + 1]);
+        points.push((phi, rate, h));
+        phi += rate * h + 0.5 * alpha * h * h + (beta - alpha) * h * h / 6.0;
+        rate += 0.5 * (alpha + beta) * h;
+    }
+    points.push((phis[1], rates[1], 0.0));
+    points
+}
+
+/// True when every part of `points` (see [`rate_turn_points`]) moves forward in the
+/// parameter: else the piece is the plain S-curve, at rest in parameter acceleration at
+/// its knots.
+fn moves_forward(points: &[(f64, f64, f64)]) -> bool {
+    points.windows(2).all(|w| {
+        let ((p0, r0, dt), (p1, r1, _)) = (w[0], w[1]);
+        p1.is_finite() && parameter_peaks(&HermiteSegment::new(p0, r0, p1, r1, dt)).2 >= 0.0
+    })
 }
 
 /// The error bound of a cubic reference motion `φ(t)` on `curve` (see "Quantization" in
@@ -797,7 +926,46 @@ fn mid_speeds(pieces: &[Piece]) -> Vec<f64> {
 // std's trigonometry on purpose: the check is independent of the planner's libm.
 #[allow(clippy::disallowed_methods)]
 mod tests {
-    use super::{blend_error, smooth_blend_error};
+    use super::{blend_error, rate_turn_points, smooth_blend_error};
+    use crate::hermite::HermiteSegment;
+
+    /// The three parts of a piece whose knots carry parameter accelerations: the cubic
+    /// through each part's end points and rates (the unique one) starts with the first
+    /// knot's acceleration, ends with the second's, and joins the next part with the
+    /// same acceleration, so the motion is C² in the parameter up to the span and rate
+    /// asked. Speed rising, falling and level, accelerations of both signs.
+    #[test]
+    fn rate_turn_points_meet_their_end_accelerations_continuously() {
+        for (rates, ends) in [
+            ([10.0, 14.0], [3.0, -5.0]),
+            ([14.0, 10.0], [-40.0, 25.0]),
+            ([12.0, 12.0], [60.0, 60.0]),
+            ([12.0, 12.0], [0.0, -80.0]),
+        ] {
+            let (t, span) = (0.03, 0.36);
+            let times = [t / 3.0, t / 3.0, t / 3.0];
+            let points = rate_turn_points([1.0, 1.0 + span], rates, ends, times);
+            assert_eq!(points.len(), 4);
+            let cubics: Vec<HermiteSegment> = points
+                .windows(2)
+                .map(|w| HermiteSegment::new(w[0].0, w[0].1, w[1].0, w[1].1, w[0].2))
+                .collect();
+            let scale = 1e-9 * (ends[0].abs() + ends[1].abs() + rates[0] / t);
+            assert!(
+                (cubics[0].a0 - ends[0]).abs() <= scale,
+                "{rates:?} {ends:?}"
+            );
+            let last = cubics[2].end();
+            assert!(
+                (last.acceleration - ends[1]).abs() <= scale,
+                "{rates:?} {ends:?}"
+            );
+            for w in cubics.windows(2) {
+                let gap = (w[0].end().acceleration - w[1].a0).abs();
+                assert!(gap <= scale, "{rates:?} {ends:?}: {gap}");
+            }
+        }
+    }
 
     /// Pieces, curves and junctions own no heap memory (nothing to drop): the planner
     /// makes several pieces per element in every round of every window.
