@@ -53,6 +53,10 @@ use crate::geom::{add, dist_to_segment, norm, scale, sub, P3};
 /// A cubic Bézier's four control points.
 pub type Cubic = [P3; 4];
 
+/// A circular arc parallel to XY: start, end, centre (X, Y) and signed sweep (radians,
+/// + counter-clockwise).
+pub type CircularArc = (P3, P3, [f64; 2], f64);
+
 /// A curve that can be given as cubic Béziers within a tolerance (see the module's
 /// "Cubic Béziers").
 pub trait CubicCurve {
@@ -262,7 +266,7 @@ impl Nurbs {
     /// "Circular arcs" in the module): each as its start, end, centre (X, Y) and signed
     /// sweep (+ counter-clockwise); `None` when a span is not an arc in a plane parallel
     /// to XY.
-    pub fn circular_arcs(&self) -> Option<Vec<(P3, P3, [f64; 2], f64)>> {
+    pub fn circular_arcs(&self) -> Option<Vec<CircularArc>> {
         if self.degree != 2 {
             return None;
         }
@@ -295,7 +299,7 @@ impl Nurbs {
 /// control triangle isosceles (`|P₁ − P₀| = |P₂ − P₁|`), flat in Z, and its middle weight,
 /// in the standard form `w₁/√(w₀·w₂)`, the cosine of the angle between the chord and
 /// the tangent `P₁ − P₀` (half the sweep), each to 1e-12.
-fn circular_arc(span: &[[f64; 4]]) -> Option<(P3, P3, [f64; 2], f64)> {
+fn circular_arc(span: &[[f64; 4]]) -> Option<CircularArc> {
     let point = |h: [f64; 4]| [h[0] / h[3], h[1] / h[3], h[2] / h[3]];
     let (p0, p1, p2) = (point(span[0]), point(span[1]), point(span[2]));
     let w = span[1][3] / (span[0][3] * span[2][3]).sqrt();

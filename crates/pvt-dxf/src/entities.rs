@@ -819,7 +819,7 @@ pub fn normalize_ellipse(n: P3, major: P3, ratio: f64, s: f64, e: f64) -> (P3, f
 
 /// Circular arcs (start, end, centre, signed sweep) as arc segments, each starting
 /// exactly where the one before ends.
-fn arc_piece(arcs: &[(P3, P3, [f64; 2], f64)], span: Span) -> Piece {
+fn arc_piece(arcs: &[crate::curve::CircularArc], span: Span) -> Piece {
     let mut piece: Piece = Vec::with_capacity(arcs.len());
     for &(a, b, center, sweep) in arcs {
         let a = piece.last().map_or(a, |s: &Seg| s.b);
