@@ -948,6 +948,7 @@ fn bezier_step(at: Position, c: [f64; 6], dz: f64, feed: f64) -> Element {
         kind: ElementKind::Bezier(Bezier {
             plane: Plane::XY,
             controls: [[at[0] + c[0], at[1] + c[1]], [at[0] + c[2], at[1] + c[3]]],
+            fit: 0.0,
         }),
         start: at,
         end: pos(at[0] + c[4], at[1] + c[5], at[2] + dz),

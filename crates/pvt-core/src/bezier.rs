@@ -26,6 +26,12 @@ pub struct Bezier {
     pub plane: Plane,
     /// The inner control points `P₁`, `P₂` in the plane's (first, second) coordinates.
     pub controls: [[f64; 2]; 2],
+    /// How far the cubic may be from the curve it stands for, program units: 0 when it
+    /// is that curve (G5, G5.1, an exact NURBS span, an exact DXF spline), else the share
+    /// of the path tolerance its fit took (a fitted rational or order-5+ G-code NURBS
+    /// span). The path planner keeps the motion within the rest of the tolerance of the
+    /// cubic, so within the whole tolerance of the true curve.
+    pub fit: f64,
 }
 
 /// The 8-point Gauss–Legendre rule on `[−1, 1]`: its positive abscissas with their
@@ -50,6 +56,7 @@ impl Bezier {
         Bezier {
             plane,
             controls: [lerp(start, q), lerp(end, q)],
+            fit: 0.0,
         }
     }
 
@@ -68,6 +75,7 @@ impl Bezier {
         Bezier {
             plane: self.plane,
             controls: [self.controls[1], self.controls[0]],
+            fit: self.fit,
         }
     }
 
@@ -149,6 +157,7 @@ impl Bezier {
         let part = |p: [[f64; 2]; 4]| Bezier {
             plane: self.plane,
             controls: [p[1], p[2]],
+            fit: self.fit,
         };
         (part(left), mid, part(right))
     }
@@ -411,6 +420,7 @@ mod tests {
         let b = Bezier {
             plane: Plane::XY,
             controls: [[1.0, 1.0], [2.0, 2.0]],
+            fit: 0.0,
         };
         let l = b.length(&pos(0.0, 0.0, 0.0), &pos(3.0, 3.0, 4.0));
         assert!((l - (18.0f64 + 16.0).sqrt()).abs() < 1e-12, "{l}");
@@ -421,6 +431,7 @@ mod tests {
         let b = Bezier {
             plane: Plane::XY,
             controls: [[0.0, 10.0], [10.0, -10.0]],
+            fit: 0.0,
         };
         let (s, e) = (pos(0.0, 0.0, 0.0), pos(10.0, 0.0, 0.0));
         let tol = 1e-3;

@@ -52,7 +52,22 @@ pub fn nurbs_cubics(
     ctrl: &[[f64; 4]],
     tolerance: f64,
 ) -> Result<Vec<Cubic3>, FitError> {
+    Ok(nurbs_cubics_marked(degree, knots, ctrl, tolerance)?
+        .into_iter()
+        .map(|(cubic, _)| cubic)
+        .collect())
+}
+
+/// [`nurbs_cubics`], each cubic with whether it is the curve exactly (a polynomial span
+/// of degree 3 or less) rather than fitted within `tolerance` of it.
+pub fn nurbs_cubics_marked(
+    degree: usize,
+    knots: &[f64],
+    ctrl: &[[f64; 4]],
+    tolerance: f64,
+) -> Result<Vec<(Cubic3, bool)>, FitError> {
     let mut out = Vec::new();
+    let mut fitted = Vec::new();
     for span in bezier_spans(degree, knots, ctrl)? {
         let w = span[0][3];
         let cartesian: Vec<Point3> = span
@@ -61,8 +76,12 @@ pub fn nurbs_cubics(
             .collect();
         let polynomial = span.iter().all(|h| h[3] == w);
         match elevate_to_cubic(&cartesian).filter(|_| polynomial) {
-            Some(cubic) => out.push(cubic),
-            None => fit_cubics(&RationalBezier(span), 0.0, 1.0, tolerance, 0, &mut out)?,
+            Some(cubic) => out.push((cubic, true)),
+            None => {
+                fitted.clear();
+                fit_cubics(&RationalBezier(span), 0.0, 1.0, tolerance, 0, &mut fitted)?;
+                out.extend(fitted.iter().map(|&cubic| (cubic, false)));
+            }
         }
         if out.len() > MAX_CUBICS {
             return Err(FitError::TooMany);

@@ -338,6 +338,7 @@ pub fn chain_elements(chain: &Chain, feed: f64) -> Vec<Element> {
             SegKind::Bezier { controls } => ElementKind::Bezier(Bezier {
                 plane: Plane::XY,
                 controls,
+                fit: 0.0,
             }),
         };
         out.push(Element {

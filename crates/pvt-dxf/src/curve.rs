@@ -29,6 +29,12 @@
 //! The tolerance given is the share of the path tolerance a drawing's curves take
 //! (`pvt_dxf::DxfOptions::curve_share`).
 //!
+//! # Circular arcs
+//! A quadratic NURBS each of whose knot spans is a circular arc (a CAD program's circle
+//! or arc as a SPLINE: the rational quadratic Bézier with an isosceles control triangle
+//! and middle weight `cos(θ/2)` in standard form, `θ` its sweep) becomes those arcs,
+//! exactly ([`Nurbs::circular_arcs`]), for pvt-core to follow as arcs.
+//!
 //! # Flattening rule
 //! A curve is a sequence of smooth pieces (knot spans of a NURBS, intervals between fit
 //! points, quarter turns of an ellipse). Each piece is first cut into 4 equal parameter
@@ -46,6 +52,10 @@ use crate::geom::{add, dist_to_segment, norm, scale, sub, P3};
 
 /// A cubic Bézier's four control points.
 pub type Cubic = [P3; 4];
+
+/// A circular arc parallel to XY: start, end, centre (X, Y) and signed sweep (radians,
+/// + counter-clockwise).
+pub type CircularArc = (P3, P3, [f64; 2], f64);
 
 /// A curve that can be given as cubic Béziers within a tolerance (see the module's
 /// "Cubic Béziers").
@@ -252,6 +262,18 @@ impl Nurbs {
             .collect()
     }
 
+    /// The circular arcs a quadratic NURBS is, exactly, when every knot span is one (see
+    /// "Circular arcs" in the module): each as its start, end, centre (X, Y) and signed
+    /// sweep (+ counter-clockwise); `None` when a span is not an arc in a plane parallel
+    /// to XY.
+    pub fn circular_arcs(&self) -> Option<Vec<CircularArc>> {
+        if self.degree != 2 {
+            return None;
+        }
+        let spans = pvt_core::bezier::bezier_spans(2, &self.knots, &self.ctrl).ok()?;
+        spans.iter().map(|span| circular_arc(span)).collect()
+    }
+
     /// The point at `t` on the polynomial piece of knot span `k` (de Boor).
     fn eval_span(&self, k: usize, t: f64) -> P3 {
         let p = self.degree;
@@ -271,6 +293,32 @@ impl Nurbs {
         let h = d[p];
         [h[0] / h[3], h[1] / h[3], h[2] / h[3]]
     }
+}
+
+/// The arc a rational quadratic Bézier (homogeneous control points) is, exactly: its
+/// control triangle isosceles (`|P₁ − P₀| = |P₂ − P₁|`), flat in Z, and its middle weight,
+/// in the standard form `w₁/√(w₀·w₂)`, the cosine of the angle between the chord and
+/// the tangent `P₁ − P₀` (half the sweep), each to 1e-12.
+fn circular_arc(span: &[[f64; 4]]) -> Option<CircularArc> {
+    let point = |h: [f64; 4]| [h[0] / h[3], h[1] / h[3], h[2] / h[3]];
+    let (p0, p1, p2) = (point(span[0]), point(span[1]), point(span[2]));
+    let w = span[1][3] / (span[0][3] * span[2][3]).sqrt();
+    let (t0, t1, chord) = (sub(p1, p0), sub(p2, p1), sub(p2, p0));
+    let (l0, l1, lc) = (norm(t0), norm(t1), norm(chord));
+    let size = l0.max(l1);
+    let flat = (p0[2] - p1[2]).abs().max((p2[2] - p1[2]).abs()) <= 1e-12 * size;
+    let cos_half = (t0[0] * chord[0] + t0[1] * chord[1]) / (l0 * lc);
+    let isosceles = (l0 - l1).abs() <= 1e-12 * size;
+    if !(flat && isosceles && w > 0.0 && (w - cos_half).abs() <= 1e-12 && lc > 0.0) {
+        return None;
+    }
+    let turn = (t0[0] * t1[1] - t0[1] * t1[0]).signum();
+    let half = libm::acos(cos_half.clamp(-1.0, 1.0));
+    let radius = 0.5 * lc / libm::sin(half);
+    // The centre is one radius from P₀, square to the tangent, on the turning side.
+    let normal = [-t0[1] * turn / l0, t0[0] * turn / l0];
+    let center = [p0[0] + radius * normal[0], p0[1] + radius * normal[1]];
+    Some((p0, p2, center, 2.0 * half * turn))
 }
 
 /// A NURBS with its spans cached, ready to flatten.
@@ -498,6 +546,61 @@ impl CubicCurve for FitSpline {
 mod tests {
     use super::*;
     use crate::geom::dist;
+
+    /// A circle as four rational quadratic spans (weights cos 45°) is four exact quarter
+    /// arcs, clockwise when the control points run clockwise; a weight off cos 45° or an
+    /// uneven control triangle is no arc.
+    #[test]
+    fn a_rational_quadratic_circle_is_its_arcs() {
+        let w = std::f64::consts::FRAC_1_SQRT_2;
+        let square = [
+            [15.0, 2.0, 1.0],
+            [15.0, 7.0, 1.0],
+            [10.0, 7.0, 1.0],
+            [5.0, 7.0, 1.0],
+            [5.0, 2.0, 1.0],
+            [5.0, -3.0, 1.0],
+            [10.0, -3.0, 1.0],
+            [15.0, -3.0, 1.0],
+            [15.0, 2.0, 1.0],
+        ];
+        let knots = [0.0, 0.0, 0.0, 1.0, 1.0, 2.0, 2.0, 3.0, 3.0, 4.0, 4.0, 4.0];
+        let weights = [1.0, w, 1.0, w, 1.0, w, 1.0, w, 1.0];
+        let arcs = Nurbs::new(2, &knots, &square, &weights)
+            .unwrap()
+            .circular_arcs()
+            .expect("a circle");
+        assert_eq!(arcs.len(), 4);
+        for (a, b, center, sweep) in &arcs {
+            assert!((dist(*a, [10.0, 2.0, 1.0]) - 5.0).abs() < 1e-12);
+            assert!((dist(*b, [10.0, 2.0, 1.0]) - 5.0).abs() < 1e-12);
+            assert!((center[0] - 10.0).abs() < 1e-12 && (center[1] - 2.0).abs() < 1e-12);
+            assert!(
+                (sweep - std::f64::consts::FRAC_PI_2).abs() < 1e-12,
+                "{sweep}"
+            );
+        }
+        let reversed: Vec<P3> = square.iter().rev().copied().collect();
+        let arcs = Nurbs::new(2, &knots, &reversed, &weights)
+            .unwrap()
+            .circular_arcs()
+            .expect("a circle");
+        assert!(arcs
+            .iter()
+            .all(|a| (a.3 + std::f64::consts::FRAC_PI_2).abs() < 1e-12));
+        let mut heavier = weights;
+        heavier[1] = 0.8;
+        assert!(Nurbs::new(2, &knots, &square, &heavier)
+            .unwrap()
+            .circular_arcs()
+            .is_none());
+        let mut uneven = square;
+        uneven[1] = [15.0, 8.0, 1.0];
+        assert!(Nurbs::new(2, &knots, &uneven, &weights)
+            .unwrap()
+            .circular_arcs()
+            .is_none());
+    }
 
     #[test]
     fn rational_quadratic_is_an_exact_quarter_circle() {

@@ -600,6 +600,9 @@ impl<'a> Reader<'a> {
                 .map_err(|_| format!("degree {} is negative", s.degree_of_curve))?;
             let ctrl: Vec<P3> = s.control_points.iter().map(|p| xf.point(p3(p))).collect();
             let nurbs = Nurbs::new(degree, &s.knot_values, &ctrl, &s.weight_values)?;
+            if let Some(arcs) = nurbs.circular_arcs() {
+                return Ok(arc_piece(&arcs, span));
+            }
             if let Some(piece) = cubic_piece(&nurbs.cubics(self.tolerance)?, span) {
                 return Ok(piece);
             }
@@ -812,6 +815,22 @@ pub fn normalize_ellipse(n: P3, major: P3, ratio: f64, s: f64, e: f64) -> (P3, f
         s - quarter,
         e - quarter,
     )
+}
+
+/// Circular arcs (start, end, centre, signed sweep) as arc segments, each starting
+/// exactly where the one before ends.
+fn arc_piece(arcs: &[crate::curve::CircularArc], span: Span) -> Piece {
+    let mut piece: Piece = Vec::with_capacity(arcs.len());
+    for &(a, b, center, sweep) in arcs {
+        let a = piece.last().map_or(a, |s: &Seg| s.b);
+        piece.push(Seg {
+            kind: SegKind::Arc { center, sweep },
+            a,
+            b,
+            span,
+        });
+    }
+    piece
 }
 
 /// Cubics as Bézier segments, when every one has Z linear in its parameter (a plane

@@ -409,8 +409,8 @@ fn splines_follow_the_true_nurbs_and_pass_through_fit_points() {
     let knots: Vec<f64> = (0..12).map(f64::from).collect();
     let mut truth = open_splines_truth();
     truth.push(nurbs(3, &knots, &ctrl, &[]));
-    // The rational spline is a half circle, fitted by cubics within the tolerance:
-    // check that directly too.
+    // The rational spline is a half circle: two exact quarter arcs about (80, 0), radius
+    // 10 (its spans' middle weights are cos 45°), each point of the motion on it.
     let half = feeds(&dr)
         .into_iter()
         .find(|c| {
@@ -418,6 +418,14 @@ fn splines_follow_the_true_nurbs_and_pass_through_fit_points() {
                 || c.elements[0].start == [70.0, 0.0, 0.0, 0.0, 0.0, 0.0]
         })
         .expect("half circle");
+    assert_eq!(half.elements.len(), 2);
+    for e in &half.elements {
+        let ElementKind::Arc(arc) = e.kind else {
+            panic!("not an arc: {e:?}");
+        };
+        assert!((arc.center[0] - 80.0).abs() < 1e-12 && arc.center[1].abs() < 1e-12);
+        assert!((d(e.end[..3].try_into().unwrap(), [80.0, 0.0, 0.0]) - 10.0).abs() < 1e-12);
+    }
     for p in points(half) {
         assert!((d(p, [80.0, 0.0, 0.0]) - 10.0).abs() < TOL && p[1] >= -TOL);
     }
@@ -466,8 +474,8 @@ fn splines_follow_the_true_nurbs_and_pass_through_fit_points() {
             }
             continue;
         }
-        // The cubic splines (0 and 3) are their Béziers exactly; the rational and the
-        // quintic ones (1 and 2) are fitted within the tolerance.
+        // The cubic splines (0 and 3) are their Béziers exactly, the rational one (1) its
+        // arcs; the quintic one (2) is fitted within the tolerance.
         for &p in poly {
             let (e, nearest) = truth
                 .iter()

@@ -31,7 +31,9 @@ pub(crate) enum MotionMode {
     Nurbs,
     /// G5.3: the end of a NURBS block.
     NurbsEnd,
-    /// A motion code pvtc does not execute (G6.2 NURBS, threading…);
+    /// G6.2: a NURBS block with its own knots (K) and weights (R), LinuxCNC 2.10's.
+    NurbsKnots,
+    /// A motion code pvtc does not execute (G33 spindle-synchronized motion, G76…);
     /// blocks in this mode are skipped (the code itself was reported).
     Unsupported,
 }
@@ -54,6 +56,7 @@ impl MotionMode {
             MotionMode::Spline { quadratic: true } => "G5.1",
             MotionMode::Nurbs => "G5.2",
             MotionMode::NurbsEnd => "G5.3",
+            MotionMode::NurbsKnots => "G6.2",
             MotionMode::Unsupported => "an unsupported cycle",
         }
     }
@@ -304,7 +307,8 @@ pub(crate) fn g_code(tenths: u32) -> Option<GCode> {
         51 => Motion(MotionMode::Spline { quadratic: true }),
         52 => Motion(MotionMode::Nurbs),
         53 => Motion(MotionMode::NurbsEnd),
-        62 | 330 | 331 | 760 => Motion(MotionMode::Unsupported),
+        62 => Motion(MotionMode::NurbsKnots),
+        330 | 331 | 760 => Motion(MotionMode::Unsupported),
         _ => return unsupported_g(tenths).map(Unsupported),
     })
 }
@@ -322,7 +326,6 @@ fn unsupported_g(tenths: u32) -> Option<Feature> {
 /// The feature of a motion-group code pvtc does not execute.
 pub(crate) fn motion_feature(tenths: u32) -> &'static str {
     match tenths {
-        52 | 53 | 62 => "splines and NURBS",
         330 | 331 => "spindle-synchronized motion",
         760 => "lathe threading cycles",
         _ => "motion modes",

@@ -21,6 +21,7 @@ mod cycles;
 mod machine;
 mod motion;
 mod nurbs;
+mod nurbs_g6;
 mod spline;
 
 use pvt_core::{EventKind, Position, SpindleState, Units, AXIS_COUNT};
@@ -138,7 +139,7 @@ pub(crate) struct Interpreter<'a> {
     cutter: compensation::CutterState,
     /// The last G5's P Q (machine frame, output units): a G5 without I J continues it.
     last_spline: Option<[f64; 2]>,
-    /// The G5.2 block being gathered, until its G5.3.
+    /// The NURBS block being gathered: G5.2 until its G5.3, G6.2 until its last knot.
     nurbs: Option<nurbs::NurbsBlock>,
 }
 
@@ -487,7 +488,12 @@ impl<'a> Interpreter<'a> {
             || request.user.is_some()
             || matches!(
                 self.modal.motion,
-                Some(MotionMode::Arc(_) | MotionMode::Cycle(_) | MotionMode::Nurbs)
+                Some(
+                    MotionMode::Arc(_)
+                        | MotionMode::Cycle(_)
+                        | MotionMode::Nurbs
+                        | MotionMode::NurbsKnots
+                )
             );
         if !used {
             self.push(GcodeDiagnostic::IgnoredWord {

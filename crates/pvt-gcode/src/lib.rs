@@ -29,10 +29,10 @@
 //! G38.2–G38.5 move to the points [`GcodeOptions::probe_results`] gives, each one
 //! without a point is `pvtc::gcode::probe`. G5 and G5.1 splines (G17 only, as LinuxCNC)
 //! are cubic Bézier elements (`interpreter/spline.rs`), and so are G5.2/G5.3 NURBS
-//! blocks (`interpreter/nurbs.rs`: exact for equal weights and order L 2 to 4, else
-//! within [`NURBS_FIT_SHARE`] of [`GcodeOptions::tolerance`]). G6.2, G33 and reads
-//! of machine-specific
-//! parameters are `unsupported`, one
+//! blocks (`interpreter/nurbs.rs`) and LinuxCNC 2.10's G6.2 blocks with their own knots
+//! (`interpreter/nurbs_g6.rs`): exact for equal weights and order 2 to 4, else within
+//! [`NURBS_FIT_SHARE`] of [`GcodeOptions::tolerance`]. G33 and reads of
+//! machine-specific parameters are `unsupported`, one
 //! diagnostic per feature with the count of places, and the program fails. A block with
 //! an unknown G code runs nothing and the blocks after it in its motion mode are
 //! skipped, so nothing cascades.
@@ -185,14 +185,15 @@ pub struct GcodeOptions {
     pub probe_results: Vec<[f64; 3]>,
     /// The chord (path) tolerance, output units; `None` is
     /// [`pvt_core::defaults::TOLERANCE_MM`] in the output units. A rational or
-    /// order-5+ NURBS block (G5.2) is fitted with cubics within
-    /// [`NURBS_FIT_SHARE`] of it.
+    /// order-5+ NURBS block (G5.2, G6.2) is fitted with cubics within
+    /// [`NURBS_FIT_SHARE`] of it (of a G64 P in force, where that is less).
     pub tolerance: Option<f64>,
 }
 
-/// Share of the tolerance a rational or order-5+ G5.2 NURBS block's cubics keep to: the
-/// path planner keeps the motion within the tolerance of those cubics, so the motion is
-/// within `1 + NURBS_FIT_SHARE` times the tolerance of the true NURBS.
+/// Share of the tolerance a rational or order-5+ NURBS block's (G5.2, G6.2) cubics keep
+/// to. Each such cubic carries it as its [`pvt_core::Bezier::fit`], and the path planner
+/// keeps the motion within the rest of the tolerance of the cubic, so the motion is
+/// within the tolerance of the true NURBS.
 pub const NURBS_FIT_SHARE: f64 = 0.1;
 
 impl Default for GcodeOptions {

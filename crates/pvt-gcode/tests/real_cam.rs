@@ -95,11 +95,11 @@ fn e_words_and_io_conflicts() {
     );
 }
 
-/// G6.2 and G71.1/G71.2 are features pvtc does not run, not unknown codes.
+/// G33 and G71.1/G71.2 are features pvtc does not run, not unknown codes.
 #[test]
-fn g6_2_and_g71_1_are_unsupported() {
+fn g33_and_g71_1_are_unsupported() {
     let c = compile(
-        "G21 F100\nG1 X1\nG6.2 X2\nG71.1 X3 Z-1\nG71.2 X1\nM2\n",
+        "G21 F100\nG1 X1\nG33 X2 K1\nG71.1 X3 Z-1\nG71.2 X1\nM2\n",
         &Default::default(),
     );
     let found = messages(&c.expect_err("refused"));
@@ -107,7 +107,10 @@ fn g6_2_and_g71_1_are_unsupported() {
     assert!(found
         .iter()
         .all(|(code, _)| *code == "pvtc::gcode::unsupported"));
-    assert!(found[0].1.contains("G6.2 (splines and NURBS)"), "{found:?}");
+    assert!(
+        found[0].1.contains("G33 (spindle-synchronized motion)"),
+        "{found:?}"
+    );
     assert!(found[1].1.contains("G71.1 (lathe cycles)") && found[1].1.contains("2 places"));
 }
 

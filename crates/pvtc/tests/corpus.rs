@@ -86,6 +86,7 @@ fn toolpath_of(lines: &str) -> (Toolpath, Option<f64>) {
                 controls: std::array::from_fn(|i| {
                     std::array::from_fn(|j| v["controls"][i][j].as_f64().unwrap())
                 }),
+                fit: 0.0,
             }),
             Some("end_contour") => {
                 toolpath.contours.extend(open.take());

@@ -346,7 +346,10 @@ impl Interpreter<'_> {
             request.cutter_comp,
             Some((crate::codes::CutterComp::On(..), _))
         );
-        let q_used = cycle || codes || matches!(request.path_mode, Some((PathMode::Continuous, _)));
+        let q_used = cycle
+            || codes
+            || self.modal.motion == Some(MotionMode::NurbsKnots)
+            || matches!(request.path_mode, Some((PathMode::Continuous, _)));
         let d_used = self.surface_speed || compensation_on;
         let l_used = cycle
             || self.modal.motion == Some(MotionMode::Nurbs)

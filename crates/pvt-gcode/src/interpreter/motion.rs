@@ -53,16 +53,21 @@ impl Interpreter<'_> {
             return;
         }
         let has_axes = request.has_axis_words();
-        if self.nurbs.is_some()
-            && !matches!(
+        let g6 = self.nurbs.as_ref().map(|n| n.knots.is_some());
+        let modes_of_block = match g6 {
+            Some(false) => matches!(
                 self.modal.motion,
                 Some(MotionMode::Nurbs | MotionMode::NurbsEnd)
-            )
-        {
+            ),
+            Some(true) => self.modal.motion == Some(MotionMode::NurbsKnots),
+            None => true,
+        };
+        if !modes_of_block {
             self.nurbs_unclosed();
         }
         match self.modal.motion {
             Some(MotionMode::Nurbs) => self.nurbs_point(request, block),
+            Some(MotionMode::NurbsKnots) => self.nurbs_knot_line(request, block),
             Some(MotionMode::NurbsEnd) => {
                 if request.motion.is_some() {
                     self.nurbs_close(request, block);

@@ -1,17 +1,25 @@
-//! G5.2/G5.3: LinuxCNC's NURBS block in the XY plane.
+//! G5.2/G5.3: LinuxCNC's NURBS block, and the curve of every NURBS block as elements.
 //!
-//! Owns the gathering of a NURBS block (the current position is the first control point;
-//! `G5.2 P- L-` without X Y sets its weight; every `X- Y- P-` line adds a control point
-//! of weight P; L, on the opening line, is the order, 3 when absent; G5.3 closes the
-//! block), LinuxCNC's knot vector (uniform and clamped: `order` zeros, then 1, 2, …,
-//! then `order` copies of `points − order + 1`) and its refusals (X without Y, a missing
-//! or non-positive P after the first line, fewer points than the order, G5.3 without
-//! G5.2). The block becomes cubic Bézier elements by
-//! [`pvt_core::rational::nurbs_cubics`]: a non-rational block (every weight equal) of
-//! order 2 to 4 exactly, its knot spans' Béziers; any other within [`NURBS_FIT_SHARE`]
-//! of the tolerance. It must not plan or flatten the curve (pvt-core does) and refuses
-//! what LinuxCNC's XY-only NURBS cannot be here: a plane other than G17, Z/A/B/C words
-//! and inverse time feed.
+//! Owns the gathering of a G5.2 block as `rs274` (LinuxCNC 2.9) reads it: the current
+//! position is the first control point; `G5.2 P- L-` without X Y sets its weight; every
+//! `X- Y- P-` line adds a control point of weight P, its X Y read against the block's
+//! start (under G91 every point is an offset from where the block starts, as rs274's
+//! position stays there until G5.3); L, on any line of the block, sets the order when it
+//! is above 3, else the order is 3; G5.3 closes the block and the tool is at the last
+//! control point. The curve lies in XY whatever the plane (G17, G18 or G19: rs274 reads
+//! X and Y and leaves Z where it is). LinuxCNC's knot vector is uniform and clamped:
+//! `order` zeros, then 1, 2, …, then `order` copies of `points − order + 1`. Its
+//! refusals: X without Y, a missing or non-positive P after the first line, fewer points
+//! than the order, G5.3 without G5.2.
+//!
+//! Every block, G5.2's and G6.2's ([`super::nurbs_g6`]), becomes cubic Bézier elements
+//! by [`pvt_core::rational::nurbs_cubics`] ([`Interpreter::nurbs_curve`]): a
+//! non-rational block (every weight equal) of order 2 to 4 exactly, its knot spans'
+//! Béziers; any other within [`NURBS_FIT_SHARE`] of the tolerance, each such cubic
+//! carrying that share as its `fit`, so that the path planner keeps the motion within
+//! the rest of the tolerance of it. It must not plan or flatten the curve (pvt-core
+//! does) and refuses what pvtc cannot follow: Z/A/B/C words on a G5.2 line and inverse
+//! time feed.
 
 use super::Interpreter;
 use crate::block::Block;
@@ -20,21 +28,32 @@ use crate::diagnostic::{span, GcodeDiagnostic};
 use crate::request::Request;
 use crate::NURBS_FIT_SHARE;
 use miette::SourceSpan;
-use pvt_core::rational::{nurbs_cubics, FitError};
+use pvt_core::rational::{nurbs_cubics_marked, FitError};
 use pvt_core::{Bezier, Element, ElementKind, Motion, Plane, Position, Units};
 
-/// A G5.2 block being gathered.
+/// A NURBS block being gathered (G5.2 until its G5.3, G6.2 until its last knot).
 #[derive(Debug, Clone)]
 pub(super) struct NurbsBlock {
-    /// Where the curve starts (the first control point), machine frame.
-    start: Position,
-    /// Control points (machine XY, output units), the start first.
-    points: Vec<[f64; 2]>,
-    weights: Vec<f64>,
-    /// L: one more than the degree.
-    order: usize,
-    /// The G5.2 word that opened the block.
-    opened_at: SourceSpan,
+    /// Where the block starts, machine frame.
+    pub start: Position,
+    /// Control points in the curve's plane (output units).
+    pub points: Vec<[f64; 2]>,
+    pub weights: Vec<f64>,
+    /// One more than the degree.
+    pub order: usize,
+    /// The word that opened the block.
+    pub opened_at: SourceSpan,
+    /// G6.2's knots (one per control point, then the closing ones), with its plane.
+    pub knots: Option<(Vec<f64>, Plane)>,
+}
+
+/// A gathered curve: its plane, control points, weights, degree and knots.
+pub(super) struct Curve<'a> {
+    pub plane: Plane,
+    pub points: &'a [[f64; 2]],
+    pub weights: &'a [f64],
+    pub degree: usize,
+    pub knots: &'a [f64],
 }
 
 /// LinuxCNC's knot vector for `points` control points of `order` (uniform, clamped).
@@ -64,21 +83,18 @@ impl Interpreter<'_> {
             if let Some(refusal) = self.nurbs_refusal(request, span(word.span())) {
                 return self.push(refusal);
             }
-            let order = match request.l {
-                None => 3,
-                Some(l) if l.value.fract() == 0.0 && (2.0..=64.0).contains(&l.value) => {
-                    l.value as usize
-                }
-                Some(l) => return self.push(bad_value(l, "the order L is a whole number from 2")),
-            };
             let start = self.position;
             self.nurbs = Some(NurbsBlock {
                 start,
                 points: vec![[start[0], start[1]]],
                 weights: vec![1.0],
-                order,
+                order: 3,
                 opened_at: span(word.span()),
+                knots: None,
             });
+            if !self.nurbs_order(request) {
+                return;
+            }
             if !request.has_axis_words() {
                 if let Some(p) = request.p {
                     if !(p.value > 0.0 && p.value.is_finite()) {
@@ -94,11 +110,31 @@ impl Interpreter<'_> {
         } else if let Some(refusal) = self.nurbs_refusal(request, at) {
             self.nurbs = None;
             return self.push(refusal);
+        } else if !self.nurbs_order(request) {
+            return;
         }
         self.nurbs_control(request, at, opening.is_some());
     }
 
-    /// Adds the block's X Y P as a control point.
+    /// L on a G5.2 line: the order when above 3 (rs274 keeps 3 for L1 to L3). False
+    /// (the block dropped) for an L that is not a whole number up to 64.
+    fn nurbs_order(&mut self, request: &Request) -> bool {
+        let Some(l) = request.l else { return true };
+        if l.value.fract() != 0.0 || !(l.value >= 0.0 && l.value <= 64.0) {
+            self.nurbs = None;
+            self.push(bad_value(l, "the order L is a whole number up to 64"));
+            return false;
+        }
+        if let Some(nurbs) = self.nurbs.as_mut() {
+            if l.value > 3.0 {
+                nurbs.order = l.value as usize;
+            }
+        }
+        true
+    }
+
+    /// Adds the block's X Y P as a control point (X Y against the block's start, which
+    /// stays the current position until G5.3, as in rs274).
     fn nurbs_control(&mut self, request: &Request, at: SourceSpan, first: bool) {
         if request.axes[0].is_none() || request.axes[1].is_none() {
             self.nurbs = None;
@@ -127,102 +163,137 @@ impl Interpreter<'_> {
                 return self.push(diagnostic);
             }
         };
-        self.position = point;
         if let Some(nurbs) = self.nurbs.as_mut() {
             nurbs.points.push([point[0], point[1]]);
             nurbs.weights.push(weight);
         }
     }
 
-    /// What LinuxCNC or pvtc refuses on a G5.2 line.
+    /// What pvtc refuses on a G5.2 line.
     fn nurbs_refusal(&self, request: &Request, at: SourceSpan) -> Option<GcodeDiagnostic> {
-        let feature = if self.modal.plane != Plane::XY {
-            "NURBS outside the XY plane (G17 only)"
-        } else if request.axes[2..].iter().any(Option::is_some) {
+        let feature = if request.axes[2..].iter().any(Option::is_some) {
             "NURBS moving Z, A, B or C"
         } else if self.modal.feed_mode == FeedMode::InverseTime {
             "NURBS in inverse time (G93)"
         } else {
             return None;
         };
-        Some(GcodeDiagnostic::Unsupported {
-            code: "G5.2".to_string(),
-            feature,
-            places: 1,
-            span: at,
-        })
+        Some(nurbs_unsupported("G5.2", feature, at))
     }
 
     /// G5.3: the gathered block becomes cubic Bézier elements.
     pub(super) fn nurbs_close(&mut self, request: &Request, block: &Block) {
         let at = span(super::motion::move_span(request, block));
-        let Some(nurbs) = self.nurbs.take() else {
-            return self.push(missing("G5.3", "an open G5.2 block before it", at));
+        let nurbs = match self.nurbs.take() {
+            Some(nurbs) if nurbs.knots.is_none() => nurbs,
+            _ => return self.push(missing("G5.3", "an open G5.2 block before it", at)),
         };
         if nurbs.points.len() < nurbs.order {
             let needs = "at least L control points (the start counts as one)";
             return self.push(missing("G5.3", needs, at));
         }
         let knots = knot_vector(nurbs.points.len(), nurbs.order);
-        let ctrl: Vec<[f64; 4]> = (nurbs.points.iter().zip(&nurbs.weights))
+        let curve = Curve {
+            plane: Plane::XY,
+            points: &nurbs.points,
+            weights: &nurbs.weights,
+            degree: nurbs.order - 1,
+            knots: &knots,
+        };
+        self.nurbs_curve(&curve, nurbs.start, "G5.2", request, block, at);
+    }
+
+    /// The elements of `curve`, from `start` (whose in-plane coordinates are the first
+    /// control point's; the other axes stay); the tool ends at the curve's end.
+    pub(super) fn nurbs_curve(
+        &mut self,
+        curve: &Curve,
+        start: Position,
+        code: &str,
+        request: &Request,
+        block: &Block,
+        at: SourceSpan,
+    ) {
+        let ctrl: Vec<[f64; 4]> = (curve.points.iter().zip(curve.weights))
             .map(|(p, &w)| [p[0] * w, p[1] * w, 0.0, w])
             .collect();
         let units = self.output_units.unwrap_or(Units::Millimetre);
-        let tolerance = pvt_core::defaults::tolerance(self.options.tolerance, units);
-        let fitted = nurbs_cubics(nurbs.order - 1, &knots, &ctrl, tolerance * NURBS_FIT_SHARE);
+        // A G64 P tighter than the tolerance is the one the planner keeps.
+        let tolerance = pvt_core::defaults::tolerance(self.options.tolerance, units)
+            .min(self.path_tolerance.unwrap_or(f64::INFINITY));
+        let share = tolerance * NURBS_FIT_SHARE;
+        let fitted = nurbs_cubics_marked(curve.degree, curve.knots, &ctrl, share);
         let cubics = match fitted {
             Ok(cubics) => cubics,
-            Err(e) => return self.push(nurbs_unsupported(fit_refusal(&e), at)),
+            Err(e) => return self.push(nurbs_unsupported(code, fit_refusal(&e), at)),
         };
-        let mut beziers: Vec<([[f64; 2]; 4], Position, Position)> = cubics
-            .iter()
-            .map(|c| {
-                let p = c.map(|q| [q[0], q[1]]);
-                let (mut start, mut end) = (nurbs.start, nurbs.start);
-                start[..2].copy_from_slice(&p[0]);
-                end[..2].copy_from_slice(&p[3]);
-                (p, start, end)
+        let (first, second, _) = curve.plane.axes();
+        let place = |p: [f64; 2]| {
+            let mut q = start;
+            q[first.index()] = p[0];
+            q[second.index()] = p[1];
+            q
+        };
+        let last = curve.points[curve.points.len() - 1];
+        let n = cubics.len();
+        // The ends are the control points themselves, not their homogeneous round trip.
+        let beziers: Vec<([[f64; 2]; 4], f64)> = (cubics.iter().enumerate())
+            .map(|(i, (c, exact))| {
+                let mut p = c.map(|q| [q[0], q[1]]);
+                if i == 0 {
+                    p[0] = curve.points[0];
+                }
+                if i + 1 == n {
+                    p[3] = last;
+                }
+                (p, if *exact { 0.0 } else { share })
             })
             .collect();
-        // The ends are the control points themselves, not their homogeneous round trip.
-        if let Some(first) = beziers.first_mut() {
-            first.0[0] = nurbs.points[0];
-            first.1 = nurbs.start;
-        }
-        if let Some(last) = beziers.last_mut() {
-            last.0[3] = nurbs.points[nurbs.points.len() - 1];
-            last.2[..2].copy_from_slice(&last.0[3]);
-        }
-        let curve = |p: &[[f64; 2]; 4]| Bezier {
-            plane: Plane::XY,
+        let bezier = |p: &[[f64; 2]; 4], fit: f64| Bezier {
+            plane: curve.plane,
             controls: [p[1], p[2]],
+            fit,
         };
-        let length = || beziers.iter().map(|(p, s, e)| curve(p).length(s, e)).sum();
+        let length = || {
+            (beziers.iter())
+                .map(|(p, fit)| bezier(p, *fit).length(&place(p[0]), &place(p[3])))
+                .sum()
+        };
         let Some(feed) = self.feed_rate(request, block, length) else {
             return;
         };
-        for (p, start, end) in &beziers {
+        for (p, fit) in &beziers {
             let element = Element {
-                kind: ElementKind::Bezier(curve(p)),
-                start: *start,
-                end: *end,
+                kind: ElementKind::Bezier(bezier(p, *fit)),
+                start: place(p[0]),
+                end: place(p[3]),
                 feed,
                 span: super::motion::element_span(block),
             };
             self.route(Motion::Feed, element);
         }
+        self.position = place(last);
     }
 
     /// A NURBS block still open where other motion or the program's end comes.
     pub(super) fn nurbs_unclosed(&mut self) {
         if let Some(nurbs) = self.nurbs.take() {
-            let needs = "a G5.3 closing its block before other motion or the end";
-            self.push(missing("G5.2", needs, nurbs.opened_at));
+            let (code, needs) = match nurbs.knots {
+                None => (
+                    "G5.2",
+                    "a G5.3 closing its block before other motion or the end",
+                ),
+                Some(_) => (
+                    "G6.2",
+                    "P closing knots (K lines) before other motion or the end",
+                ),
+            };
+            self.push(missing(code, needs, nurbs.opened_at));
         }
     }
 }
 
-fn missing(code: &str, needs: &'static str, at: SourceSpan) -> GcodeDiagnostic {
+pub(super) fn missing(code: &str, needs: &'static str, at: SourceSpan) -> GcodeDiagnostic {
     GcodeDiagnostic::MissingWord {
         code: code.to_string(),
         needs,
@@ -230,7 +301,7 @@ fn missing(code: &str, needs: &'static str, at: SourceSpan) -> GcodeDiagnostic {
     }
 }
 
-fn bad_value(word: crate::block::Word, expected: &'static str) -> GcodeDiagnostic {
+pub(super) fn bad_value(word: crate::block::Word, expected: &'static str) -> GcodeDiagnostic {
     GcodeDiagnostic::BadValue {
         word: word.name(),
         expected,
@@ -249,9 +320,13 @@ fn fit_refusal(error: &FitError) -> &'static str {
     }
 }
 
-fn nurbs_unsupported(feature: &'static str, at: SourceSpan) -> GcodeDiagnostic {
+pub(super) fn nurbs_unsupported(
+    code: &str,
+    feature: &'static str,
+    at: SourceSpan,
+) -> GcodeDiagnostic {
     GcodeDiagnostic::Unsupported {
-        code: "G5.2".to_string(),
+        code: code.to_string(),
         feature,
         places: 1,
         span: at,

@@ -47,6 +47,7 @@ impl Interpreter<'_> {
         let bezier = Bezier {
             plane: Plane::XY,
             controls,
+            fit: 0.0,
         };
         let length = || bezier.length(&start, &end);
         let Some(feed) = self.feed_rate(request, block, length) else {

@@ -25,6 +25,9 @@ pub(super) struct Curve {
     pub feed: f64,
     /// Source line.
     pub line: u32,
+    /// How far the programmed cubic may be from the curve it stands for (the Bézier's
+    /// `fit`; 0 on lines, arcs and exact cubics): every piece's error bound adds it.
+    pub fit: f64,
     shape: Shape,
 }
 
@@ -79,7 +82,8 @@ impl Curve {
     /// ([`bezier_parts`]), else one.
     pub fn new(element: &Element, axes: &[Axis]) -> Vec<Curve> {
         if let ElementKind::Bezier(bezier) = element.kind {
-            if let Some(parts) = bezier_parts(element, &bezier, axes) {
+            if let Some(mut parts) = bezier_parts(element, &bezier, axes) {
+                parts.iter_mut().for_each(|part| part.fit = bezier.fit);
                 return parts;
             }
         }
@@ -108,6 +112,7 @@ impl Curve {
             span,
             feed: element.feed,
             line: element.span.line,
+            fit: 0.0,
             shape,
         })
     }
@@ -397,6 +402,7 @@ fn bezier_parts(element: &Element, bezier: &Bezier, axes: &[Axis]) -> Option<Vec
             span: scale,
             feed: element.feed,
             line: element.span.line,
+            fit: 0.0,
             shape: Shape::Bezier(shape),
         });
     }

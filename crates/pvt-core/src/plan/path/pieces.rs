@@ -66,7 +66,7 @@ impl Knots {
             };
             let turn =
                 4.0 / 27.0 * t * (mismatch(a.speed, a.junction) + mismatch(b.speed, b.junction));
-            piece.error = bend + turn;
+            piece.error = bend + turn + curve.fit;
         } else {
             // At rest at both ends: the smoothstep along the chord, peaking at the cap.
             let cap = speed_cap(curve, from, to, bounds);
@@ -74,7 +74,11 @@ impl Knots {
             if self.jerk_mode {
                 piece.duration = piece.duration.max(rest_time(&piece, bounds));
             }
-            piece.error = if curve.is_line() { 0.0 } else { f64::INFINITY };
+            piece.error = if curve.is_line() {
+                curve.fit
+            } else {
+                f64::INFINITY
+            };
         }
         piece
     }
@@ -355,7 +359,8 @@ fn moves_forward(points: &[(f64, f64, f64)]) -> bool {
 }
 
 /// The error bound of a cubic reference motion `φ(t)` on `curve` (see "Quantization" in
-/// [`super`]), without the junction term.
+/// [`super`]), without the junction term: against the programmed curve's true one, so
+/// the curve's `fit` is added.
 fn bend(curve: &Curve, phi: &HermiteSegment) -> f64 {
     let (rate, accel, _) = parameter_peaks(phi);
     let [d2, d3, d4] = curve.derivative_bounds();
@@ -365,6 +370,7 @@ fn bend(curve: &Curve, phi: &HermiteSegment) -> f64 {
             + 6.0 * d3 * rate * rate * accel
             + 3.0 * d2 * accel * accel
             + 4.0 * d2 * rate * jerk)
+        + curve.fit
 }
 
 /// In jerk mode, the least time of a smoothstep at rest at both ends whose acceleration
