@@ -262,8 +262,14 @@ fn lines_are_numbered_in_one_place() {
     // streaming `Reader` (fed a line at a time) and `SourceLines` (a text held whole)
     // number each line as they take it.
     const READERS: [(&str, &str); 2] = [
-        ("crates/pvt-gcode/src/lib.rs", "self.number.saturating_add(1)"),
-        ("crates/pvt-gcode/src/parser.rs", "self.number.saturating_add(1)"),
+        (
+            "crates/pvt-gcode/src/lib.rs",
+            "self.number.saturating_add(1)",
+        ),
+        (
+            "crates/pvt-gcode/src/parser.rs",
+            "self.number.saturating_add(1)",
+        ),
     ];
     let mut found = Vec::new();
     for (name, text) in crate_sources() {

@@ -1682,7 +1682,10 @@ fn a_machine_file_is_kept_or_refused_by_every_planner() {
             continue;
         }
         assert!(o.status.success(), "{}: {}", planner.name(), stderr(&o));
-        let check = pvtc(&["check", out.to_str().unwrap(), "--machine", machine], None);
+        let check = pvtc(
+            &["check", out.to_str().unwrap(), "--machine", machine],
+            None,
+        );
         let table = String::from_utf8_lossy(&check.stdout);
         assert_eq!(check.status.code(), Some(0), "{}: {table}", planner.name());
         assert!(table.contains("limits: none exceeded"), "{table}");
