@@ -188,6 +188,112 @@ fn line_and_column_are_computed_in_one_place() {
     );
 }
 
+/// The places in `code` that number lines by hand: enumerating a text's lines, a counter
+/// named for lines (`line`, `number`, `lines`, …) stepped by one, or a loop counting
+/// lines from 1. `pvt_core::text` does this once (`lines`, `numbered_lines`,
+/// `LineCursor`), so every reader names the same line.
+fn line_counting(code: &str) -> Vec<String> {
+    const ENUMERATED: [&str; 3] = [
+        ".lines().enumerate()",
+        ".split('\\n').enumerate()",
+        ".split(b'\\n').enumerate()",
+    ];
+    let mut found: Vec<String> = ENUMERATED
+        .iter()
+        .filter(|sign| code.contains(*sign))
+        .map(|sign| sign.to_string())
+        .collect();
+    let named_for_lines = |name: &str| {
+        let last = name.rsplit(['.', ' ', '(']).next().unwrap_or(name);
+        last.contains("line") || last.contains("number")
+    };
+    for step in [" += 1", ".saturating_add(1)", ".wrapping_add(1)"] {
+        let mut rest = code;
+        while let Some(at) = rest.find(step) {
+            let before = &rest[..at];
+            let start = before
+                .rfind(|c: char| !(c.is_alphanumeric() || c == '_' || c == '.'))
+                .map_or(0, |i| i + 1);
+            let name = &before[start..];
+            if named_for_lines(name) {
+                found.push(format!("{name}{step}"));
+            }
+            rest = &rest[at + step.len()..];
+        }
+    }
+    for counter in ["line", "number", "line_number"] {
+        if code.contains(&format!("for {counter} in 1..")) {
+            found.push(format!("for {counter} in 1.."));
+        }
+    }
+    found
+}
+
+#[test]
+fn the_line_counting_finder_finds_line_counting() {
+    // What excerpt.rs, pvt-csv and the G-code syntax check did before they used
+    // pvt_core::text, and what pvt-gcode's line readers do.
+    let counted = [
+        "for (n, raw) in source.split('\\n').enumerate() {",
+        "for (i, raw) in text.lines().enumerate() {",
+        "let start = offset;\n            number += 1;",
+        "for number in 1.. {",
+        "        lines += 1;",
+        "number: self.number.saturating_add(1),",
+    ];
+    for code in counted {
+        assert!(!line_counting(code).is_empty(), "not found in {code:?}");
+    }
+    let not_counted = [
+        "offset += read;",
+        "for (k, a) in axes.iter().enumerate() {",
+        "retries += 1;",
+        "for line in pvt_core::text::lines(bytes) {",
+        "let at = cursor.pass(read);",
+    ];
+    for code in not_counted {
+        assert_eq!(line_counting(code), Vec::<String>::new(), "in {code:?}");
+    }
+}
+
+#[test]
+fn lines_are_numbered_in_one_place() {
+    // The G-code front end's own line readers, the hot loop of every compile: its
+    // streaming `Reader` (fed a line at a time) and `SourceLines` (a text held whole)
+    // number each line as they take it.
+    const READERS: [(&str, &str); 2] = [
+        (
+            "crates/pvt-gcode/src/lib.rs",
+            "self.number.saturating_add(1)",
+        ),
+        (
+            "crates/pvt-gcode/src/parser.rs",
+            "self.number.saturating_add(1)",
+        ),
+    ];
+    let mut found = Vec::new();
+    for (name, text) in crate_sources() {
+        if name == "crates/pvt-core/src/text.rs" {
+            continue;
+        }
+        let code: String = non_test_code(&name, &text)
+            .lines()
+            .map(|l| l.split("//").next().unwrap_or(""))
+            .collect::<Vec<_>>()
+            .join("\n");
+        for sign in line_counting(&code) {
+            if !READERS.contains(&(name.as_str(), sign.as_str())) {
+                found.push(format!("{name}: {sign}"));
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "lines numbered outside pvt-core's text.rs (use pvt_core::text::lines, \
+         numbered_lines or LineCursor): {found:?}"
+    );
+}
+
 /// The part of a source file that is not test code: nothing from its `#[cfg(test)]` on,
 /// and nothing of a file that is a test module (`tests.rs`, `*_tests.rs`).
 fn non_test_code<'a>(name: &str, text: &'a str) -> &'a str {

@@ -1,5 +1,7 @@
 //! Positions in source text: a byte offset to its 1-based line and column, a 1-based
-//! line to its byte range or span, the last line of a text, and [`SourceLocation`],
+//! line to its byte range or span, the last line of a text, a text's lines with their
+//! numbers ([`lines`], [`numbered_lines`]) or one line at a time as it is read ([`LineCursor`]), and
+//! [`SourceLocation`],
 //! where a span is as a person reads it ([`crate::toolpath::Span::location`], in the
 //! manner of naga's `Span::location`).
 //!
@@ -106,6 +108,68 @@ pub fn line_range(bytes: &[u8], line: usize) -> Range<usize> {
     start..end
 }
 
+/// Where the next line of a text read in order starts: its 1-based number and its byte
+/// offset. A reader that holds one line at a time (a file streamed, a scan of records)
+/// passes each line through it ([`LineCursor::pass`]) rather than count lines itself.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LineCursor {
+    /// 1-based number of the line at the cursor.
+    pub number: usize,
+    /// Byte offset of the line at the cursor.
+    pub offset: usize,
+}
+
+impl Default for LineCursor {
+    fn default() -> LineCursor {
+        LineCursor {
+            number: 1,
+            offset: 0,
+        }
+    }
+}
+
+impl LineCursor {
+    /// Passes the line at the cursor, `len` bytes with its line end (the last line of a
+    /// text may have none): returns where it starts and moves to the next.
+    pub fn pass(&mut self, len: usize) -> LineCursor {
+        let at = *self;
+        self.number += 1;
+        self.offset += len;
+        at
+    }
+}
+
+/// One line of a text: its 1-based number and its bytes' range without the `\n` (a `\r`
+/// before it kept: the line's bytes as written, as [`line_range`]).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Line {
+    /// 1-based line number.
+    pub number: usize,
+    /// Byte range of the line, without its `\n`.
+    pub range: Range<usize>,
+}
+
+/// Every line of `bytes` in order: a `\n` ends a line, and text after the last `\n` is
+/// one more (a final `\n` opens none, as [`str::lines`] reads it).
+pub fn lines(bytes: &[u8]) -> impl Iterator<Item = Line> + '_ {
+    let mut cursor = LineCursor::default();
+    std::iter::from_fn(move || {
+        let rest = bytes.get(cursor.offset..).filter(|r| !r.is_empty())?;
+        let len = newline(rest).unwrap_or(rest.len());
+        let at = cursor.pass((len + 1).min(rest.len()));
+        Some(Line {
+            number: at.number,
+            range: at.offset..at.offset + len,
+        })
+    })
+}
+
+/// Every line of `text` as [`str::lines`] reads it (without its `\n` or `\r\n`), with its
+/// 1-based number.
+pub fn numbered_lines(text: &str) -> impl Iterator<Item = (usize, &str)> + '_ {
+    (1..).zip(text.lines())
+}
+
 fn newline(bytes: &[u8]) -> Option<usize> {
     bytes.iter().position(|&b| b == b'\n')
 }
@@ -169,6 +233,45 @@ mod tests {
         assert_eq!(line_range(b"a\r\nb\n", 1), 0..2);
         // The line after a final newline is the empty one at the end.
         assert_eq!(line_range(b"a\n", 2), 2..2);
+    }
+
+    #[test]
+    fn lines_are_numbered_from_one_with_their_ranges() {
+        let text = b"N1 G0\n\nN3 G1\r\nlast";
+        let got: Vec<(usize, &[u8])> = lines(text).map(|l| (l.number, &text[l.range])).collect();
+        let want: [(usize, &[u8]); 4] = [(1, b"N1 G0"), (2, b""), (3, b"N3 G1\r"), (4, b"last")];
+        assert_eq!(got, want);
+        // A final newline opens no line; an empty text has none.
+        assert_eq!(lines(b"a\nb\n").count(), 2);
+        assert_eq!(lines(b"").count(), 0);
+        let numbered: Vec<(usize, &str)> = numbered_lines("a\r\n\nb").collect();
+        assert_eq!(numbered, [(1, "a"), (2, ""), (3, "b")]);
+        // Each line's range is line_range of its number.
+        for l in lines(text) {
+            assert_eq!(l.range, line_range(text, l.number));
+        }
+        let mut cursor = LineCursor::default();
+        assert_eq!(
+            cursor.pass(6),
+            LineCursor {
+                number: 1,
+                offset: 0
+            }
+        );
+        assert_eq!(
+            cursor.pass(1),
+            LineCursor {
+                number: 2,
+                offset: 6
+            }
+        );
+        assert_eq!(
+            cursor,
+            LineCursor {
+                number: 3,
+                offset: 7
+            }
+        );
     }
 
     #[test]

@@ -161,13 +161,11 @@ pub fn read_points(source: &str, units: Units) -> Result<PointSeries, CsvErrors>
 /// Splits the source into content lines with their fields and byte ranges.
 fn content_lines(source: &str) -> Vec<Line<'_>> {
     let mut out = Vec::new();
-    let mut offset = 0;
-    for (n, raw) in source.split('\n').enumerate() {
-        let start = offset;
-        offset += raw.len() + 1;
+    for line in pvt_core::text::lines(source.as_bytes()) {
+        let raw = &source[line.range.clone()];
         let mut text = raw.strip_suffix('\r').unwrap_or(raw);
-        let mut base = start;
-        if n == 0 {
+        let mut base = line.range.start;
+        if line.number == 1 {
             if let Some(rest) = text.strip_prefix('\u{feff}') {
                 text = rest;
                 base += '\u{feff}'.len_utf8();
@@ -188,7 +186,7 @@ fn content_lines(source: &str) -> Vec<Line<'_>> {
             });
             at += part.len() + 1;
         }
-        let number = u32::try_from(n + 1).unwrap_or(u32::MAX);
+        let number = u32::try_from(line.number).unwrap_or(u32::MAX);
         out.push(Line {
             number,
             range: base..base + text.len(),

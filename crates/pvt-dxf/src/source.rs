@@ -56,20 +56,18 @@ impl SourceMap {
         if !is_ascii_dxf(bytes) {
             return map;
         }
-        let mut lines = Lines { bytes, start: 0 };
+        let mut lines = pvt_core::text::lines(bytes);
         let mut section = String::new();
         let mut expect_section_name = false;
         let mut open: Option<Record> = None;
         // The block whose entities are being scanned, and whether its name is still to come.
         let mut block: Option<String> = None;
         let mut block_header = false;
-        let mut index = 0usize;
-        while let (Some((offset, code_line)), Some((_, value_line))) = (lines.next(), lines.next())
-        {
-            index += 2;
-            let value = String::from_utf8_lossy(value_line);
+        while let (Some(code_line), Some(value_line)) = (lines.next(), lines.next()) {
+            let offset = code_line.range.start;
+            let value = String::from_utf8_lossy(trim_cr(&bytes[value_line.range]));
             let value = value.trim();
-            let code: Option<i32> = std::str::from_utf8(code_line)
+            let code: Option<i32> = std::str::from_utf8(trim_cr(&bytes[code_line.range.clone()]))
                 .ok()
                 .and_then(|s| s.trim().parse().ok());
             let Some(code) = code else { continue };
@@ -103,7 +101,7 @@ impl SourceMap {
                             span: Span {
                                 start: offset,
                                 end: offset,
-                                line: u32::try_from(index - 1).unwrap_or(u32::MAX),
+                                line: u32::try_from(code_line.number).unwrap_or(u32::MAX),
                             },
                             in_entities: section == "ENTITIES",
                         });
@@ -190,24 +188,7 @@ impl SourceMap {
     }
 }
 
-/// The lines of the bytes with their offsets, a trailing `\r` dropped; no copy.
-struct Lines<'a> {
-    bytes: &'a [u8],
-    start: usize,
-}
-
-impl<'a> Iterator for Lines<'a> {
-    type Item = (usize, &'a [u8]);
-
-    fn next(&mut self) -> Option<(usize, &'a [u8])> {
-        let rest = self.bytes.get(self.start..).filter(|r| !r.is_empty())?;
-        let len = rest.iter().position(|&b| b == b'\n').unwrap_or(rest.len());
-        let line = (self.start, trim_cr(&rest[..len]));
-        self.start += len + 1;
-        Some(line)
-    }
-}
-
+/// A line's bytes without the `\r` before its `\n`.
 fn trim_cr(line: &[u8]) -> &[u8] {
     line.strip_suffix(b"\r").unwrap_or(line)
 }

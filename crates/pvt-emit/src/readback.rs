@@ -206,8 +206,7 @@ fn read_pmac(text: &str) -> Result<PvtProgram, ReadBackError> {
         axes_comment(text).ok_or_else(|| bad(1, "no `axes: … positions in …` comment".into()))?;
     let mut b = Builder::new(axes.clone(), units);
     let mut time = None;
-    for (i, raw) in text.lines().enumerate() {
-        let n = i + 1;
+    for (n, raw) in pvt_core::text::numbered_lines(text) {
         let (code, comment) = match raw.find([';', '/']) {
             Some(k) => raw.split_at(k),
             None => (raw, ""),
@@ -255,8 +254,7 @@ fn read_pmac(text: &str) -> Result<PvtProgram, ReadBackError> {
 fn c_arrays(text: &str) -> Result<BTreeMap<String, (usize, Vec<f64>)>, ReadBackError> {
     let mut arrays = BTreeMap::new();
     let mut open: Option<(String, usize, Vec<f64>)> = None;
-    for (i, line) in text.lines().enumerate() {
-        let n = i + 1;
+    for (n, line) in pvt_core::text::numbered_lines(text) {
         if let Some((name, first, values)) = open.as_mut() {
             if line.starts_with("};") {
                 let (name, first, values) = (std::mem::take(name), *first, std::mem::take(values));
@@ -328,20 +326,17 @@ fn read_xps(text: &str, hint: &ReadHint) -> Result<PvtProgram, ReadBackError> {
     let dim = text.lines().next().map_or(0, |l| l.split(',').count() / 2);
     let axes: Vec<Axis> = Axis::ALL.iter().copied().take(dim).collect();
     let mut b = Builder::new(axes, hint.units);
-    for (i, line) in text.lines().enumerate() {
+    for (n, line) in pvt_core::text::numbered_lines(text) {
         let f = line
             .split(',')
-            .map(|x| number(x, i + 1))
+            .map(|x| number(x, n))
             .collect::<Result<Vec<_>, _>>()?;
         if f.len() != 1 + 2 * dim {
-            return Err(bad(
-                i + 1,
-                format!("{} fields, not {}", f.len(), 1 + 2 * dim),
-            ));
+            return Err(bad(n, format!("{} fields, not {}", f.len(), 1 + 2 * dim)));
         }
         let end: Vec<f64> = (0..dim).map(|k| b.at[k] + f[1 + 2 * k]).collect();
         let velocity: Vec<f64> = (0..dim).map(|k| f[2 + 2 * k]).collect();
-        b.piece(&end, &velocity, f[0], i + 1)?;
+        b.piece(&end, &velocity, f[0], n)?;
     }
     Ok(b.finish())
 }
@@ -384,8 +379,7 @@ fn read_galil(text: &str, hint: &ReadHint) -> Result<PvtProgram, ReadBackError> 
     }
     let mut columns: Vec<Vec<(i64, i64, i64, usize)>> = Vec::new();
     let mut start_counts: Vec<i64> = Vec::new();
-    for (i, line) in text.lines().enumerate() {
-        let n = i + 1;
+    for (n, line) in pvt_core::text::numbered_lines(text) {
         if let Some(at) = line.strip_prefix("' start at ") {
             let counts = at.split(' ').next().unwrap_or("");
             start_counts = counts
@@ -482,8 +476,7 @@ fn read_zaber(text: &str, hint: &ReadHint) -> Result<PvtProgram, ReadBackError> 
     let axes: Vec<Axis> = Axis::ALL.iter().copied().take(dim).collect();
     let scales = hinted_scales(&axes, hint)?;
     let mut b = Builder::new(axes, hint.units);
-    for (i, line) in text.lines().enumerate() {
-        let n = i + 1;
+    for (n, line) in pvt_core::text::numbered_lines(text) {
         let Some(rest) = line.strip_prefix("pvt 1 point abs p ") else {
             continue;
         };

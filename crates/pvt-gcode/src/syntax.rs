@@ -30,7 +30,7 @@ pub fn check_syntax(source: &str) -> SyntaxSummary {
         (Block::default(), Parameters::default(), Kept::default());
     let (mut lines, mut words) = (0, 0);
     for line in SourceLines::new(source) {
-        lines += 1;
+        lines = line.number as usize;
         if line.text.len() > MAX_LINE_BYTES {
             errors.push(line_too_long(line.number, line.text.len(), line.start));
             continue;

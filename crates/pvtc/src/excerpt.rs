@@ -10,6 +10,8 @@ use std::collections::VecDeque;
 use std::io::{BufRead, Read};
 use std::ops::Range;
 
+use pvt_core::text::LineCursor;
+
 use miette::{MietteError, MietteSpanContents, SourceCode, SourceSpan, SpanContents};
 
 /// Lines kept before and after the lines of a span (miette shows one by default).
@@ -67,21 +69,20 @@ struct Open {
 /// The byte range of 1-based `line` of `input` (without its line end), found in one
 /// streaming pass; `None` past the end.
 pub fn line_span(input: &mut impl BufRead, line: u32) -> std::io::Result<Option<Range<usize>>> {
-    let (mut offset, mut buf) = (0usize, Vec::new());
-    for number in 1.. {
+    let (mut cursor, mut buf) = (LineCursor::default(), Vec::new());
+    loop {
         buf.clear();
         let read = input.read_until(b'\n', &mut buf)?;
         if read == 0 {
             return Ok(None);
         }
-        if number == line {
+        let at = cursor.pass(read);
+        if at.number == line as usize {
             let body = buf.strip_suffix(b"\n").unwrap_or(&buf);
             let body = &body[..body.len() - pvt_gcode::trailing_crs(body)];
-            return Ok(Some(offset..offset + body.len()));
+            return Ok(Some(at.offset..at.offset + body.len()));
         }
-        offset += read;
     }
-    Ok(None)
 }
 
 /// For each span (byte range of `input`), the lines around it; `None` for a span past the
@@ -95,7 +96,7 @@ pub fn cut(
     let mut order = order.into_iter().peekable();
     let mut found = vec![None; spans.len()];
     let (mut ring, mut open) = (VecDeque::<(usize, String)>::new(), Vec::<Open>::new());
-    let (mut offset, mut number, mut line) = (0usize, 0usize, Vec::new());
+    let (mut cursor, mut line) = (LineCursor::default(), Vec::new());
     while order.peek().is_some() || !open.is_empty() {
         line.clear();
         let read = input
@@ -105,10 +106,12 @@ pub fn cut(
         if read == 0 {
             break;
         }
-        let start = offset;
-        offset += read;
-        if read as u64 == MAX_EXCERPT_LINE && line.last() != Some(&b'\n') {
-            offset += input.skip_until(b'\n')?;
+        let long = read as u64 == MAX_EXCERPT_LINE && line.last() != Some(&b'\n');
+        let skipped = if long { input.skip_until(b'\n')? } else { 0 };
+        let at = cursor.pass(read + skipped);
+        // The line's byte offset, where the next starts, and its 0-based number.
+        let (start, offset, number) = (at.offset, cursor.offset, at.number - 1);
+        if long {
             ring.clear();
             open.drain(..)
                 .for_each(|o| found[o.index] = Some(o.excerpt));
@@ -121,7 +124,6 @@ pub fn cut(
                     first_line: number,
                 });
             }
-            number += 1;
             continue;
         }
         let text = crate::options::shown(&line);
@@ -158,7 +160,6 @@ pub fn cut(
         if ring.len() > CONTEXT_LINES {
             ring.pop_front();
         }
-        number += 1;
     }
     open.into_iter()
         .for_each(|o| found[o.index] = Some(o.excerpt));

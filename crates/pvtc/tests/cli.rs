@@ -1645,6 +1645,55 @@ fn a_machine_file_with_a_planner_that_cannot_keep_it_is_a_usage_error() {
     assert_eq!(pvtc(&check, None).status.code(), Some(1));
 }
 
+/// Every planner, with `--machine`: either its output passes `pvtc check --machine`
+/// against the same file, or the compile is a usage error naming the planner that keeps
+/// limits; none compiles and ignores the file.
+#[test]
+fn a_machine_file_is_kept_or_refused_by_every_planner() {
+    let dir = tempfile::tempdir().unwrap();
+    let machine = "samples/machines/mill.toml";
+    let mut kept = Vec::new();
+    for planner in pvt_core::Planner::ALL {
+        let out = dir.path().join(format!("{}.json", planner.name()));
+        let mut args = vec![
+            "compile",
+            "samples/gcode/square.ngc",
+            "--planner",
+            planner.name(),
+            "--machine",
+            machine,
+            "--format",
+            "json",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        if planner == pvt_core::Planner::Lspb {
+            args.extend(["--accel", "1000"]);
+        }
+        let o = pvtc(&args, None);
+        if o.status.code() == Some(2) {
+            assert!(stderr(&o).contains("pvtc::usage"), "{}", stderr(&o));
+            assert!(
+                stderr(&o).contains("only by the path planner"),
+                "{}",
+                stderr(&o)
+            );
+            assert!(!out.exists(), "{}: output written", planner.name());
+            continue;
+        }
+        assert!(o.status.success(), "{}: {}", planner.name(), stderr(&o));
+        let check = pvtc(
+            &["check", out.to_str().unwrap(), "--machine", machine],
+            None,
+        );
+        let table = String::from_utf8_lossy(&check.stdout);
+        assert_eq!(check.status.code(), Some(0), "{}: {table}", planner.name());
+        assert!(table.contains("limits: none exceeded"), "{table}");
+        kept.push(planner.name());
+    }
+    assert_eq!(kept, ["path"]);
+}
+
 #[test]
 fn drawing_options_on_a_program_are_usage_errors() {
     for option in [

@@ -459,6 +459,8 @@ pub struct PathStream {
     /// next window's rounds reuse their storage rather than allocate it again.
     pieces: Vec<piece::Piece>,
     knot_storage: KnotStorage,
+    /// The same for the windows on a grid, with the resampling's own vectors.
+    grid_scratch: resample::Scratch,
     window: usize,
     start: Start,
     report: PathReport,
@@ -490,6 +492,7 @@ impl PathStream {
             curves: Vec::new(),
             pieces: Vec::new(),
             knot_storage: KnotStorage::default(),
+            grid_scratch: resample::Scratch::default(),
             start: Start {
                 param: 0.0,
                 speed: 0.0,
@@ -632,6 +635,7 @@ impl PathStream {
             &self.start,
             quantum,
             last,
+            &mut self.grid_scratch,
         );
         let w = match window {
             Window::Planned(w) => w,
@@ -667,6 +671,7 @@ impl PathStream {
             self.start = start;
             self.retry_at = 0;
         }
+        self.grid_scratch.give_back(w.knots, w.pieces);
         Ok(())
     }
 
@@ -839,6 +844,7 @@ fn resample_contour(
         corner: options.corner_tolerance.unwrap_or(options.tolerance),
     };
     let mut best = None;
+    let mut scratch = resample::Scratch::default();
     for try_ in shares.tries {
         let planning = AxisBounds {
             acceleration: bounds
@@ -871,7 +877,15 @@ fn resample_contour(
             tolerances,
             rounds: try_.rounds,
         };
-        let r = resample::resample(&mut knots, curves, &limits, quantum, bar, planned);
+        let r = resample::resample(
+            &mut knots,
+            curves,
+            &limits,
+            quantum,
+            bar,
+            planned,
+            &mut scratch,
+        );
         if let Some(r) = r {
             bar = r.pieces.iter().map(|p| p.duration).sum();
             best = Some((knots, r));
@@ -903,7 +917,8 @@ struct GridWindow {
 /// grid"): the shares of [`resample::Shares`] in turn, the first that converges; each
 /// plan capped (but at the contour's end) to stop before the window's last element at the
 /// least tangential acceleration of every share, cut at a grid time at or before the
-/// stopping-distance cut, and resampled from the window's start without scaling.
+/// stopping-distance cut, and resampled from the window's start without scaling. Its
+/// knots, plan and resampling fill `scratch`'s storage.
 fn grid_window(
     curves: &[Curve],
     bounds: &AxisBounds,
@@ -911,6 +926,7 @@ fn grid_window(
     start: &Start,
     quantum: Quantum,
     last: bool,
+    scratch: &mut resample::Scratch,
 ) -> Window {
     let q = quantum.seconds;
     let shares = resample::Shares::new(bounds, q);
@@ -937,21 +953,24 @@ fn grid_window(
             resolution: 0.0,
             ..bounds.clone()
         };
-        let storage = KnotStorage::default();
+        let storage = std::mem::take(&mut scratch.knots);
         let mut knots = Knots::new(curves, &planning, tolerance, corner, start, false, storage);
+        let mut planned = std::mem::take(&mut scratch.planned);
         if !last {
             knots.cap_for_window(curves, least);
         }
-        if settle(&mut knots, curves, &planning, tolerance).is_none() {
-            continue;
-        }
-        knots.add_trapezoids(curves, &planning);
-        if !last {
-            knots.cap_for_window(curves, least);
-        }
-        let Some(mut planned) = settle(&mut knots, curves, &planning, tolerance) else {
-            continue;
+        let settled = settle_into(&mut knots, curves, &planning, tolerance, &mut planned) && {
+            knots.add_trapezoids(curves, &planning);
+            if !last {
+                knots.cap_for_window(curves, least);
+            }
+            settle_into(&mut knots, curves, &planning, tolerance, &mut planned)
         };
+        if !settled {
+            scratch.knots = knots.into_storage();
+            scratch.planned = planned;
+            continue;
+        }
         for _ in 0..try_.rounds {
             let (count, inserted) = if last {
                 (knots.knots.len() - 1, false)
@@ -965,18 +984,23 @@ fn grid_window(
                     q,
                 ) {
                     Some(cut) => cut,
-                    None => return Window::NoCut,
+                    None => {
+                        scratch.knots = knots.into_storage();
+                        scratch.planned = planned;
+                        return Window::NoCut;
+                    }
                 }
             };
             let prefix = &planned[..count];
-            match resample::resample_once(&knots, bounds, tolerances, q, prefix, false) {
+            match resample::resample_once(&knots, bounds, tolerances, q, prefix, false, scratch) {
                 Ok(r) => {
+                    scratch.planned = planned;
                     return Window::Planned(GridWindow {
                         knots,
                         pieces: r.pieces,
                         count,
                         speed_change: r.speed_change,
-                    })
+                    });
                 }
                 Err(slow) => {
                     if inserted {
@@ -985,13 +1009,14 @@ fn grid_window(
                     for (range, factor) in slow {
                         knots.slow_knots(range, factor);
                     }
-                    match settle(&mut knots, curves, &planning, tolerance) {
-                        Some(p) => planned = p,
-                        None => break,
+                    if !settle_into(&mut knots, curves, &planning, tolerance, &mut planned) {
+                        break;
                     }
                 }
             }
         }
+        scratch.knots = knots.into_storage();
+        scratch.planned = planned;
     }
     Window::NotMet
 }

@@ -5,13 +5,15 @@
 //! under a jerk limit, beside a knot whose acceleration steps too far), the cubic Hermite
 //! pieces through the planned motion at the grid knots, their exact deviation from the
 //! planned motion, the shares of the limits the plan is made with ([`Shares`]), and the
-//! rounds that slow the plan where a resampled piece or knot is over a limit. It must not compute the planned pieces or choose
-//! between this grid and the stretched one: that is [`super::pieces`] and [`super`].
+//! rounds that slow the plan where a resampled piece or knot is over a limit, and the
+//! storage a resampling fills ([`Scratch`]), which its caller keeps so that every round
+//! and window reuses it. It must not compute the planned pieces or choose between this
+//! grid and the stretched one: that is [`super::pieces`] and [`super`].
 
 use super::curve::Curve;
-use super::knots::Knots;
+use super::knots::{KnotStorage, Knots};
 use super::piece::Piece;
-use super::{settle, AxisBounds, Vector, MAX_ROUNDS};
+use super::{settle_into, AxisBounds, Vector, MAX_ROUNDS};
 use crate::hermite::{HermiteSegment, State};
 use crate::plan::quantize::{quanta_time, Quantum};
 
@@ -28,13 +30,14 @@ pub(super) const RESAMPLE_SHARE: f64 = 0.8;
 struct Motion<'a> {
     pieces: &'a [Piece],
     /// Planned (unscaled) start time of every piece, and the total at the end.
-    starts: Vec<f64>,
+    starts: &'a [f64],
     scale: f64,
 }
 
 impl<'a> Motion<'a> {
-    fn new(pieces: &'a [Piece], scale: f64) -> Motion<'a> {
-        let mut starts = Vec::with_capacity(pieces.len() + 1);
+    /// The motion of `pieces` scaled by `scale`, its start times kept in `starts`.
+    fn new(pieces: &'a [Piece], scale: f64, starts: &'a mut Vec<f64>) -> Motion<'a> {
+        starts.clear();
         let mut t = 0.0;
         starts.push(t);
         for p in pieces {
@@ -87,11 +90,12 @@ impl<'a> Motion<'a> {
             );
         }
         let (i, u) = self.locate(t);
-        let states: Vec<State> = (0..dim).map(|a| self.axis_state(i, a, u)).collect();
-        (
-            Vector::from_fn(dim, |a| states[a].position),
-            Vector::from_fn(dim, |a| states[a].velocity),
-        )
+        let (mut position, mut velocity) = (Vector::zeros(dim), Vector::zeros(dim));
+        for a in 0..dim {
+            let s = self.axis_state(i, a, u);
+            (position[a], velocity[a]) = (s.position, s.velocity);
+        }
+        (position, velocity)
     }
 
     /// Scaled time at which piece `i` starts.
@@ -125,8 +129,61 @@ fn cubic_peak(c: [f64; 4], h: f64) -> f64 {
     peak
 }
 
+/// The vectors a resampling fills, kept by its caller and reused by every round, try and
+/// window (cleared, not reallocated), so that a streamed contour's resident memory stays
+/// flat: the knots' and the plan's storage of a window on the grid, and the resampling's
+/// own. The resampled pieces go out in [`Resampled`] and come back with
+/// [`Scratch::give_back`].
+#[derive(Debug, Default)]
+pub(super) struct Scratch {
+    /// The knots' vectors of the plan that is resampled.
+    pub knots: KnotStorage,
+    /// The pieces of the plan that is resampled.
+    pub planned: Vec<Piece>,
+    /// Planned start time of every piece (see [`Motion`]).
+    starts: Vec<f64>,
+    /// The grid knots, in quanta.
+    grid: Vec<u64>,
+    /// The last round's pieces (the resampled pieces' storage), and, under a jerk limit,
+    /// the next round's, which reuses the last's on the same intervals.
+    done: Round,
+    next: Round,
+    /// Grid intervals still to resample, latest first.
+    todo: Vec<(u64, u64)>,
+    /// Each resampled piece's speed at mid-time and the plan's at the same point.
+    speeds: Vec<(f64, f64)>,
+}
+
+impl Scratch {
+    /// Takes back the storage of a window's knots and resampled pieces once they are out.
+    pub fn give_back(&mut self, knots: Knots, pieces: Vec<Piece>) {
+        self.knots = knots.into_storage();
+        self.done.pieces = pieces;
+    }
+}
+
+/// One round's resampled pieces, each with its grid interval `[a, b]` in quanta.
+#[derive(Debug, Default)]
+struct Round {
+    intervals: Vec<(u64, u64)>,
+    pieces: Vec<Piece>,
+}
+
+impl Round {
+    fn clear(&mut self) {
+        self.intervals.clear();
+        self.pieces.clear();
+    }
+
+    fn push(&mut self, interval: (u64, u64), piece: Piece) {
+        self.intervals.push(interval);
+        self.pieces.push(piece);
+    }
+}
+
 /// The resampled contour.
 pub(super) struct Resampled {
+    /// The pieces, in the storage of [`Scratch`] (give it back when done with them).
     pub pieces: Vec<Piece>,
     /// Largest relative change of the speed at a resampled piece's mid-time against the
     /// plan at the same point of the path, where the plan moves at 1 % of the contour's
@@ -315,19 +372,29 @@ pub(super) fn resample(
     quantum: Quantum,
     bar: f64,
     mut planned: Vec<Piece>,
+    scratch: &mut Scratch,
 ) -> Option<Resampled> {
     let q = quantum.seconds;
     for _ in 0..limits.rounds {
         if quanta_time(grid_count(&planned, q), q) >= bar - 0.5 * q {
             return None;
         }
-        match resample_once(knots, limits.bounds, limits.tolerances, q, &planned, true) {
+        let bounds = limits.bounds;
+        match resample_once(knots, bounds, limits.tolerances, q, &planned, true, scratch) {
             Ok(resampled) => return Some(resampled),
             Err(slow) => {
                 for (knot_range, factor) in slow {
                     knots.slow_knots(knot_range, factor);
                 }
-                planned = settle(knots, curves, limits.planning, limits.tolerance)?;
+                if !settle_into(
+                    knots,
+                    curves,
+                    limits.planning,
+                    limits.tolerance,
+                    &mut planned,
+                ) {
+                    return None;
+                }
             }
         }
     }
@@ -345,7 +412,8 @@ fn grid_count(planned: &[Piece], q: f64) -> f64 {
 /// (a whole contour); without, it keeps its times from a start on the grid (a window of
 /// a streamed contour, see "Streaming on a grid" in [`super`]): it ends on the grid
 /// already (a window's prefix up to a knot placed at a grid time), or at rest, where
-/// the last grid interval holds the end until the next whole quantum.
+/// the last grid interval holds the end until the next whole quantum. Every vector it
+/// fills is `scratch`'s.
 pub(super) fn resample_once(
     knots: &Knots,
     bounds: &AxisBounds,
@@ -353,7 +421,17 @@ pub(super) fn resample_once(
     q: f64,
     planned: &[Piece],
     scaled: bool,
+    scratch: &mut Scratch,
 ) -> Result<Resampled, Vec<(std::ops::Range<usize>, f64)>> {
+    let Scratch {
+        starts,
+        grid,
+        done,
+        next,
+        todo,
+        speeds,
+        ..
+    } = scratch;
     let total: f64 = planned.iter().map(|p| p.duration).sum();
     let count = grid_count(planned, q);
     let scale = if scaled {
@@ -361,11 +439,11 @@ pub(super) fn resample_once(
     } else {
         1.0
     };
-    let motion = Motion::new(planned, scale);
+    let motion = Motion::new(planned, scale, starts);
     let last = count as u64;
     // Grid knots: every planned knot's scaled time rounded to the grid, duplicates
     // dropped; the contour's ends at 0 and `count`.
-    let mut grid: Vec<u64> = Vec::with_capacity(planned.len() + 1);
+    grid.clear();
     grid.push(0);
     for i in 1..planned.len() {
         let g = ((motion.start(i) / q).round() as u64).min(last);
@@ -374,20 +452,45 @@ pub(super) fn resample_once(
         }
     }
     grid.push(last);
-    // Empty until the first round: its pieces replace it (no second buffer at the peak).
-    let mut done: Vec<(u64, u64, Piece)> = Vec::new();
     // Under a jerk limit, rounds of placing grid knots next to a knot whose acceleration
-    // steps too far (each round at least one more; see [`steps_over`]).
-    for _ in 0..=MAX_ROUNDS {
-        let (pieces, slow) = resample_grid(knots, bounds, tolerances, q, &motion, &grid, &done);
+    // steps too far (each round at least one more; see [`steps_over`]). The first round
+    // fills `done`, a later one `next` from it, which then takes its place: without a
+    // jerk limit there is one round and one vector of pieces.
+    for round in 0..=MAX_ROUNDS {
+        let slow = if round == 0 {
+            done.clear();
+            let none = Round::default();
+            resample_grid(
+                knots,
+                bounds,
+                tolerances,
+                q,
+                &motion,
+                (grid, &none),
+                done,
+                todo,
+            )
+        } else {
+            let slow = resample_grid(
+                knots,
+                bounds,
+                tolerances,
+                q,
+                &motion,
+                (grid, done),
+                next,
+                todo,
+            );
+            std::mem::swap(done, next);
+            slow
+        };
         if !slow.is_empty() {
             return Err(slow);
         }
-        done = pieces;
         if !bounds.jerk_mode() {
             break;
         }
-        match steps_over(&done, bounds) {
+        match steps_over(done, bounds) {
             Steps::Within => break,
             Steps::Split(knots_to_add) => {
                 grid.extend(knots_to_add);
@@ -396,48 +499,50 @@ pub(super) fn resample_once(
             }
             Steps::Slow(over) => {
                 let slow = over.into_iter().map(|(at, factor)| {
-                    let (a, b) = (done[at.start].0, done[at.end - 1].1);
+                    let (a, b) = (done.intervals[at.start].0, done.intervals[at.end - 1].1);
                     (covered(&motion, a, b, q), factor)
                 });
                 return Err(slow.collect());
             }
         }
     }
-    let pieces: Vec<Piece> = done.into_iter().map(|(_, _, p)| p).collect();
-    let speed_change = speed_change(&motion, &pieces);
+    let speed_change = speed_change(&motion, &done.pieces, speeds);
     Ok(Resampled {
-        pieces,
+        pieces: std::mem::take(&mut done.pieces),
         speed_change,
     })
 }
 
-/// The pieces of every interval of `grid` (reusing those of `done` on the same
-/// interval), each over the tolerance split at its middle, with their intervals; or the
-/// planned knot ranges to slow and by what factor.
-#[allow(clippy::type_complexity)]
+/// Into `pieces`, the pieces of every interval of `grid` (reusing those of `done` on the
+/// same interval), each over the tolerance split at its middle, with their intervals; the
+/// planned knot ranges to slow and by what factor (none when every piece is in).
+/// `todo` is storage for the intervals still to resample.
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
 fn resample_grid(
     knots: &Knots,
     bounds: &AxisBounds,
     tolerances: Tolerances,
     q: f64,
     motion: &Motion<'_>,
-    grid: &[u64],
-    done: &[(u64, u64, Piece)],
-) -> (Vec<(u64, u64, Piece)>, Vec<(std::ops::Range<usize>, f64)>) {
+    (grid, done): (&[u64], &Round),
+    pieces: &mut Round,
+    todo: &mut Vec<(u64, u64)>,
+) -> Vec<(std::ops::Range<usize>, f64)> {
     let last = *grid.last().unwrap_or(&0);
-    let mut pieces = Vec::with_capacity(grid.len());
+    pieces.clear();
     let mut slow = Vec::new();
-    let mut reuse = done.iter().peekable();
+    let mut reuse = done.intervals.iter().zip(&done.pieces).peekable();
     // Intervals still to resample, latest first.
-    let mut todo: Vec<(u64, u64)> = grid.windows(2).rev().map(|w| (w[0], w[1])).collect();
+    todo.clear();
+    todo.extend(grid.windows(2).rev().map(|w| (w[0], w[1])));
     while let Some((a, b)) = todo.pop() {
-        while reuse.next_if(|d| d.0 < a).is_some() {}
-        if let Some(d) = reuse.peek().filter(|d| d.0 == a && d.1 == b) {
-            pieces.push((a, b, d.2.clone()));
+        while reuse.next_if(|d| d.0 .0 < a).is_some() {}
+        if let Some(d) = reuse.peek().filter(|d| *d.0 == (a, b)) {
+            pieces.push((a, b), d.1.clone());
             continue;
         }
         match interval(knots, bounds, tolerances, q, motion, (a, b), last) {
-            Ok(piece) => pieces.push((a, b, piece)),
+            Ok(piece) => pieces.push((a, b), piece),
             Err(Over::Tolerance) if b - a >= 2 => {
                 let mid = a + (b - a) / 2;
                 todo.push((mid, b));
@@ -447,25 +552,24 @@ fn resample_grid(
             Err(Over::Limit(factor)) => slow.push((covered(motion, a, b, q), factor)),
         }
     }
-    (pieces, slow)
+    slow
 }
 
 /// Each piece's speed at mid-time against the plan's at the same point of the path: the
-/// largest relative change where the plan moves at 1 % of its fastest or more.
-fn speed_change(motion: &Motion<'_>, pieces: &[Piece]) -> f64 {
+/// largest relative change where the plan moves at 1 % of its fastest or more. `speeds`
+/// is storage for both speeds of every piece.
+fn speed_change(motion: &Motion<'_>, pieces: &[Piece], speeds: &mut Vec<(f64, f64)>) -> f64 {
     let mut start = 0.0;
-    let speeds: Vec<(f64, f64)> = pieces
-        .iter()
-        .map(|p| {
-            let mid = start + 0.5 * p.duration;
-            start += p.duration;
-            let (i, u) = motion.locate(mid);
-            let dim = p.start.len();
-            let plan = Vector::from_fn(dim, |a| motion.axis_state(i, a, u).velocity * motion.scale);
-            let now = Vector::from_fn(dim, |a| p.cubic(a).at(0.5 * p.duration).velocity);
-            (crate::vector::norm(&plan), crate::vector::norm(&now))
-        })
-        .collect();
+    speeds.clear();
+    speeds.extend(pieces.iter().map(|p| {
+        let mid = start + 0.5 * p.duration;
+        start += p.duration;
+        let (i, u) = motion.locate(mid);
+        let dim = p.start.len();
+        let plan = Vector::from_fn(dim, |a| motion.axis_state(i, a, u).velocity * motion.scale);
+        let now = Vector::from_fn(dim, |a| p.cubic(a).at(0.5 * p.duration).velocity);
+        (crate::vector::norm(&plan), crate::vector::norm(&now))
+    }));
     let fastest = speeds.iter().fold(0.0_f64, |m, s| m.max(s.0));
     speeds
         .iter()
@@ -493,10 +597,11 @@ enum Steps {
 /// misses the motion's acceleration at its ends by up to `4/27·|Δj|·T` (on one quantum:
 /// `T = q`), so where a step is over, the intervals beside the knot get a grid knot one
 /// quantum from it; where both are one quantum already, the plan is slowed.
-fn steps_over(pieces: &[(u64, u64, Piece)], bounds: &AxisBounds) -> Steps {
+fn steps_over(round: &Round, bounds: &AxisBounds) -> Steps {
+    let (intervals, pieces) = (&round.intervals, &round.pieces);
     let n = pieces.len();
-    let ends: Vec<[Vector; 2]> = pieces.iter().map(|p| p.2.end_accelerations()).collect();
-    let dim = pieces[0].2.start.len();
+    let ends: Vec<[Vector; 2]> = pieces.iter().map(Piece::end_accelerations).collect();
+    let dim = pieces[0].start.len();
     let mut split = Vec::new();
     let mut slow = Vec::new();
     for i in 0..=n {
@@ -511,7 +616,7 @@ fn steps_over(pieces: &[(u64, u64, Piece)], bounds: &AxisBounds) -> Steps {
         let around = i.saturating_sub(2)..(i + 2).min(n);
         let rounding: f64 = pieces[beside.clone()]
             .iter()
-            .map(|p| 6.0 * bounds.resolution / (p.2.duration * p.2.duration))
+            .map(|p| 6.0 * bounds.resolution / (p.duration * p.duration))
             .sum();
         let mut factor: f64 = 1.0;
         for a in 0..dim {
@@ -529,12 +634,12 @@ fn steps_over(pieces: &[(u64, u64, Piece)], bounds: &AxisBounds) -> Steps {
             continue;
         }
         let mut wide = false;
-        if i > 0 && pieces[i - 1].1 - pieces[i - 1].0 >= 2 {
-            split.push(pieces[i - 1].1 - 1);
+        if i > 0 && intervals[i - 1].1 - intervals[i - 1].0 >= 2 {
+            split.push(intervals[i - 1].1 - 1);
             wide = true;
         }
-        if i < n && pieces[i].1 - pieces[i].0 >= 2 {
-            split.push(pieces[i].0 + 1);
+        if i < n && intervals[i].1 - intervals[i].0 >= 2 {
+            split.push(intervals[i].0 + 1);
             wide = true;
         }
         if !wide {
