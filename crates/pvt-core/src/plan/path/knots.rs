@@ -323,10 +323,12 @@ impl Knots {
 
     /// On a line piece whose speed may rise above both ends, knots where the cruise
     /// begins and ends (with limits; without, the speed changes over whole pieces).
-    pub fn add_trapezoids(&mut self, curves: &[Curve], bounds: &AxisBounds) {
+    /// Returns whether any knot was added: where none was, the knots are as they were.
+    pub fn add_trapezoids(&mut self, curves: &[Curve], bounds: &AxisBounds) -> bool {
         if !self.accelerates {
-            return;
+            return false;
         }
+        let before = self.knots.len();
         let mut out = self.take_spare();
         for k in 0..self.knots.len() {
             out.push(self.knots[k]);
@@ -382,6 +384,7 @@ impl Knots {
             }
         }
         self.spare = std::mem::replace(&mut self.knots, out);
+        self.knots.len() > before
     }
 
     /// An empty knot vector with the storage of the last rebuild's old knots.

@@ -565,12 +565,15 @@ impl PathStream {
         if !settle_into(&mut knots, curves, bounds, tolerance, &mut pieces) {
             return Err(not_met);
         }
-        knots.add_trapezoids(curves, bounds);
-        if !last {
-            knots.cap_for_window(curves, least);
-        }
-        if !settle_into(&mut knots, curves, bounds, tolerance, &mut pieces) {
-            return Err(not_met);
+        // Without a trapezoid knot the knots and caps are those just settled: a second
+        // settle would make the same pieces.
+        if knots.add_trapezoids(curves, bounds) {
+            if !last {
+                knots.cap_for_window(curves, least);
+            }
+            if !settle_into(&mut knots, curves, bounds, tolerance, &mut pieces) {
+                return Err(not_met);
+            }
         }
         if let Some(quantum) = self.options.quantum {
             let (change, chosen) = self.on_quantum_grid(&mut knots, pieces, quantum)?;
@@ -850,13 +853,15 @@ fn resample_contour(
         };
         let storage = KnotStorage::default();
         let mut knots = Knots::new(curves, &planning, tolerance, corner, start, false, storage);
-        if settle(&mut knots, curves, &planning, tolerance).is_none() {
-            continue;
-        }
-        knots.add_trapezoids(curves, &planning);
-        let Some(planned) = settle(&mut knots, curves, &planning, tolerance) else {
+        let Some(mut planned) = settle(&mut knots, curves, &planning, tolerance) else {
             continue;
         };
+        if knots.add_trapezoids(curves, &planning) {
+            let Some(p) = settle(&mut knots, curves, &planning, tolerance) else {
+                continue;
+            };
+            planned = p;
+        }
         let limits = resample::Limits {
             planning: &planning,
             bounds,
@@ -935,16 +940,19 @@ fn grid_window(
         if !last {
             knots.cap_for_window(curves, least);
         }
-        if settle(&mut knots, curves, &planning, tolerance).is_none() {
-            continue;
-        }
-        knots.add_trapezoids(curves, &planning);
-        if !last {
-            knots.cap_for_window(curves, least);
-        }
         let Some(mut planned) = settle(&mut knots, curves, &planning, tolerance) else {
             continue;
         };
+        // Without a trapezoid knot a second settle would make the same pieces.
+        if knots.add_trapezoids(curves, &planning) {
+            if !last {
+                knots.cap_for_window(curves, least);
+            }
+            let Some(p) = settle(&mut knots, curves, &planning, tolerance) else {
+                continue;
+            };
+            planned = p;
+        }
         for _ in 0..try_.rounds {
             let (count, inserted) = if last {
                 (knots.knots.len() - 1, false)
