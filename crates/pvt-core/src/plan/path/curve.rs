@@ -75,15 +75,19 @@ struct ArcShape {
 }
 
 impl Curve {
-    /// The curves of `element` on `axes`: none when it does not move, a Bézier's parts
-    /// ([`bezier_parts`]), else one.
-    pub fn new(element: &Element, axes: &[Axis]) -> Vec<Curve> {
+    /// Appends the curves of `element` on `axes` to `out`: none when it does not move, a
+    /// Bézier's parts ([`bezier_parts`]), else one (written in place: a line or arc, the
+    /// most common, costs no vector of its own).
+    pub fn push_new(element: &Element, axes: &[Axis], out: &mut Vec<Curve>) {
         if let ElementKind::Bezier(bezier) = element.kind {
             if let Some(parts) = bezier_parts(element, &bezier, axes) {
-                return parts;
+                out.extend(parts);
+                return;
             }
         }
-        Curve::whole(element, axes).into_iter().collect()
+        if let Some(curve) = Curve::whole(element, axes) {
+            out.push(curve);
+        }
     }
 
     /// The curve of a line or arc (a Bézier off the projected axes: its chord).

@@ -509,7 +509,7 @@ impl PathStream {
             });
         }
         check_element(element)?;
-        self.curves.extend(Curve::new(element, &self.axes));
+        Curve::push_new(element, &self.axes, &mut self.curves);
         let whole = self.hold || self.bounds.jerk_mode();
         if !whole && self.curves.len() >= self.window.max(self.retry_at) {
             if self.options.quantum.is_some() {
