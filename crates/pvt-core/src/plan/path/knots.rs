@@ -222,10 +222,7 @@ impl Knots {
                     .push(Knot::at(place, before.as_ref().map_or(0.0, |j| j.0.cap)));
             }
             let from = if e == 0 { start.param } else { 0.0 };
-            for param in inner_params(curve, tolerance)
-                .into_iter()
-                .filter(|p| *p > from)
-            {
+            for param in inner_params(curve, tolerance).filter(|p| *p > from) {
                 this.knots
                     .push(Knot::at(Place { element: e, param }, f64::INFINITY));
             }
@@ -801,7 +798,15 @@ pub(super) fn speed_cap(curve: &Curve, from: f64, to: f64, bounds: &AxisBounds) 
 /// The tangential acceleration left on `[from, to]` at speed `speed` on the worst axis.
 fn tangential_accel(curve: &Curve, from: f64, to: f64, bounds: &AxisBounds, speed: f64) -> f64 {
     let mut accel = f64::INFINITY;
+    // Where `speed²·normal` is finite on every axis, an axis with no acceleration limit
+    // leaves infinite acceleration (or NaN, which `min` passes over): it is skipped.
+    let finite_normal = curve
+        .normal_bound()
+        .is_some_and(|n| (speed * speed * n).is_finite());
     for i in 0..bounds.acceleration.len() {
+        if finite_normal && bounds.acceleration[i] == f64::INFINITY {
+            continue;
+        }
         let (tangent, normal) = curve.axis_factors(from, to, i);
         let left = bounds.acceleration[i] - speed * speed * normal;
         if tangent > 0.0 {
@@ -811,24 +816,24 @@ fn tangential_accel(curve: &Curve, from: f64, to: f64, bounds: &AxisBounds, spee
     accel
 }
 
-/// Parameters inside `curve` where knots go at first: an arc's equal pieces by the error
-/// bound at constant speed (at least two). Pieces beside a junction passed at speed are
-/// split later, where their bound needs it.
 /// The most pieces one arc is cut into before its error is checked.
 const MAX_ARC_PIECES: f64 = 65_536.0;
 
-fn inner_params(curve: &Curve, tolerance: f64) -> Vec<f64> {
-    let Some(angle) = curve.arc_piece_angle(tolerance) else {
-        return Vec::new();
-    };
+/// Parameters inside `curve` where knots go at first: an arc's equal pieces by the error
+/// bound at constant speed (at least two). Pieces beside a junction passed at speed are
+/// split later, where their bound needs it.
+fn inner_params(curve: &Curve, tolerance: f64) -> impl Iterator<Item = f64> {
     // A tolerance of zero (or one so small that no count of pieces meets it) gives no
     // finite count: the knots stop at the bound and the error check refuses the plan.
-    let pieces = (curve.span / angle - 1e-9).ceil();
-    let n = match pieces.is_finite() {
-        true => pieces.clamp(2.0, MAX_ARC_PIECES) as usize,
-        false => MAX_ARC_PIECES as usize,
-    };
-    (1..n).map(|i| curve.span * i as f64 / n as f64).collect()
+    let n = curve.arc_piece_angle(tolerance).map_or(1, |angle| {
+        let pieces = (curve.span / angle - 1e-9).ceil();
+        match pieces.is_finite() {
+            true => pieces.clamp(2.0, MAX_ARC_PIECES) as usize,
+            false => MAX_ARC_PIECES as usize,
+        }
+    });
+    let span = curve.span;
+    (1..n).map(move |i| span * i as f64 / n as f64)
 }
 
 /// The junction from `a` into `b` with the lengths on each side over which its pieces
