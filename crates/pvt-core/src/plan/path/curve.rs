@@ -73,21 +73,32 @@ struct ArcShape {
     radius_rate: f64,
     /// d/dφ of every projected axis that moves linearly (zero on the plane's two axes).
     linear_rate: Vector,
+    /// `|linear_rate|`, the helix' lead per radian.
+    lead: f64,
+    /// [`ArcShape::normal_bound`] over the whole arc.
+    normal_bound: f64,
     /// The last angle interval [`ArcShape::largest_sin_cos`] was asked, and its answer.
     last_extremes: std::cell::Cell<[f64; 4]>,
+    /// The last two parameters [`ArcShape::sin_cos`] was asked, with their sines and
+    /// cosines, the more recent first.
+    last_sin_cos: std::cell::Cell<[[f64; 3]; 2]>,
 }
 
 impl Curve {
-    /// The curves of `element` on `axes`: none when it does not move, a Bézier's parts
-    /// ([`bezier_parts`]), else one.
-    pub fn new(element: &Element, axes: &[Axis]) -> Vec<Curve> {
+    /// Appends the curves of `element` on `axes` to `out`: none when it does not move, a
+    /// Bézier's parts ([`bezier_parts`]), else one (written in place: a line or arc, the
+    /// most common, costs no vector of its own).
+    pub fn push_new(element: &Element, axes: &[Axis], out: &mut Vec<Curve>) {
         if let ElementKind::Bezier(bezier) = element.kind {
             if let Some(mut parts) = bezier_parts(element, &bezier, axes) {
                 parts.iter_mut().for_each(|part| part.fit = bezier.fit);
-                return parts;
+                out.extend(parts);
+                return;
             }
         }
-        Curve::whole(element, axes).into_iter().collect()
+        if let Some(curve) = Curve::whole(element, axes) {
+            out.push(curve);
+        }
     }
 
     /// The curve of a line or arc (a Bézier off the projected axes: its chord).
@@ -142,7 +153,7 @@ impl Curve {
                 for ((o, s), h) in out.iter_mut().zip(&self.start).zip(&a.linear_rate) {
                     *o = s + h * phi;
                 }
-                let (sin, cos) = libm::sincos(a.start_angle + a.turn * phi);
+                let (sin, cos) = a.sin_cos(phi);
                 let r = a.start_radius + a.radius_rate * phi;
                 out[a.first] = a.center[0] + r * cos;
                 out[a.second] = a.center[1] + r * sin;
@@ -164,7 +175,7 @@ impl Curve {
             Shape::Line { unit } => out.copy_from_slice(unit),
             Shape::Arc(a) => {
                 out.copy_from_slice(&a.linear_rate);
-                let (sin, cos) = libm::sincos(a.start_angle + a.turn * phi);
+                let (sin, cos) = a.sin_cos(phi);
                 let r = a.start_radius + a.radius_rate * phi;
                 out[a.first] = a.radius_rate * cos - a.turn * r * sin;
                 out[a.second] = a.radius_rate * sin + a.turn * r * cos;
@@ -184,7 +195,7 @@ impl Curve {
             Shape::Line { .. } => 1.0,
             Shape::Arc(a) => {
                 let r = a.start_radius + a.radius_rate * phi;
-                let h = norm(&a.linear_rate);
+                let h = a.lead;
                 (a.radius_rate * a.radius_rate + r * r + h * h).sqrt()
             }
             Shape::Bezier(b) => {
@@ -235,6 +246,16 @@ impl Curve {
         Some(theta.min(std::f64::consts::FRAC_PI_2))
     }
 
+    /// A bound on every axis' second factor of [`Curve::axis_factors`] over the whole
+    /// curve, without a sine (`None` on a Bézier part, whose factor may be infinite).
+    pub fn normal_bound(&self) -> Option<f64> {
+        match &self.shape {
+            Shape::Line { .. } => Some(0.0),
+            Shape::Arc(a) => Some(a.normal_bound),
+            Shape::Bezier(_) => None,
+        }
+    }
+
     /// Per-axis bounds over `[from, to]` for axis `i`: (largest |dc_i/dφ|, largest
     /// |d²c_i/dφ²|), each divided by the smallest rate (resp. its square): the share of
     /// the path speed (resp. of speed²) that axis `i` sees.
@@ -245,7 +266,7 @@ impl Curve {
             Shape::Arc(a) => {
                 let r = self.max_radius(a);
                 let k = a.radius_rate.abs();
-                let h = norm(&a.linear_rate);
+                let h = a.lead;
                 let r_min = a
                     .start_radius
                     .min(a.start_radius + a.radius_rate * self.span);
@@ -315,6 +336,37 @@ impl Curve {
 }
 
 impl ArcShape {
+    /// The sine and cosine of the angle at `φ`, kept for the last two parameters: a
+    /// piece asks for the position and the derivative at both its ends, and its start
+    /// is the last piece's end, so each piece takes one `sincos`, with the same values.
+    fn sin_cos(&self, phi: f64) -> (f64, f64) {
+        let [last, before] = self.last_sin_cos.get();
+        for [at, sin, cos] in [last, before] {
+            if at == phi {
+                return (sin, cos);
+            }
+        }
+        let (sin, cos) = libm::sincos(self.start_angle + self.turn * phi);
+        self.last_sin_cos.set([[phi, sin, cos], last]);
+        (sin, cos)
+    }
+
+    /// A bound on `|d²c_i/dφ²|` over the arc divided by the square of its least rate:
+    /// on every axis, at least [`Curve::axis_factors`]' second factor.
+    fn find_normal_bound(&self, span: f64) -> f64 {
+        let r = self
+            .start_radius
+            .max(self.start_radius + self.radius_rate * span);
+        let r_min = self
+            .start_radius
+            .min(self.start_radius + self.radius_rate * span);
+        let h = self.lead;
+        // As `axis_factors` computes it: its numerator `2k + r·|cos|` is at most this
+        // one's under rounding too.
+        let rate_min = (r_min * r_min + h * h).sqrt();
+        (2.0 * self.radius_rate.abs() + r) / (rate_min * rate_min)
+    }
+
     /// The largest |sin| and |cos| of the angle over `[lo, hi]`, kept for the last
     /// interval asked: the planner asks for both plane axes of one piece in turn, so
     /// each piece takes its sines once, with the same values.
@@ -468,7 +520,7 @@ fn arc_shape(
     });
     linear_rate[first] = 0.0;
     linear_rate[second] = 0.0;
-    let shape = ArcShape {
+    let mut shape = ArcShape {
         first,
         second,
         center: arc.center,
@@ -476,9 +528,13 @@ fn arc_shape(
         turn: sweep.sweep.signum(),
         start_radius: sweep.start_radius,
         radius_rate: (sweep.end_radius - sweep.start_radius) / span,
+        lead: norm(&linear_rate),
+        normal_bound: f64::NAN,
         linear_rate,
         last_extremes: std::cell::Cell::new([f64::NAN; 4]),
+        last_sin_cos: std::cell::Cell::new([[f64::NAN; 3]; 2]),
     };
+    shape.normal_bound = shape.find_normal_bound(span);
     Some((shape, span))
 }
 

@@ -97,6 +97,33 @@ pub(super) struct Knots {
     pub min_cruise: f64,
     /// The knots before the last rebuild, whose storage the next rebuild reuses.
     spare: Vec<Knot>,
+    /// The passes' and repairs' per-piece values, whose storage every round reuses.
+    scratch: Scratch,
+}
+
+/// Per-piece values the speed passes and the tolerance repair work on, kept with the
+/// knots so that a round allocates none.
+#[derive(Debug, Clone, Default)]
+struct Scratch {
+    ways: Vec<PieceWay>,
+    errors: Vec<f64>,
+}
+
+/// What the speed passes know of one piece: how fast it may run and how its speed may
+/// change along it.
+#[derive(Debug, Clone, Copy)]
+struct PieceWay {
+    /// Path length.
+    length: f64,
+    /// The piece's own speed cap.
+    cap: f64,
+    /// Tangential acceleration left for changing speed.
+    accel: f64,
+    /// The path jerk of its S-curve (jerk mode; infinite on blends and without: the
+    /// plain constant-acceleration distances).
+    jerk: f64,
+    /// The largest ratio of its end speeds (a jerk-limited blend's pulse).
+    ratio: f64,
 }
 
 /// The storage of a window's knots, kept for the next window's (see [`Knots::new`]).
@@ -105,6 +132,7 @@ pub(super) struct KnotStorage {
     knots: Vec<Knot>,
     junctions: Vec<Junction>,
     spare: Vec<Knot>,
+    scratch: Scratch,
 }
 
 impl Knots {
@@ -114,6 +142,7 @@ impl Knots {
             knots: self.knots,
             junctions: self.junctions,
             spare: self.spare,
+            scratch: self.scratch,
         }
     }
 }
@@ -158,6 +187,7 @@ impl Knots {
             mut knots,
             mut junctions,
             spare,
+            scratch,
         } = storage;
         knots.clear();
         knots.reserve(2 * curves.len() + 1);
@@ -171,6 +201,7 @@ impl Knots {
             jerk_mode: bounds.jerk_mode(),
             min_cruise: 0.0,
             spare,
+            scratch,
         };
         if let Some(j) = &start.junction {
             this.knots[0].junction = Some(0);
@@ -191,10 +222,7 @@ impl Knots {
                     .push(Knot::at(place, before.as_ref().map_or(0.0, |j| j.0.cap)));
             }
             let from = if e == 0 { start.param } else { 0.0 };
-            for param in inner_params(curve, tolerance)
-                .into_iter()
-                .filter(|p| *p > from)
-            {
+            for param in inner_params(curve, tolerance).filter(|p| *p > from) {
                 this.knots
                     .push(Knot::at(Place { element: e, param }, f64::INFINITY));
             }
@@ -252,81 +280,89 @@ impl Knots {
     /// knots on lines where the speed can rise between two knots.
     pub fn plan_speeds(&mut self, curves: &[Curve], bounds: &AxisBounds) {
         let n = self.knots.len();
-        let mut accel = vec![f64::INFINITY; n - 1];
-        let mut length = vec![0.0; n - 1];
-        let mut piece_cap = vec![f64::INFINITY; n - 1];
-        // The path jerk of each piece's S-curve (jerk mode; infinite on blends and
-        // without: the plain constant-acceleration distances).
-        let mut jerk = vec![f64::INFINITY; n - 1];
-        // The largest ratio of a piece's end speeds (a jerk-limited blend's pulse).
-        let mut ratio = vec![f64::INFINITY; n - 1];
-        for k in 0..n - 1 {
-            if let Some(j) = self.knots[k].blend {
-                let j = &self.junctions[j];
-                piece_cap[k] = j.cap;
-                length[k] = 2.0 * j.blend.unwrap_or(0.0);
-                let e = self.knots[k].after.element;
-                // A blend's cap takes the whole acceleration for its turn: the passes
-                // let it change speed at a share of its lines' (see the constant).
-                let a = |c: &Curve| tangential_accel(c, 0.0, c.span, bounds, j.cap);
-                accel[k] = BLEND_TANGENT_SHARE * a(&curves[e]).min(a(&curves[e + 1]));
-                if self.jerk_mode {
-                    // Under a jerk limit a blend is a smooth pulse at rest in
-                    // acceleration at both ends: an S-curve over its length.
-                    let least = bounds.jerk.iter().fold(f64::INFINITY, |a, &b| a.min(b));
-                    jerk[k] = BLEND_JERK_SHARE * least;
-                    ratio[k] = BLEND_SPEED_RATIO;
-                }
-                continue;
-            }
-            let (curve, from, to) = self.piece_span(curves, k);
-            piece_cap[k] = speed_cap(curve, from, to, bounds);
-            accel[k] = tangential_accel(curve, from, to, bounds, piece_cap[k]);
-            length[k] = curve.length(from, to);
-            if self.jerk_mode {
-                jerk[k] = path_jerk(curve, from, to, bounds);
-            }
-        }
+        let mut ways = std::mem::take(&mut self.scratch.ways);
+        ways.clear();
+        ways.extend((0..n - 1).map(|k| self.piece_way(curves, bounds, k)));
         for (k, knot) in self.knots.iter_mut().enumerate() {
             let mut cap = knot.cap;
             if k > 0 {
-                cap = cap.min(piece_cap[k - 1]);
+                cap = cap.min(ways[k - 1].cap);
             }
             if k < n - 1 {
-                cap = cap.min(piece_cap[k]);
+                cap = cap.min(ways[k].cap);
             }
             knot.speed = if knot.fixed { knot.cap } else { cap };
         }
-        let reach = |v: f64, k: usize| {
-            let reach = if jerk[k].is_finite() {
-                scurve_reachable(v, accel[k], jerk[k], length[k])
+        let reach = |v: f64, way: &PieceWay| {
+            let reach = if way.jerk.is_finite() {
+                scurve_reachable(v, way.accel, way.jerk, way.length)
             } else {
-                reachable(v, accel[k], length[k])
+                reachable(v, way.accel, way.length)
             };
-            if ratio[k].is_finite() {
-                reach.min(ratio[k] * v)
+            if way.ratio.is_finite() {
+                reach.min(way.ratio * v)
             } else {
                 reach
             }
         };
         for k in (0..n - 1).rev() {
-            let reach = reach(self.knots[k + 1].speed, k);
+            let reach = reach(self.knots[k + 1].speed, &ways[k]);
             if !self.knots[k].fixed {
                 self.knots[k].speed = self.knots[k].speed.min(reach);
             }
         }
-        for k in 0..n - 1 {
-            let reach = reach(self.knots[k].speed, k);
+        for (k, way) in ways.iter().enumerate() {
+            let reach = reach(self.knots[k].speed, way);
             self.knots[k + 1].speed = self.knots[k + 1].speed.min(reach);
         }
+        self.scratch.ways = ways;
+    }
+
+    /// Piece `k`'s length, cap and what bounds its change of speed.
+    fn piece_way(&self, curves: &[Curve], bounds: &AxisBounds, k: usize) -> PieceWay {
+        let mut way = PieceWay {
+            length: 0.0,
+            cap: f64::INFINITY,
+            accel: f64::INFINITY,
+            jerk: f64::INFINITY,
+            ratio: f64::INFINITY,
+        };
+        if let Some(j) = self.knots[k].blend {
+            let j = &self.junctions[j];
+            way.cap = j.cap;
+            way.length = 2.0 * j.blend.unwrap_or(0.0);
+            let e = self.knots[k].after.element;
+            // A blend's cap takes the whole acceleration for its turn: the passes
+            // let it change speed at a share of its lines' (see the constant).
+            let a = |c: &Curve| tangential_accel(c, 0.0, c.span, bounds, j.cap);
+            way.accel = BLEND_TANGENT_SHARE * a(&curves[e]).min(a(&curves[e + 1]));
+            if self.jerk_mode {
+                // Under a jerk limit a blend is a smooth pulse at rest in
+                // acceleration at both ends: an S-curve over its length.
+                let least = bounds.jerk.iter().fold(f64::INFINITY, |a, &b| a.min(b));
+                way.jerk = BLEND_JERK_SHARE * least;
+                way.ratio = BLEND_SPEED_RATIO;
+            }
+            return way;
+        }
+        let (curve, from, to) = self.piece_span(curves, k);
+        way.cap = speed_cap(curve, from, to, bounds);
+        way.accel = tangential_accel(curve, from, to, bounds, way.cap);
+        way.length = curve.length(from, to);
+        if self.jerk_mode {
+            way.jerk = path_jerk(curve, from, to, bounds);
+        }
+        way
     }
 
     /// On a line piece whose speed may rise above both ends, knots where the cruise
     /// begins and ends (with limits; without, the speed changes over whole pieces).
-    pub fn add_trapezoids(&mut self, curves: &[Curve], bounds: &AxisBounds) {
+    /// Returns whether any knot was added: where none was, the knots are as they were.
+    pub fn add_trapezoids(&mut self, curves: &[Curve], bounds: &AxisBounds) -> bool {
         if !self.accelerates {
-            return;
+            return false;
         }
+        let before = self.knots.len();
         let mut out = self.take_spare();
         for k in 0..self.knots.len() {
             out.push(self.knots[k]);
@@ -382,6 +418,7 @@ impl Knots {
             }
         }
         self.spare = std::mem::replace(&mut self.knots, out);
+        self.knots.len() > before
     }
 
     /// An empty knot vector with the storage of the last rebuild's old knots.
@@ -404,15 +441,25 @@ impl Knots {
     /// a corner blend over its tolerance instead gets both end speeds capped at the
     /// slower one (at equal speeds it meets it). Returns whether any changed.
     pub fn split_over(&mut self, curves: &[Curve], pieces: &[Piece], tolerance: f64) -> bool {
-        let mut out = self.take_spare();
-        let mut split = false;
         // The largest error of each knot's piece (of its S-curve parts in jerk mode).
-        let mut errors = vec![0.0_f64; self.knots.len() - 1];
+        let mut errors = std::mem::take(&mut self.scratch.errors);
+        errors.clear();
+        errors.resize(self.knots.len() - 1, 0.0);
         for p in pieces {
             errors[p.knot] = errors[p.knot].max(p.error);
         }
+        let split = self.split_errors(curves, &errors, tolerance);
+        self.scratch.errors = errors;
+        split
+    }
+
+    /// [`Knots::split_over`] with each piece's largest error given: the knots are built
+    /// again only where some piece is split.
+    fn split_errors(&mut self, curves: &[Curve], errors: &[f64], tolerance: f64) -> bool {
+        let mut split = false;
         for (k, &error) in errors.iter().enumerate() {
             if let Some(j) = self.knots[k].blend {
+                // Speeds do not change here: capping every blend first caps the same.
                 if error > self.junctions[j].tolerance {
                     let slower = self.knots[k].speed.min(self.knots[k + 1].speed);
                     for i in [k, k + 1] {
@@ -424,6 +471,13 @@ impl Knots {
                     }
                 }
             }
+        }
+        let over = |(k, &error): (usize, &f64)| error > tolerance && self.knots[k].blend.is_none();
+        if !errors.iter().enumerate().any(over) {
+            return split;
+        }
+        let mut out = self.take_spare();
+        for (k, &error) in errors.iter().enumerate() {
             out.push(self.knots[k]);
             if error > tolerance && self.knots[k].blend.is_none() {
                 let (_, from, to) = self.piece_span(curves, k);
@@ -726,6 +780,10 @@ fn reachable(v: f64, a: f64, d: f64) -> f64 {
 pub(super) fn speed_cap(curve: &Curve, from: f64, to: f64, bounds: &AxisBounds) -> f64 {
     let mut cap = curve.feed;
     for i in 0..bounds.velocity.len() {
+        if bounds.velocity[i] == f64::INFINITY && bounds.acceleration[i] == f64::INFINITY {
+            // No limit on the axis: every quotient below is infinite (or NaN), no cap.
+            continue;
+        }
         let (tangent, normal) = curve.axis_factors(from, to, i);
         if tangent > 0.0 {
             cap = cap.min(bounds.velocity[i] / tangent);
@@ -740,7 +798,15 @@ pub(super) fn speed_cap(curve: &Curve, from: f64, to: f64, bounds: &AxisBounds) 
 /// The tangential acceleration left on `[from, to]` at speed `speed` on the worst axis.
 fn tangential_accel(curve: &Curve, from: f64, to: f64, bounds: &AxisBounds, speed: f64) -> f64 {
     let mut accel = f64::INFINITY;
+    // Where `speed²·normal` is finite on every axis, an axis with no acceleration limit
+    // leaves infinite acceleration (or NaN, which `min` passes over): it is skipped.
+    let finite_normal = curve
+        .normal_bound()
+        .is_some_and(|n| (speed * speed * n).is_finite());
     for i in 0..bounds.acceleration.len() {
+        if finite_normal && bounds.acceleration[i] == f64::INFINITY {
+            continue;
+        }
         let (tangent, normal) = curve.axis_factors(from, to, i);
         let left = bounds.acceleration[i] - speed * speed * normal;
         if tangent > 0.0 {
@@ -750,24 +816,24 @@ fn tangential_accel(curve: &Curve, from: f64, to: f64, bounds: &AxisBounds, spee
     accel
 }
 
-/// Parameters inside `curve` where knots go at first: an arc's equal pieces by the error
-/// bound at constant speed (at least two). Pieces beside a junction passed at speed are
-/// split later, where their bound needs it.
 /// The most pieces one arc is cut into before its error is checked.
 const MAX_ARC_PIECES: f64 = 65_536.0;
 
-fn inner_params(curve: &Curve, tolerance: f64) -> Vec<f64> {
-    let Some(angle) = curve.arc_piece_angle(tolerance) else {
-        return Vec::new();
-    };
+/// Parameters inside `curve` where knots go at first: an arc's equal pieces by the error
+/// bound at constant speed (at least two). Pieces beside a junction passed at speed are
+/// split later, where their bound needs it.
+fn inner_params(curve: &Curve, tolerance: f64) -> impl Iterator<Item = f64> {
     // A tolerance of zero (or one so small that no count of pieces meets it) gives no
     // finite count: the knots stop at the bound and the error check refuses the plan.
-    let pieces = (curve.span / angle - 1e-9).ceil();
-    let n = match pieces.is_finite() {
-        true => pieces.clamp(2.0, MAX_ARC_PIECES) as usize,
-        false => MAX_ARC_PIECES as usize,
-    };
-    (1..n).map(|i| curve.span * i as f64 / n as f64).collect()
+    let n = curve.arc_piece_angle(tolerance).map_or(1, |angle| {
+        let pieces = (curve.span / angle - 1e-9).ceil();
+        match pieces.is_finite() {
+            true => pieces.clamp(2.0, MAX_ARC_PIECES) as usize,
+            false => MAX_ARC_PIECES as usize,
+        }
+    });
+    let span = curve.span;
+    (1..n).map(move |i| span * i as f64 / n as f64)
 }
 
 /// The junction from `a` into `b` with the lengths on each side over which its pieces

@@ -519,7 +519,7 @@ impl PathStream {
             });
         }
         check_element(element)?;
-        self.curves.extend(Curve::new(element, &self.axes));
+        Curve::push_new(element, &self.axes, &mut self.curves);
         let whole = self.hold || self.bounds.jerk_mode();
         if !whole && self.curves.len() >= self.window.max(self.retry_at) {
             if self.options.quantum.is_some() {
@@ -575,12 +575,15 @@ impl PathStream {
         if !settle_into(&mut knots, curves, bounds, tolerance, &mut pieces) {
             return Err(not_met);
         }
-        knots.add_trapezoids(curves, bounds);
-        if !last {
-            knots.cap_for_window(curves, least);
-        }
-        if !settle_into(&mut knots, curves, bounds, tolerance, &mut pieces) {
-            return Err(not_met);
+        // Without a trapezoid knot the knots and caps are those just settled: a second
+        // settle would make the same pieces.
+        if knots.add_trapezoids(curves, bounds) {
+            if !last {
+                knots.cap_for_window(curves, least);
+            }
+            if !settle_into(&mut knots, curves, bounds, tolerance, &mut pieces) {
+                return Err(not_met);
+            }
         }
         if let Some(quantum) = self.options.quantum {
             let (change, chosen) = self.on_quantum_grid(&mut knots, pieces, quantum)?;
@@ -863,13 +866,15 @@ fn resample_contour(
         };
         let storage = KnotStorage::default();
         let mut knots = Knots::new(curves, &planning, tolerance, corner, start, false, storage);
-        if settle(&mut knots, curves, &planning, tolerance).is_none() {
-            continue;
-        }
-        knots.add_trapezoids(curves, &planning);
-        let Some(planned) = settle(&mut knots, curves, &planning, tolerance) else {
+        let Some(mut planned) = settle(&mut knots, curves, &planning, tolerance) else {
             continue;
         };
+        if knots.add_trapezoids(curves, &planning) {
+            let Some(p) = settle(&mut knots, curves, &planning, tolerance) else {
+                continue;
+            };
+            planned = p;
+        }
         let limits = resample::Limits {
             planning: &planning,
             bounds,
@@ -960,11 +965,13 @@ fn grid_window(
             knots.cap_for_window(curves, least);
         }
         let settled = settle_into(&mut knots, curves, &planning, tolerance, &mut planned) && {
-            knots.add_trapezoids(curves, &planning);
-            if !last {
-                knots.cap_for_window(curves, least);
+            // Without a trapezoid knot a second settle would make the same pieces.
+            !knots.add_trapezoids(curves, &planning) || {
+                if !last {
+                    knots.cap_for_window(curves, least);
+                }
+                settle_into(&mut knots, curves, &planning, tolerance, &mut planned)
             }
-            settle_into(&mut knots, curves, &planning, tolerance, &mut planned)
         };
         if !settled {
             scratch.knots = knots.into_storage();

@@ -69,16 +69,20 @@ impl Piece {
     pub fn limit_factor(&self, bounds: &AxisBounds) -> f64 {
         let mut factor: f64 = 1.0;
         for i in 0..self.start.len() {
+            let (vmax, amax, jmax) = (bounds.velocity[i], bounds.acceleration[i], bounds.jerk[i]);
+            if vmax == f64::INFINITY && amax == f64::INFINITY && jmax == f64::INFINITY {
+                // No limit on the axis: no peak of its cubic can be over one.
+                continue;
+            }
             let h = self.cubic(i);
             let (velocity, acceleration) = peaks(&h);
-            let (vmax, amax) = (bounds.velocity[i], bounds.acceleration[i]);
             if velocity > vmax * (1.0 + 1e-9) {
                 factor = factor.min(vmax / velocity);
             }
             if acceleration > amax * (1.0 + 1e-9) {
                 factor = factor.min((amax / acceleration).sqrt());
             }
-            let (jerk, jmax) = (h.jerk.abs(), bounds.jerk[i]);
+            let jerk = h.jerk.abs();
             if jerk > jmax * (1.0 + 1e-9) {
                 factor = factor.min(libm::cbrt(jmax / jerk));
             }
