@@ -349,7 +349,17 @@ impl Knots {
                 continue;
             }
             let (peak, rise, fall) = if j.is_finite() {
-                scurve_peak(va, vb, cap, a, j, d)
+                // A rise (or fall) of a rounding error's speed is none: its S-curve's
+                // length, `(va + vb)·√(Δv/j)`, is far above the rounding of the speed,
+                // and a knot there (a window's fixed start at its cap) would begin a
+                // piece of nanoseconds that the repairs slow to rest.
+                let (peak, rise, fall) = scurve_peak(va, vb, cap, a, j, d);
+                let none = |v: f64| peak - v <= 1e-9 * peak;
+                (
+                    peak,
+                    if none(va) { 0.0 } else { rise },
+                    if none(vb) { 0.0 } else { fall },
+                )
             } else {
                 let peak = cap.min((a * d + 0.5 * (va * va + vb * vb)).sqrt());
                 let rise = (peak * peak - va * va) / (2.0 * a);
@@ -579,14 +589,63 @@ impl Knots {
 
     /// Caps every knot (but the fixed start) at the speed from which the least
     /// tangential acceleration `least` stops before the last element: whatever the
-    /// elements after the window ask, a window cut at any knot can still meet it.
-    pub fn cap_for_window(&mut self, curves: &[Curve], least: f64) {
+    /// elements after the window ask, a window cut at any knot can still meet it. With a
+    /// finite path jerk `jerk` the stop is an S-curve, within `v·(v/a + a/j)` (see
+    /// `scurve_stop` in [`super`]), whose inverse caps the knot.
+    pub fn cap_for_window(&mut self, curves: &[Curve], least: f64, jerk: f64) {
         let ahead = self.known_ahead(curves);
         for (knot, d) in self.knots.iter_mut().zip(ahead) {
-            if !knot.fixed {
-                knot.cap = knot.cap.min((2.0 * least * d).sqrt());
+            if knot.fixed {
+                continue;
             }
+            let cap = if jerk.is_finite() && least.is_finite() {
+                // v² + v·a²/j − a·d = 0, the positive root without cancellation.
+                let b = least * least / jerk;
+                2.0 * least * d / (b + (b * b + 4.0 * least * d).sqrt())
+            } else {
+                (2.0 * least * d).sqrt()
+            };
+            knot.cap = knot.cap.min(cap);
         }
+    }
+
+    /// True when knot `k` lies inside a line, the pieces beside it on that line, with
+    /// room for an S-curve (the line's own tangential acceleration and path jerk) from
+    /// its speed to any lower one (`stop(speed, a, j)`) before the next knot that starts
+    /// a corner blend or ends the line: a window that starts there with its speed fixed
+    /// can slow to whatever its repairs ask of the knots after it (see `jerk_cut` in
+    /// [`super`]).
+    pub fn room_to_slow(
+        &self,
+        curves: &[Curve],
+        bounds: &AxisBounds,
+        k: usize,
+        stop: &dyn Fn(f64, f64, f64) -> f64,
+    ) -> bool {
+        let knot = &self.knots[k];
+        let element = knot.after.element;
+        let curve = &curves[element];
+        if knot.junction.is_some()
+            || self.knots[k - 1].blend.is_some()
+            || knot.before.element != element
+            || !curve.is_line()
+        {
+            return false;
+        }
+        let end = self.knots[k + 1..]
+            .iter()
+            .find(|n| n.blend.is_some() || n.junction.is_some() || n.before.element != element)
+            .map_or(curve.span, |n| {
+                if n.before.element == element {
+                    n.before.param
+                } else {
+                    curve.span
+                }
+            });
+        let cap = speed_cap(curve, 0.0, curve.span, bounds);
+        let a = tangential_accel(curve, 0.0, curve.span, bounds, cap);
+        let j = path_jerk(curve, 0.0, curve.span, bounds);
+        curve.length(knot.after.param, end) >= stop(knot.speed, a, j)
     }
 
     /// The last knot at which the window may be cut with at least `keep` of known path
@@ -896,7 +955,7 @@ const TURN_JERK_SHARE: f64 = 0.5;
 /// Share of the least jerk limit the passes let a jerk-limited corner blend change speed
 /// with, as an S-curve over its length `2L` (its pulse is steeper on its shorter part,
 /// and the turn takes [`TURN_JERK_SHARE`]; the closed-form check slows what is over).
-const BLEND_JERK_SHARE: f64 = 0.45;
+pub(super) const BLEND_JERK_SHARE: f64 = 0.45;
 
 /// Largest share of either line a jerk-limited corner blend takes (0.45 without a jerk
 /// limit): its cap grows with `L^(2/3)`, and the straight piece left between two blends

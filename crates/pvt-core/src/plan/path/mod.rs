@@ -91,8 +91,32 @@
 //! their knots lowered) and the contour is planned again. The cost: speed changes take longer
 //! (the ramps, and the return to zero tangential acceleration at every knot, on arcs
 //! too), and corners and curvature jumps are taken slower (a line into an arc of radius
-//! `R` at most at `√(Jᵢ·Tₛ·R)`). A contour under a jerk limit is planned whole, not in a
-//! window: a window's first knot, already written, could not be matched to the next.
+//! `R` at most at `√(Jᵢ·Tₛ·R)`).
+//!
+//! ## Windows under a jerk limit
+//! Every knot carries zero tangential acceleration, so a window's start state is the
+//! knot's position and speed, as without a jerk limit, and a contour streams in windows
+//! ([`PathStream`]) with three changes:
+//! - Stopping takes an S-curve. Its length from `v` to any lower speed `w` is at most
+//!   `v·(v/a + a/j)` (`scurve_stop`; the length is not monotone in `w`: slowing to
+//!   `v/3` takes longer than stopping), with `a` the least tangential acceleration and `j`
+//!   the least path jerk (a corner blend's share of the least jerk limit). Knots are
+//!   capped by its inverse, and the window keeps that length of the highest feed after
+//!   the knot it is cut at.
+//! - The cut is a knot inside a line, with room on the line, before a corner blend or
+//!   the line's end, for an S-curve at the line's own acceleration and jerk from the
+//!   knot's speed to any lower one (`Knots::room_to_slow`): the next window's first knot,
+//!   its speed fixed, can slow to whatever its repairs ask after it, so its plan settles
+//!   as a contour's start does.
+//! - The step where two windows meet: the written piece before the cut ends with an
+//!   acceleration within half the step bound on every axis (checked at the cut), and the
+//!   next window's first piece starts within the other half (checked against rest, as a
+//!   contour's start is), so the step is within the bound.
+//!
+//! A trapezoid on a line whose start is already at its peak speed (a window's fixed start
+//! at its cap, within a rounding error of it) has no rise knot: the rise's S-curve
+//! length, `(va + vb)·√(Δv/j)`, is far larger than the speed's rounding, and a knot
+//! there began a piece of nanoseconds that the repairs slowed to rest.
 //!
 //! On a quantum grid the jerk-limited plan is resampled in time (see "Resampling in
 //! time" below), and the resampled pieces are checked against the same bounds: each
@@ -189,14 +213,17 @@
 //! the later ones take a lower jerk and step bound so that these fit.
 //!
 //! ## Streaming on a grid
-//! A contour that fills the window ([`WINDOW_ELEMENTS`]) on a grid without a jerk limit
-//! is resampled window by window, in the same bounded memory as without a grid; a
+//! A contour that fills the window ([`WINDOW_ELEMENTS`]) on a grid, with or without a
+//! jerk limit, is resampled window by window, in the same bounded memory as without a grid; a
 //! shorter one is planned whole at its end as above, so its pieces are unchanged.
 //! 1. Each window's plan is made as in step 1 of "Resampling in time", at the shares of
 //!    [`resample::Shares`] in turn, and the first that converges is taken (the whole
 //!    contour takes the shortest). Its knots are capped as [`PathStream`]'s windows
 //!    are, at the least tangential acceleration of every share, so the next window,
-//!    whatever share it converges at, can stop from any knot this one cuts at.
+//!    whatever share it converges at, can stop from any knot this one cuts at. Under a
+//!    jerk limit each share's plan takes the step and jerk shares of the whole contour's
+//!    plans, and the stopping distance and the room after a cut are the S-curve's of
+//!    "Windows under a jerk limit", at the least acceleration and jerk of every share.
 //! 2. The window is cut at a grid time `τ = g·q` of the window (its start is on the
 //!    grid): the last at or before the knot the stopping distance chooses that is a
 //!    cuttable knot's time, or that lies inside a planned piece that follows one element
@@ -217,7 +244,9 @@
 //!    out; the next window starts at the inserted knot with its speed fixed. Its first
 //!    grid piece starts from the state the last one written ended in: both are the
 //!    knot's position and its velocity along the element's tangent, computed from the
-//!    same element, parameter and speed.
+//!    same element, parameter and speed. Under a jerk limit the acceleration step at a window's
+//!    first and last grid knots is checked against rest by half the bound, as at a
+//!    contour's ends, so where two windows meet it is within the bound.
 //! 4. Committed pieces never change: each is checked against the plan of its own
 //!    window, which is within the tolerance of the path from its start to the cut, and
 //!    every later window starts exactly where it ends. What a window cannot know (the
@@ -440,7 +469,8 @@ pub const WINDOW_ELEMENTS: usize = 1024;
 /// had; with a window shorter than the stopping distance they are slower, never wrong.
 /// The window then starts at the cut with that knot's speed fixed. With a quantum the
 /// window is cut at a grid time and resampled (see "Streaming on a grid" above); under a
-/// jerk limit the whole contour is held and planned at its end (see "Jerk").
+/// jerk limit stopping takes an S-curve and the cut is inside a line (see "Windows under a
+/// jerk limit").
 #[derive(Debug)]
 pub struct PathStream {
     axes: Vec<Axis>,
@@ -509,7 +539,7 @@ impl PathStream {
         }
         check_element(element)?;
         self.curves.extend(Curve::new(element, &self.axes));
-        let whole = self.hold || self.bounds.jerk_mode();
+        let whole = self.hold;
         if !whole && self.curves.len() >= self.window.max(self.retry_at) {
             if self.options.quantum.is_some() {
                 self.stream_on_grid(false, emit)?;
@@ -556,8 +586,9 @@ impl PathStream {
         if bounds.jerk_mode() {
             knots.min_cruise = self.options.quantum.map_or(0.0, |q| 3.0 * q.seconds);
         }
+        let jerk = least_jerk(bounds);
         if !last {
-            knots.cap_for_window(curves, least);
+            knots.cap_for_window(curves, least, jerk);
         }
         // The pieces' storage of the last window, reused by every round of this one.
         let mut pieces = std::mem::take(&mut self.pieces);
@@ -566,7 +597,7 @@ impl PathStream {
         }
         knots.add_trapezoids(curves, bounds);
         if !last {
-            knots.cap_for_window(curves, least);
+            knots.cap_for_window(curves, least, jerk);
         }
         if !settle_into(&mut knots, curves, bounds, tolerance, &mut pieces) {
             return Err(not_met);
@@ -579,7 +610,12 @@ impl PathStream {
         let count = if last {
             knots.knots.len() - 1
         } else {
-            match knots.cut(curves, self.stopping_distance()) {
+            let cut = if bounds.jerk_mode() {
+                jerk_cut(&knots, curves, &pieces, bounds, (least, jerk))
+            } else {
+                knots.cut(curves, self.stopping_distance())
+            };
+            match cut {
                 Some(k) => k,
                 None => {
                     self.pieces = pieces;
@@ -918,28 +954,68 @@ fn grid_window(
         .map(|t| t.acceleration)
         .fold(1.0, f64::min);
     let least = least_share * least_acceleration(bounds);
-    let keep = stopping_distance(curves, least);
+    // Under a jerk limit the next window may converge at a lower jerk share: the room
+    // after a cut is for the least acceleration and jerk of every share.
+    let least_jerk_share = shares.tries.iter().map(|t| t.jerk).fold(1.0, f64::min);
+    let jerk = least_jerk_share * least_jerk(bounds);
+    let slowest = AxisBounds {
+        acceleration: bounds
+            .acceleration
+            .iter()
+            .map(|a| a * least_share)
+            .collect(),
+        jerk: bounds.jerk.iter().map(|j| j * least_jerk_share).collect(),
+        ..bounds.clone()
+    };
+    let keep = if bounds.jerk_mode() {
+        let fastest = curves.iter().map(|c| c.feed).fold(0.0, f64::max);
+        scurve_stop(fastest, least, jerk)
+    } else {
+        stopping_distance(curves, least)
+    };
+    let stop = |v: f64| {
+        if least.is_finite() {
+            v * v / (2.0 * least)
+        } else {
+            0.0
+        }
+    };
+    let room = |knots: &Knots, at: usize| {
+        if bounds.jerk_mode() {
+            knots.room_to_slow(curves, &slowest, at, &scurve_stop)
+        } else {
+            knots.room_to_stop(curves, at, &stop)
+        }
+    };
     for try_ in &shares.tries {
+        // As the whole contour's plans (see [`resample_contour`]); without a jerk limit
+        // the step and jerk are infinite, at any share.
         let planning = AxisBounds {
             acceleration: bounds
                 .acceleration
                 .iter()
                 .map(|a| a * try_.acceleration)
                 .collect(),
+            step: bounds
+                .step
+                .iter()
+                .map(|&s| resample::planned_step(s, try_.step, bounds.resolution, q))
+                .collect(),
+            jerk: bounds.jerk.iter().map(|j| j * try_.jerk).collect(),
             resolution: 0.0,
             ..bounds.clone()
         };
         let storage = KnotStorage::default();
         let mut knots = Knots::new(curves, &planning, tolerance, corner, start, false, storage);
         if !last {
-            knots.cap_for_window(curves, least);
+            knots.cap_for_window(curves, least, jerk);
         }
         if settle(&mut knots, curves, &planning, tolerance).is_none() {
             continue;
         }
         knots.add_trapezoids(curves, &planning);
         if !last {
-            knots.cap_for_window(curves, least);
+            knots.cap_for_window(curves, least, jerk);
         }
         let Some(mut planned) = settle(&mut knots, curves, &planning, tolerance) else {
             continue;
@@ -953,14 +1029,14 @@ fn grid_window(
                     curves,
                     &planning,
                     &mut planned,
-                    (keep, least),
+                    (keep, &room),
                     q,
                 ) {
                     Some(cut) => cut,
                     None => return Window::NoCut,
                 }
             };
-            let prefix = &planned[..count];
+            let prefix = &planned[..planned.partition_point(|p| p.knot < count)];
             match resample::resample_once(&knots, bounds, tolerances, q, prefix, false) {
                 Ok(r) => {
                     return Window::Planned(GridWindow {
@@ -999,20 +1075,15 @@ fn grid_cut(
     curves: &[Curve],
     planning: &AxisBounds,
     planned: &mut Vec<pieces::Piece>,
-    (keep, least): (f64, f64),
+    (keep, room): (f64, &dyn Fn(&Knots, usize) -> bool),
     q: f64,
 ) -> Option<(usize, bool)> {
     let k = knots.cut(curves, keep)?;
-    let stop = |v: f64| {
-        if least.is_finite() {
-            v * v / (2.0 * least)
-        } else {
-            0.0
-        }
-    };
-    let mut starts = Vec::with_capacity(k + 1);
+    // The pieces before knot `k` (under a jerk limit an S-curve is several parts).
+    let before = planned.partition_point(|p| p.knot < k);
+    let mut starts = Vec::with_capacity(before + 1);
     let mut t = 0.0;
-    for p in &planned[..k] {
+    for p in &planned[..before] {
         starts.push(t);
         t += p.duration;
     }
@@ -1023,18 +1094,24 @@ fn grid_cut(
         g -= 1.0;
         let i = starts.partition_point(|&s| s <= tau + slack) - 1;
         let (piece, u) = (&planned[i], tau - starts[i]);
+        let at_knot = |end: usize| piece.part.is_none_or(|p| p.at_knot[end]);
         if u <= slack || piece.duration - u <= slack {
-            let at = if u <= slack { i } else { i + 1 };
-            if at <= k && knots.cuttable(curves, at) && knots.room_to_stop(curves, at, &stop) {
+            let (end, at) = if u <= slack {
+                (0, piece.knot)
+            } else {
+                (1, piece.knot + 1)
+            };
+            if at_knot(end) && at <= k && knots.cuttable(curves, at) && room(knots, at) {
                 return Some((at, false));
             }
             continue;
         }
+        let i = piece.knot;
         if knots.knots[i].blend.is_some() || piece.at_rest() || piece.part.is_some() {
             continue;
         }
         let at = knots.insert_inside(curves, i, u, piece.duration);
-        if !knots.room_to_stop(curves, at, &stop) {
+        if !room(knots, at) {
             knots.remove(at);
             continue;
         }
@@ -1042,6 +1119,58 @@ fn grid_cut(
         return Some((at, true));
     }
     None
+}
+
+/// Where a window under a jerk limit (without a grid) ends: the last knot at or before
+/// the one [`Knots::cut`] chooses (the S-curve stopping distance [`scurve_stop`] of the
+/// window's highest feed after it) that lies inside a line with room for the next
+/// window's fixed start to slow to any speed on it ([`Knots::room_to_slow`]), and
+/// where the piece before ends with an acceleration within half the step bound on every
+/// axis: the next window's first piece starts within the other half (it is checked
+/// against rest, as a contour's start is), so the step where they meet is within the
+/// bound. `None` when there is no such knot.
+fn jerk_cut(
+    knots: &Knots,
+    curves: &[Curve],
+    pieces: &[pieces::Piece],
+    bounds: &AxisBounds,
+    (least, jerk): (f64, f64),
+) -> Option<usize> {
+    let fastest = curves.iter().map(|c| c.feed).fold(0.0, f64::max);
+    let k = knots.cut(curves, scurve_stop(fastest, least, jerk))?;
+    (1..=k).rev().find(|&at| {
+        if !knots.cuttable(curves, at) || !knots.room_to_slow(curves, bounds, at, &scurve_stop) {
+            return false;
+        }
+        let Some(before) = pieces.iter().rev().find(|p| p.knot < at) else {
+            return false;
+        };
+        let end = before.end_accelerations()[1];
+        end.iter().zip(&bounds.step).all(|(a, s)| {
+            a.abs() <= 0.5 * s - 6.0 * bounds.resolution / (before.duration * before.duration)
+        })
+    })
+}
+
+/// The least path jerk of an S-curve anywhere on the path: a corner blend's share of the
+/// least axis jerk limit (a line's and an arc's are higher); infinite without one.
+fn least_jerk(bounds: &AxisBounds) -> f64 {
+    let least = bounds.jerk.iter().fold(f64::INFINITY, |a, &b| a.min(b));
+    knots::BLEND_JERK_SHARE * least
+}
+
+/// A bound on the length an S-curve (tangential acceleration `a`, path jerk `j`) needs
+/// from `v` to any lower speed: `v·(v/a + a/j)`. The S-curve's distance to `w < v` is
+/// `(v + w)/2·(Δ/a + a/j)` with `Δ = v − w` when it reaches `a`, each factor at most
+/// `v` and `v/a + a/j`; else `(v + w)·√(Δ/j) ≤ 2v·√(v/j) ≤ v·(v/a + a/j)` (the mean of
+/// `v/a` and `a/j` is at least their geometric mean). The distance is not monotone in
+/// `w` (slowing to `v/3` takes longer than stopping), so the bound is over every `w`.
+fn scurve_stop(v: f64, a: f64, j: f64) -> f64 {
+    if !a.is_finite() {
+        return 0.0;
+    }
+    let ramp = if j.is_finite() { a / j } else { 0.0 };
+    v * (v / a + ramp)
 }
 
 /// Whole quanta in `t` seconds, rounded down (times within a billionth of a quantum of
