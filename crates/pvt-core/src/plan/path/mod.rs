@@ -1064,6 +1064,10 @@ fn grid_window(
     Window::NotMet
 }
 
+/// Whether a window may be cut at a knot: room after it for the next window's fixed
+/// start (see [`grid_cut`]).
+type RoomAfterCut<'a> = dyn Fn(&Knots, usize) -> bool + 'a;
+
 /// Where a window of a streamed contour on the grid ends: the last grid time at or before
 /// the knot [`Knots::cut`] chooses (`keep` of known path after it) that is a cuttable
 /// knot's time or inside a piece that follows one element at speed, where a knot is
@@ -1075,7 +1079,7 @@ fn grid_cut(
     curves: &[Curve],
     planning: &AxisBounds,
     planned: &mut Vec<pieces::Piece>,
-    (keep, room): (f64, &dyn Fn(&Knots, usize) -> bool),
+    (keep, room): (f64, &RoomAfterCut<'_>),
     q: f64,
 ) -> Option<(usize, bool)> {
     let k = knots.cut(curves, keep)?;
