@@ -618,6 +618,11 @@ impl PathStream {
             match cut {
                 Some(k) => k,
                 None => {
+                    if bounds.jerk_mode() {
+                        // No line with room yet: planned again at twice the size, so a
+                        // contour with none costs a few plans of its length in all.
+                        self.retry_at = 2 * self.curves.len();
+                    }
                     self.pieces = pieces;
                     self.knot_storage = knots.into_storage();
                     return Ok(());
