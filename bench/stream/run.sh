@@ -7,7 +7,7 @@
 #
 # Routes: PMAC's default (the 1 ms grid, no machine file: streams), `--quantize off`
 # (streams), and, held whole (the surfacing lines are shorter than a stopping distance,
-# or a jerk limit), `samples/machines/mill.toml` without its `max_jerk` lines on 1 ms,
+# an S-curve's under a jerk limit), `samples/machines/mill.toml` without its `max_jerk` lines on 1 ms,
 # `mill.toml` as JSON (jerk limit, no grid) and `mill.toml --quantize 1ms`; their 10^6
 # rows are left out unless BIG=1 (minutes and GiB). Set PVTC_BENCH_DIR to keep inputs.
 set -euo pipefail
