@@ -1,7 +1,8 @@
-//! Axis names, machine positions and length units.
+//! Axis names, machine positions, planes and length units.
 //!
-//! Owns the fixed set of axes a part program can address and the unit conversions; it
-//! must not know how a front end spells an axis word.
+//! Owns the fixed set of axes a part program can address, the three planes an arc or
+//! curve lies in (each a triple of axes) and the unit conversions; it must not know how a
+//! front end spells an axis word.
 
 use std::fmt;
 
@@ -64,6 +65,35 @@ impl Axis {
 impl fmt::Display for Axis {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{}", self.letter())
+    }
+}
+
+/// The plane an arc lies in, named as G17/G18/G19 name them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Plane {
+    /// G17: first axis X, second Y, normal Z.
+    #[default]
+    XY,
+    /// G18: first axis Z, second X, normal Y.
+    ZX,
+    /// G19: first axis Y, second Z, normal X.
+    YZ,
+}
+
+impl Plane {
+    /// The (first, second, normal) axes; counter-clockwise turns first towards second.
+    pub fn axes(self) -> (Axis, Axis, Axis) {
+        match self {
+            Plane::XY => (Axis::X, Axis::Y, Axis::Z),
+            Plane::ZX => (Axis::Z, Axis::X, Axis::Y),
+            Plane::YZ => (Axis::Y, Axis::Z, Axis::X),
+        }
+    }
+
+    /// The in-plane coordinates (first, second) of a position.
+    pub fn project(self, p: &Position) -> [f64; 2] {
+        let (a, b, _) = self.axes();
+        [p[a.index()], p[b.index()]]
     }
 }
 

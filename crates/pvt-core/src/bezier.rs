@@ -14,8 +14,7 @@
 //! differences, so by the convex hull property `|B''(u)| ≤ 6·max(|P₀−2P₁+P₂|,
 //! |P₁−2P₂+P₃|)`, `B'''` is the constant `6·(P₃−3P₂+3P₁−P₀)` and `B'''' = 0`.
 
-use crate::axis::{Position, AXIS_COUNT};
-use crate::toolpath::Plane;
+use crate::axis::{Plane, Position, AXIS_COUNT};
 
 /// A cubic Bézier in a plane; start and end are those of its
 /// [`Element`](crate::toolpath::Element).

@@ -28,6 +28,7 @@ pub mod limits;
 pub mod plan;
 pub mod polyline;
 pub mod program;
+pub mod rational;
 pub mod split;
 pub mod stream;
 pub mod text;

@@ -129,6 +129,23 @@ impl<S: PieceSink> PlanStage<S> {
         self.open = Some((open, pending));
     }
 
+    /// Pushes every point of a series ([`PlanStage::timed_point`]), each with the time of
+    /// the piece that reaches it, its source line and any given velocity.
+    pub fn timed_points(&mut self, points: &TimedPoints) {
+        let dim = points.dim;
+        for i in 0..points.len() {
+            let (duration, line) = match i.checked_sub(1) {
+                Some(k) => (points.durations[k], points.lines[k]),
+                None => (0.0, points.line_of_point(0)),
+            };
+            let velocity = points
+                .velocities
+                .as_ref()
+                .map(|v| &v[i * dim..(i + 1) * dim]);
+            self.timed_point(points.point(i), duration, velocity, line);
+        }
+    }
+
     /// The next point of a timed run (a point-time series, e.g. a CSV row): reached
     /// `duration` seconds after the run's previous point (ignored for its first point),
     /// from source `line`, with the velocity the series gives there, if any (given at
@@ -447,18 +464,7 @@ pub fn plan_timed(
         },
     };
     let mut stage = PlanStage::new(axes, options, collector)?;
-    let dim = points.dim;
-    for i in 0..points.len() {
-        let (duration, line) = match i.checked_sub(1) {
-            Some(k) => (points.durations[k], points.lines[k]),
-            None => (0.0, points.line_of_point(0)),
-        };
-        let velocity = points
-            .velocities
-            .as_ref()
-            .map(|v| &v[i * dim..(i + 1) * dim]);
-        stage.timed_point(points.point(i), duration, velocity, line);
-    }
+    stage.timed_points(points);
     let (collector, report) = stage.finish()?;
     Ok(Planned {
         program: collector.program,

@@ -1,6 +1,7 @@
 //! Positions in source text: a byte offset to its 1-based line and column, a 1-based
-//! line to its byte range, and [`SourceLocation`], where a span is as a person reads it
-//! ([`crate::toolpath::Span::location`], in the manner of naga's `Span::location`).
+//! line to its byte range or span, the last line of a text, and [`SourceLocation`],
+//! where a span is as a person reads it ([`crate::toolpath::Span::location`], in the
+//! manner of naga's `Span::location`).
 //!
 //! Owns the only line/column arithmetic of the workspace: every front end and the CLI
 //! call these (or miette's `SourceCode`, which answers the same questions for a
@@ -44,6 +45,26 @@ impl crate::toolpath::Span {
     pub fn location(&self, source: &str) -> SourceLocation {
         SourceLocation::of(source, self.start..self.end)
     }
+}
+
+impl crate::toolpath::Span {
+    /// The span of 1-based `line` of `bytes` ([`line_range`]: its bytes without the `\n`),
+    /// naming that line.
+    pub fn of_line(bytes: &[u8], line: usize) -> crate::toolpath::Span {
+        let range = line_range(bytes, line);
+        crate::toolpath::Span {
+            start: range.start,
+            end: range.end,
+            line: u32::try_from(line).unwrap_or(u32::MAX),
+        }
+    }
+}
+
+/// The 1-based number of the last line of `bytes`: a final `\n` ends that line and opens
+/// none; an empty text is line 1.
+pub fn last_line(bytes: &[u8]) -> usize {
+    let trailing = usize::from(bytes.last() == Some(&b'\n'));
+    line_of(bytes, bytes.len()).saturating_sub(trailing).max(1)
 }
 
 /// The 1-based line and column (in characters, a byte order mark not counted) of a byte
@@ -121,6 +142,20 @@ mod tests {
         let location = span.location(src);
         assert_eq!((location.line, location.column), (2, 6));
         assert_eq!((location.offset, location.length), (12, 2));
+    }
+
+    #[test]
+    fn a_line_is_a_span_and_the_last_line_is_the_last_with_text() {
+        let text = b"0\nSECTION\n2\nENTITIES";
+        let span = crate::toolpath::Span::of_line(text, 3);
+        assert_eq!((span.start, span.end, span.line), (10, 11, 3));
+        assert_eq!(crate::toolpath::Span::of_line(text, 9).start, text.len());
+        // Counted by hand: four lines, with or without a final newline.
+        assert_eq!(last_line(text), 4);
+        assert_eq!(last_line(b"0\nSECTION\n2\nENTITIES\n"), 4);
+        assert_eq!(last_line(b"a\n\n"), 2);
+        assert_eq!(last_line(b""), 1);
+        assert_eq!(last_line(b"\n"), 1);
     }
 
     #[test]

@@ -5,6 +5,7 @@
 //! and the grouping of elements into contours. It must not know any source syntax, and
 //! it holds no planned motion: that is [`crate::program`].
 
+pub use crate::axis::Plane;
 use crate::axis::{Axis, Position, Units, AXIS_COUNT};
 pub use crate::bezier::Bezier;
 
@@ -35,35 +36,6 @@ impl Motion {
             Motion::Rapid => "rapid",
             Motion::Feed => "feed",
         }
-    }
-}
-
-/// The plane an arc lies in, named as G17/G18/G19 name them.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Plane {
-    /// G17: first axis X, second Y, normal Z.
-    #[default]
-    XY,
-    /// G18: first axis Z, second X, normal Y.
-    ZX,
-    /// G19: first axis Y, second Z, normal X.
-    YZ,
-}
-
-impl Plane {
-    /// The (first, second, normal) axes; counter-clockwise turns first towards second.
-    pub fn axes(self) -> (Axis, Axis, Axis) {
-        match self {
-            Plane::XY => (Axis::X, Axis::Y, Axis::Z),
-            Plane::ZX => (Axis::Z, Axis::X, Axis::Y),
-            Plane::YZ => (Axis::Y, Axis::Z, Axis::X),
-        }
-    }
-
-    /// The in-plane coordinates (first, second) of a position.
-    pub fn project(self, p: &Position) -> [f64; 2] {
-        let (a, b, _) = self.axes();
-        [p[a.index()], p[b.index()]]
     }
 }
 

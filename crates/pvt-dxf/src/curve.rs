@@ -19,11 +19,12 @@
 //!   and the map stretches that difference by at most its largest singular value, at
 //!   most `√(|u|² + |v|²)`: `n` is the least with `√(|u|² + |v|²)·e(θ/n) ≤` the
 //!   tolerance, and at least one part per quarter turn.
-//! - Any other curve (a rational or degree-4+ NURBS) is cut into Hermite cubics: each
-//!   knot span is halved until the cubic through the exact end points and end
-//!   derivatives (times the interval) stays, at 31 equally spaced interior parameters,
-//!   within 0.99 × the tolerance of the curve at the same parameter, the rule of
-//!   "Flattening rule" below with the cubic in place of the chord.
+//! - Any other curve (a rational or degree-4+ NURBS) is cut into Hermite cubics by
+//!   [`pvt_core::rational::nurbs_cubics`]: each knot span is halved until the cubic
+//!   through the exact end points and end derivatives (times the interval) stays, at 31
+//!   equally spaced interior parameters, within 0.99 × the tolerance of the curve at the
+//!   same parameter, the rule of "Flattening rule" below with the cubic in place of the
+//!   chord.
 //!
 //! The tolerance given is the share of the path tolerance a drawing's curves take
 //! (`pvt_dxf::DxfOptions::curve_share`).
@@ -41,8 +42,7 @@
 //! within the tolerance. A piece that needs more than [`MAX_DEPTH`] halvings or a curve
 //! that needs more than [`MAX_POINTS`] points is refused rather than emitted coarser.
 
-use crate::geom::{add, dist, dist_to_segment, norm, scale, sub, P3};
-use pvt_core::bezier::{bezier_spans, elevate_to_cubic};
+use crate::geom::{add, dist_to_segment, norm, scale, sub, P3};
 
 /// A cubic Bézier's four control points.
 pub type Cubic = [P3; 4];
@@ -55,7 +55,7 @@ pub trait CubicCurve {
 }
 
 /// Most cubics one curve may become.
-pub const MAX_CUBICS: usize = 1_000_000;
+pub const MAX_CUBICS: usize = pvt_core::rational::MAX_CUBICS;
 
 /// Deepest halving of one interval.
 pub const MAX_DEPTH: u32 = 48;
@@ -465,102 +465,12 @@ pub fn circle_cubic_error(theta: f64) -> f64 {
 
 impl CubicCurve for Nurbs {
     fn cubics(&self, tolerance: f64) -> Result<Vec<Cubic>, String> {
-        let spans =
-            bezier_spans(self.degree, &self.knots, &self.ctrl).map_err(|e| e.to_string())?;
-        let mut out = Vec::new();
-        for span in spans {
-            let w = span[0][3];
-            let cartesian: Vec<P3> = span
-                .iter()
-                .map(|h| [h[0] / h[3], h[1] / h[3], h[2] / h[3]])
-                .collect();
-            let polynomial = span.iter().all(|h| h[3] == w);
-            match elevate_to_cubic(&cartesian).filter(|_| polynomial) {
-                Some(cubic) => out.push(cubic),
-                None => fit_cubics(&RationalBezier(span), 0.0, 1.0, tolerance, 0, &mut out)?,
-            }
-            if out.len() > MAX_CUBICS {
-                return Err("it needs more than a million cubics at this tolerance".to_string());
-            }
-        }
-        Ok(out)
+        pvt_core::rational::nurbs_cubics(self.degree, &self.knots, &self.ctrl, tolerance)
+            .map_err(|e| e.to_string())
     }
 }
 
-/// A rational Bézier in homogeneous coordinates `(w·x, w·y, w·z, w)`, on `[0, 1]`.
-struct RationalBezier(Vec<[f64; 4]>);
-
-impl RationalBezier {
-    /// The point and the derivative at `t` (de Casteljau; the last level's difference
-    /// times the degree is the homogeneous derivative).
-    fn point_and_derivative(&self, t: f64) -> (P3, P3) {
-        let mut d = self.0.clone();
-        let p = d.len() - 1;
-        for level in 1..=p {
-            if level == p {
-                let (h0, h1) = (d[0], d[1]);
-                let h: [f64; 4] = std::array::from_fn(|c| (1.0 - t) * h0[c] + t * h1[c]);
-                let dh: [f64; 4] = std::array::from_fn(|c| p as f64 * (h1[c] - h0[c]));
-                let point = [h[0] / h[3], h[1] / h[3], h[2] / h[3]];
-                let derivative = std::array::from_fn(|c| (dh[c] - point[c] * dh[3]) / h[3]);
-                return (point, derivative);
-            }
-            for j in 0..=p - level {
-                let next = d[j + 1];
-                for (v, q) in d[j].iter_mut().zip(next) {
-                    *v = (1.0 - t) * *v + t * q;
-                }
-            }
-        }
-        unreachable!("a Bézier has degree 1 or more")
-    }
-}
-
-/// Hermite cubics on `[a, b]` of `curve` within `tolerance` (see the module's "Cubic
-/// Béziers"), halving where the sampled error is over.
-fn fit_cubics(
-    curve: &RationalBezier,
-    a: f64,
-    b: f64,
-    tolerance: f64,
-    depth: u32,
-    out: &mut Vec<Cubic>,
-) -> Result<(), String> {
-    let ((p0, d0), (p3, d3)) = (curve.point_and_derivative(a), curve.point_and_derivative(b));
-    let h = (b - a) / 3.0;
-    let cubic = [p0, add(p0, scale(d0, h)), sub(p3, scale(d3, h)), p3];
-    let worst = (1..=SAMPLES)
-        .map(|s| {
-            let f = s as f64 / (SAMPLES + 1) as f64;
-            dist(
-                cubic_at(&cubic, f),
-                curve.point_and_derivative(a + (b - a) * f).0,
-            )
-        })
-        .fold(0.0, f64::max);
-    if !worst.is_finite() {
-        return Err("the curve evaluates to a non-finite point".to_string());
-    }
-    if worst <= MARGIN * tolerance {
-        out.push(cubic);
-        return Ok(());
-    }
-    if depth >= MAX_DEPTH || out.len() > MAX_CUBICS {
-        return Err(
-            "the tolerance cannot be met (the curve is too large or not smooth)".to_string(),
-        );
-    }
-    let m = 0.5 * (a + b);
-    fit_cubics(curve, a, m, tolerance, depth + 1, out)?;
-    fit_cubics(curve, m, b, tolerance, depth + 1, out)
-}
-
-/// The point at `t` of a cubic Bézier.
-pub fn cubic_at(c: &Cubic, t: f64) -> P3 {
-    let s = 1.0 - t;
-    let w = [s * s * s, 3.0 * s * s * t, 3.0 * s * t * t, t * t * t];
-    std::array::from_fn(|k| w[0] * c[0][k] + w[1] * c[1][k] + w[2] * c[2][k] + w[3] * c[3][k])
-}
+pub use pvt_core::rational::cubic_at;
 
 impl CubicCurve for FitSpline {
     fn cubics(&self, _tolerance: f64) -> Result<Vec<Cubic>, String> {

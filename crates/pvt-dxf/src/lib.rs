@@ -393,9 +393,7 @@ fn error_span(e: &dxf::DxfError, bytes: &[u8], ascii: bool) -> Span {
         E::UnexpectedCodePair(pair, _) => Some(pair.offset),
         E::UnexpectedEndOfInput if ascii => {
             // The end of the file: its last line.
-            let lines = pvt_core::text::line_of(bytes, bytes.len());
-            let trailing = usize::from(bytes.last() == Some(&b'\n'));
-            Some(lines.saturating_sub(trailing).max(1))
+            Some(pvt_core::text::last_line(bytes))
         }
         _ => None,
     };
@@ -409,17 +407,8 @@ fn error_span(e: &dxf::DxfError, bytes: &[u8], ascii: bool) -> Span {
             line: 0,
         };
     }
-    line_span(bytes, offset)
-}
-
-/// The span of 1-based line `line` of the bytes (empty at the end when past it).
-fn line_span(bytes: &[u8], line: usize) -> Span {
-    let range = pvt_core::text::line_range(bytes, line);
-    Span {
-        start: range.start,
-        end: range.end,
-        line: u32::try_from(line).unwrap_or(u32::MAX),
-    }
+    // In an ASCII file the parser's position is a line number.
+    Span::of_line(bytes, offset)
 }
 
 fn check_layers(
@@ -493,14 +482,14 @@ mod tests {
     fn line_spans_count_from_one() {
         let text = b"0\nSECTION\n2\nENTITIES";
         assert_eq!(
-            line_span(text, 3),
+            Span::of_line(text, 3),
             Span {
                 start: 10,
                 end: 11,
                 line: 3
             }
         );
-        assert_eq!(line_span(text, 9).start, text.len());
+        assert_eq!(Span::of_line(text, 9).start, text.len());
         assert_eq!(strip_position("bad at line/offset 7"), "bad");
     }
 

@@ -339,22 +339,10 @@ fn polylines_bulges_elevation_mirror_and_3d() {
     assert!(lines.windows(2).all(|w| w[0] != w[1]), "{lines:?}");
 }
 
-#[test]
-fn splines_follow_the_true_nurbs_and_pass_through_fit_points() {
-    let dr = read("splines.dxf");
-    assert_eq!(feeds(&dr).len(), 6);
-    let w = std::f64::consts::FRAC_1_SQRT_2;
-    let ring = [
-        [70.0, 30.0, 0.0],
-        [80.0, 25.0, 0.0],
-        [90.0, 30.0, 0.0],
-        [90.0, 45.0, 0.0],
-        [70.0, 45.0, 0.0],
-    ];
-    let mut ctrl = ring.to_vec();
-    ctrl.extend_from_slice(&ring[..3]);
-    let knots: Vec<f64> = (0..12).map(f64::from).collect();
-    let truth = vec![
+/// The true curves of splines.dxf's three open splines (a cubic, a rational quadratic
+/// half circle and a quintic), densely evaluated from the sample's own definition.
+fn open_splines_truth() -> Vec<Vec<P>> {
+    vec![
         nurbs(
             3,
             &[0.0, 0.0, 0.0, 0.0, 1.0, 2.0, 3.0, 3.0, 3.0, 3.0],
@@ -378,7 +366,13 @@ fn splines_follow_the_true_nurbs_and_pass_through_fit_points() {
                 [70.0, 10.0, 0.0],
                 [70.0, 0.0, 0.0],
             ],
-            &[1.0, w, 1.0, w, 1.0],
+            &[
+                1.0,
+                std::f64::consts::FRAC_1_SQRT_2,
+                1.0,
+                std::f64::consts::FRAC_1_SQRT_2,
+                1.0,
+            ],
         ),
         nurbs(
             5,
@@ -396,8 +390,25 @@ fn splines_follow_the_true_nurbs_and_pass_through_fit_points() {
             ],
             &[],
         ),
-        nurbs(3, &knots, &ctrl, &[]),
+    ]
+}
+
+#[test]
+fn splines_follow_the_true_nurbs_and_pass_through_fit_points() {
+    let dr = read("splines.dxf");
+    assert_eq!(feeds(&dr).len(), 6);
+    let ring = [
+        [70.0, 30.0, 0.0],
+        [80.0, 25.0, 0.0],
+        [90.0, 30.0, 0.0],
+        [90.0, 45.0, 0.0],
+        [70.0, 45.0, 0.0],
     ];
+    let mut ctrl = ring.to_vec();
+    ctrl.extend_from_slice(&ring[..3]);
+    let knots: Vec<f64> = (0..12).map(f64::from).collect();
+    let mut truth = open_splines_truth();
+    truth.push(nurbs(3, &knots, &ctrl, &[]));
     // The rational spline is a half circle, fitted by cubics within the tolerance:
     // check that directly too.
     let half = feeds(&dr)
@@ -688,55 +699,7 @@ fn spline_motion_stays_within_the_tolerance_of_the_true_nurbs() {
     o.tolerance = Some(TOL);
     o.curve_share = 0.5;
     let dr = read_drawing(&sample("splines.dxf"), &o).unwrap();
-    let truth = [
-        nurbs(
-            3,
-            &[0.0, 0.0, 0.0, 0.0, 1.0, 2.0, 3.0, 3.0, 3.0, 3.0],
-            &[
-                [0.0, 0.0, 0.0],
-                [10.0, 20.0, 0.0],
-                [20.0, -10.0, 0.0],
-                [30.0, 15.0, 0.0],
-                [40.0, 0.0, 0.0],
-                [50.0, 10.0, 0.0],
-            ],
-            &[],
-        ),
-        nurbs(
-            2,
-            &[0.0, 0.0, 0.0, 1.0, 1.0, 2.0, 2.0, 2.0],
-            &[
-                [90.0, 0.0, 0.0],
-                [90.0, 10.0, 0.0],
-                [80.0, 10.0, 0.0],
-                [70.0, 10.0, 0.0],
-                [70.0, 0.0, 0.0],
-            ],
-            &[
-                1.0,
-                std::f64::consts::FRAC_1_SQRT_2,
-                1.0,
-                std::f64::consts::FRAC_1_SQRT_2,
-                1.0,
-            ],
-        ),
-        nurbs(
-            5,
-            &[
-                0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.3, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0,
-            ],
-            &[
-                [0.0, 30.0, 0.0],
-                [5.0, 45.0, 0.0],
-                [15.0, 25.0, 0.0],
-                [25.0, 50.0, 0.0],
-                [35.0, 20.0, 0.0],
-                [45.0, 45.0, 0.0],
-                [50.0, 30.0, 0.0],
-            ],
-            &[],
-        ),
-    ];
+    let truth = open_splines_truth();
     let options = pvt_core::PathOptions {
         tolerance: 0.5 * TOL,
         corner_tolerance: None,

@@ -37,7 +37,7 @@
 //! motion (s; dwells add none) and where the axes are; the segments are cut at them.
 
 use crate::number::push_exact;
-use crate::stream::{Header, ProgramWriter, Totals};
+use crate::writer::{Header, ProgramWriter, Totals};
 use pvt_core::{
     Axis, CodeWords, CoolantState, EventKind, Interpolation, Motion, ProgramEvent, PvtContour,
     PvtProgram, SegmentRef, SpindleState, Units,

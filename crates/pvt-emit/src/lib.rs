@@ -8,7 +8,7 @@
 //! events along the motion ([`triggers`]), the readers of what they emit for `pvtc
 //! check` ([`readback`]), and the
 //! interpreted toolpath before planning as JSON lines ([`toolpath`]). Each back end of
-//! motion is a [`ProgramWriter`] fed one piece at a time ([`stream`]), so output of any length goes
+//! motion is a [`ProgramWriter`] fed one piece at a time ([`writer`]), so output of any length goes
 //! out in constant memory; [`Checked`] validates every value before a back end sees it,
 //! so a NaN, an infinity or a non-positive piece time never reaches an output.
 //!
@@ -26,11 +26,11 @@ pub mod pmac;
 pub mod powerpmac;
 pub mod readback;
 pub mod rules;
-pub mod stream;
 pub mod table;
 pub mod toolpath;
 pub mod triggers;
 pub mod validate;
+pub mod writer;
 pub mod xps;
 pub mod zaber;
 
@@ -41,9 +41,9 @@ use std::io::Write;
 
 pub use pmac::{AxisDefinition, PmacEvents, PmacSettings};
 pub use rules::{AxisSetup, Caps, Positions};
-pub use stream::{Checked, Header, ProgramWriter, StreamError};
 pub use triggers::{TriggerEvery, TriggerSupport, Triggers};
 pub use validate::{validate, InvalidProgram};
+pub use writer::{Checked, Header, ProgramWriter, StreamError};
 
 /// The output formats.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

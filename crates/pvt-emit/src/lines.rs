@@ -7,7 +7,7 @@
 //! round a value except where a format's unit is whole counts ([`counts`]).
 
 use crate::number::{push_exact, push_fixed};
-use crate::stream::Header;
+use crate::writer::Header;
 use crate::AxisSetup;
 use std::io::{self, Write};
 

@@ -23,7 +23,7 @@
 //! up front. It must not plan or round.
 
 use crate::number::push_exact;
-use crate::stream::{Header, ProgramWriter};
+use crate::writer::{Header, ProgramWriter};
 use pvt_core::{EventKind, Interpolation, Motion, ProgramEvent, SegmentRef};
 use std::io::{self, Write};
 

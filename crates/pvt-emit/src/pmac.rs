@@ -62,8 +62,8 @@
 //! It must not plan or round times.
 
 use crate::number::push_fixed;
-use crate::stream::{Header, ProgramWriter, Totals};
 use crate::triggers::TriggerSupport;
+use crate::writer::{Header, ProgramWriter, Totals};
 use pvt_core::{Axis, CoolantState, EventKind, Motion, ProgramEvent, SegmentRef, SpindleState};
 use std::io::{self, Write};
 

@@ -29,8 +29,8 @@
 
 use crate::lines::Lines;
 use crate::rules::{Caps, Positions};
-use crate::stream::{Header, ProgramWriter};
 use crate::triggers::TriggerSupport;
+use crate::writer::{Header, ProgramWriter};
 use pvt_core::{Axis, EventKind, Motion, ProgramEvent, SegmentRef};
 use std::io::{self, Write};
 

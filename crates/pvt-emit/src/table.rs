@@ -14,7 +14,7 @@
 
 use crate::lines::Lines;
 use crate::rules::Caps;
-use crate::stream::{Header, ProgramWriter};
+use crate::writer::{Header, ProgramWriter};
 use pvt_core::{EventKind, Motion, ProgramEvent, SegmentRef};
 use std::io::{self, Write};
 

@@ -38,8 +38,8 @@
 
 use crate::lines::{all_counts, scales, Lines};
 use crate::rules::{Caps, Positions};
-use crate::stream::{Header, ProgramWriter};
 use crate::triggers::TriggerSupport;
+use crate::writer::{Header, ProgramWriter};
 use pvt_core::{EventKind, Motion, ProgramEvent, SegmentRef};
 use std::io::{self, Write};
 

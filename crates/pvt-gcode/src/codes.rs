@@ -27,7 +27,11 @@ pub(crate) enum MotionMode {
         /// G5.1.
         quadratic: bool,
     },
-    /// A motion code pvtc does not execute (NURBS, threading…);
+    /// G5.2: a NURBS block's opening line and its control point lines.
+    Nurbs,
+    /// G5.3: the end of a NURBS block.
+    NurbsEnd,
+    /// A motion code pvtc does not execute (G6.2 NURBS, threading…);
     /// blocks in this mode are skipped (the code itself was reported).
     Unsupported,
 }
@@ -48,6 +52,8 @@ impl MotionMode {
             MotionMode::Probe(_) => "G38.5",
             MotionMode::Spline { quadratic: false } => "G5",
             MotionMode::Spline { quadratic: true } => "G5.1",
+            MotionMode::Nurbs => "G5.2",
+            MotionMode::NurbsEnd => "G5.3",
             MotionMode::Unsupported => "an unsupported cycle",
         }
     }
@@ -296,7 +302,9 @@ pub(crate) fn g_code(tenths: u32) -> Option<GCode> {
         382..=385 => Motion(MotionMode::Probe(tenths)),
         50 => Motion(MotionMode::Spline { quadratic: false }),
         51 => Motion(MotionMode::Spline { quadratic: true }),
-        52 | 53 | 62 | 330 | 331 | 760 => Motion(MotionMode::Unsupported),
+        52 => Motion(MotionMode::Nurbs),
+        53 => Motion(MotionMode::NurbsEnd),
+        62 | 330 | 331 | 760 => Motion(MotionMode::Unsupported),
         _ => return unsupported_g(tenths).map(Unsupported),
     })
 }

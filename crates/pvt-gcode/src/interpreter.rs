@@ -20,6 +20,7 @@ mod compensation;
 mod cycles;
 mod machine;
 mod motion;
+mod nurbs;
 mod spline;
 
 use pvt_core::{EventKind, Position, SpindleState, Units, AXIS_COUNT};
@@ -137,6 +138,8 @@ pub(crate) struct Interpreter<'a> {
     cutter: compensation::CutterState,
     /// The last G5's P Q (machine frame, output units): a G5 without I J continues it.
     last_spline: Option<[f64; 2]>,
+    /// The G5.2 block being gathered, until its G5.3.
+    nurbs: Option<nurbs::NurbsBlock>,
 }
 
 impl<'a> Interpreter<'a> {
@@ -180,6 +183,7 @@ impl<'a> Interpreter<'a> {
             probe: None,
             cutter: compensation::CutterState::default(),
             last_spline: None,
+            nurbs: None,
         }
     }
 
@@ -334,6 +338,7 @@ impl<'a> Interpreter<'a> {
                 Flow::Continue
             }
             Some((Stop::End, word)) => {
+                self.nurbs_unclosed();
                 self.finish_compensation(word.span());
                 Flow::End(word)
             }
@@ -351,6 +356,7 @@ impl<'a> Interpreter<'a> {
 
     /// Ends the last contour; the summary, or every error in source order.
     pub fn finish(mut self) -> Result<StreamSummary, GcodeErrors> {
+        self.nurbs_unclosed();
         self.finish_compensation(0..0);
         self.end_contour();
         if self.errors.is_empty() && !self.moved {
@@ -481,7 +487,7 @@ impl<'a> Interpreter<'a> {
             || request.user.is_some()
             || matches!(
                 self.modal.motion,
-                Some(MotionMode::Arc(_) | MotionMode::Cycle(_))
+                Some(MotionMode::Arc(_) | MotionMode::Cycle(_) | MotionMode::Nurbs)
             );
         if !used {
             self.push(GcodeDiagnostic::IgnoredWord {

@@ -28,7 +28,9 @@
 //! is off). A program number (`O1001`) names the program. G76, cutter compensation,
 //! G38.2–G38.5 move to the points [`GcodeOptions::probe_results`] gives, each one
 //! without a point is `pvtc::gcode::probe`. G5 and G5.1 splines (G17 only, as LinuxCNC)
-//! are cubic Bézier elements (`interpreter/spline.rs`). G5.2/G5.3, G6.2, G33 and reads
+//! are cubic Bézier elements (`interpreter/spline.rs`), and so are G5.2/G5.3 NURBS
+//! blocks (`interpreter/nurbs.rs`: exact for equal weights and order L 2 to 4, else
+//! within [`NURBS_FIT_SHARE`] of [`GcodeOptions::tolerance`]). G6.2, G33 and reads
 //! of machine-specific
 //! parameters are `unsupported`, one
 //! diagnostic per feature with the count of places, and the program fails. A block with
@@ -181,7 +183,17 @@ pub struct GcodeOptions {
     /// coordinates and units at each move (`--probe-result X,Y,Z`); a probing move
     /// without one is `pvtc::gcode::probe`.
     pub probe_results: Vec<[f64; 3]>,
+    /// The chord (path) tolerance, output units; `None` is
+    /// [`pvt_core::defaults::TOLERANCE_MM`] in the output units. A rational or
+    /// order-5+ NURBS block (G5.2) is fitted with cubics within
+    /// [`NURBS_FIT_SHARE`] of it.
+    pub tolerance: Option<f64>,
 }
+
+/// Share of the tolerance a rational or order-5+ G5.2 NURBS block's cubics keep to: the
+/// path planner keeps the motion within the tolerance of those cubics, so the motion is
+/// within `1 + NURBS_FIT_SHARE` times the tolerance of the true NURBS.
+pub const NURBS_FIT_SHARE: f64 = 0.1;
 
 impl Default for GcodeOptions {
     fn default() -> Self {
@@ -196,6 +208,7 @@ impl Default for GcodeOptions {
             subroutines: Subroutines::default(),
             hal_pins: Vec::new(),
             probe_results: Vec::new(),
+            tolerance: None,
         }
     }
 }

@@ -8,10 +8,11 @@
 //! against the definition). Without rs274 the differential test says SKIPPED; with
 //! `PVTC_REQUIRE_RS274=1` it fails instead.
 
+mod common;
+
 use proptest::prelude::*;
 use pvt_core::{Element, ElementKind};
 use pvt_gcode::{compile, GcodeOptions};
-use std::process::Command;
 
 fn elements(source: &str) -> Vec<Element> {
     compile(source, &GcodeOptions::default())
@@ -197,50 +198,6 @@ proptest! {
     }
 }
 
-/// rs274's reading of `source`: the point counts of its NURBS_FEED calls in order, or
-/// its error line; `None` when rs274 is not installed.
-fn rs274(source: &str, name: &str) -> Option<Result<Vec<usize>, String>> {
-    if Command::new("rs274").arg("-h").output().is_err() {
-        assert!(
-            std::env::var_os("PVTC_REQUIRE_RS274").is_none(),
-            "rs274 is not installed, and PVTC_REQUIRE_RS274 is set"
-        );
-        return None;
-    }
-    let dir = std::env::temp_dir().join(format!("pvtc-splines-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let (ngc, out) = (dir.join("p.ngc"), dir.join("out.txt"));
-    std::fs::write(&ngc, source).unwrap();
-    // Two rs274 runs at once can kill each other (shared memory): try again.
-    for _ in 0..20 {
-        let run = Command::new("rs274")
-            .arg("-g")
-            .arg(&ngc)
-            .arg(&out)
-            .stdin(std::process::Stdio::null())
-            .output()
-            .expect("rs274 runs");
-        if run.status.code().is_none() {
-            std::thread::sleep(std::time::Duration::from_millis(200));
-            continue;
-        }
-        let text = std::fs::read_to_string(&out).unwrap_or_default();
-        let counts = text
-            .lines()
-            .filter_map(|l| l.split("NURBS_FEED(").nth(1))
-            .map(|rest| rest.split(',').next().unwrap().trim().parse().unwrap())
-            .collect();
-        let said = String::from_utf8_lossy(&run.stdout).to_string()
-            + &String::from_utf8_lossy(&run.stderr);
-        std::fs::remove_dir_all(&dir).ok();
-        return Some(match run.status.success() {
-            true => Ok(counts),
-            false => Err(said),
-        });
-    }
-    panic!("rs274 was killed 20 times");
-}
-
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(24))]
 
@@ -249,7 +206,7 @@ proptest! {
     #[test]
     fn rs274_reads_the_same_curves(blocks in program()) {
         let source = text(&blocks);
-        let Some(reading) = rs274(&source, "random") else {
+        let Some(reading) = common::rs274_nurbs_counts(&source, "splines-random") else {
             eprintln!("SKIPPED: rs274 is not installed");
             return Ok(());
         };
@@ -275,7 +232,7 @@ fn rs274_refuses_what_pvtc_refuses() {
         "G41.1 D1\nG1 X5 Y-5\nG5 I5 J10 P-5 Q10 X10 Y0\n",
     ] {
         let source = format!("{head}{body}M2\n");
-        let Some(reading) = rs274(&source, "refused") else {
+        let Some(reading) = common::rs274_nurbs_counts(&source, "splines-refused") else {
             eprintln!("SKIPPED: rs274 is not installed");
             return;
         };

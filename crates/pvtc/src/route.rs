@@ -21,7 +21,7 @@ use pvt_core::{
     PieceSplitter, PlanOptions, PlanReport, PlanStage, Planned, Planner, ProgramEvent, PvtContour,
     PvtProgram, SegmentRef, Timing, Toolpath, ToolpathSink, Units,
 };
-use pvt_emit::stream::Totals;
+use pvt_emit::writer::Totals;
 use pvt_emit::{Checked, Format, ProgramWriter, StreamError};
 use std::path::PathBuf;
 
@@ -723,7 +723,7 @@ fn whole_plan_options(
 fn push_whole<W: ProgramWriter>(input: &Input, sink: &mut PlanningSink<W>) {
     match input {
         Input::Toolpath(toolpath) => pvt_core::traverse::replay(toolpath, sink),
-        Input::Series(series) => push_series(&series.points, &mut sink.stage),
+        Input::Series(series) => sink.stage.timed_points(&series.points),
     }
 }
 
@@ -741,22 +741,6 @@ fn whole_notes(
         notes.extend(fractional_ms_report(totals.fractional_ms, totals.segments));
     }
     notes
-}
-
-/// Pushes a series' points into `stage`, each with its time and any given velocity.
-fn push_series<S: PieceSink>(points: &pvt_core::TimedPoints, stage: &mut PlanStage<S>) {
-    let dim = points.dim;
-    for i in 0..points.len() {
-        let (duration, line) = match i.checked_sub(1) {
-            Some(k) => (points.durations[k], points.lines[k]),
-            None => (0.0, points.line_of_point(0)),
-        };
-        let velocity = points
-            .velocities
-            .as_ref()
-            .map(|v| &v[i * dim..(i + 1) * dim]);
-        stage.timed_point(points.point(i), duration, velocity, line);
-    }
 }
 
 /// A back end's refusal as a failure; `source` (when known) labels the line at fault.

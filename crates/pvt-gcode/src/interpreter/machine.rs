@@ -349,6 +349,7 @@ impl Interpreter<'_> {
         let q_used = cycle || codes || matches!(request.path_mode, Some((PathMode::Continuous, _)));
         let d_used = self.surface_speed || compensation_on;
         let l_used = cycle
+            || self.modal.motion == Some(MotionMode::Nurbs)
             || compensation_on
             || matches!(request.io, Some((66, _)))
             || matches!(request.non_modal, Some((NonModal::SetTable, _)));

@@ -53,7 +53,22 @@ impl Interpreter<'_> {
             return;
         }
         let has_axes = request.has_axis_words();
+        if self.nurbs.is_some()
+            && !matches!(
+                self.modal.motion,
+                Some(MotionMode::Nurbs | MotionMode::NurbsEnd)
+            )
+        {
+            self.nurbs_unclosed();
+        }
         match self.modal.motion {
+            Some(MotionMode::Nurbs) => self.nurbs_point(request, block),
+            Some(MotionMode::NurbsEnd) => {
+                if request.motion.is_some() {
+                    self.nurbs_close(request, block);
+                }
+                self.reject_axes_without_mode(request);
+            }
             Some(MotionMode::Arc(direction)) => {
                 if has_axes
                     || request.offsets.iter().any(Option::is_some)
@@ -86,15 +101,21 @@ impl Interpreter<'_> {
             }
             mode @ (None | Some(MotionMode::Cancel)) => {
                 self.reject_arc_words(request, mode.map_or("not set", MotionMode::name));
-                if let Some(&word) = request.axis_words().next() {
-                    self.push(GcodeDiagnostic::NoMotionMode {
-                        word: word.name(),
-                        span: span(word.span()),
-                    });
-                    if let Ok(end) = self.target(request) {
-                        self.position = end;
-                    }
-                }
+                self.reject_axes_without_mode(request);
+            }
+        }
+    }
+
+    /// Axis words with no motion mode to move them (G80, G5.3, none yet): an error, the
+    /// position taken as given.
+    fn reject_axes_without_mode(&mut self, request: &Request) {
+        if let Some(&word) = request.axis_words().next() {
+            self.push(GcodeDiagnostic::NoMotionMode {
+                word: word.name(),
+                span: span(word.span()),
+            });
+            if let Ok(end) = self.target(request) {
+                self.position = end;
             }
         }
     }

@@ -162,3 +162,51 @@ pub fn errors(source: &str) -> Vec<(&'static str, usize, usize)> {
         })
         .collect()
 }
+
+/// rs274's reading of `source`: the point counts of its NURBS_FEED calls in order, or
+/// its error line; `None` when rs274 is not installed.
+pub fn rs274_nurbs_counts(source: &str, name: &str) -> Option<Result<Vec<usize>, String>> {
+    if std::process::Command::new("rs274")
+        .arg("-h")
+        .output()
+        .is_err()
+    {
+        assert!(
+            std::env::var_os("PVTC_REQUIRE_RS274").is_none(),
+            "rs274 is not installed, and PVTC_REQUIRE_RS274 is set"
+        );
+        return None;
+    }
+    let dir = std::env::temp_dir().join(format!("pvtc-rs274-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (ngc, out) = (dir.join("p.ngc"), dir.join("out.txt"));
+    std::fs::write(&ngc, source).unwrap();
+    // Two rs274 runs at once can kill each other (shared memory): try again.
+    for _ in 0..20 {
+        let run = std::process::Command::new("rs274")
+            .arg("-g")
+            .arg(&ngc)
+            .arg(&out)
+            .stdin(std::process::Stdio::null())
+            .output()
+            .expect("rs274 runs");
+        if run.status.code().is_none() {
+            std::thread::sleep(std::time::Duration::from_millis(200));
+            continue;
+        }
+        let text = std::fs::read_to_string(&out).unwrap_or_default();
+        let counts = text
+            .lines()
+            .filter_map(|l| l.split("NURBS_FEED(").nth(1))
+            .map(|rest| rest.split(',').next().unwrap().trim().parse().unwrap())
+            .collect();
+        let said = String::from_utf8_lossy(&run.stdout).to_string()
+            + &String::from_utf8_lossy(&run.stderr);
+        std::fs::remove_dir_all(&dir).ok();
+        return Some(match run.status.success() {
+            true => Ok(counts),
+            false => Err(said),
+        });
+    }
+    panic!("rs274 was killed 20 times");
+}

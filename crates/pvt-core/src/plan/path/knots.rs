@@ -5,10 +5,11 @@
 //! passes (with the S-curve distances under a jerk limit), and the repairs: splitting a
 //! piece over the tolerance, slowing a piece over a limit and, under a jerk limit,
 //! slowing a knot whose acceleration step is over its bound. It must not compute a
-//! piece's cubic: that is [`super::pieces`].
+//! piece's cubic: that is [`super::pieces`] and [`super::piece`]. It reads pieces
+//! ([`super::piece`]) but never builds them, so `pieces.rs` depends on it and not back.
 
 use super::curve::Curve;
-use super::pieces::Piece;
+use super::piece::Piece;
 use super::{AxisBounds, Vector, NORMAL_SHARE, TANGENT_ANGLE};
 use crate::program::SegmentRef;
 use crate::vector::norm;

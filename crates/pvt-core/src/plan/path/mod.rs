@@ -271,6 +271,7 @@
 
 mod curve;
 mod knots;
+mod piece;
 mod pieces;
 mod resample;
 
@@ -479,7 +480,7 @@ pub struct PathStream {
     curves: Vec<Curve>,
     /// The pieces of the window's last round and its knots' vectors, kept so that the
     /// next window's rounds reuse their storage rather than allocate it again.
-    pieces: Vec<pieces::Piece>,
+    pieces: Vec<piece::Piece>,
     knot_storage: KnotStorage,
     window: usize,
     start: Start,
@@ -711,9 +712,9 @@ impl PathStream {
     fn on_quantum_grid(
         &self,
         knots: &mut Knots,
-        pieces: Vec<pieces::Piece>,
+        pieces: Vec<piece::Piece>,
         quantum: Quantum,
-    ) -> Result<(f64, Vec<pieces::Piece>), PlanError> {
+    ) -> Result<(f64, Vec<piece::Piece>), PlanError> {
         let (curves, bounds, tolerance) = (&self.curves, &self.bounds, self.options.tolerance);
         let not_met = PlanError::PathNotMet {
             line: curves[0].line,
@@ -793,7 +794,7 @@ fn settle(
     curves: &[Curve],
     bounds: &AxisBounds,
     tolerance: f64,
-) -> Option<Vec<pieces::Piece>> {
+) -> Option<Vec<piece::Piece>> {
     let mut pieces = Vec::new();
     settle_into(knots, curves, bounds, tolerance, &mut pieces).then_some(pieces)
 }
@@ -805,7 +806,7 @@ fn settle_into(
     curves: &[Curve],
     bounds: &AxisBounds,
     tolerance: f64,
-    pieces: &mut Vec<pieces::Piece>,
+    pieces: &mut Vec<piece::Piece>,
 ) -> bool {
     for _ in 0..MAX_ROUNDS {
         knots.plan_speeds(curves, bounds);
@@ -823,7 +824,7 @@ fn settle_into(
 
 /// The planned pieces and the same on the grid.
 struct OnGrid {
-    planned: Vec<pieces::Piece>,
+    planned: Vec<piece::Piece>,
     grid: pieces::Grid,
 }
 
@@ -836,7 +837,7 @@ fn on_grid(
     bounds: &AxisBounds,
     tolerance: f64,
     quantum: Quantum,
-    mut planned: Vec<pieces::Piece>,
+    mut planned: Vec<piece::Piece>,
 ) -> Option<OnGrid> {
     for _ in 0..MAX_ROUNDS {
         let grid = knots.on_grid(curves, bounds, &planned, quantum);
@@ -927,7 +928,7 @@ enum Window {
 /// `count` on the grid (at the contour's end, all of them).
 struct GridWindow {
     knots: Knots,
-    pieces: Vec<pieces::Piece>,
+    pieces: Vec<piece::Piece>,
     count: usize,
     speed_change: f64,
 }
@@ -1083,7 +1084,7 @@ fn grid_cut(
     knots: &mut Knots,
     curves: &[Curve],
     planning: &AxisBounds,
-    planned: &mut Vec<pieces::Piece>,
+    planned: &mut Vec<piece::Piece>,
     (keep, room): (f64, &RoomAfterCut<'_>),
     q: f64,
 ) -> Option<(usize, bool)> {
@@ -1141,7 +1142,7 @@ fn grid_cut(
 fn jerk_cut(
     knots: &Knots,
     curves: &[Curve],
-    pieces: &[pieces::Piece],
+    pieces: &[piece::Piece],
     bounds: &AxisBounds,
     (least, jerk): (f64, f64),
 ) -> Option<usize> {

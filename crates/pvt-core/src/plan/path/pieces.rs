@@ -1,43 +1,18 @@
 //! The pieces between knots: their cubic's end conditions, time and error bound.
 //!
 //! Owns the piece time from the reference motion (constant parameter acceleration), the
-//! per-piece error bound of the module documentation, and the closed-form per-axis peaks
-//! that limits are checked against, and the same pieces on a quantum grid; under a jerk
-//! limit, each piece's S-curve parts (and their C² parts on the grid), each corner
-//! blend's two parts (a pulse of acceleration at rest at both ends) with their error
-//! bound, and each cubic's end accelerations. It must not move knots or change speeds.
+//! per-piece error bound of the module documentation, and the same pieces on a quantum
+//! grid; under a jerk limit, each piece's S-curve parts (and their C² parts on the grid)
+//! and each corner blend's two parts (a pulse of acceleration at rest at both ends) with
+//! their error bound. It must not move knots or change speeds, nor define what a piece
+//! is: that is [`super::knots`] and [`super::piece`].
 
 use super::curve::Curve;
-use super::knots::Knots;
+use super::knots::{path_jerk, speed_cap, Knot, Knots};
+use super::piece::{Part, Piece};
 use super::{AxisBounds, Vector};
 use crate::hermite::HermiteSegment;
 use crate::plan::quantize::{quanta_time, Quantum};
-
-/// One piece, ready to emit.
-#[derive(Debug, Clone)]
-pub(super) struct Piece {
-    pub start: Vector,
-    pub end: Vector,
-    pub start_velocity: Vector,
-    pub end_velocity: Vector,
-    /// Seconds.
-    pub duration: f64,
-    /// Bound on the distance between the cubic and the programmed point, program units.
-    pub error: f64,
-    /// The knot the piece starts from (the piece of an S-curve's part).
-    pub knot: usize,
-    /// Where on its knot's piece an S-curve part runs (jerk mode); `None` for a whole piece.
-    pub part: Option<Part>,
-}
-
-/// One part of a piece's S-curve (jerk mode): its parameters and parameter rates at both
-/// ends, and which end is a knot (the other is inside the S-curve).
-#[derive(Debug, Clone, Copy)]
-pub(super) struct Part {
-    pub params: [f64; 2],
-    pub rates: [f64; 2],
-    pub at_knot: [bool; 2],
-}
 
 impl Knots {
     /// The piece between every two consecutive knots, in order, into `out` (emptied
@@ -93,7 +68,7 @@ impl Knots {
             piece.error = bend + turn;
         } else {
             // At rest at both ends: the smoothstep along the chord, peaking at the cap.
-            let cap = super::knots::speed_cap(curve, from, to, bounds);
+            let cap = speed_cap(curve, from, to, bounds);
             piece.duration = 1.5 * curve.length(from, to) / cap;
             if self.jerk_mode {
                 piece.duration = piece.duration.max(rest_time(&piece, bounds));
@@ -136,7 +111,7 @@ impl Knots {
         let t = whole.duration;
         let dw = (wb - wa).abs();
         let rate = curve.rate(from).max(curve.rate(to));
-        let jerk = super::knots::path_jerk(curve, from, to, bounds);
+        let jerk = path_jerk(curve, from, to, bounds);
         if !jerk.is_finite() || dw * rate / t <= 0.25 * jerk * bounds.servo_period {
             out.push(whole);
             return;
@@ -241,11 +216,8 @@ impl Knots {
 
     /// The error term `4/27·t·(|Δv_a| + |Δv_b|)/K` of a piece's knot ends (`(knot, is
     /// a knot, K)`): a junction passed at speed, whose velocity is not the element's.
-    fn turn(&self, t: f64, ends: [(&super::knots::Knot, bool, f64); 2]) -> f64 {
-        let mismatch = |(knot, at_knot, scale): (&super::knots::Knot, bool, f64)| match (
-            at_knot,
-            knot.junction,
-        ) {
+    fn turn(&self, t: f64, ends: [(&Knot, bool, f64); 2]) -> f64 {
+        let mismatch = |(knot, at_knot, scale): (&Knot, bool, f64)| match (at_knot, knot.junction) {
             (true, Some(j)) => knot.speed * self.junctions[j].deviation / scale,
             _ => 0.0,
         };
@@ -411,72 +383,6 @@ fn blend_time(l: f64, va: f64, vb: f64) -> f64 {
     } else {
         3.0 * l / fast
     }
-}
-
-impl Piece {
-    /// Each axis' acceleration at the start and at the end of the cubic.
-    pub fn end_accelerations(&self) -> [Vector; 2] {
-        let n = self.start.len();
-        [
-            Vector::from_fn(n, |i| self.cubic(i).a0),
-            Vector::from_fn(n, |i| self.cubic(i).end().acceleration),
-        ]
-    }
-
-    /// The cubic of axis `i`: from its start to its end state over the piece's time.
-    pub fn cubic(&self, i: usize) -> HermiteSegment {
-        HermiteSegment::new(
-            self.start[i],
-            self.start_velocity[i],
-            self.end[i],
-            self.end_velocity[i],
-            self.duration,
-        )
-    }
-
-    /// True when the piece starts and ends at rest.
-    pub fn at_rest(&self) -> bool {
-        self.start_velocity
-            .iter()
-            .chain(&self.end_velocity)
-            .all(|v| *v == 0.0)
-    }
-
-    /// 1 when every axis' closed-form velocity and acceleration peaks and its jerk are
-    /// within its limits; otherwise the factor by which the piece's speeds should shrink.
-    pub fn limit_factor(&self, bounds: &AxisBounds) -> f64 {
-        let mut factor: f64 = 1.0;
-        for i in 0..self.start.len() {
-            let h = self.cubic(i);
-            let (velocity, acceleration) = peaks(&h);
-            let (vmax, amax) = (bounds.velocity[i], bounds.acceleration[i]);
-            if velocity > vmax * (1.0 + 1e-9) {
-                factor = factor.min(vmax / velocity);
-            }
-            if acceleration > amax * (1.0 + 1e-9) {
-                factor = factor.min((amax / acceleration).sqrt());
-            }
-            let (jerk, jmax) = (h.jerk.abs(), bounds.jerk[i]);
-            if jerk > jmax * (1.0 + 1e-9) {
-                factor = factor.min(libm::cbrt(jmax / jerk));
-            }
-        }
-        factor
-    }
-}
-
-/// Largest |velocity| and |acceleration| of a cubic: the velocity at an end or where the
-/// acceleration vanishes inside, the acceleration at an end.
-fn peaks(h: &HermiteSegment) -> (f64, f64) {
-    let end = h.end();
-    let mut velocity = h.v0.abs().max(end.velocity.abs());
-    if h.jerk != 0.0 {
-        let t = -h.a0 / h.jerk;
-        if t > 0.0 && t < h.duration {
-            velocity = velocity.max(h.at(t).velocity.abs());
-        }
-    }
-    (velocity, h.a0.abs().max(end.acceleration.abs()))
 }
 
 /// Most rounds of lengthening pieces on the grid before the planner lowers speeds instead.

@@ -10,7 +10,7 @@
 
 use super::curve::Curve;
 use super::knots::Knots;
-use super::pieces::Piece;
+use super::piece::Piece;
 use super::{settle, AxisBounds, Vector, MAX_ROUNDS};
 use crate::hermite::{HermiteSegment, State};
 use crate::plan::quantize::{quanta_time, Quantum};
@@ -374,7 +374,8 @@ pub(super) fn resample_once(
         }
     }
     grid.push(last);
-    let mut done: Vec<(u64, u64, Piece)> = Vec::with_capacity(grid.len());
+    // Empty until the first round: its pieces replace it (no second buffer at the peak).
+    let mut done: Vec<(u64, u64, Piece)> = Vec::new();
     // Under a jerk limit, rounds of placing grid knots next to a knot whose acceleration
     // steps too far (each round at least one more; see [`steps_over`]).
     for _ in 0..=MAX_ROUNDS {

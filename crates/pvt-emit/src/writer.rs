@@ -1,4 +1,5 @@
-//! The streaming interface every back end implements.
+//! The piece writer every back end implements ([`ProgramWriter`]) and the check in
+//! front of it ([`Checked`]).
 //!
 //! Owns the order in which a program reaches a back end: `begin`, then per contour
 //! `contour` and its `segment`s, then `finish`. A back end may write as soon as it is
