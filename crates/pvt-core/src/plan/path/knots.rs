@@ -97,6 +97,40 @@ pub(super) struct Knots {
     pub min_cruise: f64,
     /// The knots before the last rebuild, whose storage the next rebuild reuses.
     spare: Vec<Knot>,
+    /// Each piece's [`SpeedChange`] of the last speed plan, its storage reused by every
+    /// round.
+    limits: Vec<SpeedChange>,
+}
+
+/// How the passes let a piece change speed (see [`Knots::plan_speeds`]).
+#[derive(Debug, Clone, Copy)]
+struct SpeedChange {
+    /// The piece's speed cap.
+    cap: f64,
+    /// Tangential acceleration.
+    accel: f64,
+    /// Path length.
+    length: f64,
+    /// Path jerk of its S-curve (infinite on a blend and without a jerk limit).
+    jerk: f64,
+    /// Largest ratio of its end speeds (a jerk-limited blend's pulse; else infinite).
+    ratio: f64,
+}
+
+impl SpeedChange {
+    /// The fastest speed at one end from which the other end's speed `v` is reached.
+    fn reach(&self, v: f64) -> f64 {
+        let reach = if self.jerk.is_finite() {
+            scurve_reachable(v, self.accel, self.jerk, self.length)
+        } else {
+            reachable(v, self.accel, self.length)
+        };
+        if self.ratio.is_finite() {
+            reach.min(self.ratio * v)
+        } else {
+            reach
+        }
+    }
 }
 
 /// The storage of a window's knots, kept for the next window's (see [`Knots::new`]).
@@ -105,6 +139,7 @@ pub(super) struct KnotStorage {
     knots: Vec<Knot>,
     junctions: Vec<Junction>,
     spare: Vec<Knot>,
+    limits: Vec<SpeedChange>,
 }
 
 impl Knots {
@@ -114,6 +149,7 @@ impl Knots {
             knots: self.knots,
             junctions: self.junctions,
             spare: self.spare,
+            limits: self.limits,
         }
     }
 }
@@ -158,6 +194,7 @@ impl Knots {
             mut knots,
             mut junctions,
             spare,
+            limits,
         } = storage;
         knots.clear();
         knots.reserve(2 * curves.len() + 1);
@@ -171,6 +208,7 @@ impl Knots {
             jerk_mode: bounds.jerk_mode(),
             min_cruise: 0.0,
             spare,
+            limits,
         };
         if let Some(j) = &start.junction {
             this.knots[0].junction = Some(0);
@@ -252,72 +290,72 @@ impl Knots {
     /// knots on lines where the speed can rise between two knots.
     pub fn plan_speeds(&mut self, curves: &[Curve], bounds: &AxisBounds) {
         let n = self.knots.len();
-        let mut accel = vec![f64::INFINITY; n - 1];
-        let mut length = vec![0.0; n - 1];
-        let mut piece_cap = vec![f64::INFINITY; n - 1];
-        // The path jerk of each piece's S-curve (jerk mode; infinite on blends and
-        // without: the plain constant-acceleration distances).
-        let mut jerk = vec![f64::INFINITY; n - 1];
-        // The largest ratio of a piece's end speeds (a jerk-limited blend's pulse).
-        let mut ratio = vec![f64::INFINITY; n - 1];
-        for k in 0..n - 1 {
-            if let Some(j) = self.knots[k].blend {
-                let j = &self.junctions[j];
-                piece_cap[k] = j.cap;
-                length[k] = 2.0 * j.blend.unwrap_or(0.0);
-                let e = self.knots[k].after.element;
-                // A blend's cap takes the whole acceleration for its turn: the passes
-                // let it change speed at a share of its lines' (see the constant).
-                let a = |c: &Curve| tangential_accel(c, 0.0, c.span, bounds, j.cap);
-                accel[k] = BLEND_TANGENT_SHARE * a(&curves[e]).min(a(&curves[e + 1]));
-                if self.jerk_mode {
-                    // Under a jerk limit a blend is a smooth pulse at rest in
-                    // acceleration at both ends: an S-curve over its length.
-                    let least = bounds.jerk.iter().fold(f64::INFINITY, |a, &b| a.min(b));
-                    jerk[k] = BLEND_JERK_SHARE * least;
-                    ratio[k] = BLEND_SPEED_RATIO;
-                }
-                continue;
-            }
-            let (curve, from, to) = self.piece_span(curves, k);
-            piece_cap[k] = speed_cap(curve, from, to, bounds);
-            accel[k] = tangential_accel(curve, from, to, bounds, piece_cap[k]);
-            length[k] = curve.length(from, to);
-            if self.jerk_mode {
-                jerk[k] = path_jerk(curve, from, to, bounds);
-            }
-        }
+        let mut limits = std::mem::take(&mut self.limits);
+        limits.clear();
+        limits.extend((0..n - 1).map(|k| self.speed_change(curves, bounds, k)));
+        let piece_cap = |k: usize| limits[k].cap;
         for (k, knot) in self.knots.iter_mut().enumerate() {
             let mut cap = knot.cap;
             if k > 0 {
-                cap = cap.min(piece_cap[k - 1]);
+                cap = cap.min(piece_cap(k - 1));
             }
             if k < n - 1 {
-                cap = cap.min(piece_cap[k]);
+                cap = cap.min(piece_cap(k));
             }
             knot.speed = if knot.fixed { knot.cap } else { cap };
         }
-        let reach = |v: f64, k: usize| {
-            let reach = if jerk[k].is_finite() {
-                scurve_reachable(v, accel[k], jerk[k], length[k])
-            } else {
-                reachable(v, accel[k], length[k])
-            };
-            if ratio[k].is_finite() {
-                reach.min(ratio[k] * v)
-            } else {
-                reach
-            }
-        };
         for k in (0..n - 1).rev() {
-            let reach = reach(self.knots[k + 1].speed, k);
+            let reach = limits[k].reach(self.knots[k + 1].speed);
             if !self.knots[k].fixed {
                 self.knots[k].speed = self.knots[k].speed.min(reach);
             }
         }
         for k in 0..n - 1 {
-            let reach = reach(self.knots[k].speed, k);
+            let reach = limits[k].reach(self.knots[k].speed);
             self.knots[k + 1].speed = self.knots[k + 1].speed.min(reach);
+        }
+        self.limits = limits;
+    }
+
+    /// How the passes let piece `k` change speed: its cap, tangential acceleration,
+    /// length, path jerk (jerk mode; infinite on blends and without: the plain
+    /// constant-acceleration distances) and largest ratio of its end speeds (a
+    /// jerk-limited blend's pulse).
+    fn speed_change(&self, curves: &[Curve], bounds: &AxisBounds, k: usize) -> SpeedChange {
+        if let Some(j) = self.knots[k].blend {
+            let j = &self.junctions[j];
+            let e = self.knots[k].after.element;
+            // A blend's cap takes the whole acceleration for its turn: the passes
+            // let it change speed at a share of its lines' (see the constant).
+            let a = |c: &Curve| tangential_accel(c, 0.0, c.span, bounds, j.cap);
+            let mut change = SpeedChange {
+                cap: j.cap,
+                accel: BLEND_TANGENT_SHARE * a(&curves[e]).min(a(&curves[e + 1])),
+                length: 2.0 * j.blend.unwrap_or(0.0),
+                jerk: f64::INFINITY,
+                ratio: f64::INFINITY,
+            };
+            if self.jerk_mode {
+                // Under a jerk limit a blend is a smooth pulse at rest in
+                // acceleration at both ends: an S-curve over its length.
+                let least = bounds.jerk.iter().fold(f64::INFINITY, |a, &b| a.min(b));
+                change.jerk = BLEND_JERK_SHARE * least;
+                change.ratio = BLEND_SPEED_RATIO;
+            }
+            return change;
+        }
+        let (curve, from, to) = self.piece_span(curves, k);
+        let cap = speed_cap(curve, from, to, bounds);
+        SpeedChange {
+            cap,
+            accel: tangential_accel(curve, from, to, bounds, cap),
+            length: curve.length(from, to),
+            jerk: if self.jerk_mode {
+                path_jerk(curve, from, to, bounds)
+            } else {
+                f64::INFINITY
+            },
+            ratio: f64::INFINITY,
         }
     }
 
@@ -590,63 +628,133 @@ impl Knots {
 
     /// Caps every knot (but the fixed start) at the speed from which the least
     /// tangential acceleration `least` stops before the last element: whatever the
-    /// elements after the window ask, a window cut at any knot can still meet it. With a
-    /// finite path jerk `jerk` the stop is an S-curve, within `v·(v/a + a/j)` (see
-    /// `scurve_stop` in [`super`]), whose inverse caps the knot.
-    pub fn cap_for_window(&mut self, curves: &[Curve], least: f64, jerk: f64) {
+    /// elements after the window ask, a window cut at any knot can still meet it.
+    /// (Under a jerk limit the window is cut at [`Knots::stop_horizon`] instead.)
+    pub fn cap_for_window(&mut self, curves: &[Curve], least: f64) {
         let ahead = self.known_ahead(curves);
         for (knot, d) in self.knots.iter_mut().zip(ahead) {
-            if knot.fixed {
-                continue;
+            if !knot.fixed {
+                knot.cap = knot.cap.min((2.0 * least * d).sqrt());
             }
-            let cap = if jerk.is_finite() && least.is_finite() {
-                // v² + v·a²/j − a·d = 0, the positive root without cancellation.
-                let b = least * least / jerk;
-                2.0 * least * d / (b + (b * b + 4.0 * least * d).sqrt())
-            } else {
-                (2.0 * least * d).sqrt()
-            };
-            knot.cap = knot.cap.min(cap);
         }
     }
 
-    /// True when knot `k` lies inside a line, the pieces beside it on that line, with
-    /// room for an S-curve (the line's own tangential acceleration and path jerk) from
-    /// its speed to any lower one (`stop(speed, a, j)`) before the next knot that starts
-    /// a corner blend or ends the line: a window that starts there with its speed fixed
-    /// can slow to whatever its repairs ask of the knots after it (see `jerk_cut` in
-    /// [`super`]).
+    /// The index of the last knot that ends a piece on known path (before the window's
+    /// last element, whose end depends on what follows), at least `k`.
+    fn last_known(&self, curves: &[Curve], k: usize) -> usize {
+        let last = curves.len() - 1;
+        self.knots[k + 1..]
+            .iter()
+            .position(|n| n.before.element >= last && n.before.param > 0.0)
+            .map_or(self.knots.len() - 1, |i| k + i)
+    }
+
+    /// The last knot `k` from which the passes bring the highest feed of the elements up
+    /// to `k` to rest on known path: the backward pass from rest at the last known knot
+    /// (see [`Knots::last_known`]), each piece's S-curve at its own acceleration and path
+    /// jerk ([`SpeedChange`], zero tangential acceleration at every knot, across any
+    /// number of short elements), without caps, reaches that feed at `k`. `None` when it
+    /// does at no knot. The pass costs one [`SpeedChange`] per piece from the end back
+    /// to `k`. Up to `k` the stop at the window's end bounds no knot's speed: where it
+    /// binds after `k`, the backward pass carries the pass's own value back, which at
+    /// every knot up to `k` is at least the feed there, the highest speed it can have.
+    pub fn stop_horizon(&self, curves: &[Curve], bounds: &AxisBounds) -> Option<usize> {
+        let known = self.last_known(curves, 0);
+        // The highest feed up to each knot's element, by element.
+        let element = self.knots[known].before.element;
+        let mut feed = 0.0_f64;
+        let fastest: Vec<f64> = curves[..=element]
+            .iter()
+            .map(|c| {
+                feed = feed.max(c.feed);
+                feed
+            })
+            .collect();
+        let mut reach = 0.0;
+        for k in (0..known).rev() {
+            reach = self.speed_change(curves, bounds, k).reach(reach);
+            if reach >= fastest[self.knots[k].after.element] {
+                return Some(k);
+            }
+        }
+        None
+    }
+
+    /// True when a window that starts at knot `k` with its speed fixed can settle:
+    /// - the piece after `k` lasts at least `shortest` seconds at `k`'s speed (a time
+    ///   grid's quantum: a shorter one between two planned knots is rounding noise in
+    ///   its cubic's accelerations, which the repairs would slow the next knot for);
+    /// - its first piece before trapezoid knots (up to the next knot that ends the
+    ///   element or starts a corner blend) does not slow and does not end in a corner
+    ///   blend (whose cap differs between the shares a grid's windows plan at), or it
+    ///   lies on a line with room
+    ///   for an S-curve at the line's own acceleration and path jerk from `k`'s speed to
+    ///   any lower one (`scurve_stop` in [`super`]): a deceleration that fills its piece
+    ///   exactly could not be met, within rounding, without slowing the fixed start;
+    /// - and the passes bring `k`'s speed to rest at a knot `m` after it on known path
+    ///   (see [`Knots::last_known`]): the backward pass from rest at `m`, each piece's
+    ///   S-curve at its own acceleration and path jerk ([`SpeedChange`]), reaches at
+    ///   least the speed at `k`, over any number of short elements. `m` is tried at
+    ///   `k + 1, k + 2, k + 4, …` (the reach grows with `m`), so the check costs
+    ///   `O(L·log L)` piece limits for a stop over `L` pieces.
     pub fn room_to_slow(
         &self,
         curves: &[Curve],
         bounds: &AxisBounds,
         k: usize,
-        stop: &dyn Fn(f64, f64, f64) -> f64,
+        shortest: f64,
     ) -> bool {
-        let knot = &self.knots[k];
-        let element = knot.after.element;
-        let curve = &curves[element];
-        if knot.junction.is_some()
-            || self.knots[k - 1].blend.is_some()
-            || knot.before.element != element
-            || !curve.is_line()
+        let speed = self.knots[k].speed;
+        let known = self.last_known(curves, k);
+        if known <= k
+            || self.piece_length(curves, k) < shortest * speed
+            || !self.first_piece_settles(curves, bounds, k)
         {
             return false;
         }
-        let end = self.knots[k + 1..]
+        let mut span = 1;
+        loop {
+            let m = (k + span).min(known);
+            let reach = (k..m)
+                .rev()
+                .fold(0.0, |v, i| self.speed_change(curves, bounds, i).reach(v));
+            if reach >= speed {
+                return true;
+            }
+            if m == known {
+                return false;
+            }
+            span *= 2;
+        }
+    }
+
+    /// The first condition of [`Knots::room_to_slow`].
+    fn first_piece_settles(&self, curves: &[Curve], bounds: &AxisBounds, k: usize) -> bool {
+        let knot = &self.knots[k];
+        let element = knot.after.element;
+        let Some(next) = self.knots[k + 1..]
             .iter()
             .find(|n| n.blend.is_some() || n.junction.is_some() || n.before.element != element)
-            .map_or(curve.span, |n| {
-                if n.before.element == element {
-                    n.before.param
-                } else {
-                    curve.span
-                }
-            });
+        else {
+            return false;
+        };
+        if knot.blend.is_some() {
+            return false;
+        }
+        if next.speed >= knot.speed && next.blend.is_none() {
+            return true;
+        }
+        let curve = &curves[element];
+        let end = if next.before.element == element {
+            next.before.param
+        } else {
+            curve.span
+        };
         let cap = speed_cap(curve, 0.0, curve.span, bounds);
         let a = tangential_accel(curve, 0.0, curve.span, bounds, cap);
         let j = path_jerk(curve, 0.0, curve.span, bounds);
-        curve.length(knot.after.param, end) >= stop(knot.speed, a, j)
+        curve.is_line()
+            && curve.length(knot.after.param, end) >= super::scurve_stop(knot.speed, a, j)
     }
 
     /// The last knot at which the window may be cut with at least `keep` of known path

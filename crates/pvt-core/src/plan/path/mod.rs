@@ -95,23 +95,51 @@
 //!
 //! ## Windows under a jerk limit
 //! Every knot carries zero tangential acceleration, so a window's start state is the
-//! knot's position and speed, as without a jerk limit, and a contour streams in windows
-//! ([`PathStream`]) with three changes:
-//! - Stopping takes an S-curve. Its length from `v` to any lower speed `w` is at most
-//!   `v·(v/a + a/j)` (`scurve_stop`; the length is not monotone in `w`: slowing to
-//!   `v/3` takes longer than stopping), with `a` the least tangential acceleration and `j`
-//!   the least path jerk (a corner blend's share of the least jerk limit). Knots are
-//!   capped by its inverse, and the window keeps that length of the highest feed after
-//!   the knot it is cut at.
-//! - The cut is a knot inside a line, with room on the line, before a corner blend or
-//!   the line's end, for an S-curve at the line's own acceleration and jerk from the
-//!   knot's speed to any lower one (`Knots::room_to_slow`): the next window's first knot,
-//!   its speed fixed, can slow to whatever its repairs ask after it, so its plan settles
-//!   as a contour's start does.
+//! knot's position, its velocity along the element's tangent and the acceleration of
+//! the written piece's end (its normal part; the tangential part is zero): the full
+//! `(p, v, a)` the next window's first piece starts from. A contour streams in windows
+//! ([`PathStream`]) with these changes:
+//! - The window is planned to rest at its end, with no closed-form caps. The cut is at
+//!   or before the *stop horizon* (`Knots::stop_horizon`): the last knot `h` at which
+//!   the backward pass from rest at the last known knot (the window's last element's
+//!   end depends on what follows), run without caps over the window's own pieces,
+//!   each an S-curve at its own tangential acceleration and path jerk (the passes'
+//!   `reach`, over any number of short elements), reaches the highest feed of the
+//!   elements up to `h`. Claim: every speed at or before `h` is the one the whole
+//!   contour's passes give it. The backward pass sets `vᵢ = min(capᵢ, reachᵢ(vᵢ₊₁))`;
+//!   where the stop at the window's end binds at a knot `m > h`, `vₘ` is at least the
+//!   uncapped pass's value there, and `reach` grows with its argument, so at `h` the
+//!   bound it carries back is at least the uncapped pass's value, the feed, which no
+//!   speed exceeds; the same holds at every knot before `h` (the pass's value only
+//!   grows backward, the feed up to it only shrinks). The forward pass starts at the
+//!   same fixed start. The window's speeds up to `h` are the whole contour's (the
+//!   repairs are local to pieces and the knots beside them: tested, a windowed plan
+//!   within 2 % of the whole one's time).
+//! - The window's length is bounded: with no horizon in its second half it is planned
+//!   again at twice its size, up to [`JERK_WINDOW_GROWTH`] times the stream's window;
+//!   then it is cut where [`Knots::cut`] leaves the closed-form S-curve stop
+//!   `v·(v/a + a/j)` of the highest feed (`scurve_stop`) after it, slower there than
+//!   the whole contour, never wrong. Each plan emits at least half its knots, so a
+//!   contour of `N` elements costs `O(N)` element plans (a factor 2 for the doublings),
+//!   and the held elements are at most `JERK_WINDOW_GROWTH` windows. The next window is
+//!   planned at the size this one had: it holds all of this one's known path after the
+//!   cut, so it has the same room to bring its fixed start to rest.
+//! - The cut knot `k` (`Knots::room_to_slow`): the passes bring its speed to rest on
+//!   known path (the same backward pass from rest at knots `k + 1, k + 2, k + 4, …`);
+//!   the next window's first piece before its trapezoid knots (to the next knot that
+//!   ends an element or starts a corner blend) does not slow and does not end in a
+//!   corner blend (a blend's cap differs between the limit shares a grid's windows plan
+//!   at), or lies on a line with room for an S-curve from its speed to any lower one
+//!   (`scurve_stop`: a deceleration that fills its piece exactly cannot be met, within
+//!   rounding, without slowing the fixed start); on a grid the piece after the cut
+//!   lasts at least a quantum (a shorter one is rounding noise in its cubic's
+//!   accelerations). On a raster of short lines at its feed every junction qualifies.
 //! - The step where two windows meet: the written piece before the cut ends with an
 //!   acceleration within half the step bound on every axis (checked at the cut), and the
 //!   next window's first piece starts within the other half (checked against rest, as a
-//!   contour's start is), so the step is within the bound.
+//!   contour's start is), so the step is within `max_jerk · servo_period`. Every
+//!   written piece is checked in its own window against every limit, its jerk and the
+//!   tolerance, and the next window starts exactly at its end state.
 //!
 //! A trapezoid on a line whose start is already at its peak speed (a window's fixed start
 //! at its cap, within a rounding error of it) has no rise knot: the rise's S-curve
@@ -459,6 +487,12 @@ impl AxisBounds {
 /// cut when it is full (see [`PathStream`]).
 pub const WINDOW_ELEMENTS: usize = 1024;
 
+/// Under a jerk limit a window with no cut (see "Windows under a jerk limit") is planned
+/// again at twice its size up to this many times the stream's window ([`WINDOW_ELEMENTS`]
+/// by default); beyond, it is cut where the closed-form stop allows, slower there than
+/// the whole contour.
+pub const JERK_WINDOW_GROWTH: usize = 8;
+
 /// The path planner on a stream of elements, in bounded memory.
 ///
 /// Elements are held in a window of at most [`WINDOW_ELEMENTS`]. When it is full, the
@@ -470,8 +504,8 @@ pub const WINDOW_ELEMENTS: usize = 1024;
 /// had; with a window shorter than the stopping distance they are slower, never wrong.
 /// The window then starts at the cut with that knot's speed fixed. With a quantum the
 /// window is cut at a grid time and resampled (see "Streaming on a grid" above); under a
-/// jerk limit stopping takes an S-curve and the cut is inside a line (see "Windows under a
-/// jerk limit").
+/// jerk limit the cut is at or before the stop horizon, across any number of elements,
+/// and a window without one grows (see "Windows under a jerk limit").
 #[derive(Debug)]
 pub struct PathStream {
     axes: Vec<Axis>,
@@ -587,9 +621,8 @@ impl PathStream {
         if bounds.jerk_mode() {
             knots.min_cruise = self.options.quantum.map_or(0.0, |q| 3.0 * q.seconds);
         }
-        let jerk = least_jerk(bounds);
-        if !last {
-            knots.cap_for_window(curves, least, jerk);
+        if !last && !bounds.jerk_mode() {
+            knots.cap_for_window(curves, least);
         }
         // The pieces' storage of the last window, reused by every round of this one.
         let mut pieces = std::mem::take(&mut self.pieces);
@@ -597,8 +630,8 @@ impl PathStream {
             return Err(not_met);
         }
         knots.add_trapezoids(curves, bounds);
-        if !last {
-            knots.cap_for_window(curves, least, jerk);
+        if !last && !bounds.jerk_mode() {
+            knots.cap_for_window(curves, least);
         }
         if !settle_into(&mut knots, curves, bounds, tolerance, &mut pieces) {
             return Err(not_met);
@@ -612,7 +645,7 @@ impl PathStream {
             knots.knots.len() - 1
         } else {
             let cut = if bounds.jerk_mode() {
-                jerk_cut(&knots, curves, &pieces, bounds, (least, jerk))
+                jerk_cut(&knots, curves, &pieces, bounds, self.may_grow())
             } else {
                 knots.cut(curves, self.stopping_distance())
             };
@@ -620,8 +653,8 @@ impl PathStream {
                 Some(k) => k,
                 None => {
                     if bounds.jerk_mode() {
-                        // No line with room yet: planned again at twice the size, so a
-                        // contour with none costs a few plans of its length in all.
+                        // No stop on known path from the highest feed yet: planned
+                        // again at twice the size (see "Windows under a jerk limit").
                         self.retry_at = 2 * self.curves.len();
                     }
                     self.pieces = pieces;
@@ -640,9 +673,9 @@ impl PathStream {
         self.pieces = pieces;
         if !last {
             let (element, start) = knots.start_after(count);
+            self.retry_at = self.next_size();
             self.curves.drain(..element);
             self.start = start;
-            self.retry_at = 0;
         }
         self.knot_storage = knots.into_storage();
         Ok(())
@@ -659,18 +692,19 @@ impl PathStream {
         let Some(quantum) = self.options.quantum else {
             return self.plan(last, emit);
         };
+        let grow = self.bounds.jerk_mode() && self.may_grow();
         let window = grid_window(
             &self.curves,
             &self.bounds,
             &self.options,
             &self.start,
             quantum,
-            last,
+            (last, grow),
         );
         let w = match window {
             Window::Planned(w) => w,
             // Nothing out yet: the contour is held whole (planned as any at its end).
-            Window::NoCut if !self.streamed => {
+            Window::NoCut if !self.streamed && !grow => {
                 self.hold = true;
                 return Ok(());
             }
@@ -697,9 +731,9 @@ impl PathStream {
         self.streamed = true;
         if !last {
             let (element, start) = w.knots.start_after(w.count);
+            self.retry_at = self.next_size();
             self.curves.drain(..element);
             self.start = start;
-            self.retry_at = 0;
         }
         Ok(())
     }
@@ -751,6 +785,24 @@ impl PathStream {
             (None, Some(g)) => Ok(g),
             (None, None) => Err(not_met),
         }
+    }
+
+    /// The size the window after a cut is planned at: under a jerk limit the size this
+    /// one had (grown where it had no cut), so that the next, which holds all of this
+    /// one's known path after the cut, has at least that room to bring its fixed start to
+    /// rest; without, the stream's window.
+    fn next_size(&self) -> usize {
+        if self.bounds.jerk_mode() {
+            self.curves.len()
+        } else {
+            0
+        }
+    }
+
+    /// Under a jerk limit, whether a window with no cut may be planned again at twice
+    /// its size: below [`JERK_WINDOW_GROWTH`] windows.
+    fn may_grow(&self) -> bool {
+        self.curves.len() < JERK_WINDOW_GROWTH * self.window
     }
 
     /// The least tangential acceleration any piece has (see [`least_acceleration`]).
@@ -944,7 +996,7 @@ fn grid_window(
     options: &PathOptions,
     start: &Start,
     quantum: Quantum,
-    last: bool,
+    (last, grow): (bool, bool),
 ) -> Window {
     let q = quantum.seconds;
     let shares = resample::Shares::new(bounds, q);
@@ -988,7 +1040,7 @@ fn grid_window(
     };
     let room = |knots: &Knots, at: usize| {
         if bounds.jerk_mode() {
-            knots.room_to_slow(curves, &slowest, at, &scurve_stop)
+            knots.room_to_slow(curves, &slowest, at, q)
         } else {
             knots.room_to_stop(curves, at, &stop)
         }
@@ -1013,15 +1065,15 @@ fn grid_window(
         };
         let storage = KnotStorage::default();
         let mut knots = Knots::new(curves, &planning, tolerance, corner, start, false, storage);
-        if !last {
-            knots.cap_for_window(curves, least, jerk);
+        if !last && !bounds.jerk_mode() {
+            knots.cap_for_window(curves, least);
         }
         if settle(&mut knots, curves, &planning, tolerance).is_none() {
             continue;
         }
         knots.add_trapezoids(curves, &planning);
-        if !last {
-            knots.cap_for_window(curves, least, jerk);
+        if !last && !bounds.jerk_mode() {
+            knots.cap_for_window(curves, least);
         }
         let Some(mut planned) = settle(&mut knots, curves, &planning, tolerance) else {
             continue;
@@ -1030,14 +1082,15 @@ fn grid_window(
             let (count, inserted) = if last {
                 (knots.knots.len() - 1, false)
             } else {
-                match grid_cut(
-                    &mut knots,
-                    curves,
-                    &planning,
-                    &mut planned,
-                    (keep, &room),
-                    q,
-                ) {
+                let k = if bounds.jerk_mode() {
+                    jerk_horizon(&knots, curves, &slowest, grow)
+                } else {
+                    knots.cut(curves, keep)
+                };
+                let Some(k) = k else {
+                    return Window::NoCut;
+                };
+                match grid_cut(&mut knots, curves, &planning, &mut planned, (k, &room), q) {
                     Some(cut) => cut,
                     None => return Window::NoCut,
                 }
@@ -1075,7 +1128,7 @@ fn grid_window(
 type RoomAfterCut<'a> = dyn Fn(&Knots, usize) -> bool + 'a;
 
 /// Where a window of a streamed contour on the grid ends: the last grid time at or before
-/// the knot [`Knots::cut`] chooses (`keep` of known path after it) that is a cuttable
+/// knot `k` ([`Knots::cut`]'s, or under a jerk limit [`jerk_horizon`]'s) that is a cuttable
 /// knot's time or inside a piece that follows one element at speed, where a knot is
 /// inserted (and `planned` made again), with room to stop on its line at `least`
 /// ([`Knots::room_to_stop`]). The knot's index (the number of pieces before it) and
@@ -1085,10 +1138,9 @@ fn grid_cut(
     curves: &[Curve],
     planning: &AxisBounds,
     planned: &mut Vec<piece::Piece>,
-    (keep, room): (f64, &RoomAfterCut<'_>),
+    (k, room): (usize, &RoomAfterCut<'_>),
     q: f64,
 ) -> Option<(usize, bool)> {
-    let k = knots.cut(curves, keep)?;
     // The pieces before knot `k` (under a jerk limit an S-curve is several parts).
     let before = planned.partition_point(|p| p.knot < k);
     let mut starts = Vec::with_capacity(before + 1);
@@ -1131,34 +1183,51 @@ fn grid_cut(
     None
 }
 
+/// The knot a window under a jerk limit is cut at or before: the last from which the
+/// window's highest feed comes to rest on its known path ([`Knots::stop_horizon`]), so
+/// the stop at the window's end bounds no speed up to it. `None`, so that the window
+/// grows, when there is none or it lies in the window's first half (a cut there would
+/// emit little of it) and `grow` allows; without `grow` (the window at its largest,
+/// [`JERK_WINDOW_GROWTH`]), [`Knots::cut`]'s knot with the closed-form stop
+/// [`scurve_stop`] after it: slower there than the whole contour, never wrong.
+fn jerk_horizon(knots: &Knots, curves: &[Curve], bounds: &AxisBounds, grow: bool) -> Option<usize> {
+    match knots.stop_horizon(curves, bounds) {
+        Some(k) if !grow || 2 * k >= knots.knots.len() => Some(k),
+        _ if grow => None,
+        _ => {
+            let fastest = curves.iter().map(|c| c.feed).fold(0.0, f64::max);
+            let least = least_acceleration(bounds);
+            knots.cut(curves, scurve_stop(fastest, least, least_jerk(bounds)))
+        }
+    }
+}
+
 /// Where a window under a jerk limit (without a grid) ends: the last knot at or before
-/// the one [`Knots::cut`] chooses (the S-curve stopping distance [`scurve_stop`] of the
-/// window's highest feed after it) that lies inside a line with room for the next
-/// window's fixed start to slow to any speed on it ([`Knots::room_to_slow`]), and
-/// where the piece before ends with an acceleration within half the step bound on every
-/// axis: the next window's first piece starts within the other half (it is checked
-/// against rest, as a contour's start is), so the step where they meet is within the
-/// bound. `None` when there is no such knot.
+/// [`jerk_horizon`]'s that may end a window ([`Knots::cuttable`]), whose speed the next
+/// window's fixed start can bring to rest on known path ([`Knots::room_to_slow`], over
+/// any number of elements), and where the piece before ends with an acceleration within
+/// half the step bound on every axis: the next window's first piece starts within the
+/// other half (it is checked against rest, as a contour's start is), so the step where
+/// they meet is within the bound. `None` when there is no such knot.
 fn jerk_cut(
     knots: &Knots,
     curves: &[Curve],
     pieces: &[piece::Piece],
     bounds: &AxisBounds,
-    (least, jerk): (f64, f64),
+    grow: bool,
 ) -> Option<usize> {
-    let fastest = curves.iter().map(|c| c.feed).fold(0.0, f64::max);
-    let k = knots.cut(curves, scurve_stop(fastest, least, jerk))?;
+    let k = jerk_horizon(knots, curves, bounds, grow)?;
     (1..=k).rev().find(|&at| {
-        if !knots.cuttable(curves, at) || !knots.room_to_slow(curves, bounds, at, &scurve_stop) {
+        let before = pieces.partition_point(|p| p.knot < at);
+        if before == 0 || !knots.cuttable(curves, at) {
             return false;
         }
-        let Some(before) = pieces.iter().rev().find(|p| p.knot < at) else {
-            return false;
-        };
+        let before = &pieces[before - 1];
         let end = before.end_accelerations()[1];
-        end.iter().zip(&bounds.step).all(|(a, s)| {
+        let within = end.iter().zip(&bounds.step).all(|(a, s)| {
             a.abs() <= 0.5 * s - 6.0 * bounds.resolution / (before.duration * before.duration)
-        })
+        });
+        within && knots.room_to_slow(curves, bounds, at, 0.0)
     })
 }
 
@@ -1175,7 +1244,7 @@ fn least_jerk(bounds: &AxisBounds) -> f64 {
 /// `v` and `v/a + a/j`; else `(v + w)·√(Δ/j) ≤ 2v·√(v/j) ≤ v·(v/a + a/j)` (the mean of
 /// `v/a` and `a/j` is at least their geometric mean). The distance is not monotone in
 /// `w` (slowing to `v/3` takes longer than stopping), so the bound is over every `w`.
-fn scurve_stop(v: f64, a: f64, j: f64) -> f64 {
+pub(super) fn scurve_stop(v: f64, a: f64, j: f64) -> f64 {
     if !a.is_finite() {
         return 0.0;
     }
