@@ -692,9 +692,12 @@ impl Knots {
     ///   any lower one (`scurve_stop` in [`super`]): a deceleration that fills its piece
     ///   exactly could not be met, within rounding, without slowing the fixed start;
     /// - and the passes bring `k`'s speed to rest at a knot `m` after it on known path
-    ///   (see [`Knots::last_known`]): the backward pass from rest at `m`, each piece's
-    ///   S-curve at its own acceleration and path jerk ([`SpeedChange`]), reaches at
-    ///   least the speed at `k`, over any number of short elements. `m` is tried at
+    ///   (see [`Knots::last_known`]) through every planned speed between: the backward
+    ///   pass from rest at `m`, capped at each knot's planned speed, each piece's
+    ///   S-curve at its own acceleration and path jerk under `bounds` (on a grid the
+    ///   least of every share's, so that the next window meets this plan's slowdowns
+    ///   at whichever share it converges) ([`SpeedChange`]), reaches at least the speed
+    ///   at `k`, over any number of short elements. `m` is tried at
     ///   `k + 1, k + 2, k + 4, …` (the reach grows with `m`), so the check costs
     ///   `O(L·log L)` piece limits for a stop over `L` pieces.
     pub fn room_to_slow(
@@ -715,10 +718,12 @@ impl Knots {
         let mut span = 1;
         loop {
             let m = (k + span).min(known);
-            let reach = (k..m)
-                .rev()
-                .fold(0.0, |v, i| self.speed_change(curves, bounds, i).reach(v));
-            if reach >= speed {
+            let ahead = (k + 1..m).rev().fold(0.0, |v, i| {
+                self.knots[i]
+                    .speed
+                    .min(self.speed_change(curves, bounds, i).reach(v))
+            });
+            if self.speed_change(curves, bounds, k).reach(ahead) >= speed {
                 return true;
             }
             if m == known {
