@@ -310,8 +310,8 @@ impl Knots {
                 self.knots[k].speed = self.knots[k].speed.min(reach);
             }
         }
-        for k in 0..n - 1 {
-            let reach = limits[k].reach(self.knots[k].speed);
+        for (k, change) in limits.iter().enumerate() {
+            let reach = change.reach(self.knots[k].speed);
             self.knots[k + 1].speed = self.knots[k + 1].speed.min(reach);
         }
         self.limits = limits;

@@ -125,7 +125,9 @@
 //!   planned at the size this one had: it holds all of this one's known path after the
 //!   cut, so it has the same room to bring its fixed start to rest.
 //! - The cut knot `k` (`Knots::room_to_slow`): the passes bring its speed to rest on
-//!   known path (the same backward pass from rest at knots `k + 1, k + 2, k + 4, …`);
+//!   known path through every planned speed after it (the same backward pass from rest
+//!   at knots `k + 1, k + 2, k + 4, …`, capped at the planned speeds: a row's reversal
+//!   within the stop counts; on a grid at the least share's limits);
 //!   the next window's first piece before its trapezoid knots (to the next knot that
 //!   ends an element or starts a corner blend) does not slow and does not end in a
 //!   corner blend (a blend's cap differs between the limit shares a grid's windows plan
