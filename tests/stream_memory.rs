@@ -1,14 +1,12 @@
 //! The path planner streams a long contour on a time grid in memory that does not grow
 //! with the contour: 40,000 lines on PMAC's 1 ms grid (its default route: no machine
-//! file) take no more than 4,000, and the pieces come out while the lines go in; under
-//! `samples/machines/mill.toml`'s jerk limit on the same grid, 60,000 lines take no more
-//! than 20,000 (its windows may grow to eight). Its own test binary, because the
-//! counting allocator counts every thread of it.
+//! file) take no more than 4,000, and the pieces come out while the lines go in. Its own
+//! test binary, because the counting allocator counts every thread of it.
 
 use peak_alloc::PeakAlloc;
 use pvt_core::{
-    Axis, AxisLimits, Element, ElementKind, PathOptions, PathStream, Position, Quantum, Rounding,
-    SegmentRef, Span,
+    Axis, Element, ElementKind, PathOptions, PathStream, Position, Quantum, Rounding, SegmentRef,
+    Span,
 };
 use std::collections::BTreeMap;
 
@@ -39,13 +37,13 @@ fn element(i: usize) -> Element {
     }
 }
 
-/// The most memory planning `n` lines on the 1 ms grid under `limits` holds at once, in
-/// bytes, and the pieces that came out before the contour ended, of all.
-fn peak(n: usize, limits: &BTreeMap<Axis, AxisLimits>) -> (usize, usize, usize) {
+/// The most memory planning `n` lines on the 1 ms grid holds at once, in bytes, and the
+/// pieces that came out before the contour ended, of all.
+fn peak(n: usize) -> (usize, usize, usize) {
     let options = PathOptions {
         tolerance: 0.01,
         corner_tolerance: None,
-        limits: limits.clone(),
+        limits: BTreeMap::new(),
         quantum: Some(Quantum {
             seconds: 0.001,
             rounding: Rounding::Up,
@@ -80,8 +78,8 @@ fn peak(n: usize, limits: &BTreeMap<Axis, AxisLimits>) -> (usize, usize, usize) 
 
 #[test]
 fn a_long_contour_on_a_grid_streams_in_the_memory_of_a_short_one() {
-    let (short, _, _) = peak(4_000, &BTreeMap::new());
-    let (long, early, all) = peak(40_000, &BTreeMap::new());
+    let (short, _, _) = peak(4_000);
+    let (long, early, all) = peak(40_000);
     assert!(
         early * 10 >= all * 9,
         "{early} of {all} pieces before the end"
@@ -91,33 +89,4 @@ fn a_long_contour_on_a_grid_streams_in_the_memory_of_a_short_one() {
         "{long} bytes for 40,000 lines, {short} for 4,000"
     );
     assert!(long < 8 << 20, "{long} bytes");
-}
-
-/// `samples/machines/mill.toml`'s X, Y and Z limits (X and Y with its jerk limit).
-fn mill() -> BTreeMap<Axis, AxisLimits> {
-    let axis = |v: f64, a: f64, j: Option<f64>| AxisLimits {
-        velocity: Some(v),
-        acceleration: Some(a),
-        jerk: j,
-    };
-    BTreeMap::from([
-        (Axis::X, axis(100.0, 1000.0, Some(50000.0))),
-        (Axis::Y, axis(100.0, 1000.0, Some(50000.0))),
-        (Axis::Z, axis(50.0, 500.0, None)),
-    ])
-}
-
-#[test]
-fn a_long_contour_under_a_jerk_limit_streams_in_the_memory_of_a_short_one() {
-    let (short, _, _) = peak(20_000, &mill());
-    let (long, early, all) = peak(60_000, &mill());
-    assert!(
-        early * 10 >= all * 9,
-        "{early} of {all} pieces before the end"
-    );
-    assert!(
-        long <= short + 256 * 1024,
-        "{long} bytes for 60,000 lines, {short} for 20,000"
-    );
-    assert!(long < 32 << 20, "{long} bytes");
 }
