@@ -836,28 +836,80 @@ fn a_short_line_is_two_triangular_s_curves() {
     );
 }
 
-/// Under a jerk limit the stream plans the contour whole whatever its window (a window's
-/// first knot, already written, could not have its acceleration step matched): a
-/// 16-element window gives the same motion, with every knot's step within the bound.
+/// Under a jerk limit a contour streams in windows too (see "Jerk" in the planner):
+/// windows of 16 and 64 elements cut [`lines_then_polygon`] inside its lines, emit
+/// pieces before the contour ends, and keep every limit, every piece's jerk, every
+/// knot's acceleration step (where windows meet too) and the tolerance, all recomputed
+/// from the written end states; the windows' caps cost at most 2 % of the time of the
+/// contour planned whole.
 #[test]
-fn a_jerk_limit_plans_the_contour_whole_whatever_the_window() {
-    let c = long_contour();
+fn a_jerk_limit_streams_in_windows_within_every_limit() {
+    let c = lines_then_polygon();
     let lim = limits_with_jerk(100.0, 1000.0, Some(50000.0));
-    let whole = plan_windowed(&c, 0.001, &lim, usize::MAX);
-    let windowed = plan_windowed(&c, 0.001, &lim, 16);
-    let same = whole.durations == windowed.durations && whole.ends == windowed.ends;
-    assert!(
-        same,
-        "a 16-element window changes the motion under a jerk limit"
-    );
-    for step in reference::knot_steps(&windowed) {
-        assert!(
-            step <= 50000.0 * SERVO * (1.0 + 1e-6),
-            "acceleration step {step}"
-        );
+    let options = PathOptions {
+        tolerance: 0.001,
+        corner_tolerance: None,
+        limits: lim,
+        quantum: None,
+        servo_period: SERVO,
+        position_resolution: 0.0,
+    };
+    let (whole, held) = plan_stream_counting(&c, &options, usize::MAX);
+    assert_eq!(held, 0, "the whole contour is planned at its end");
+    for window in [16, 64] {
+        let (planned, early) = plan_stream_counting(&c, &options, window);
+        assert_follows(&c, &planned, 0.001);
+        assert_within(&planned, 100.0, 1000.0);
+        assert_jerk_within(&planned, 50000.0);
+        assert!(early >= 100, "window {window}: {early} pieces early");
+        let ratio = planned.total_time() / whole.total_time();
+        assert!((0.999..1.02).contains(&ratio), "window {window}: {ratio}");
     }
-    assert_follows(&c, &windowed, 0.001);
-    assert_within(&windowed, 100.0, 1000.0);
+    assert_follows(&c, &whole, 0.001);
+    assert_jerk_within(&whole, 50000.0);
+}
+
+/// Under a jerk limit a contour streams on grids of 1, 2 and 0.442 ms too (see
+/// "Streaming on a grid" in the planner): windows of 16 and 64 elements emit pieces
+/// before the contour ends, every piece on the grid and within every limit, every
+/// piece's jerk, every grid knot's acceleration step (where windows meet too) and the
+/// tolerance, all recomputed from the written end states, and the time stays near that
+/// of the contour planned whole on the same grid.
+#[test]
+fn a_jerk_limit_streams_on_grids_within_every_limit() {
+    let c = lines_then_polygon();
+    let lim = limits_with_jerk(100.0, 1000.0, Some(50000.0));
+    for ms in [1.0, 2.0, 0.442] {
+        let q = Quantum {
+            seconds: ms / 1000.0,
+            rounding: Rounding::Up,
+        };
+        let options = PathOptions {
+            tolerance: 0.001,
+            corner_tolerance: None,
+            limits: lim.clone(),
+            quantum: Some(q),
+            servo_period: SERVO,
+            position_resolution: 0.0,
+        };
+        let (whole, _) = plan_stream_counting(&c, &options, usize::MAX);
+        for window in [16, 64] {
+            let (planned, early) = plan_stream_counting(&c, &options, window);
+            assert_on_grid(&planned, q.seconds);
+            assert_follows(&c, &planned, 0.001);
+            assert_within(&planned, 100.0, 1000.0);
+            assert_jerk_within(&planned, 50000.0);
+            assert!(
+                early >= 100,
+                "{ms} ms, window {window}: {early} pieces early"
+            );
+            let ratio = planned.total_time() / whole.total_time();
+            assert!(
+                (0.95..1.05).contains(&ratio),
+                "{ms} ms, window {window}: {ratio}"
+            );
+        }
+    }
 }
 
 /// Asserts every piece's jerk within `j` and every knot's acceleration step within

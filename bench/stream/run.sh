@@ -6,10 +6,11 @@
 #   bench/stream/run.sh [RUNS]        (RUNS: runs per row, the best time kept; default 3)
 #
 # Routes: PMAC's default (the 1 ms grid, no machine file: streams), `--quantize off`
-# (streams), and, held whole (the surfacing lines are shorter than a stopping distance,
-# or a jerk limit), `samples/machines/mill.toml` without its `max_jerk` lines on 1 ms,
-# `mill.toml` as JSON (jerk limit, no grid) and `mill.toml --quantize 1ms`; their 10^6
-# rows are left out unless BIG=1 (minutes and GiB). Set PVTC_BENCH_DIR to keep inputs.
+# (streams), `samples/machines/mill.toml` without its `max_jerk` lines on 1 ms (held
+# whole: the surfacing lines are shorter than a stopping distance), `mill.toml` as JSON
+# (jerk limit, no grid) and `mill.toml --quantize 1ms` (both stream: a window under a
+# jerk limit is cut at its stop horizon, across the short lines); their 10^6 rows are
+# left out unless BIG=1. Set PVTC_BENCH_DIR to keep inputs.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 runs=${1:-3}

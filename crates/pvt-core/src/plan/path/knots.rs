@@ -126,6 +126,22 @@ struct PieceWay {
     ratio: f64,
 }
 
+impl PieceWay {
+    /// The fastest speed at one end from which the other end's speed `v` is reached.
+    fn reach(&self, v: f64) -> f64 {
+        let reach = if self.jerk.is_finite() {
+            scurve_reachable(v, self.accel, self.jerk, self.length)
+        } else {
+            reachable(v, self.accel, self.length)
+        };
+        if self.ratio.is_finite() {
+            reach.min(self.ratio * v)
+        } else {
+            reach
+        }
+    }
+}
+
 /// The storage of a window's knots, kept for the next window's (see [`Knots::new`]).
 #[derive(Debug, Default)]
 pub(super) struct KnotStorage {
@@ -293,26 +309,14 @@ impl Knots {
             }
             knot.speed = if knot.fixed { knot.cap } else { cap };
         }
-        let reach = |v: f64, way: &PieceWay| {
-            let reach = if way.jerk.is_finite() {
-                scurve_reachable(v, way.accel, way.jerk, way.length)
-            } else {
-                reachable(v, way.accel, way.length)
-            };
-            if way.ratio.is_finite() {
-                reach.min(way.ratio * v)
-            } else {
-                reach
-            }
-        };
         for k in (0..n - 1).rev() {
-            let reach = reach(self.knots[k + 1].speed, &ways[k]);
+            let reach = ways[k].reach(self.knots[k + 1].speed);
             if !self.knots[k].fixed {
                 self.knots[k].speed = self.knots[k].speed.min(reach);
             }
         }
         for (k, way) in ways.iter().enumerate() {
-            let reach = reach(self.knots[k].speed, way);
+            let reach = way.reach(self.knots[k].speed);
             self.knots[k + 1].speed = self.knots[k + 1].speed.min(reach);
         }
         self.scratch.ways = ways;
@@ -386,7 +390,17 @@ impl Knots {
                 continue;
             }
             let (peak, rise, fall) = if j.is_finite() {
-                scurve_peak(va, vb, cap, a, j, d)
+                // A rise (or fall) of a rounding error's speed is none: its S-curve's
+                // length, `(va + vb)·√(Δv/j)`, is far above the rounding of the speed,
+                // and a knot there (a window's fixed start at its cap) would begin a
+                // piece of nanoseconds that the repairs slow to rest.
+                let (peak, rise, fall) = scurve_peak(va, vb, cap, a, j, d);
+                let none = |v: f64| peak - v <= 1e-9 * peak;
+                (
+                    peak,
+                    if none(va) { 0.0 } else { rise },
+                    if none(vb) { 0.0 } else { fall },
+                )
             } else {
                 let peak = cap.min((a * d + 0.5 * (va * va + vb * vb)).sqrt());
                 let rise = (peak * peak - va * va) / (2.0 * a);
@@ -635,6 +649,7 @@ impl Knots {
     /// Caps every knot (but the fixed start) at the speed from which the least
     /// tangential acceleration `least` stops before the last element: whatever the
     /// elements after the window ask, a window cut at any knot can still meet it.
+    /// (Under a jerk limit the window is cut at [`Knots::stop_horizon`] instead.)
     pub fn cap_for_window(&mut self, curves: &[Curve], least: f64) {
         let ahead = self.known_ahead(curves);
         for (knot, d) in self.knots.iter_mut().zip(ahead) {
@@ -642,6 +657,129 @@ impl Knots {
                 knot.cap = knot.cap.min((2.0 * least * d).sqrt());
             }
         }
+    }
+
+    /// The index of the last knot that ends a piece on known path (before the window's
+    /// last element, whose end depends on what follows), at least `k`.
+    fn last_known(&self, curves: &[Curve], k: usize) -> usize {
+        let last = curves.len() - 1;
+        self.knots[k + 1..]
+            .iter()
+            .position(|n| n.before.element >= last && n.before.param > 0.0)
+            .map_or(self.knots.len() - 1, |i| k + i)
+    }
+
+    /// The last knot `k` from which the passes bring the highest feed of the elements up
+    /// to `k` to rest on known path: the backward pass from rest at the last known knot
+    /// (see [`Knots::last_known`]), each piece's S-curve at its own acceleration and path
+    /// jerk ([`PieceWay`], zero tangential acceleration at every knot, across any
+    /// number of short elements), without caps, reaches that feed at `k`. `None` when it
+    /// does at no knot. The pass costs one [`PieceWay`] per piece from the end back
+    /// to `k`. Up to `k` the stop at the window's end bounds no knot's speed: where it
+    /// binds after `k`, the backward pass carries the pass's own value back, which at
+    /// every knot up to `k` is at least the feed there, the highest speed it can have.
+    pub fn stop_horizon(&self, curves: &[Curve], bounds: &AxisBounds) -> Option<usize> {
+        let known = self.last_known(curves, 0);
+        // The highest feed up to each knot's element, by element.
+        let element = self.knots[known].before.element;
+        let mut feed = 0.0_f64;
+        let fastest: Vec<f64> = curves[..=element]
+            .iter()
+            .map(|c| {
+                feed = feed.max(c.feed);
+                feed
+            })
+            .collect();
+        let mut reach = 0.0;
+        for k in (0..known).rev() {
+            reach = self.piece_way(curves, bounds, k).reach(reach);
+            if reach >= fastest[self.knots[k].after.element] {
+                return Some(k);
+            }
+        }
+        None
+    }
+
+    /// True when a window that starts at knot `k` with its speed fixed can settle:
+    /// - the piece after `k` lasts at least `shortest` seconds at `k`'s speed (a time
+    ///   grid's quantum: a shorter one between two planned knots is rounding noise in
+    ///   its cubic's accelerations, which the repairs would slow the next knot for);
+    /// - its first piece before trapezoid knots (up to the next knot that ends the
+    ///   element or starts a corner blend) does not slow and does not end in a corner
+    ///   blend (whose cap differs between the shares a grid's windows plan at), or it
+    ///   lies on a line with room
+    ///   for an S-curve at the line's own acceleration and path jerk from `k`'s speed to
+    ///   any lower one (`scurve_stop` in [`super`]): a deceleration that fills its piece
+    ///   exactly could not be met, within rounding, without slowing the fixed start;
+    /// - and the passes bring `k`'s speed to rest at a knot `m` after it on known path
+    ///   (see [`Knots::last_known`]) through every planned speed between: the backward
+    ///   pass from rest at `m`, capped at each knot's planned speed, each piece's
+    ///   S-curve at its own acceleration and path jerk under `bounds` (on a grid the
+    ///   least of every share's, so that the next window meets this plan's slowdowns
+    ///   at whichever share it converges) ([`PieceWay`]), reaches at least the speed
+    ///   at `k`, over any number of short elements. `m` is tried at
+    ///   `k + 1, k + 2, k + 4, …` (the reach grows with `m`), so the check costs
+    ///   `O(L·log L)` piece limits for a stop over `L` pieces.
+    pub fn room_to_slow(
+        &self,
+        curves: &[Curve],
+        bounds: &AxisBounds,
+        k: usize,
+        shortest: f64,
+    ) -> bool {
+        let speed = self.knots[k].speed;
+        let known = self.last_known(curves, k);
+        if known <= k
+            || self.piece_length(curves, k) < shortest * speed
+            || !self.first_piece_settles(curves, bounds, k)
+        {
+            return false;
+        }
+        let mut span = 1;
+        loop {
+            let m = (k + span).min(known);
+            let ahead = (k + 1..m).rev().fold(0.0, |v, i| {
+                self.knots[i]
+                    .speed
+                    .min(self.piece_way(curves, bounds, i).reach(v))
+            });
+            if self.piece_way(curves, bounds, k).reach(ahead) >= speed {
+                return true;
+            }
+            if m == known {
+                return false;
+            }
+            span *= 2;
+        }
+    }
+
+    /// The first condition of [`Knots::room_to_slow`].
+    fn first_piece_settles(&self, curves: &[Curve], bounds: &AxisBounds, k: usize) -> bool {
+        let knot = &self.knots[k];
+        let element = knot.after.element;
+        let Some(next) = self.knots[k + 1..]
+            .iter()
+            .find(|n| n.blend.is_some() || n.junction.is_some() || n.before.element != element)
+        else {
+            return false;
+        };
+        if knot.blend.is_some() {
+            return false;
+        }
+        if next.speed >= knot.speed && next.blend.is_none() {
+            return true;
+        }
+        let curve = &curves[element];
+        let end = if next.before.element == element {
+            next.before.param
+        } else {
+            curve.span
+        };
+        let cap = speed_cap(curve, 0.0, curve.span, bounds);
+        let a = tangential_accel(curve, 0.0, curve.span, bounds, cap);
+        let j = path_jerk(curve, 0.0, curve.span, bounds);
+        curve.is_line()
+            && curve.length(knot.after.param, end) >= super::scurve_stop(knot.speed, a, j)
     }
 
     /// The last knot at which the window may be cut with at least `keep` of known path
@@ -963,7 +1101,7 @@ const TURN_JERK_SHARE: f64 = 0.5;
 /// Share of the least jerk limit the passes let a jerk-limited corner blend change speed
 /// with, as an S-curve over its length `2L` (its pulse is steeper on its shorter part,
 /// and the turn takes [`TURN_JERK_SHARE`]; the closed-form check slows what is over).
-const BLEND_JERK_SHARE: f64 = 0.45;
+pub(super) const BLEND_JERK_SHARE: f64 = 0.45;
 
 /// Largest share of either line a jerk-limited corner blend takes (0.45 without a jerk
 /// limit): its cap grows with `L^(2/3)`, and the straight piece left between two blends

@@ -98,8 +98,62 @@
 //! their knots lowered) and the contour is planned again. The cost: speed changes take longer
 //! (the ramps, and the return to zero tangential acceleration at every knot, on arcs
 //! too), and corners and curvature jumps are taken slower (a line into an arc of radius
-//! `R` at most at `√(Jᵢ·Tₛ·R)`). A contour under a jerk limit is planned whole, not in a
-//! window: a window's first knot, already written, could not be matched to the next.
+//! `R` at most at `√(Jᵢ·Tₛ·R)`).
+//!
+//! ## Windows under a jerk limit
+//! Every knot carries zero tangential acceleration, so a window's start state is the
+//! knot's position, its velocity along the element's tangent and the acceleration of
+//! the written piece's end (its normal part; the tangential part is zero): the full
+//! `(p, v, a)` the next window's first piece starts from. A contour streams in windows
+//! ([`PathStream`]) with these changes:
+//! - The window is planned to rest at its end, with no closed-form caps. The cut is at
+//!   or before the *stop horizon* (`Knots::stop_horizon`): the last knot `h` at which
+//!   the backward pass from rest at the last known knot (the window's last element's
+//!   end depends on what follows), run without caps over the window's own pieces,
+//!   each an S-curve at its own tangential acceleration and path jerk (the passes'
+//!   `reach`, over any number of short elements), reaches the highest feed of the
+//!   elements up to `h`. Claim: every speed at or before `h` is the one the whole
+//!   contour's passes give it. The backward pass sets `vᵢ = min(capᵢ, reachᵢ(vᵢ₊₁))`;
+//!   where the stop at the window's end binds at a knot `m > h`, `vₘ` is at least the
+//!   uncapped pass's value there, and `reach` grows with its argument, so at `h` the
+//!   bound it carries back is at least the uncapped pass's value, the feed, which no
+//!   speed exceeds; the same holds at every knot before `h` (the pass's value only
+//!   grows backward, the feed up to it only shrinks). The forward pass starts at the
+//!   same fixed start. The window's speeds up to `h` are the whole contour's (the
+//!   repairs are local to pieces and the knots beside them: tested, a windowed plan
+//!   within 2 % of the whole one's time).
+//! - The window's length is bounded: with no horizon in its second half it is planned
+//!   again at twice its size, up to [`JERK_WINDOW_GROWTH`] times the stream's window;
+//!   then it is cut where [`Knots::cut`] leaves the closed-form S-curve stop
+//!   `v·(v/a + a/j)` of the highest feed (`scurve_stop`) after it, slower there than
+//!   the whole contour, never wrong. Each plan emits at least half its knots, so a
+//!   contour of `N` elements costs `O(N)` element plans (a factor 2 for the doublings),
+//!   and the held elements are at most `JERK_WINDOW_GROWTH` windows. The next window is
+//!   planned at the size this one had: it holds all of this one's known path after the
+//!   cut, so it has the same room to bring its fixed start to rest.
+//! - The cut knot `k` (`Knots::room_to_slow`): the passes bring its speed to rest on
+//!   known path through every planned speed after it (the same backward pass from rest
+//!   at knots `k + 1, k + 2, k + 4, …`, capped at the planned speeds: a row's reversal
+//!   within the stop counts; on a grid at the least share's limits);
+//!   the next window's first piece before its trapezoid knots (to the next knot that
+//!   ends an element or starts a corner blend) does not slow and does not end in a
+//!   corner blend (a blend's cap differs between the limit shares a grid's windows plan
+//!   at), or lies on a line with room for an S-curve from its speed to any lower one
+//!   (`scurve_stop`: a deceleration that fills its piece exactly cannot be met, within
+//!   rounding, without slowing the fixed start); on a grid the piece after the cut
+//!   lasts at least a quantum (a shorter one is rounding noise in its cubic's
+//!   accelerations). On a raster of short lines at its feed every junction qualifies.
+//! - The step where two windows meet: the written piece before the cut ends with an
+//!   acceleration within half the step bound on every axis (checked at the cut), and the
+//!   next window's first piece starts within the other half (checked against rest, as a
+//!   contour's start is), so the step is within `max_jerk · servo_period`. Every
+//!   written piece is checked in its own window against every limit, its jerk and the
+//!   tolerance, and the next window starts exactly at its end state.
+//!
+//! A trapezoid on a line whose start is already at its peak speed (a window's fixed start
+//! at its cap, within a rounding error of it) has no rise knot: the rise's S-curve
+//! length, `(va + vb)·√(Δv/j)`, is far larger than the speed's rounding, and a knot
+//! there began a piece of nanoseconds that the repairs slowed to rest.
 //!
 //! On a quantum grid the jerk-limited plan is resampled in time (see "Resampling in
 //! time" below), and the resampled pieces are checked against the same bounds: each
@@ -196,14 +250,17 @@
 //! the later ones take a lower jerk and step bound so that these fit.
 //!
 //! ## Streaming on a grid
-//! A contour that fills the window ([`WINDOW_ELEMENTS`]) on a grid without a jerk limit
-//! is resampled window by window, in the same bounded memory as without a grid; a
+//! A contour that fills the window ([`WINDOW_ELEMENTS`]) on a grid, with or without a
+//! jerk limit, is resampled window by window, in the same bounded memory as without a grid; a
 //! shorter one is planned whole at its end as above, so its pieces are unchanged.
 //! 1. Each window's plan is made as in step 1 of "Resampling in time", at the shares of
 //!    [`resample::Shares`] in turn, and the first that converges is taken (the whole
 //!    contour takes the shortest). Its knots are capped as [`PathStream`]'s windows
 //!    are, at the least tangential acceleration of every share, so the next window,
-//!    whatever share it converges at, can stop from any knot this one cuts at.
+//!    whatever share it converges at, can stop from any knot this one cuts at. Under a
+//!    jerk limit each share's plan takes the step and jerk shares of the whole contour's
+//!    plans, and the stopping distance and the room after a cut are the S-curve's of
+//!    "Windows under a jerk limit", at the least acceleration and jerk of every share.
 //! 2. The window is cut at a grid time `τ = g·q` of the window (its start is on the
 //!    grid): the last at or before the knot the stopping distance chooses that is a
 //!    cuttable knot's time, or that lies inside a planned piece that follows one element
@@ -224,7 +281,9 @@
 //!    out; the next window starts at the inserted knot with its speed fixed. Its first
 //!    grid piece starts from the state the last one written ended in: both are the
 //!    knot's position and its velocity along the element's tangent, computed from the
-//!    same element, parameter and speed.
+//!    same element, parameter and speed. Under a jerk limit the acceleration step at a window's
+//!    first and last grid knots is checked against rest by half the bound, as at a
+//!    contour's ends, so where two windows meet it is within the bound.
 //! 4. Committed pieces never change: each is checked against the plan of its own
 //!    window, which is within the tolerance of the path from its start to the cut, and
 //!    every later window starts exactly where it ends. What a window cannot know (the
@@ -437,6 +496,12 @@ impl AxisBounds {
 /// cut when it is full (see [`PathStream`]).
 pub const WINDOW_ELEMENTS: usize = 1024;
 
+/// Under a jerk limit a window with no cut (see "Windows under a jerk limit") is planned
+/// again at twice its size up to this many times the stream's window ([`WINDOW_ELEMENTS`]
+/// by default); beyond, it is cut where the closed-form stop allows, slower there than
+/// the whole contour.
+pub const JERK_WINDOW_GROWTH: usize = 8;
+
 /// The path planner on a stream of elements, in bounded memory.
 ///
 /// Elements are held in a window of at most [`WINDOW_ELEMENTS`]. When it is full, the
@@ -448,7 +513,8 @@ pub const WINDOW_ELEMENTS: usize = 1024;
 /// had; with a window shorter than the stopping distance they are slower, never wrong.
 /// The window then starts at the cut with that knot's speed fixed. With a quantum the
 /// window is cut at a grid time and resampled (see "Streaming on a grid" above); under a
-/// jerk limit the whole contour is held and planned at its end (see "Jerk").
+/// jerk limit the cut is at or before the stop horizon, across any number of elements,
+/// and a window without one grows (see "Windows under a jerk limit").
 #[derive(Debug)]
 pub struct PathStream {
     axes: Vec<Axis>,
@@ -520,7 +586,7 @@ impl PathStream {
         }
         check_element(element)?;
         Curve::push_new(element, &self.axes, &mut self.curves);
-        let whole = self.hold || self.bounds.jerk_mode();
+        let whole = self.hold;
         if !whole && self.curves.len() >= self.window.max(self.retry_at) {
             if self.options.quantum.is_some() {
                 self.stream_on_grid(false, emit)?;
@@ -567,7 +633,7 @@ impl PathStream {
         if bounds.jerk_mode() {
             knots.min_cruise = self.options.quantum.map_or(0.0, |q| 3.0 * q.seconds);
         }
-        if !last {
+        if !last && !bounds.jerk_mode() {
             knots.cap_for_window(curves, least);
         }
         // The pieces' storage of the last window, reused by every round of this one.
@@ -578,7 +644,7 @@ impl PathStream {
         // Without a trapezoid knot the knots and caps are those just settled: a second
         // settle would make the same pieces.
         if knots.add_trapezoids(curves, bounds) {
-            if !last {
+            if !last && !bounds.jerk_mode() {
                 knots.cap_for_window(curves, least);
             }
             if !settle_into(&mut knots, curves, bounds, tolerance, &mut pieces) {
@@ -593,9 +659,19 @@ impl PathStream {
         let count = if last {
             knots.knots.len() - 1
         } else {
-            match knots.cut(curves, self.stopping_distance()) {
+            let cut = if bounds.jerk_mode() {
+                jerk_cut(&knots, curves, &pieces, bounds, self.may_grow())
+            } else {
+                knots.cut(curves, self.stopping_distance())
+            };
+            match cut {
                 Some(k) => k,
                 None => {
+                    if bounds.jerk_mode() {
+                        // No stop on known path from the highest feed yet: planned
+                        // again at twice the size (see "Windows under a jerk limit").
+                        self.retry_at = 2 * self.curves.len();
+                    }
                     self.pieces = pieces;
                     self.knot_storage = knots.into_storage();
                     return Ok(());
@@ -612,9 +688,9 @@ impl PathStream {
         self.pieces = pieces;
         if !last {
             let (element, start) = knots.start_after(count);
+            self.retry_at = self.next_size();
             self.curves.drain(..element);
             self.start = start;
-            self.retry_at = 0;
         }
         self.knot_storage = knots.into_storage();
         Ok(())
@@ -631,19 +707,20 @@ impl PathStream {
         let Some(quantum) = self.options.quantum else {
             return self.plan(last, emit);
         };
+        let grow = self.bounds.jerk_mode() && self.may_grow();
         let window = grid_window(
             &self.curves,
             &self.bounds,
             &self.options,
             &self.start,
             quantum,
-            last,
+            (last, grow),
             &mut self.grid_scratch,
         );
         let w = match window {
             Window::Planned(w) => w,
             // Nothing out yet: the contour is held whole (planned as any at its end).
-            Window::NoCut if !self.streamed => {
+            Window::NoCut if !self.streamed && !grow => {
                 self.hold = true;
                 return Ok(());
             }
@@ -670,9 +747,9 @@ impl PathStream {
         self.streamed = true;
         if !last {
             let (element, start) = w.knots.start_after(w.count);
+            self.retry_at = self.next_size();
             self.curves.drain(..element);
             self.start = start;
-            self.retry_at = 0;
         }
         self.grid_scratch.give_back(w.knots, w.pieces);
         Ok(())
@@ -725,6 +802,24 @@ impl PathStream {
             (None, Some(g)) => Ok(g),
             (None, None) => Err(not_met),
         }
+    }
+
+    /// The size the window after a cut is planned at: under a jerk limit the size this
+    /// one had (grown where it had no cut), so that the next, which holds all of this
+    /// one's known path after the cut, has at least that room to bring its fixed start to
+    /// rest; without, the stream's window.
+    fn next_size(&self) -> usize {
+        if self.bounds.jerk_mode() {
+            self.curves.len()
+        } else {
+            0
+        }
+    }
+
+    /// Under a jerk limit, whether a window with no cut may be planned again at twice
+    /// its size: below [`JERK_WINDOW_GROWTH`] windows.
+    fn may_grow(&self) -> bool {
+        self.curves.len() < JERK_WINDOW_GROWTH * self.window
     }
 
     /// The least tangential acceleration any piece has (see [`least_acceleration`]).
@@ -930,7 +1025,7 @@ fn grid_window(
     options: &PathOptions,
     start: &Start,
     quantum: Quantum,
-    last: bool,
+    (last, grow): (bool, bool),
     scratch: &mut resample::Scratch,
 ) -> Window {
     let q = quantum.seconds;
@@ -947,27 +1042,67 @@ fn grid_window(
         .map(|t| t.acceleration)
         .fold(1.0, f64::min);
     let least = least_share * least_acceleration(bounds);
-    let keep = stopping_distance(curves, least);
+    // Under a jerk limit the next window may converge at a lower jerk share: the room
+    // after a cut is for the least acceleration and jerk of every share.
+    let least_jerk_share = shares.tries.iter().map(|t| t.jerk).fold(1.0, f64::min);
+    let jerk = least_jerk_share * least_jerk(bounds);
+    let slowest = AxisBounds {
+        acceleration: bounds
+            .acceleration
+            .iter()
+            .map(|a| a * least_share)
+            .collect(),
+        jerk: bounds.jerk.iter().map(|j| j * least_jerk_share).collect(),
+        ..bounds.clone()
+    };
+    let keep = if bounds.jerk_mode() {
+        let fastest = curves.iter().map(|c| c.feed).fold(0.0, f64::max);
+        scurve_stop(fastest, least, jerk)
+    } else {
+        stopping_distance(curves, least)
+    };
+    let stop = |v: f64| {
+        if least.is_finite() {
+            v * v / (2.0 * least)
+        } else {
+            0.0
+        }
+    };
+    let room = |knots: &Knots, at: usize| {
+        if bounds.jerk_mode() {
+            knots.room_to_slow(curves, &slowest, at, q)
+        } else {
+            knots.room_to_stop(curves, at, &stop)
+        }
+    };
     for try_ in &shares.tries {
+        // As the whole contour's plans (see [`resample_contour`]); without a jerk limit
+        // the step and jerk are infinite, at any share.
         let planning = AxisBounds {
             acceleration: bounds
                 .acceleration
                 .iter()
                 .map(|a| a * try_.acceleration)
                 .collect(),
+            step: bounds
+                .step
+                .iter()
+                .map(|&s| resample::planned_step(s, try_.step, bounds.resolution, q))
+                .collect(),
+            jerk: bounds.jerk.iter().map(|j| j * try_.jerk).collect(),
             resolution: 0.0,
             ..bounds.clone()
         };
         let storage = std::mem::take(&mut scratch.knots);
         let mut knots = Knots::new(curves, &planning, tolerance, corner, start, false, storage);
         let mut planned = std::mem::take(&mut scratch.planned);
-        if !last {
+        if !last && !bounds.jerk_mode() {
             knots.cap_for_window(curves, least);
         }
         let settled = settle_into(&mut knots, curves, &planning, tolerance, &mut planned) && {
             // Without a trapezoid knot a second settle would make the same pieces.
             !knots.add_trapezoids(curves, &planning) || {
-                if !last {
+                if !last && !bounds.jerk_mode() {
                     knots.cap_for_window(curves, least);
                 }
                 settle_into(&mut knots, curves, &planning, tolerance, &mut planned)
@@ -982,14 +1117,17 @@ fn grid_window(
             let (count, inserted) = if last {
                 (knots.knots.len() - 1, false)
             } else {
-                match grid_cut(
-                    &mut knots,
-                    curves,
-                    &planning,
-                    &mut planned,
-                    (keep, least),
-                    q,
-                ) {
+                let k = if bounds.jerk_mode() {
+                    jerk_horizon(&knots, curves, &slowest, grow)
+                } else {
+                    knots.cut(curves, keep)
+                };
+                let Some(k) = k else {
+                    scratch.knots = knots.into_storage();
+                    scratch.planned = planned;
+                    return Window::NoCut;
+                };
+                match grid_cut(&mut knots, curves, &planning, &mut planned, (k, &room), q) {
                     Some(cut) => cut,
                     None => {
                         scratch.knots = knots.into_storage();
@@ -998,7 +1136,7 @@ fn grid_window(
                     }
                 }
             };
-            let prefix = &planned[..count];
+            let prefix = &planned[..planned.partition_point(|p| p.knot < count)];
             match resample::resample_once(&knots, bounds, tolerances, q, prefix, false, scratch) {
                 Ok(r) => {
                     scratch.planned = planned;
@@ -1028,8 +1166,12 @@ fn grid_window(
     Window::NotMet
 }
 
+/// Whether a window may be cut at a knot: room after it for the next window's fixed
+/// start (see [`grid_cut`]).
+type RoomAfterCut<'a> = dyn Fn(&Knots, usize) -> bool + 'a;
+
 /// Where a window of a streamed contour on the grid ends: the last grid time at or before
-/// the knot [`Knots::cut`] chooses (`keep` of known path after it) that is a cuttable
+/// knot `k` ([`Knots::cut`]'s, or under a jerk limit [`jerk_horizon`]'s) that is a cuttable
 /// knot's time or inside a piece that follows one element at speed, where a knot is
 /// inserted (and `planned` made again), with room to stop on its line at `least`
 /// ([`Knots::room_to_stop`]). The knot's index (the number of pieces before it) and
@@ -1039,20 +1181,14 @@ fn grid_cut(
     curves: &[Curve],
     planning: &AxisBounds,
     planned: &mut Vec<piece::Piece>,
-    (keep, least): (f64, f64),
+    (k, room): (usize, &RoomAfterCut<'_>),
     q: f64,
 ) -> Option<(usize, bool)> {
-    let k = knots.cut(curves, keep)?;
-    let stop = |v: f64| {
-        if least.is_finite() {
-            v * v / (2.0 * least)
-        } else {
-            0.0
-        }
-    };
-    let mut starts = Vec::with_capacity(k + 1);
+    // The pieces before knot `k` (under a jerk limit an S-curve is several parts).
+    let before = planned.partition_point(|p| p.knot < k);
+    let mut starts = Vec::with_capacity(before + 1);
     let mut t = 0.0;
-    for p in &planned[..k] {
+    for p in &planned[..before] {
         starts.push(t);
         t += p.duration;
     }
@@ -1063,18 +1199,24 @@ fn grid_cut(
         g -= 1.0;
         let i = starts.partition_point(|&s| s <= tau + slack) - 1;
         let (piece, u) = (&planned[i], tau - starts[i]);
+        let at_knot = |end: usize| piece.part.is_none_or(|p| p.at_knot[end]);
         if u <= slack || piece.duration - u <= slack {
-            let at = if u <= slack { i } else { i + 1 };
-            if at <= k && knots.cuttable(curves, at) && knots.room_to_stop(curves, at, &stop) {
+            let (end, at) = if u <= slack {
+                (0, piece.knot)
+            } else {
+                (1, piece.knot + 1)
+            };
+            if at_knot(end) && at <= k && knots.cuttable(curves, at) && room(knots, at) {
                 return Some((at, false));
             }
             continue;
         }
+        let i = piece.knot;
         if knots.knots[i].blend.is_some() || piece.at_rest() || piece.part.is_some() {
             continue;
         }
         let at = knots.insert_inside(curves, i, u, piece.duration);
-        if !knots.room_to_stop(curves, at, &stop) {
+        if !room(knots, at) {
             knots.remove(at);
             continue;
         }
@@ -1082,6 +1224,75 @@ fn grid_cut(
         return Some((at, true));
     }
     None
+}
+
+/// The knot a window under a jerk limit is cut at or before: the last from which the
+/// window's highest feed comes to rest on its known path ([`Knots::stop_horizon`]), so
+/// the stop at the window's end bounds no speed up to it. `None`, so that the window
+/// grows, when there is none or it lies in the window's first half (a cut there would
+/// emit little of it) and `grow` allows; without `grow` (the window at its largest,
+/// [`JERK_WINDOW_GROWTH`]), [`Knots::cut`]'s knot with the closed-form stop
+/// [`scurve_stop`] after it: slower there than the whole contour, never wrong.
+fn jerk_horizon(knots: &Knots, curves: &[Curve], bounds: &AxisBounds, grow: bool) -> Option<usize> {
+    match knots.stop_horizon(curves, bounds) {
+        Some(k) if !grow || 2 * k >= knots.knots.len() => Some(k),
+        _ if grow => None,
+        _ => {
+            let fastest = curves.iter().map(|c| c.feed).fold(0.0, f64::max);
+            let least = least_acceleration(bounds);
+            knots.cut(curves, scurve_stop(fastest, least, least_jerk(bounds)))
+        }
+    }
+}
+
+/// Where a window under a jerk limit (without a grid) ends: the last knot at or before
+/// [`jerk_horizon`]'s that may end a window ([`Knots::cuttable`]), whose speed the next
+/// window's fixed start can bring to rest on known path ([`Knots::room_to_slow`], over
+/// any number of elements), and where the piece before ends with an acceleration within
+/// half the step bound on every axis: the next window's first piece starts within the
+/// other half (it is checked against rest, as a contour's start is), so the step where
+/// they meet is within the bound. `None` when there is no such knot.
+fn jerk_cut(
+    knots: &Knots,
+    curves: &[Curve],
+    pieces: &[piece::Piece],
+    bounds: &AxisBounds,
+    grow: bool,
+) -> Option<usize> {
+    let k = jerk_horizon(knots, curves, bounds, grow)?;
+    (1..=k).rev().find(|&at| {
+        let before = pieces.partition_point(|p| p.knot < at);
+        if before == 0 || !knots.cuttable(curves, at) {
+            return false;
+        }
+        let before = &pieces[before - 1];
+        let end = before.end_accelerations()[1];
+        let within = end.iter().zip(&bounds.step).all(|(a, s)| {
+            a.abs() <= 0.5 * s - 6.0 * bounds.resolution / (before.duration * before.duration)
+        });
+        within && knots.room_to_slow(curves, bounds, at, 0.0)
+    })
+}
+
+/// The least path jerk of an S-curve anywhere on the path: a corner blend's share of the
+/// least axis jerk limit (a line's and an arc's are higher); infinite without one.
+fn least_jerk(bounds: &AxisBounds) -> f64 {
+    let least = bounds.jerk.iter().fold(f64::INFINITY, |a, &b| a.min(b));
+    knots::BLEND_JERK_SHARE * least
+}
+
+/// A bound on the length an S-curve (tangential acceleration `a`, path jerk `j`) needs
+/// from `v` to any lower speed: `v·(v/a + a/j)`. The S-curve's distance to `w < v` is
+/// `(v + w)/2·(Δ/a + a/j)` with `Δ = v − w` when it reaches `a`, each factor at most
+/// `v` and `v/a + a/j`; else `(v + w)·√(Δ/j) ≤ 2v·√(v/j) ≤ v·(v/a + a/j)` (the mean of
+/// `v/a` and `a/j` is at least their geometric mean). The distance is not monotone in
+/// `w` (slowing to `v/3` takes longer than stopping), so the bound is over every `w`.
+pub(super) fn scurve_stop(v: f64, a: f64, j: f64) -> f64 {
+    if !a.is_finite() {
+        return 0.0;
+    }
+    let ramp = if j.is_finite() { a / j } else { 0.0 };
+    v * (v / a + ramp)
 }
 
 /// Whole quanta in `t` seconds, rounded down (times within a billionth of a quantum of
