@@ -389,3 +389,71 @@ fn p_and_l_words_of_a_block_are_not_ignored() {
     let compiled = compile(source, &GcodeOptions::default()).expect("compiles");
     assert!(compiled.warnings.is_empty(), "{:?}", compiled.warnings);
 }
+
+#[test]
+fn lines_without_axis_words_inside_a_block_add_no_point() {
+    // LinuxCNC's nc_files/nurbs/G5/Curva_Delfino #1=1_G5.ngc has `;K29` lines in its block.
+    let plain = "G21 G17 G90 F100\nG0 X0 Y0\nG5.2 P1 L3\nX0 Y1 P1\nX2 Y2 P1\nX2 Y0 P1\nX0 Y0 P2\nG5.3\nM2\n";
+    let noisy = "G21 G17 G90 F100\nG0 X0 Y0\nG5.2 P1 L3\nX0 Y1 P1\n\n(a comment)\nX2 Y2 P1\n;K3\nF100\nX2 Y0 P1\nX0 Y0 P2\n;K3\nG5.3\nM2\n";
+    let (a, b) = (elements(plain), elements(noisy));
+    assert!(!a.is_empty());
+    assert_eq!(a.len(), b.len());
+    for (x, y) in a.iter().zip(&b) {
+        assert_eq!((x.start, x.end, x.kind), (y.start, y.end, y.kind));
+    }
+}
+
+#[test]
+fn a_block_in_the_planes_own_words_is_the_same_curve_in_that_plane() {
+    // LinuxCNC 2.10's nc_files/nurbs/G5 (nurbs-yz.ngc, nurbs-zx.ngc) write G5.2 in G18/G19
+    // with the plane's words; rs274 2.9 reads only X Y. The same control points in each
+    // plane's words must give the G17 curve on that plane's axes.
+    let block = |plane: &str, a: char, b: char| {
+        let p = |x: i32, y: i32| format!("{a}{x} {b}{y}");
+        format!(
+            "G21 {plane} G90 F100\nG0 X0 Y0 Z0\nG5.2 P1 L3\n{} P1\n{} P1\n{} P1\n{} P2\nG5.3\nM2\n",
+            p(0, 1),
+            p(2, 2),
+            p(2, 0),
+            p(0, 0)
+        )
+    };
+    let xy = elements(&block("G17", 'X', 'Y'));
+    assert!(!xy.is_empty());
+    for (plane, a, b, ia, ib) in [("G18", 'Z', 'X', 2, 0), ("G19", 'Y', 'Z', 1, 2)] {
+        let other = elements(&block(plane, a, b));
+        assert_eq!(other.len(), xy.len(), "{plane}");
+        for (e, f) in xy.iter().zip(&other) {
+            for (p, q) in [(e.start, f.start), (e.end, f.end)] {
+                assert_eq!((p[0], p[1]), (q[ia], q[ib]), "{plane}");
+            }
+            for k in 1..8 {
+                let u = f64::from(k) / 8.0;
+                let (c, d) = (cubic(e, u), in_plane(f, u));
+                assert!((c[0] - d[0]).hypot(c[1] - d[1]) < 1e-12, "{plane} at {u}");
+            }
+        }
+    }
+    // Words of two planes in one block, or X Y Z in G18, are refused.
+    for source in [
+        "G21 G18 F100\nG5.2 P1 L3\nZ0 X1 P1\nX2 Y2 P1\nZ2 X0 P1\nG5.3\nM2\n",
+        "G21 G18 F100\nG5.2 P1 L3\nX0 Y1 Z1 P1\nX2 Y2 P1\nX2 Y0 P1\nG5.3\nM2\n",
+    ] {
+        assert!(
+            compile(source, &GcodeOptions::default()).is_err(),
+            "{source}"
+        );
+    }
+}
+
+/// A Bézier element's point at `u` in its own plane's coordinates.
+fn in_plane(e: &Element, u: f64) -> [f64; 2] {
+    let ElementKind::Bezier(b) = e.kind else {
+        panic!("not a Bézier: {e:?}");
+    };
+    let (a, z) = (b.plane.project(&e.start), b.plane.project(&e.end));
+    let p = [a, b.controls[0], b.controls[1], z];
+    let s = 1.0 - u;
+    let w = [s * s * s, 3.0 * s * s * u, 3.0 * s * u * u, u * u * u];
+    [0, 1].map(|k| (0..4).map(|i| w[i] * p[i][k]).sum())
+}

@@ -6,8 +6,11 @@
 //! start (under G91 every point is an offset from where the block starts, as rs274's
 //! position stays there until G5.3); L, on any line of the block, sets the order when it
 //! is above 3, else the order is 3; G5.3 closes the block and the tool is at the last
-//! control point. The curve lies in XY whatever the plane (G17, G18 or G19: rs274 reads
-//! X and Y and leaves Z where it is). LinuxCNC's knot vector is uniform and clamped:
+//! control point. Points in X Y words make a curve in XY whatever the plane (G17, G18 or
+//! G19: rs274 2.9 reads X and Y and leaves Z where it is); in G18/G19 the plane's own
+//! words (Z X, Y Z: LinuxCNC 2.10's `nc_files/nurbs/G5` programs) make it in that plane,
+//! the block's first point deciding. A line with no axis word, P or L adds no point (a
+//! comment or F, as rs274 moves only on axis words). LinuxCNC's knot vector is uniform and clamped:
 //! `order` zeros, then 1, 2, …, then `order` copies of `points − order + 1`. Its
 //! refusals: X without Y, a missing or non-positive P after the first line, fewer points
 //! than the order, G5.3 without G5.2.
@@ -18,8 +21,8 @@
 //! Béziers; any other within [`NURBS_FIT_SHARE`] of the tolerance, each such cubic
 //! carrying that share as its `fit`, so that the path planner keeps the motion within
 //! the rest of the tolerance of it. It must not plan or flatten the curve (pvt-core
-//! does) and refuses what pvtc cannot follow: Z/A/B/C words on a G5.2 line and inverse
-//! time feed.
+//! does) and refuses what pvtc cannot follow: A/B/C words or Z off the block's plane on
+//! a G5.2 line, and inverse time feed.
 
 use super::Interpreter;
 use crate::block::Block;
@@ -29,7 +32,7 @@ use crate::request::Request;
 use crate::NURBS_FIT_SHARE;
 use miette::SourceSpan;
 use pvt_core::rational::{nurbs_cubics_marked, FitError};
-use pvt_core::{Bezier, Element, ElementKind, Motion, Plane, Position, Units};
+use pvt_core::{Axis, Bezier, Element, ElementKind, Motion, Plane, Position, Units};
 
 /// A NURBS block being gathered (G5.2 until its G5.3, G6.2 until its last knot).
 #[derive(Debug, Clone)]
@@ -45,6 +48,9 @@ pub(super) struct NurbsBlock {
     pub opened_at: SourceSpan,
     /// G6.2's knots (one per control point, then the closing ones), with its plane.
     pub knots: Option<(Vec<f64>, Plane)>,
+    /// G5.2: the plane its control points are read in, set by the first one that has
+    /// axis words (see [`Interpreter::nurbs_words`]).
+    pub words: Option<Plane>,
 }
 
 /// A gathered curve: its plane, control points, weights, degree and knots.
@@ -91,6 +97,7 @@ impl Interpreter<'_> {
                 order: 3,
                 opened_at: span(word.span()),
                 knots: None,
+                words: None,
             });
             if !self.nurbs_order(request) {
                 return;
@@ -110,6 +117,16 @@ impl Interpreter<'_> {
         } else if let Some(refusal) = self.nurbs_refusal(request, at) {
             self.nurbs = None;
             return self.push(refusal);
+        } else if opening.is_none()
+            && !request.has_axis_words()
+            && request.p.is_none()
+            && request.l.is_none()
+            && request.stop.is_none()
+        {
+            // rs274 moves only on a line with axis words (`enhance_block`), so a blank,
+            // comment-only or F-only line inside the block is no control point (an M2
+            // there still ends the program with the block open: refused below).
+            return;
         } else if !self.nurbs_order(request) {
             return;
         }
@@ -133,13 +150,34 @@ impl Interpreter<'_> {
         true
     }
 
-    /// Adds the block's X Y P as a control point (X Y against the block's start, which
+    /// The plane a G5.2 control point's words are in: X Y (LinuxCNC 2.9's reading, in
+    /// every plane), or in G18/G19 the plane's own pair (Z X, Y Z) as LinuxCNC 2.10's
+    /// `nc_files/nurbs/G5` programs write them; `None` for neither, or for a line whose
+    /// reading differs from the block's first point's.
+    fn nurbs_words(&self, request: &Request) -> Option<Plane> {
+        let has = |a: Axis| request.axes[a.index()].is_some();
+        let only = |plane: Plane| {
+            let (first, second, normal) = plane.axes();
+            (has(first) && has(second) && !has(normal)).then_some(plane)
+        };
+        let words = only(Plane::XY).or_else(|| match self.modal.plane {
+            Plane::XY => None,
+            plane => only(plane),
+        })?;
+        match self.nurbs.as_ref().and_then(|n| n.words) {
+            Some(block) if block != words => None,
+            _ => Some(words),
+        }
+    }
+
+    /// Adds the block's point and P as a control point (against the block's start, which
     /// stays the current position until G5.3, as in rs274).
     fn nurbs_control(&mut self, request: &Request, at: SourceSpan, first: bool) {
-        if request.axes[0].is_none() || request.axes[1].is_none() {
+        let Some(words) = self.nurbs_words(request) else {
             self.nurbs = None;
-            return self.push(missing("G5.2", "both X and Y for a control point", at));
-        }
+            let needs = "both words of one plane for a control point (X Y, or the G18/G19 plane's), as the block's first";
+            return self.push(missing("G5.2", needs, at));
+        };
         let weight = match request.p {
             Some(p) if p.value > 0.0 && p.value.is_finite() => p.value,
             Some(p) => {
@@ -164,15 +202,24 @@ impl Interpreter<'_> {
             }
         };
         if let Some(nurbs) = self.nurbs.as_mut() {
-            nurbs.points.push([point[0], point[1]]);
+            if nurbs.words.is_none() {
+                nurbs.words = Some(words);
+                nurbs.points[0] = words.project(&nurbs.start);
+            }
+            nurbs.points.push(words.project(&point));
             nurbs.weights.push(weight);
         }
     }
 
     /// What pvtc refuses on a G5.2 line.
     fn nurbs_refusal(&self, request: &Request, at: SourceSpan) -> Option<GcodeDiagnostic> {
-        let feature = if request.axes[2..].iter().any(Option::is_some) {
-            "NURBS moving Z, A, B or C"
+        let z_off_plane = request.axes[Axis::Z.index()].is_some()
+            && (self.modal.plane == Plane::XY
+                || request.axes[Axis::X.index()..=Axis::Y.index()]
+                    .iter()
+                    .all(Option::is_some));
+        let feature = if z_off_plane || request.axes[3..].iter().any(Option::is_some) {
+            "NURBS moving Z, A, B or C off its plane"
         } else if self.modal.feed_mode == FeedMode::InverseTime {
             "NURBS in inverse time (G93)"
         } else {
@@ -194,7 +241,7 @@ impl Interpreter<'_> {
         }
         let knots = knot_vector(nurbs.points.len(), nurbs.order);
         let curve = Curve {
-            plane: Plane::XY,
+            plane: nurbs.words.unwrap_or(Plane::XY),
             points: &nurbs.points,
             weights: &nurbs.weights,
             degree: nurbs.order - 1,

@@ -66,6 +66,7 @@ impl Interpreter<'_> {
                 order,
                 opened_at: span(word.span()),
                 knots: Some((Vec::new(), self.modal.plane)),
+                words: None,
             });
         } else if let Some(p) = request.p {
             self.nurbs = None;
