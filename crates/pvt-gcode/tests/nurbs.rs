@@ -8,35 +8,11 @@
 
 mod common;
 
+use common::{bezier_elements, bezier_point};
+
 use proptest::prelude::*;
-use pvt_core::{Element, ElementKind};
+use pvt_core::ElementKind;
 use pvt_gcode::{compile, GcodeOptions};
-
-fn elements(source: &str) -> Vec<Element> {
-    compile(source, &GcodeOptions::default())
-        .unwrap_or_else(|e| panic!("{source}: {:?}", e.diagnostics))
-        .toolpath
-        .contours
-        .into_iter()
-        .flat_map(|c| c.elements)
-        .filter(|e| matches!(e.kind, ElementKind::Bezier(_)))
-        .collect()
-}
-
-fn cubic(e: &Element, u: f64) -> [f64; 2] {
-    let ElementKind::Bezier(b) = e.kind else {
-        panic!("not a Bézier: {e:?}");
-    };
-    let p = [
-        [e.start[0], e.start[1]],
-        b.controls[0],
-        b.controls[1],
-        [e.end[0], e.end[1]],
-    ];
-    let s = 1.0 - u;
-    let w = [s * s * s, 3.0 * s * s * u, 3.0 * s * u * u, u * u * u];
-    [0, 1].map(|k| (0..4).map(|i| w[i] * p[i][k]).sum())
-}
 
 /// The B-spline basis function `N(i, order)` at `t` (Cox–de Boor, half-open spans, the
 /// domain's end closing the last one).
@@ -79,14 +55,14 @@ fn nurbs(points: &[[f64; 2]], weights: &[f64], order: usize, t: f64) -> [f64; 2]
 /// Checks the elements trace the NURBS: span `k` of the curve is element `k`, the
 /// element's `u` the parameter `k + u`.
 fn assert_traces(source: &str, points: &[[f64; 2]], order: usize) {
-    let e = elements(source);
+    let e = bezier_elements(source);
     let weights = vec![1.0; points.len()];
     assert_eq!(e.len(), points.len() + 1 - order, "{source}");
     for (k, element) in e.iter().enumerate() {
         for j in 0..=32 {
             let u = f64::from(j) / 32.0;
             let want = nurbs(points, &weights, order, k as f64 + u);
-            let got = cubic(element, u);
+            let got = bezier_point(element, u);
             let d = (got[0] - want[0]).abs().max((got[1] - want[1]).abs());
             assert!(d < 1e-9, "{source}: span {k} u {u}: {got:?} vs {want:?}");
         }
@@ -133,7 +109,7 @@ fn a_block_is_its_uniform_clamped_nurbs() {
 /// The largest distance from the elements' cubics (64 samples each) to the NURBS
 /// ([`common::TrueNurbs`]), with the ends and joins checked.
 fn fit_error(source: &str, points: &[[f64; 2]], weights: &[f64], order: usize) -> f64 {
-    let e = elements(source);
+    let e = bezier_elements(source);
     let curve = common::TrueNurbs::uniform(points, weights, order, 2000);
     let first = [e[0].start[0], e[0].start[1]];
     assert_eq!(first, points[0], "{source}");
@@ -149,7 +125,7 @@ fn fit_error(source: &str, points: &[[f64; 2]], weights: &[f64], order: usize) -
     let mut worst: f64 = 0.0;
     for element in &e {
         for j in 0..=64 {
-            let p = cubic(element, f64::from(j) / 64.0);
+            let p = bezier_point(element, f64::from(j) / 64.0);
             worst = worst.max(curve.distance(p, &mut at));
         }
     }
@@ -187,7 +163,7 @@ fn rational_and_high_order_blocks_are_fitted_within_their_share() {
         let worst = fit_error(&source, &points, weights, order);
         assert!(worst <= bound, "{source}: {worst} > {bound}");
         assert!(
-            elements(&source).len() > points.len() - order + 1,
+            bezier_elements(&source).len() > points.len() - order + 1,
             "{source}"
         );
     }
@@ -395,7 +371,7 @@ fn lines_without_axis_words_inside_a_block_add_no_point() {
     // LinuxCNC's nc_files/nurbs/G5/Curva_Delfino #1=1_G5.ngc has `;K29` lines in its block.
     let plain = "G21 G17 G90 F100\nG0 X0 Y0\nG5.2 P1 L3\nX0 Y1 P1\nX2 Y2 P1\nX2 Y0 P1\nX0 Y0 P2\nG5.3\nM2\n";
     let noisy = "G21 G17 G90 F100\nG0 X0 Y0\nG5.2 P1 L3\nX0 Y1 P1\n\n(a comment)\nX2 Y2 P1\n;K3\nF100\nX2 Y0 P1\nX0 Y0 P2\n;K3\nG5.3\nM2\n";
-    let (a, b) = (elements(plain), elements(noisy));
+    let (a, b) = (bezier_elements(plain), bezier_elements(noisy));
     assert!(!a.is_empty());
     assert_eq!(a.len(), b.len());
     for (x, y) in a.iter().zip(&b) {
@@ -418,10 +394,10 @@ fn a_block_in_the_planes_own_words_is_the_same_curve_in_that_plane() {
             p(0, 0)
         )
     };
-    let xy = elements(&block("G17", 'X', 'Y'));
+    let xy = bezier_elements(&block("G17", 'X', 'Y'));
     assert!(!xy.is_empty());
     for (plane, a, b, ia, ib) in [("G18", 'Z', 'X', 2, 0), ("G19", 'Y', 'Z', 1, 2)] {
-        let other = elements(&block(plane, a, b));
+        let other = bezier_elements(&block(plane, a, b));
         assert_eq!(other.len(), xy.len(), "{plane}");
         for (e, f) in xy.iter().zip(&other) {
             for (p, q) in [(e.start, f.start), (e.end, f.end)] {
@@ -429,7 +405,7 @@ fn a_block_in_the_planes_own_words_is_the_same_curve_in_that_plane() {
             }
             for k in 1..8 {
                 let u = f64::from(k) / 8.0;
-                let (c, d) = (cubic(e, u), in_plane(f, u));
+                let (c, d) = (bezier_point(e, u), bezier_point(f, u));
                 assert!(
                     (c[0] - d[0]).abs().max((c[1] - d[1]).abs()) < 1e-12,
                     "{plane} at {u}"
@@ -447,16 +423,4 @@ fn a_block_in_the_planes_own_words_is_the_same_curve_in_that_plane() {
             "{source}"
         );
     }
-}
-
-/// A Bézier element's point at `u` in its own plane's coordinates.
-fn in_plane(e: &Element, u: f64) -> [f64; 2] {
-    let ElementKind::Bezier(b) = e.kind else {
-        panic!("not a Bézier: {e:?}");
-    };
-    let (a, z) = (b.plane.project(&e.start), b.plane.project(&e.end));
-    let p = [a, b.controls[0], b.controls[1], z];
-    let s = 1.0 - u;
-    let w = [s * s * s, 3.0 * s * s * u, 3.0 * s * u * u, u * u * u];
-    [0, 1].map(|k| (0..4).map(|i| w[i] * p[i][k]).sum())
 }

@@ -10,8 +10,10 @@
 
 mod common;
 
+use common::{bezier_elements, bezier_point};
+
 use common::TrueNurbs;
-use pvt_core::{Axis, Element, ElementKind};
+use pvt_core::{Axis, ElementKind};
 use pvt_gcode::{compile, GcodeOptions, NURBS_FIT_SHARE};
 
 /// A leaf-like outline: seven control points with uneven knots and a double one.
@@ -57,34 +59,6 @@ fn program(
     s + "G1 X0 Y0 Z0\nM2\n"
 }
 
-fn elements(source: &str) -> Vec<Element> {
-    compile(source, &GcodeOptions::default())
-        .unwrap_or_else(|e| panic!("{source}: {:?}", e.diagnostics))
-        .toolpath
-        .contours
-        .into_iter()
-        .flat_map(|c| c.elements)
-        .filter(|e| matches!(e.kind, ElementKind::Bezier(_)))
-        .collect()
-}
-
-/// The point at `u` of a Bézier element, in its plane's (first, second) coordinates.
-fn cubic(e: &Element, u: f64) -> [f64; 2] {
-    let ElementKind::Bezier(b) = e.kind else {
-        panic!("not a Bézier: {e:?}");
-    };
-    let (a0, a1, _) = b.plane.axes();
-    let p = [
-        [e.start[a0.index()], e.start[a1.index()]],
-        b.controls[0],
-        b.controls[1],
-        [e.end[a0.index()], e.end[a1.index()]],
-    ];
-    let s = 1.0 - u;
-    let w = [s * s * s, 3.0 * s * s * u, 3.0 * s * u * u, u * u * u];
-    [0, 1].map(|k| (0..4).map(|i| w[i] * p[i][k]).sum())
-}
-
 fn plane_axes(plane: u32) -> [Axis; 2] {
     match plane {
         17 => [Axis::X, Axis::Y],
@@ -111,7 +85,7 @@ fn a_block_is_its_nurbs_in_every_plane() {
                 .filter(|w| w[1] > w[0])
                 .map(|w| [w[0], w[1]])
                 .collect();
-            let e = elements(&source);
+            let e = bezier_elements(&source);
             assert_eq!(e.len(), spans.len(), "{source}");
             let axes = plane_axes(plane);
             for (element, span) in e.iter().zip(&spans) {
@@ -125,7 +99,7 @@ fn a_block_is_its_nurbs_in_every_plane() {
                 for j in 0..=32 {
                     let u = f64::from(j) / 32.0;
                     let want = curve.at(span[0] + u * (span[1] - span[0]));
-                    let got = cubic(element, u);
+                    let got = bezier_point(element, u);
                     let d = (got[0] - want[0]).abs().max((got[1] - want[1]).abs());
                     assert!(d < 1e-9, "{source}: {span:?} u {u}: {got:?} vs {want:?}");
                 }
@@ -155,7 +129,7 @@ fn rational_and_high_order_blocks_are_fitted_within_their_share() {
         for (weights, knots, order) in cases {
             let source = program(plane, &POINTS, weights, knots, order);
             let curve = TrueNurbs::new(&POINTS, weights, knots, order, 2000);
-            let e = elements(&source);
+            let e = bezier_elements(&source);
             assert!(e.len() > 3, "{source}");
             for pair in e.windows(2) {
                 assert_eq!(pair[0].end, pair[1].start, "{source}");
@@ -167,13 +141,13 @@ fn rational_and_high_order_blocks_are_fitted_within_their_share() {
                 };
                 assert_eq!(b.fit, bound, "{source}");
                 for j in 0..=64 {
-                    let p = cubic(element, f64::from(j) / 64.0);
+                    let p = bezier_point(element, f64::from(j) / 64.0);
                     worst = worst.max(curve.distance(p, &mut at));
                 }
             }
             assert!(worst <= bound && worst > 0.0, "{source}: {worst} > {bound}");
-            assert_eq!(cubic(&e[0], 0.0), POINTS[0]);
-            assert_eq!(cubic(e.last().unwrap(), 1.0), POINTS[6]);
+            assert_eq!(bezier_point(&e[0], 0.0), POINTS[0]);
+            assert_eq!(bezier_point(e.last().unwrap(), 1.0), POINTS[6]);
         }
     }
 }

@@ -10,20 +10,11 @@
 
 mod common;
 
+use common::bezier_elements;
+
 use proptest::prelude::*;
 use pvt_core::{Element, ElementKind};
 use pvt_gcode::{compile, GcodeOptions};
-
-fn elements(source: &str) -> Vec<Element> {
-    compile(source, &GcodeOptions::default())
-        .unwrap_or_else(|e| panic!("{source}: {:?}", e.diagnostics))
-        .toolpath
-        .contours
-        .into_iter()
-        .flat_map(|c| c.elements)
-        .filter(|e| matches!(e.kind, ElementKind::Bezier(_)))
-        .collect()
-}
 
 /// The cubic's point at `u` from its Bernstein form.
 fn cubic(p: [[f64; 2]; 4], u: f64) -> [f64; 2] {
@@ -50,7 +41,7 @@ fn close(a: [f64; 2], b: [f64; 2], tol: f64) -> bool {
 
 #[test]
 fn g5_continues_and_g51_is_its_quadratic() {
-    let e = elements(
+    let e = bezier_elements(
         "G21 G17 G90 F600\nG0 X1 Y2\nG5 I5 J10 P-5 Q10 X10 Y0\nG5 P-5 Q-10 X20 Y0\nG5.1 I5 J5 X30 Y0\n",
     );
     assert_eq!(e.len(), 3);
@@ -75,7 +66,7 @@ fn g5_continues_and_g51_is_its_quadratic() {
 #[test]
 fn inches_and_incremental_scale_the_offsets() {
     // Millimetres out (the first units); the spline block in inches, incremental.
-    let e = elements("G21 G17 F600\nG0 X0 Y0\nG20 G91\nG5 I1 J1 P-1 Q1 X2 Y0\n");
+    let e = bezier_elements("G21 G17 F600\nG0 X0 Y0\nG20 G91\nG5 I1 J1 P-1 Q1 X2 Y0\n");
     let p = points_of(&e[0]);
     assert!(close(p[1], [25.4, 25.4], 1e-12) && close(p[2], [25.4, 25.4], 1e-12));
     assert!(close(p[3], [50.8, 0.0], 1e-12));
@@ -186,7 +177,7 @@ proptest! {
     #[test]
     fn random_splines_are_the_defined_curves(blocks in program()) {
         let source = text(&blocks);
-        let got: Vec<Element> = elements(&source);
+        let got: Vec<Element> = bezier_elements(&source);
         let want = expected(&blocks);
         prop_assert_eq!(got.len(), want.len());
         for (e, w) in got.iter().zip(&want) {
@@ -213,7 +204,7 @@ proptest! {
         let counts = reading.map_err(|e| TestCaseError::fail(format!("{source}\n{e}")))?;
         let ours: Vec<usize> = blocks.iter().map(|b| if b.0 == 0 { 3 } else { 4 }).collect();
         prop_assert_eq!(counts, ours, "{}", source);
-        prop_assert_eq!(elements(&source).len(), blocks.len());
+        prop_assert_eq!(bezier_elements(&source).len(), blocks.len());
     }
 }
 

@@ -3,7 +3,7 @@
 
 use std::fmt::Write;
 
-use pvt_core::{ArcDirection, Axis, ElementKind, Plane, Position};
+use pvt_core::{ArcDirection, Axis, Element, ElementKind, Plane, Position};
 use pvt_gcode::{compile, line_col, Compiled, GcodeDiagnostic, GcodeOptions};
 
 /// A number with up to six decimals, trailing zeros trimmed, `-0` shown as `0`.
@@ -411,4 +411,33 @@ pub fn planned_distance(source: &str, curve: &TrueNurbs, axes: [Axis; 2], lines:
         }
     }
     worst
+}
+
+/// The Bézier elements `source` compiles to (it must compile).
+pub fn bezier_elements(source: &str) -> Vec<Element> {
+    compile(source, &GcodeOptions::default())
+        .unwrap_or_else(|e| panic!("{source}: {:?}", e.diagnostics))
+        .toolpath
+        .contours
+        .into_iter()
+        .flat_map(|c| c.elements)
+        .filter(|e| matches!(e.kind, ElementKind::Bezier(_)))
+        .collect()
+}
+
+/// The point at `u` of a Bézier element, in its plane's (first, second) coordinates,
+/// from its Bernstein form.
+pub fn bezier_point(e: &Element, u: f64) -> [f64; 2] {
+    let ElementKind::Bezier(b) = e.kind else {
+        panic!("not a Bézier: {e:?}");
+    };
+    let p = [
+        b.plane.project(&e.start),
+        b.controls[0],
+        b.controls[1],
+        b.plane.project(&e.end),
+    ];
+    let s = 1.0 - u;
+    let w = [s * s * s, 3.0 * s * s * u, 3.0 * s * u * u, u * u * u];
+    [0, 1].map(|k| (0..4).map(|i| w[i] * p[i][k]).sum())
 }
