@@ -1,18 +1,22 @@
 //! The path planner streams a long contour on a time grid in memory that does not grow
 //! with the contour: 40,000 lines on PMAC's 1 ms grid (its default route: no machine
-//! file) take no more than 4,000, and the pieces come out while the lines go in. Its own
-//! test binary, because the counting allocator counts every thread of it.
+//! file) take no more than 4,000, and the pieces come out while the lines go in; so does
+//! a pocket of arcs with exact stops. Its own test binary, and one test at a time,
+//! because the counting allocator counts every thread of it.
 
 use peak_alloc::PeakAlloc;
 use pvt_core::{
-    Axis, Element, ElementKind, PathOptions, PathStream, Position, Quantum, Rounding, SegmentRef,
-    Span,
+    Arc, ArcDirection, Axis, Element, ElementKind, PathOptions, PathStream, Plane, Position,
+    Quantum, Rounding, SegmentRef, Span,
 };
 use std::collections::BTreeMap;
 
 /// Counts the bytes allocated (every thread of this test binary).
 #[global_allocator]
 static ALLOCATOR: PeakAlloc = PeakAlloc;
+
+/// Held by each test while it measures: the allocator counts every thread.
+static MEASURING: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 const AXES: [Axis; 3] = [Axis::X, Axis::Y, Axis::Z];
 
@@ -37,11 +41,53 @@ fn element(i: usize) -> Element {
     }
 }
 
+/// Element `i` of a pocket, as `generate pocket` writes it: circles of radius 1 to 20 mm
+/// about the origin in 0.5 mm steps, each two half arcs and a 0.5 mm step-over line out
+/// to the next (exact stops at its corners), one feed.
+fn pocket_element(i: usize) -> Element {
+    let r = 1.0 + 0.5 * ((i / 3) % 39) as f64;
+    let at = |x: f64| -> Position {
+        let mut p = [0.0; pvt_core::AXIS_COUNT];
+        p[0] = x;
+        p
+    };
+    let arc = ElementKind::Arc(Arc {
+        plane: Plane::XY,
+        center: [0.0, 0.0],
+        direction: ArcDirection::CounterClockwise,
+        extra_turns: 0,
+    });
+    let (kind, start, end) = match i % 3 {
+        0 => (arc, at(r), at(-r)),
+        1 => (arc, at(-r), at(r)),
+        _ if r < 20.0 => (ElementKind::Line, at(r), at(r + 0.5)),
+        _ => (ElementKind::Line, at(r), at(1.0)),
+    };
+    Element {
+        kind,
+        start,
+        end,
+        feed: 800.0 / 60.0,
+        span: Span {
+            line: i as u32 + 1,
+            ..Span::default()
+        },
+    }
+}
+
 /// The most memory planning `n` lines on the 1 ms grid holds at once, in bytes, and the
 /// pieces that came out before the contour ended, of all.
 fn peak(n: usize) -> (usize, usize, usize) {
+    let (peak, early, all, time) = peak_of(n, element, 0.01);
+    // At 50 mm/s at most: 0.5 mm a line takes at least 10 ms.
+    assert!(time >= n as f64 * 0.01, "{time} s for {n} lines");
+    (peak, early, all)
+}
+
+/// As [`peak`], for `n` elements of `elements` at `tolerance`, with the motion's time.
+fn peak_of(n: usize, elements: fn(usize) -> Element, tolerance: f64) -> (usize, usize, usize, f64) {
     let options = PathOptions {
-        tolerance: 0.01,
+        tolerance,
         corner_tolerance: None,
         limits: BTreeMap::new(),
         quantum: Some(Quantum {
@@ -66,18 +112,17 @@ fn peak(n: usize) -> (usize, usize, usize) {
         );
     };
     for i in 0..n {
-        stream.push(&element(i), &mut emit).expect("plans");
+        stream.push(&elements(i), &mut emit).expect("plans");
     }
     let early = pieces.get();
     stream.finish(&mut emit).expect("plans");
     let peak = ALLOCATOR.peak_usage() - before;
-    // At 50 mm/s at most: 0.5 mm a line takes at least 10 ms.
-    assert!(time >= n as f64 * 0.01, "{time} s for {n} lines");
-    (peak, early, pieces.get())
+    (peak, early, pieces.get(), time)
 }
 
 #[test]
 fn a_long_contour_on_a_grid_streams_in_the_memory_of_a_short_one() {
+    let _alone = MEASURING.lock().unwrap_or_else(|e| e.into_inner());
     let (short, _, _) = peak(4_000);
     let (long, early, all) = peak(40_000);
     assert!(
@@ -89,4 +134,24 @@ fn a_long_contour_on_a_grid_streams_in_the_memory_of_a_short_one() {
         "{long} bytes for 40,000 lines, {short} for 4,000"
     );
     assert!(long < 8 << 20, "{long} bytes");
+}
+
+#[test]
+fn a_pocket_of_arcs_and_exact_stops_streams_on_a_grid() {
+    // Its step-over lines are single pieces from rest to rest and its arcs have no
+    // room to stop on a line: its windows end at the stops.
+    let _alone = MEASURING.lock().unwrap_or_else(|e| e.into_inner());
+    let (short, _, _, _) = peak_of(3_000, pocket_element, 0.001);
+    let (long, early, all, time) = peak_of(12_000, pocket_element, 0.001);
+    assert!(
+        early * 10 >= all * 9,
+        "{early} of {all} pieces before the end"
+    );
+    assert!(
+        long <= short + 256 * 1024,
+        "{long} bytes for 12,000 elements, {short} for 3,000"
+    );
+    // Independently: at the feed, the 4,000 circles of radius 1 mm or more take at
+    // least 4,000 · 2π mm / (40/3 mm/s).
+    assert!(time >= 4_000.0 * std::f64::consts::TAU * 0.075, "{time} s");
 }

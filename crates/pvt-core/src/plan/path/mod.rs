@@ -268,8 +268,14 @@
 //!    its speed (at that least acceleration) left after it: whatever the next window's
 //!    repairs ask of the knots after it, its fixed first knot can come to rest on that
 //!    line, so its plan settles as a contour's start does (a cut before a short line's
-//!    blend did not: the blend slowed, the fixed knot could not). A contour whose first
-//!    window has no such time is held whole. There a knot is inserted on the piece's own reference
+//!    blend did not: the blend slowed, the fixed knot could not). Without a jerk limit,
+//!    where there is no such time, the window ends at its last knot at rest (an exact
+//!    stop; a line between two stops is one piece from rest to rest, with no room
+//!    inside): the next window starts at rest, as a contour does, and this one's last
+//!    grid interval holds the stop to the next whole quantum, as at a contour's end
+//!    (step 5), so the stream is at most a quantum a window slower there than the
+//!    contour planned whole. A contour whose first window has no such time or knot is
+//!    held whole. There a knot is inserted on the piece's own reference
 //!    motion: at `φ(u)` with the speed `φ'(u)·|c'|`, `u = τ − tᵢ`. The two pieces beside
 //!    it have the same reference motion over `u` and `T − u`, so their error bounds are
 //!    within the piece's, and the plan's motion reaches the inserted knot at `τ`
@@ -1174,8 +1180,9 @@ type RoomAfterCut<'a> = dyn Fn(&Knots, usize) -> bool + 'a;
 /// knot `k` ([`Knots::cut`]'s, or under a jerk limit [`jerk_horizon`]'s) that is a cuttable
 /// knot's time or inside a piece that follows one element at speed, where a knot is
 /// inserted (and `planned` made again), with room to stop on its line at `least`
-/// ([`Knots::room_to_stop`]). The knot's index (the number of pieces before it) and
-/// whether it was inserted.
+/// ([`Knots::room_to_stop`]); without a jerk limit, where there is none, the last knot
+/// at rest up to `k`. The knot's index (the number of pieces before it) and whether it
+/// was inserted.
 fn grid_cut(
     knots: &mut Knots,
     curves: &[Curve],
@@ -1197,8 +1204,8 @@ fn grid_cut(
     while g >= 1.0 {
         let tau = crate::plan::quantize::quanta_time(g, q);
         g -= 1.0;
-        let i = starts.partition_point(|&s| s <= tau + slack) - 1;
-        let (piece, u) = (&planned[i], tau - starts[i]);
+        let piece_index = starts.partition_point(|&s| s <= tau + slack) - 1;
+        let (piece, u) = (&planned[piece_index], tau - starts[piece_index]);
         let at_knot = |end: usize| piece.part.is_none_or(|p| p.at_knot[end]);
         if u <= slack || piece.duration - u <= slack {
             let (end, at) = if u <= slack {
@@ -1215,6 +1222,13 @@ fn grid_cut(
         if knots.knots[i].blend.is_some() || piece.at_rest() || piece.part.is_some() {
             continue;
         }
+        // Without a jerk limit the room is on a line only: a knot inside a piece of any
+        // other curve would be inserted and removed again.
+        if !planning.jerk_mode() && !curves[knots.knots[i].after.element].is_line() {
+            // The piece's other grid times are inside it too: on to its start.
+            g = g.min(quanta_count(starts[piece_index], q) + 1.0);
+            continue;
+        }
         let at = knots.insert_inside(curves, i, u, piece.duration);
         if !room(knots, at) {
             knots.remove(at);
@@ -1223,7 +1237,15 @@ fn grid_cut(
         knots.pieces_into(curves, planning, planned);
         return Some((at, true));
     }
-    None
+    if planning.jerk_mode() {
+        return None;
+    }
+    // No grid time to cut at: the last knot at rest (an exact stop), whose window ends
+    // there and holds it to the next whole quantum, as a contour's end does.
+    (1..=k)
+        .rev()
+        .find(|&at| knots.knots[at].speed == 0.0 && knots.cuttable(curves, at))
+        .map(|at| (at, false))
 }
 
 /// The knot a window under a jerk limit is cut at or before: the last from which the
