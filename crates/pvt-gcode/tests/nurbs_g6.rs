@@ -290,16 +290,7 @@ fn refusals_are_at_their_lines() {
         ),
     ] {
         let source = format!("{head}{body}M2\n");
-        let Err(e) = compile(&source, &GcodeOptions::default()) else {
-            panic!("accepted: {source}");
-        };
-        let first = &e.diagnostics[0];
-        let at = miette::Diagnostic::labels(first)
-            .and_then(|mut l| l.next())
-            .map(|l| source[..l.offset()].matches('\n').count() + 1);
-        let code = format!("pvtc::gcode::{code}");
-        let said = miette::Diagnostic::code(first).map(|c| c.to_string());
-        assert_eq!(said.as_deref(), Some(code.as_str()), "{source}");
-        assert_eq!(at, Some(line), "{source}");
+        let (said, at, _) = common::errors(&source)[0];
+        assert_eq!((said, at), (code, line), "{source}");
     }
 }
