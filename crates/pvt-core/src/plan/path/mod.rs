@@ -950,21 +950,7 @@ fn resample_contour(
     let mut best = None;
     let mut scratch = resample::Scratch::default();
     for try_ in shares.tries {
-        let planning = AxisBounds {
-            acceleration: bounds
-                .acceleration
-                .iter()
-                .map(|a| a * try_.acceleration)
-                .collect(),
-            step: bounds
-                .step
-                .iter()
-                .map(|&s| resample::planned_step(s, try_.step, bounds.resolution, quantum.seconds))
-                .collect(),
-            jerk: bounds.jerk.iter().map(|j| j * try_.jerk).collect(),
-            resolution: 0.0,
-            ..bounds.clone()
-        };
+        let planning = try_.planning(bounds, quantum.seconds);
         let storage = KnotStorage::default();
         let mut knots = Knots::new(curves, &planning, tolerance, corner, start, false, storage);
         let Some(mut planned) = settle(&mut knots, curves, &planning, tolerance) else {
@@ -1084,21 +1070,7 @@ fn grid_window(
     for try_ in &shares.tries {
         // As the whole contour's plans (see [`resample_contour`]); without a jerk limit
         // the step and jerk are infinite, at any share.
-        let planning = AxisBounds {
-            acceleration: bounds
-                .acceleration
-                .iter()
-                .map(|a| a * try_.acceleration)
-                .collect(),
-            step: bounds
-                .step
-                .iter()
-                .map(|&s| resample::planned_step(s, try_.step, bounds.resolution, q))
-                .collect(),
-            jerk: bounds.jerk.iter().map(|j| j * try_.jerk).collect(),
-            resolution: 0.0,
-            ..bounds.clone()
-        };
+        let planning = try_.planning(bounds, q);
         let storage = std::mem::take(&mut scratch.knots);
         let mut knots = Knots::new(curves, &planning, tolerance, corner, start, false, storage);
         let mut planned = std::mem::take(&mut scratch.planned);

@@ -225,6 +225,28 @@ pub(super) struct Try {
     pub rounds: usize,
 }
 
+impl Try {
+    /// The bounds this plan is made to on a grid of `q` seconds: its shares of the
+    /// acceleration, step ([`planned_step`]) and jerk limits, with no position rounding.
+    pub fn planning(&self, bounds: &AxisBounds, q: f64) -> AxisBounds {
+        AxisBounds {
+            acceleration: bounds
+                .acceleration
+                .iter()
+                .map(|a| a * self.acceleration)
+                .collect(),
+            step: bounds
+                .step
+                .iter()
+                .map(|&s| planned_step(s, self.step, bounds.resolution, q))
+                .collect(),
+            jerk: bounds.jerk.iter().map(|j| j * self.jerk).collect(),
+            resolution: 0.0,
+            ..bounds.clone()
+        }
+    }
+}
+
 /// Shares of the acceleration limits the plan that is resampled is planned to without a
 /// jerk limit, each tried in turn, with the most rounds of slowing it may take. Hermite
 /// resampling of a motion whose acceleration is a short pulse (a corner blend under a
