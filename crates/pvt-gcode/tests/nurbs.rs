@@ -136,19 +136,22 @@ fn close(a: [f64; 2], b: [f64; 2]) -> bool {
     (a[0] - b[0]).abs() < 1e-9 && (a[1] - b[1]).abs() < 1e-9
 }
 
+/// The control polygon of the fitted-block tests: six points, a loop and a hook.
+const POLYGON: [[f64; 2]; 6] = [
+    [0.0, 0.0],
+    [0.0, 10.0],
+    [20.0, 20.0],
+    [20.0, 0.0],
+    [40.0, 5.0],
+    [45.0, 30.0],
+];
+
 /// Rational and order-5 blocks: cubics within `NURBS_FIT_SHARE` of the default
 /// tolerance (0.001 mm) of the NURBS, ends exact, joined end to start.
 #[test]
 fn rational_and_high_order_blocks_are_fitted_within_their_share() {
     let bound = pvt_gcode::NURBS_FIT_SHARE * pvt_core::defaults::TOLERANCE_MM;
-    let points = [
-        [0.0, 0.0],
-        [0.0, 10.0],
-        [20.0, 20.0],
-        [20.0, 0.0],
-        [40.0, 5.0],
-        [45.0, 30.0],
-    ];
+    let points = POLYGON;
     let cases: [(&[f64], usize); 3] = [
         (&[1.0, 3.0, 0.5, 2.0, 1.0, 1.0], 3),
         (&[1.0, 1.0, 1.0, 1.0, 1.0, 1.0], 5),
@@ -320,14 +323,7 @@ fn rs274_places_blocks_in_every_plane_and_distance_mode() {
 /// cubic's `fit` is taken from what the planner may deviate from it.
 #[test]
 fn the_planned_motion_follows_the_nurbs() {
-    let points = [
-        [0.0, 0.0],
-        [0.0, 10.0],
-        [20.0, 20.0],
-        [20.0, 0.0],
-        [40.0, 5.0],
-        [45.0, 30.0],
-    ];
+    let points = POLYGON;
     let tolerance = pvt_core::defaults::TOLERANCE_MM;
     let cases: [(&[f64], usize); 4] = [
         (&[1.0; 6], 4),
