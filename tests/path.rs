@@ -547,6 +547,183 @@ fn a_jerk_limit_slows_a_circle_and_holds() {
     assert!(held.total_time() > free.total_time());
 }
 
+/// A slot (two lines joined by two semicircles of radius `r`, all tangent) and a line, a
+/// quarter circle and a line, turned by `turn` radians, mirrored (the arcs clockwise)
+/// when `mirror`: line→arc and arc→line junctions of both turning senses.
+fn tangent_arcs(r: f64, long: f64, turn: f64, mirror: bool) -> Vec<Contour> {
+    let (sin, cos) = turn.sin_cos();
+    let sign = if mirror { -1.0 } else { 1.0 };
+    let at = |x: f64, y: f64| pos(x * cos - sign * y * sin, x * sin + sign * y * cos, 0.0);
+    let center = |x: f64, y: f64| {
+        let p = at(x, y);
+        [p[0], p[1]]
+    };
+    let slot = vec![
+        line(at(0.0, 0.0), at(long, 0.0), 100.0),
+        arc(
+            at(long, 0.0),
+            at(long, 2.0 * r),
+            center(long, r),
+            !mirror,
+            100.0,
+        ),
+        line(at(long, 2.0 * r), at(0.0, 2.0 * r), 100.0),
+        arc(
+            at(0.0, 2.0 * r),
+            at(0.0, 0.0),
+            center(0.0, r),
+            !mirror,
+            100.0,
+        ),
+    ];
+    let quarter = vec![
+        line(at(0.0, 0.0), at(long, 0.0), 100.0),
+        arc(
+            at(long, 0.0),
+            at(long + r, r),
+            center(long, r),
+            !mirror,
+            100.0,
+        ),
+        line(at(long + r, r), at(long + r, r + long), 100.0),
+    ];
+    vec![contour(slot), contour(quarter)]
+}
+
+/// Distance from `p` to the elements of `c` (lines and plane arcs in XY), measured
+/// here: to each line segment, and to each arc's circle where `p` lies within its swept
+/// angle (else to its nearer end).
+fn to_lines_and_arcs(c: &Contour, p: [f64; 2]) -> f64 {
+    let tau = std::f64::consts::TAU;
+    let near = |e: &Element| -> f64 {
+        let (a, b) = ([e.start[0], e.start[1]], [e.end[0], e.end[1]]);
+        let ends = (p[0] - a[0])
+            .hypot(p[1] - a[1])
+            .min((p[0] - b[0]).hypot(p[1] - b[1]));
+        match e.kind {
+            ElementKind::Arc(arc) => {
+                let c = arc.center;
+                let angle = |q: [f64; 2]| (q[1] - c[1]).atan2(q[0] - c[0]);
+                let ccw = matches!(arc.direction, ArcDirection::CounterClockwise);
+                let swept = |from: f64, to: f64| {
+                    let d = if ccw { to - from } else { from - to };
+                    d.rem_euclid(tau)
+                };
+                let mut sweep = swept(angle(a), angle(b));
+                if sweep < 1e-12 {
+                    sweep = tau;
+                }
+                if swept(angle(a), angle(p)) <= sweep {
+                    let r = (a[0] - c[0]).hypot(a[1] - c[1]);
+                    ((p[0] - c[0]).hypot(p[1] - c[1]) - r).abs()
+                } else {
+                    ends
+                }
+            }
+            _ => {
+                let d = [b[0] - a[0], b[1] - a[1]];
+                let l2 = d[0] * d[0] + d[1] * d[1];
+                let u = (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / l2).clamp(0.0, 1.0);
+                (p[0] - a[0] - u * d[0]).hypot(p[1] - a[1] - u * d[1])
+            }
+        }
+    };
+    c.elements.iter().map(near).fold(f64::INFINITY, f64::min)
+}
+
+/// Each written cubic evaluated from its end states at 200 points: the largest distance
+/// from the elements, and the largest speed within `reach` of `point`.
+fn cubic_samples(c: &Contour, planned: &PvtContour, point: [f64; 2], reach: f64) -> (f64, f64) {
+    let (mut far, mut speed) = (0.0f64, 0.0f64);
+    for i in 0..planned.len() {
+        let seg = planned.segment(i);
+        let (p0, v0) = if i == 0 {
+            (planned.start.clone(), vec![0.0; planned.dim])
+        } else {
+            let prev = planned.segment(i - 1);
+            (prev.end.to_vec(), prev.velocity.to_vec())
+        };
+        let t = seg.duration;
+        for k in 0..=200 {
+            let u = k as f64 / 200.0;
+            let (h00, h10) = (
+                2.0 * u.powi(3) - 3.0 * u * u + 1.0,
+                u.powi(3) - 2.0 * u * u + u,
+            );
+            let (h01, h11) = (-2.0 * u.powi(3) + 3.0 * u * u, u.powi(3) - u * u);
+            let (d00, d10) = (6.0 * u * u - 6.0 * u, 3.0 * u * u - 4.0 * u + 1.0);
+            let (d01, d11) = (-6.0 * u * u + 6.0 * u, 3.0 * u * u - 2.0 * u);
+            let at = |a: usize| {
+                h00 * p0[a] + h10 * t * v0[a] + h01 * seg.end[a] + h11 * t * seg.velocity[a]
+            };
+            let rate = |a: usize| {
+                (d00 * p0[a] + d01 * seg.end[a]) / t + d10 * v0[a] + d11 * seg.velocity[a]
+            };
+            let p = [at(0), at(1)];
+            far = far.max(to_lines_and_arcs(c, p));
+            if (p[0] - point[0]).hypot(p[1] - point[1]) <= reach {
+                speed = speed.max(rate(0).hypot(rate(1)));
+            }
+        }
+    }
+    (far, speed)
+}
+
+/// Lines into tangent arcs and out again under a jerk limit, plain, on a 1 ms grid and
+/// streamed in short windows: measured here from the written cubics alone, the motion
+/// stays within the tolerance of the true lines and arcs, every piece's jerk and every
+/// knot's acceleration step (from the end states) within the limits; and the junction
+/// is taken at more than twice `√(J·Tₛ·R)`, the fastest the exact geometry allows there
+/// (its acceleration steps by `v²/R`), so the curvature transition is what holds them.
+#[test]
+fn curvature_transitions_keep_the_tolerance_jerk_and_steps_at_speed() {
+    let jerk = 50000.0;
+    let lim = limits_with_jerk(100.0, 1000.0, Some(jerk));
+    for (r, tol) in [(5.0, 0.001), (5.0, 0.0005), (1.0, 0.001), (20.0, 0.002)] {
+        for (turn, mirror) in [(0.0, false), (0.7, true), (2.5, false), (-1.9, true)] {
+            for c in tangent_arcs(r, 12.0, turn, mirror) {
+                let options = PathOptions {
+                    tolerance: tol,
+                    corner_tolerance: None,
+                    limits: lim.clone(),
+                    quantum: None,
+                    servo_period: SERVO,
+                    position_resolution: 0.0,
+                };
+                let gridded = PathOptions {
+                    quantum: Some(MS),
+                    ..options.clone()
+                };
+                let junction = [c.elements[1].start[0], c.elements[1].start[1]];
+                let exact = (jerk * SERVO * r).sqrt();
+                for route in ["plain", "1 ms", "windows", "1 ms windows"] {
+                    let case = format!("R {r} tol {tol} turn {turn} mirror {mirror} {route}");
+                    let planned = match route {
+                        "plain" => plan_on(&c, tol, &lim, None),
+                        "1 ms" => plan_on(&c, tol, &lim, Some(MS)),
+                        "windows" => plan_stream(&c, &options, 2),
+                        _ => plan_stream(&c, &gridded, 2),
+                    };
+                    let (far, speed) = cubic_samples(&c, &planned, junction, 0.01 * r);
+                    assert!(far <= tol * (1.0 + 1e-9), "{case}: {far} from the path");
+                    for j in reference::jerks(&planned) {
+                        assert!(j <= jerk * (1.0 + 1e-6), "{case}: jerk {j}");
+                    }
+                    for step in reference::knot_steps(&planned) {
+                        let bound = jerk * SERVO;
+                        assert!(step <= bound * (1.0 + 1e-6), "{case}: step {step}");
+                    }
+                    assert_within(&planned, 100.0, 1000.0);
+                    assert!(
+                        speed > 2.0 * exact,
+                        "{case}: {speed} at the junction against {exact}"
+                    );
+                }
+            }
+        }
+    }
+}
+
 /// The time grid's plain re-timing (each piece stretched, each knot's velocity divided by
 /// the larger stretch beside it) breaks the acceleration limit on the square's short
 /// trapezoid and blend pieces; planning on the grid does not, and costs little time.

@@ -12,6 +12,10 @@ use crate::bezier;
 use crate::toolpath::{Bezier, Element, ElementKind};
 use crate::vector::{distance, norm};
 
+/// How far, relative to its radius, an arc may leave the circle of its start radius and
+/// still count as one ([`Curve::circle`]).
+pub(super) const CIRCLE_SLACK: f64 = 1e-9;
+
 /// An element on the projected axes, parametrized by `φ ∈ [0, span]`.
 #[derive(Debug, Clone)]
 pub(super) struct Curve {
@@ -131,6 +135,23 @@ impl Curve {
     /// True for a straight line.
     pub fn is_line(&self) -> bool {
         matches!(self.shape, Shape::Line { .. })
+    }
+
+    /// A plane circle's two plane axes (indices among the projected axes), center and
+    /// start radius: an arc whose radius changes and whose other axes move by at most
+    /// [`CIRCLE_SLACK`] of its radius over the whole arc (the rounding of its end points).
+    /// `None` for a line, a helix, a spiral and a Bézier part.
+    pub fn circle(&self) -> Option<(usize, usize, [f64; 2], f64)> {
+        match &self.shape {
+            Shape::Arc(a) => {
+                let r = a.start_radius;
+                let slack = CIRCLE_SLACK * r;
+                let round =
+                    (a.radius_rate * self.span).abs() <= slack && a.lead * self.span <= slack;
+                round.then_some((a.first, a.second, a.center, r))
+            }
+            _ => None,
+        }
     }
 
     /// The position at `φ` (the exact programmed end at `φ = span`).

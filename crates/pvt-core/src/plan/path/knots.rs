@@ -10,6 +10,7 @@
 
 use super::curve::Curve;
 use super::piece::Piece;
+use super::transition::Transition;
 use super::{AxisBounds, Vector, NORMAL_SHARE, TANGENT_ANGLE};
 use crate::program::SegmentRef;
 use crate::vector::norm;
@@ -78,6 +79,39 @@ pub(super) struct Junction {
     pub cap: f64,
     /// Unit tangents arriving and leaving.
     pub tangents: [Vector; 2],
+    /// Under a jerk limit, between a line and a tangent circle: the curvature
+    /// transition that replaces a short stretch of each (see [`super::transition`]).
+    /// Its knots are marked as a corner blend's are ([`Knot::blend`]).
+    pub transition: Option<Transition>,
+}
+
+impl Junction {
+    /// Where the piece that cuts the junction (a corner blend or a curvature
+    /// transition) leaves the first element, whose span is `span`; `None` for a
+    /// junction passed at a knot.
+    fn leaves_at(&self, span: f64) -> Option<f64> {
+        match (&self.transition, self.blend) {
+            (Some(t), _) => Some(t.params[0]),
+            (None, Some(l)) => Some(span - l),
+            (None, None) => None,
+        }
+    }
+
+    /// Where that piece joins the second element.
+    fn joins_at(&self) -> Option<f64> {
+        match (&self.transition, self.blend) {
+            (Some(t), _) => Some(t.params[1]),
+            (None, blend) => blend,
+        }
+    }
+
+    /// The path length of that piece (0 for a junction passed at a knot).
+    fn cut_length(&self) -> f64 {
+        match &self.transition {
+            Some(t) => t.length,
+            None => 2.0 * self.blend.unwrap_or(0.0),
+        }
+    }
 }
 
 /// The knots of one contour, in order, with their junctions.
@@ -229,7 +263,7 @@ impl Knots {
             let after = curves
                 .get(e + 1)
                 .and_then(|next| junction(curve, next, bounds, tolerance, corner, narrow));
-            if let Some(l) = before.as_ref().and_then(|j| j.0.blend) {
+            if let Some(l) = before.as_ref().and_then(|j| j.0.joins_at()) {
                 let place = Place {
                     element: e,
                     param: l,
@@ -271,11 +305,11 @@ impl Knots {
             return;
         };
         self.junctions.push(j.clone());
-        if let Some(l) = j.blend {
+        if let Some(leaves) = j.leaves_at(curve.span) {
             let mut knot = Knot::at(
                 Place {
                     element: e,
-                    param: curve.span - l,
+                    param: leaves,
                 },
                 j.cap,
             );
@@ -334,7 +368,12 @@ impl Knots {
         if let Some(j) = self.knots[k].blend {
             let j = &self.junctions[j];
             way.cap = j.cap;
-            way.length = 2.0 * j.blend.unwrap_or(0.0);
+            way.length = j.cut_length();
+            if j.transition.is_some() {
+                // A curvature transition runs at one speed (see `super::transition`).
+                way.ratio = 1.0;
+                return way;
+            }
             let e = self.knots[k].after.element;
             // A blend's cap takes the whole acceleration for its turn: the passes
             // let it change speed at a share of its lines' (see the constant).
@@ -849,7 +888,7 @@ impl Knots {
     /// Path length of piece `k`.
     fn piece_length(&self, curves: &[Curve], k: usize) -> f64 {
         match self.knots[k].blend {
-            Some(j) => 2.0 * self.junctions[j].blend.unwrap_or(0.0),
+            Some(j) => self.junctions[j].cut_length(),
             None => {
                 let (curve, from, to) = self.piece_span(curves, k);
                 curve.length(from, to)
@@ -1006,7 +1045,16 @@ fn junction(
         tolerance: corner.unwrap_or(tolerance),
         cap: a.feed.min(b.feed),
         tangents: [t_in, t_out],
+        transition: None,
     };
+    if bounds.jerk_mode() && !narrow {
+        if let Some(t) = super::transition::transition(a, b, tolerance) {
+            junction.cap = junction.cap.min(t.cap(bounds));
+            junction.tolerance = tolerance;
+            junction.transition = Some(t);
+            return (junction.cap > 0.0).then_some((junction, [0.0; 2]));
+        }
+    }
     let blends = bounds.accelerates() || corner.is_some();
     if a.is_line() && b.is_line() && blends && deviation > 1e-12 {
         // At equal end speeds the blend passes within L·sin(α/2)/2 of the corner (see

@@ -90,6 +90,27 @@
 //! chords of a curve of radius `R`, where `L` is about half a chord `c ≈ √(8·R·tol)`: its
 //! cap `∛(0.5·Jᵢ·L²·R/c)` is below the curve's own, `√(Aᵢ·R)`.
 //!
+//! A line and a plane circle that meet at a tangent are joined by a *curvature
+//! transition* ([`transition`]), planned as a corner blend is: on the exact geometry the
+//! acceleration steps by `v²/R` at the junction, so the step bound would allow at most
+//! `√(Jᵢ·Tₛ·R)` there (11 mm/s into an arc of 5 mm with `Jᵢ·Tₛ` = 25 mm/s²). The
+//! transition leaves the line `L_a` before the junction and joins the circle
+//! `L_b = 0.3·(L_a + L_b)` after it; its acceleration is linear in time on two parts, from
+//! the line's (zero) through a middle value to the circle's (`v²/R`, normal), so it is two
+//! cubics that are the motion itself, continuous in acceleration at its middle, and
+//! neither of its knots steps (against the circle's next piece, only by that piece's own
+//! interpolation, as at any knot of an arc). Its two speeds are equal (the passes give
+//! it a speed ratio of 1), so its path does not depend on the speed: its distance from
+//! the line and the circle is bounded once, at 0.9 of the path tolerance (sampled with a
+//! margin for the distance's second derivative between samples, see [`transition`]),
+//! which sizes `L_a + L_b` (about `√(80·R·tol)`, at most 0.45 of either element), and
+//! its acceleration and jerk are `v²` and `v³` times their values at unit speed, which
+//! give its cap (0.95 of each limit; its jerk is about `1.5·v³/(R·(L_a + L_b))`). With
+//! the mill's limits and a tolerance of 0.5 µm a line enters an arc of 5 mm at about
+//! 38 mm/s. Its knots are marked as a corner blend's (`Knot::blend`): a window is never
+//! cut at its first knot nor inside it, on a grid either, and the resampled grid measures
+//! it against the path tolerance. The stretched grid's plans (`narrow`) have none.
+//!
 //! What still steps (a junction passed at speed, a change of
 //! curvature `v²·Δκ`, the interpolation of a curve) grows with the square of the
 //! speeds: every knot's step is computed in closed form from the two cubics beside it,
@@ -97,14 +118,19 @@
 //! excess (a blend beside it, and an S-curve or blend whose inner point steps, have both
 //! their knots lowered) and the contour is planned again. The cost: speed changes take longer
 //! (the ramps, and the return to zero tangential acceleration at every knot, on arcs
-//! too), and corners and curvature jumps are taken slower (a line into an arc of radius
-//! `R` at most at `√(Jᵢ·Tₛ·R)`).
+//! too), and corners and the curvature jumps no transition smooths are taken slower (an
+//! arc into an arc of another radius, a helix or a Bézier part, `|Δκ|` apart, at most at
+//! `√(Jᵢ·Tₛ/|Δκ|)`).
 //!
 //! ## Windows under a jerk limit
 //! Every knot carries zero tangential acceleration, so a window's start state is the
 //! knot's position, its velocity along the element's tangent and the acceleration of
 //! the written piece's end (its normal part; the tangential part is zero): the full
-//! `(p, v, a)` the next window's first piece starts from. A contour streams in windows
+//! `(p, v, a)` the next window's first piece starts from. A window is never cut at a
+//! curvature transition's first knot nor between its two parts (a window's first piece
+//! must start from a knot of an element); the knot that ends a transition carries the
+//! circle's `v²/R`, and a cut there is refused by the half-step check below as at any
+//! knot of an arc at speed. A contour streams in windows
 //! ([`PathStream`]) with these changes:
 //! - The window is planned to rest at its end, with no closed-form caps. The cut is at
 //!   or before the *stop horizon* (`Knots::stop_horizon`): the last knot `h` at which
@@ -317,6 +343,7 @@ mod knots;
 mod piece;
 mod pieces;
 mod resample;
+mod transition;
 
 use super::PlanError;
 use crate::axis::Axis;
@@ -1178,7 +1205,18 @@ fn grid_cut(
         g -= 1.0;
         let piece_index = starts.partition_point(|&s| s <= tau + slack) - 1;
         let (piece, u) = (&planned[piece_index], tau - starts[piece_index]);
-        let at_knot = |end: usize| piece.part.is_none_or(|p| p.at_knot[end]);
+        // A corner blend's or curvature transition's two parts meet inside it.
+        let same_knot = |i: Option<usize>| {
+            i.and_then(|i| planned.get(i))
+                .is_some_and(|p| p.knot == piece.knot)
+        };
+        let at_knot = |end: usize| {
+            let inside = match end {
+                0 => same_knot(piece_index.checked_sub(1)),
+                _ => same_knot(Some(piece_index + 1)),
+            };
+            !inside && piece.part.is_none_or(|p| p.at_knot[end])
+        };
         if u <= slack || piece.duration - u <= slack {
             let (end, at) = if u <= slack {
                 (0, piece.knot)

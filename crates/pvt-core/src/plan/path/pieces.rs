@@ -22,6 +22,12 @@ impl Knots {
     pub fn pieces_into(&self, curves: &[Curve], bounds: &AxisBounds, out: &mut Vec<Piece>) {
         out.clear();
         for k in 0..self.knots.len() - 1 {
+            if let Some(j) = self.knots[k].blend {
+                if self.junctions[j].transition.is_some() {
+                    self.transition_parts(curves, k, j, out);
+                    continue;
+                }
+            }
             let piece = self.piece(curves, bounds, k);
             if self.jerk_mode {
                 self.scurve(curves, bounds, k, piece, out);
@@ -253,6 +259,65 @@ impl Knots {
             _ => 0.0,
         };
         4.0 / 27.0 * t * (mismatch(ends[0]) + mismatch(ends[1]))
+    }
+}
+
+impl Knots {
+    /// Piece `k` when it is the curvature transition of junction `j` (see
+    /// [`super::transition`]): its two parts at the speed of its knots, the path of its
+    /// shape, times divided by the speed, velocities multiplied by it. Both knots have
+    /// the same speed (the passes keep it so); at rest it is one piece along its chord.
+    fn transition_parts(&self, curves: &[Curve], k: usize, j: usize, out: &mut Vec<Piece>) {
+        let Some(transition) = self.junctions[j].transition else {
+            return;
+        };
+        let (before, after) = (self.knots[k].after, self.knots[k + 1].before);
+        let (a, b) = (&curves[before.element], &curves[after.element]);
+        let dim = a.start.len();
+        let (va, vb) = (self.knots[k].speed, self.knots[k + 1].speed);
+        let mut piece = Piece {
+            start: Vector::zeros(dim),
+            end: Vector::zeros(dim),
+            start_velocity: Vector::zeros(dim),
+            end_velocity: Vector::zeros(dim),
+            duration: 0.0,
+            error: transition.error,
+            knot: k,
+            part: None,
+        };
+        a.position(before.param, &mut piece.start);
+        b.position(after.param, &mut piece.end);
+        self.velocity(k, a, before.param, &mut piece.start_velocity);
+        self.velocity(k + 1, b, after.param, &mut piece.end_velocity);
+        let v = 0.5 * (va + vb);
+        if !(va > 0.0 && vb > 0.0) {
+            // At rest: the smoothstep along the chord, at the transition's own cap.
+            piece.duration = 1.5 * transition.length / self.junctions[j].cap;
+            piece.error = transition.chord_error;
+            out.push(piece);
+            return;
+        }
+        if (va - vb).abs() > 1e-12 * v {
+            // Not the transition's motion: over every tolerance, so that the speeds
+            // are evened out (see `Knots::split_over`).
+            piece.duration = transition.length / v;
+            piece.error = f64::INFINITY;
+            out.push(piece);
+            return;
+        }
+        let middle_velocity = Vector::from_fn(dim, |i| v * transition.middle_velocity[i]);
+        out.push(Piece {
+            end: transition.middle,
+            end_velocity: middle_velocity,
+            duration: transition.times[0] / v,
+            ..piece
+        });
+        out.push(Piece {
+            start: transition.middle,
+            start_velocity: middle_velocity,
+            duration: transition.times[1] / v,
+            ..piece
+        });
     }
 }
 

@@ -752,8 +752,8 @@ fn interval(
                 elements.push((knot.after.element + 1, planned.knot + 1));
             }
             let limit = match knot.blend {
-                Some(_) => tolerances.corner,
-                None => tolerances.path,
+                Some(j) if knots.junctions[j].transition.is_none() => tolerances.corner,
+                _ => tolerances.path,
             };
             let sum = planned.error + squares.sqrt();
             if sum > limit {
