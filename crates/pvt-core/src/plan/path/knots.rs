@@ -105,6 +105,12 @@ impl Junction {
         }
     }
 
+    /// True when a curvature transition leaves `curve`, its first element, at or before
+    /// parameter `param`.
+    fn leaves_before(&self, param: f64, curve: &Curve) -> bool {
+        self.transition.is_some() && self.leaves_at(curve.span).is_some_and(|l| l <= param)
+    }
+
     /// The path length of that piece (0 for a junction passed at a knot).
     fn cut_length(&self) -> f64 {
         match &self.transition {
@@ -260,9 +266,19 @@ impl Knots {
         // Each junction is made as its element comes, and kept for the next one.
         let mut before: Option<(Junction, [f64; 2])> = None;
         for (e, curve) in curves.iter().enumerate() {
-            let after = curves
+            let mut after = curves
                 .get(e + 1)
                 .and_then(|next| junction(curve, next, bounds, tolerance, corner, narrow));
+            if e == 0
+                && after
+                    .as_ref()
+                    .is_some_and(|j| j.0.leaves_before(start.param, curve))
+            {
+                // A window that starts past where a transition would leave its first
+                // element (never after a cut, which is never inside one): the junction
+                // as the stretched grid makes it, without a transition.
+                after = junction(curve, &curves[1], bounds, tolerance, corner, true);
+            }
             if let Some(l) = before.as_ref().and_then(|j| j.0.joins_at()) {
                 let place = Place {
                     element: e,
