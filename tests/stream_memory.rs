@@ -1,7 +1,8 @@
 //! The path planner streams a long contour on a time grid in memory that does not grow
 //! with the contour: 40,000 lines on PMAC's 1 ms grid (its default route: no machine
 //! file) take no more than 4,000, and the pieces come out while the lines go in; so does
-//! a pocket of arcs with exact stops. Its own test binary, and one test at a time,
+//! a pocket of arcs with exact stops, on the grid and without one (where the window is
+//! bounded by its pieces). Its own test binary, and one test at a time,
 //! because the counting allocator counts every thread of it.
 
 use peak_alloc::PeakAlloc;
@@ -78,22 +79,31 @@ fn pocket_element(i: usize) -> Element {
 /// The most memory planning `n` lines on the 1 ms grid holds at once, in bytes, and the
 /// pieces that came out before the contour ended, of all.
 fn peak(n: usize) -> (usize, usize, usize) {
-    let (peak, early, all, time) = peak_of(n, element, 0.01);
+    let (peak, early, all, time) = peak_of(n, element, 0.01, Some(MS));
     // At 50 mm/s at most: 0.5 mm a line takes at least 10 ms.
     assert!(time >= n as f64 * 0.01, "{time} s for {n} lines");
     (peak, early, all)
 }
 
-/// As [`peak`], for `n` elements of `elements` at `tolerance`, with the motion's time.
-fn peak_of(n: usize, elements: fn(usize) -> Element, tolerance: f64) -> (usize, usize, usize, f64) {
+/// PMAC's default grid: 1 ms, piece times rounded up.
+const MS: Quantum = Quantum {
+    seconds: 0.001,
+    rounding: Rounding::Up,
+};
+
+/// As [`peak`], for `n` elements of `elements` at `tolerance` on the grid of `quantum`
+/// (none: piece times as planned), with the motion's time.
+fn peak_of(
+    n: usize,
+    elements: fn(usize) -> Element,
+    tolerance: f64,
+    quantum: Option<Quantum>,
+) -> (usize, usize, usize, f64) {
     let options = PathOptions {
         tolerance,
         corner_tolerance: None,
         limits: BTreeMap::new(),
-        quantum: Some(Quantum {
-            seconds: 0.001,
-            rounding: Rounding::Up,
-        }),
+        quantum,
         servo_period: 0.0005,
         position_resolution: 0.0,
     };
@@ -104,12 +114,14 @@ fn peak_of(n: usize, elements: fn(usize) -> Element, tolerance: f64) -> (usize, 
     let mut emit = |s: &SegmentRef<'_>| {
         pieces.set(pieces.get() + 1);
         time += s.duration;
-        // Independently: every piece is whole milliseconds.
-        let ms = s.duration * 1e3;
-        assert!(
-            ms >= 1.0 - 1e-9 && (ms - ms.round()).abs() < 1e-9,
-            "{ms} ms"
-        );
+        // Independently: on the grid every piece is whole quanta.
+        if let Some(q) = quantum {
+            let quanta = s.duration / q.seconds;
+            assert!(
+                quanta >= 1.0 - 1e-9 && (quanta - quanta.round()).abs() < 1e-9,
+                "{quanta} quanta"
+            );
+        }
     };
     for i in 0..n {
         stream.push(&elements(i), &mut emit).expect("plans");
@@ -141,8 +153,8 @@ fn a_pocket_of_arcs_and_exact_stops_streams_on_a_grid() {
     // Its step-over lines are single pieces from rest to rest and its arcs have no
     // room to stop on a line: its windows end at the stops.
     let _alone = MEASURING.lock().unwrap_or_else(|e| e.into_inner());
-    let (short, _, _, _) = peak_of(3_000, pocket_element, 0.001);
-    let (long, early, all, time) = peak_of(12_000, pocket_element, 0.001);
+    let (short, _, _, _) = peak_of(3_000, pocket_element, 0.001, Some(MS));
+    let (long, early, all, time) = peak_of(12_000, pocket_element, 0.001, Some(MS));
     assert!(
         early * 10 >= all * 9,
         "{early} of {all} pieces before the end"
@@ -153,5 +165,24 @@ fn a_pocket_of_arcs_and_exact_stops_streams_on_a_grid() {
     );
     // Independently: at the feed, the 4,000 circles of radius 1 mm or more take at
     // least 4,000 · 2π mm / (40/3 mm/s).
+    assert!(time >= 4_000.0 * std::f64::consts::TAU * 0.075, "{time} s");
+}
+
+#[test]
+fn a_pocket_of_arcs_without_a_grid_holds_a_window_of_pieces_not_of_elements() {
+    // Each arc becomes several pieces at 0.001 mm (about 7 an element on this pocket):
+    // a window of 1024 elements held about 7,500 pieces, some 5 MB of plan.
+    let _alone = MEASURING.lock().unwrap_or_else(|e| e.into_inner());
+    let (short, _, _, _) = peak_of(3_000, pocket_element, 0.001, None);
+    let (long, early, all, time) = peak_of(12_000, pocket_element, 0.001, None);
+    assert!(
+        early * 10 >= all * 9,
+        "{early} of {all} pieces before the end"
+    );
+    assert!(
+        long <= short + 64 * 1024,
+        "{long} bytes for 12,000 elements, {short} for 3,000"
+    );
+    assert!(long < 2 << 20, "{long} bytes");
     assert!(time >= 4_000.0 * std::f64::consts::TAU * 0.075, "{time} s");
 }

@@ -535,6 +535,12 @@ pub const WINDOW_ELEMENTS: usize = 1024;
 /// the whole contour.
 pub const JERK_WINDOW_GROWTH: usize = 8;
 
+/// Without a grid or a jerk limit, the most pieces a window's plan is meant to hold: a
+/// window whose plan made more is followed by one of fewer elements, in proportion (see
+/// [`PathStream`]), so that elements that become many pieces each (the arcs of a pocket
+/// at a fine tolerance) do not multiply the memory a window takes.
+pub const WINDOW_PIECES: usize = 1024;
+
 /// The path planner on a stream of elements, in bounded memory.
 ///
 /// Elements are held in a window of at most [`WINDOW_ELEMENTS`]. When it is full, the
@@ -544,7 +550,15 @@ pub const JERK_WINDOW_GROWTH: usize = 8;
 /// shorter than that, the knot halfway. A knot's speed never depends on anything beyond
 /// its stopping distance, so the emitted pieces are those the whole contour would have
 /// had; with a window shorter than the stopping distance they are slower, never wrong.
-/// The window then starts at the cut with that knot's speed fixed. With a quantum the
+/// The window then starts at the cut with that knot's speed fixed. Without a grid or a
+/// jerk limit the window is bounded by its pieces too: the first holds an eighth of
+/// the window's elements, and each next one `E·WINDOW_PIECES/P` elements, where the last
+/// plan made `P` pieces of `E` elements, within an eighth of the window and the window
+/// ([`WINDOW_PIECES`]), and only where its known path is at least four stopping
+/// distances (else at the window's full size). Where each window is longer than the
+/// stopping distance, the emitted pieces do not depend on where the windows end. (On a
+/// grid they do, and the window stays [`WINDOW_ELEMENTS`]: a window resampled through
+/// an exact stop passes it at a few µm/s, one cut there starts at rest.) With a quantum the
 /// window is cut at a grid time and resampled (see "Streaming on a grid" above); under a
 /// jerk limit the cut is at or before the stop horizon, across any number of elements,
 /// and a window without one grows (see "Windows under a jerk limit").
@@ -561,6 +575,9 @@ pub struct PathStream {
     /// The same for the windows on a grid, with the resampling's own vectors.
     grid_scratch: resample::Scratch,
     window: usize,
+    /// The elements at which the window is planned: the window, or fewer where its
+    /// pieces bound it (see [`WINDOW_PIECES`]).
+    fill: usize,
     start: Start,
     report: PathReport,
     /// Pieces of this contour already went out through the grid's windows (see
@@ -583,10 +600,18 @@ impl PathStream {
 
     /// As [`PathStream::new`] with a window of `window` elements (at least 2).
     pub fn with_window(axes: &[Axis], options: &PathOptions, window: usize) -> PathStream {
+        let window = window.max(2);
+        let bounds = AxisBounds::new(axes, options);
+        let fill = if options.quantum.is_none() && !bounds.jerk_mode() {
+            least_fill(window)
+        } else {
+            window
+        };
         PathStream {
-            window: window.max(2),
+            window,
+            fill,
             axes: axes.to_vec(),
-            bounds: AxisBounds::new(axes, options),
+            bounds,
             options: options.clone(),
             curves: Vec::new(),
             pieces: Vec::new(),
@@ -620,7 +645,9 @@ impl PathStream {
         check_element(element)?;
         Curve::push_new(element, &self.axes, &mut self.curves);
         let whole = self.hold;
-        if !whole && self.curves.len() >= self.window.max(self.retry_at) {
+        let full = self.curves.len() >= self.window.max(self.retry_at);
+        let filled = self.curves.len() >= self.fill.max(self.retry_at);
+        if !whole && (full || filled && self.room_for_a_cut()) {
             if self.options.quantum.is_some() {
                 self.stream_on_grid(false, emit)?;
             } else {
@@ -718,6 +745,10 @@ impl PathStream {
             .fold(0.0, f64::max);
         self.report.error_bound = self.report.error_bound.max(worst);
         knots.emit(curves, &pieces, count, emit);
+        if !last && !bounds.jerk_mode() && self.options.quantum.is_none() {
+            let per_piece = self.curves.len() * WINDOW_PIECES / pieces.len().max(1);
+            self.fill = per_piece.clamp(least_fill(self.window), self.window);
+        }
         self.pieces = pieces;
         if !last {
             let (element, start) = knots.start_after(count);
@@ -853,6 +884,25 @@ impl PathStream {
     /// its size: below [`JERK_WINDOW_GROWTH`] windows.
     fn may_grow(&self) -> bool {
         self.curves.len() < JERK_WINDOW_GROWTH * self.window
+    }
+
+    /// Whether a window bounded by its pieces ([`WINDOW_PIECES`]) is long enough to be
+    /// planned now: its known path (up to its last element) is at least four stopping
+    /// distances, room for a cut with the stopping distance after it. Else the window
+    /// is planned at its full size.
+    fn room_for_a_cut(&mut self) -> bool {
+        let Some((_, known)) = self.curves.split_last() else {
+            return false;
+        };
+        let consumed = known
+            .first()
+            .map_or(0.0, |c| c.length(0.0, self.start.param));
+        let length: f64 = known.iter().map(|c| c.length(0.0, c.span)).sum();
+        if length - consumed >= 4.0 * self.stopping_distance() {
+            return true;
+        }
+        self.fill = self.window;
+        false
     }
 
     /// The least tangential acceleration any piece has (see [`least_acceleration`]).
@@ -1230,6 +1280,8 @@ fn grid_cut(
         }
         let i = piece.knot;
         if knots.knots[i].blend.is_some() || piece.at_rest() || piece.part.is_some() {
+            // Every grid time inside the piece is refused alike: on to its start.
+            g = g.min(quanta_count(starts[piece_index], q) + 1.0);
             continue;
         }
         // Without a jerk limit the room is on a line only: a knot inside a piece of any
@@ -1304,6 +1356,12 @@ fn jerk_cut(
         });
         within && knots.room_to_slow(curves, bounds, at, 0.0)
     })
+}
+
+/// The fewest elements a window bounded by its pieces holds ([`WINDOW_PIECES`]): an
+/// eighth of the stream's window (at least 2).
+fn least_fill(window: usize) -> usize {
+    (window / 8).max(2)
 }
 
 /// The least path jerk of an S-curve anywhere on the path: a corner blend's share of the
