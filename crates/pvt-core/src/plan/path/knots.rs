@@ -140,6 +140,17 @@ impl PieceWay {
             reach
         }
     }
+
+    /// `speed.min(self.reach(v))`, without the reach where `speed` is at most `v`: the
+    /// reach is never below `v` (`v + Δ` with `Δ ≥ 0`, `√(v² + 2ad) ≥ v`, `ratio ≥ 1`),
+    /// so the minimum is `speed` there, bit for bit.
+    fn limit(&self, speed: f64, v: f64) -> f64 {
+        if speed <= v {
+            speed
+        } else {
+            speed.min(self.reach(v))
+        }
+    }
 }
 
 /// The storage of a window's knots, kept for the next window's (see [`Knots::new`]).
@@ -310,14 +321,14 @@ impl Knots {
             knot.speed = if knot.fixed { knot.cap } else { cap };
         }
         for k in (0..n - 1).rev() {
-            let reach = ways[k].reach(self.knots[k + 1].speed);
             if !self.knots[k].fixed {
-                self.knots[k].speed = self.knots[k].speed.min(reach);
+                let speed = ways[k].limit(self.knots[k].speed, self.knots[k + 1].speed);
+                self.knots[k].speed = speed;
             }
         }
         for (k, way) in ways.iter().enumerate() {
-            let reach = way.reach(self.knots[k].speed);
-            self.knots[k + 1].speed = self.knots[k + 1].speed.min(reach);
+            let speed = way.limit(self.knots[k + 1].speed, self.knots[k].speed);
+            self.knots[k + 1].speed = speed;
         }
         self.scratch.ways = ways;
     }
@@ -738,12 +749,17 @@ impl Knots {
         let mut span = 1;
         loop {
             let m = (k + span).min(known);
+            // A knot no faster than the speed carried back keeps its own (see
+            // [`PieceWay::limit`]): its piece's way is not needed.
             let ahead = (k + 1..m).rev().fold(0.0, |v, i| {
-                self.knots[i]
-                    .speed
-                    .min(self.piece_way(curves, bounds, i).reach(v))
+                let planned = self.knots[i].speed;
+                if planned <= v {
+                    planned
+                } else {
+                    self.piece_way(curves, bounds, i).limit(planned, v)
+                }
             });
-            if self.piece_way(curves, bounds, k).reach(ahead) >= speed {
+            if ahead >= speed || self.piece_way(curves, bounds, k).reach(ahead) >= speed {
                 return true;
             }
             if m == known {
