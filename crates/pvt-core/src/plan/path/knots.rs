@@ -746,9 +746,13 @@ impl Knots {
         {
             return false;
         }
+        // The way of piece `k + 1 + n` at `ways[n]`, made where first needed and kept
+        // for the passes from later `m`.
+        let mut ways: Vec<Option<PieceWay>> = Vec::new();
         let mut span = 1;
         loop {
             let m = (k + span).min(known);
+            ways.resize(m - k - 1, None);
             // A knot no faster than the speed carried back keeps its own (see
             // [`PieceWay::limit`]): its piece's way is not needed.
             let ahead = (k + 1..m).rev().fold(0.0, |v, i| {
@@ -756,7 +760,9 @@ impl Knots {
                 if planned <= v {
                     planned
                 } else {
-                    self.piece_way(curves, bounds, i).limit(planned, v)
+                    let way =
+                        ways[i - k - 1].get_or_insert_with(|| self.piece_way(curves, bounds, i));
+                    way.limit(planned, v)
                 }
             });
             if ahead >= speed || self.piece_way(curves, bounds, k).reach(ahead) >= speed {

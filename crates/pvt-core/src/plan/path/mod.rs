@@ -1151,9 +1151,9 @@ type RoomAfterCut<'a> = dyn Fn(&Knots, usize) -> bool + 'a;
 /// Where a window of a streamed contour on the grid ends: the last grid time at or before
 /// knot `k` ([`Knots::cut`]'s, or under a jerk limit [`jerk_horizon`]'s) that is a cuttable
 /// knot's time or inside a piece that follows one element at speed, where a knot is
-/// inserted (and `planned` made again), with room to stop on its line at `least`
-/// ([`Knots::room_to_stop`]); without a jerk limit, where there is none, the last knot
-/// at rest up to `k`. The knot's index (the number of pieces before it) and whether it
+/// inserted (and `planned` made again up to it, with no piece after it), with room to
+/// stop on its line at `least` ([`Knots::room_to_stop`]); without a jerk limit, where
+/// there is none, the last knot at rest up to `k`. The knot's index (the number of pieces before it) and whether it
 /// was inserted.
 fn grid_cut(
     knots: &mut Knots,
@@ -1206,7 +1206,9 @@ fn grid_cut(
             knots.remove(at);
             continue;
         }
-        knots.pieces_into(curves, planning, planned);
+        // The pieces before knot `i` are those of the knots before it, unchanged: only
+        // the piece from `i` to the new knot is made (the window ends there).
+        knots.pieces_up_to(curves, planning, i..at, planned);
         return Some((at, true));
     }
     if planning.jerk_mode() {

@@ -39,10 +39,12 @@ impl Piece {
     /// Each axis' acceleration at the start and at the end of the cubic.
     pub fn end_accelerations(&self) -> [Vector; 2] {
         let n = self.start.len();
-        [
-            Vector::from_fn(n, |i| self.cubic(i).a0),
-            Vector::from_fn(n, |i| self.cubic(i).end().acceleration),
-        ]
+        let mut ends = [Vector::zeros(n), Vector::zeros(n)];
+        for i in 0..n {
+            let h = self.cubic(i);
+            (ends[0][i], ends[1][i]) = (h.a0, h.end().acceleration);
+        }
+        ends
     }
 
     /// The cubic of axis `i`: from its start to its end state over the piece's time.

@@ -21,7 +21,23 @@ impl Knots {
     /// S-curve's two or three parts.
     pub fn pieces_into(&self, curves: &[Curve], bounds: &AxisBounds, out: &mut Vec<Piece>) {
         out.clear();
-        for k in 0..self.knots.len() - 1 {
+        self.pieces_up_to(curves, bounds, 0..self.knots.len() - 1, out);
+    }
+
+    /// The pieces of knots `knots` (a range that starts at or before the first knot of
+    /// no piece in `out`) in place of `out`'s from that knot on, and none after: each
+    /// piece follows from its two knots alone, so where the knots before `knots.start`
+    /// are those `out` was made from, `out` is what [`Knots::pieces_into`] makes, up to
+    /// `knots.end`.
+    pub fn pieces_up_to(
+        &self,
+        curves: &[Curve],
+        bounds: &AxisBounds,
+        knots: std::ops::Range<usize>,
+        out: &mut Vec<Piece>,
+    ) {
+        out.truncate(out.partition_point(|p| p.knot < knots.start));
+        for k in knots {
             let piece = self.piece(curves, bounds, k);
             if self.jerk_mode {
                 self.scurve(curves, bounds, k, piece, out);

@@ -721,11 +721,15 @@ fn interval(
     // The deviation from the plan on each sub-interval between planned knots: both are
     // cubics there, so their difference is one (per axis, its largest magnitude);
     // the axes combine by the norm of their maxima, an upper bound.
-    let h: Vec<HermiteSegment> = (0..dim).map(|ax| piece.cubic(ax)).collect();
+    let mut h = [HermiteSegment::new(0.0, 0.0, 0.0, 0.0, 1.0); crate::axis::AXIS_COUNT];
+    for (ax, hx) in h.iter_mut().enumerate().take(dim) {
+        *hx = piece.cubic(ax);
+    }
+    let h = &h[..dim];
     let mut error: f64 = 0.0;
-    // The elements the interval's planned pieces run on (a corner blend: two), and a
-    // planned knot on each.
-    let mut elements: Vec<(usize, usize)> = Vec::with_capacity(4);
+    // The elements the interval's planned pieces run on (a corner blend: two), each
+    // with the first planned knot on it: at most three (see below).
+    let mut elements = Elements::default();
     let mut i = first;
     loop {
         let from = ta.max(motion.start(i));
@@ -747,9 +751,12 @@ fn interval(
             }
             let planned = &motion.pieces[i];
             let knot = &knots.knots[planned.knot];
-            elements.push((knot.after.element, planned.knot));
+            let mut over = elements.add(knot.after.element, planned.knot);
             if knot.blend.is_some() {
-                elements.push((knot.after.element + 1, planned.knot + 1));
+                over |= elements.add(knot.after.element + 1, planned.knot + 1);
+            }
+            if over {
+                return Err(Over::Tolerance);
             }
             let limit = match knot.blend {
                 Some(_) => tolerances.corner,
@@ -791,18 +798,54 @@ fn interval(
     }
     // A piece names one source line; a check looks for the motion near that line's
     // elements and their neighbours. A piece over more than three elements is split
-    // (or its plan slowed) as one over the tolerance; otherwise it names the middle one.
-    let lo = elements.iter().map(|e| e.0).min().unwrap_or(0);
-    let hi = elements.iter().map(|e| e.0).max().unwrap_or(0);
-    if hi > lo + 2 {
-        return Err(Over::Tolerance);
-    }
-    let middle = lo + (hi - lo) / 2;
-    if let Some(&(_, knot)) = elements.iter().find(|e| e.0 == middle) {
+    // (or its plan slowed) as one over the tolerance (found as they are added, above);
+    // otherwise it names the middle one.
+    if let Some(knot) = elements.middle_knot() {
         piece.knot = knot;
     }
     piece.error = error;
     Ok(piece)
+}
+
+/// The distinct elements a resampled piece's planned pieces run on, each with the first
+/// planned knot on it, in the order met, while they span at most three elements.
+#[derive(Default)]
+struct Elements {
+    seen: [(usize, usize); 3],
+    count: usize,
+    lo: usize,
+    hi: usize,
+}
+
+impl Elements {
+    /// Adds `element` with planned knot `knot` (kept only where the element is new).
+    /// True when the elements met span more than three: the piece is over the
+    /// tolerance, whatever else it runs on.
+    fn add(&mut self, element: usize, knot: usize) -> bool {
+        if self.seen[..self.count].iter().any(|e| e.0 == element) {
+            return false;
+        }
+        if self.count == 0 {
+            (self.lo, self.hi) = (element, element);
+        }
+        (self.lo, self.hi) = (self.lo.min(element), self.hi.max(element));
+        if self.hi > self.lo + 2 {
+            return true;
+        }
+        // Within three elements: at most three distinct ones.
+        self.seen[self.count] = (element, knot);
+        self.count += 1;
+        false
+    }
+
+    /// The first planned knot on the middle element of those met.
+    fn middle_knot(&self) -> Option<usize> {
+        let middle = self.lo + (self.hi - self.lo) / 2;
+        self.seen[..self.count]
+            .iter()
+            .find(|e| e.0 == middle)
+            .map(|e| e.1)
+    }
 }
 
 #[cfg(test)]
