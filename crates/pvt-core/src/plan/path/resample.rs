@@ -32,6 +32,9 @@ struct Motion<'a> {
     /// Planned (unscaled) start time of every piece, and the total at the end.
     starts: &'a [f64],
     scale: f64,
+    /// The piece the last [`Motion::locate`] found: the grid is walked forward, so the
+    /// next time is mostly in it or the one after.
+    hint: std::cell::Cell<usize>,
 }
 
 impl<'a> Motion<'a> {
@@ -48,6 +51,7 @@ impl<'a> Motion<'a> {
             pieces,
             starts,
             scale,
+            hint: std::cell::Cell::new(0),
         }
     }
 
@@ -56,7 +60,20 @@ impl<'a> Motion<'a> {
     fn locate(&self, t: f64) -> (usize, f64) {
         let u = t / self.scale;
         let n = self.pieces.len();
-        let i = self.starts[1..n].partition_point(|&s| s <= u);
+        // The last piece `i` with `starts[i] ≤ u` (the first where none is): the starts
+        // do not fall, so it is the hinted piece or the next where `u` lies between
+        // their starts, else the search finds it.
+        let holds =
+            |i: usize| (i == 0 || self.starts[i] <= u) && (i + 1 >= n || self.starts[i + 1] > u);
+        let hint = self.hint.get();
+        let i = if hint < n && holds(hint) {
+            hint
+        } else if hint + 1 < n && holds(hint + 1) {
+            hint + 1
+        } else {
+            self.starts[1..n].partition_point(|&s| s <= u)
+        };
+        self.hint.set(i);
         (i, (u - self.starts[i]).clamp(0.0, self.pieces[i].duration))
     }
 
@@ -515,8 +532,9 @@ pub(super) fn resample_once(
         match steps_over(done, bounds) {
             Steps::Within => break,
             Steps::Split(knots_to_add) => {
+                // Both runs are sorted: the stable sort merges them in one pass.
                 grid.extend(knots_to_add);
-                grid.sort_unstable();
+                grid.sort();
                 grid.dedup();
             }
             Steps::Slow(over) => {
