@@ -48,6 +48,7 @@ impl Piece {
     }
 
     /// The cubic of axis `i`: from its start to its end state over the piece's time.
+    #[inline]
     pub fn cubic(&self, i: usize) -> HermiteSegment {
         HermiteSegment::new(
             self.start[i],
