@@ -848,18 +848,28 @@ impl Knots {
     /// same reference motion and take `u` and `T − u` (see "Streaming on a grid" in
     /// [`super`]). Returns the new knot's index, `k + 1`.
     pub fn insert_inside(&mut self, curves: &[Curve], k: usize, u: f64, t: f64) -> usize {
-        let (curve, from, to) = self.piece_span(curves, k);
-        let (a, b) = (&self.knots[k], &self.knots[k + 1]);
-        let (wa, wb) = (a.speed / curve.rate(from), b.speed / curve.rate(to));
-        let param = (from + wa * u + 0.5 * (wb - wa) / t * u * u).clamp(from, to);
-        let w = wa + (wb - wa) * u / t;
-        let place = Place {
-            element: a.after.element,
-            param,
-        };
-        let mut knot = Knot::at(place, w * curve.rate(param));
-        knot.speed = knot.cap;
+        let knot = inside(curves, &self.knots[k], &self.knots[k + 1], u, t);
         self.knots.insert(k + 1, knot);
+        k + 1
+    }
+
+    /// As [`Knots::remove`] of knot `from` (one [`Knots::insert_inside`] put there)
+    /// followed by [`Knots::insert_inside`] into piece `k` (`k < from`, indices
+    /// without it), moving only the knots between: a window's cut tries one grid time
+    /// after another inside the pieces before it.
+    pub fn move_inside(
+        &mut self,
+        curves: &[Curve],
+        from: usize,
+        k: usize,
+        u: f64,
+        t: f64,
+    ) -> usize {
+        // Knot `k + 1` without the inserted one.
+        let next = if from == k + 1 { k + 2 } else { k + 1 };
+        let knot = inside(curves, &self.knots[k], &self.knots[next], u, t);
+        self.knots[k + 1..=from].rotate_right(1);
+        self.knots[k + 1] = knot;
         k + 1
     }
 
@@ -924,6 +934,23 @@ impl Knots {
             }
         }
     }
+}
+
+/// The knot `u` seconds into the piece from knot `a` to knot `b` of time `t` (see
+/// [`Knots::insert_inside`]).
+fn inside(curves: &[Curve], a: &Knot, b: &Knot, u: f64, t: f64) -> Knot {
+    debug_assert_eq!(a.after.element, b.before.element);
+    let (curve, from, to) = (&curves[a.after.element], a.after.param, b.before.param);
+    let (wa, wb) = (a.speed / curve.rate(from), b.speed / curve.rate(to));
+    let param = (from + wa * u + 0.5 * (wb - wa) / t * u * u).clamp(from, to);
+    let w = wa + (wb - wa) * u / t;
+    let place = Place {
+        element: a.after.element,
+        param,
+    };
+    let mut knot = Knot::at(place, w * curve.rate(param));
+    knot.speed = knot.cap;
+    knot
 }
 
 /// The fastest speed at the end of a piece of length `d` entered at `v` under `a`.
