@@ -730,7 +730,8 @@ impl Knots {
     ///   at whichever share it converges) ([`PieceWay`]), reaches at least the speed
     ///   at `k`, over any number of short elements. `m` is tried at
     ///   `k + 1, k + 2, k + 4, …` (the reach grows with `m`), so the check costs
-    ///   `O(L·log L)` piece limits for a stop over `L` pieces.
+    ///   `O(L·log L)` piece limits for a stop over `L` pieces (each piece's way made
+    ///   once, a knot no faster than the speed carried back to it taking none).
     pub fn room_to_slow(
         &self,
         curves: &[Curve],

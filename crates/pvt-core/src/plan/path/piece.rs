@@ -39,12 +39,12 @@ impl Piece {
     /// Each axis' acceleration at the start and at the end of the cubic.
     pub fn end_accelerations(&self) -> [Vector; 2] {
         let n = self.start.len();
-        let mut ends = [Vector::zeros(n), Vector::zeros(n)];
-        for i in 0..n {
+        let (mut start, mut end) = (Vector::zeros(n), Vector::zeros(n));
+        for (i, (a0, a1)) in start.iter_mut().zip(end.iter_mut()).enumerate() {
             let h = self.cubic(i);
-            (ends[0][i], ends[1][i]) = (h.a0, h.end().acceleration);
+            (*a0, *a1) = (h.a0, h.end().acceleration);
         }
-        ends
+        [start, end]
     }
 
     /// The cubic of axis `i`: from its start to its end state over the piece's time.
