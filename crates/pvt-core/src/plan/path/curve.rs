@@ -280,6 +280,7 @@ impl Curve {
     /// Per-axis bounds over `[from, to]` for axis `i`: (largest |dc_i/dφ|, largest
     /// |d²c_i/dφ²|), each divided by the smallest rate (resp. its square): the share of
     /// the path speed (resp. of speed²) that axis `i` sees.
+    #[inline]
     pub fn axis_factors(&self, from: f64, to: f64, i: usize) -> (f64, f64) {
         match &self.shape {
             Shape::Line { unit } => (unit[i].abs(), 0.0),

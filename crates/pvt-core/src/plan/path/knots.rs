@@ -180,6 +180,17 @@ impl PieceWay {
             reach
         }
     }
+
+    /// `speed.min(self.reach(v))`, without the reach where `speed` is at most `v`: the
+    /// reach is never below `v` (`v + Δ` with `Δ ≥ 0`, `√(v² + 2ad) ≥ v`, `ratio ≥ 1`),
+    /// so the minimum is `speed` there, bit for bit.
+    fn limit(&self, speed: f64, v: f64) -> f64 {
+        if speed <= v {
+            speed
+        } else {
+            speed.min(self.reach(v))
+        }
+    }
 }
 
 /// The storage of a window's knots, kept for the next window's (see [`Knots::new`]).
@@ -360,14 +371,14 @@ impl Knots {
             knot.speed = if knot.fixed { knot.cap } else { cap };
         }
         for k in (0..n - 1).rev() {
-            let reach = ways[k].reach(self.knots[k + 1].speed);
             if !self.knots[k].fixed {
-                self.knots[k].speed = self.knots[k].speed.min(reach);
+                let speed = ways[k].limit(self.knots[k].speed, self.knots[k + 1].speed);
+                self.knots[k].speed = speed;
             }
         }
         for (k, way) in ways.iter().enumerate() {
-            let reach = way.reach(self.knots[k].speed);
-            self.knots[k + 1].speed = self.knots[k + 1].speed.min(reach);
+            let speed = way.limit(self.knots[k + 1].speed, self.knots[k].speed);
+            self.knots[k + 1].speed = speed;
         }
         self.scratch.ways = ways;
     }
@@ -774,7 +785,8 @@ impl Knots {
     ///   at whichever share it converges) ([`PieceWay`]), reaches at least the speed
     ///   at `k`, over any number of short elements. `m` is tried at
     ///   `k + 1, k + 2, k + 4, …` (the reach grows with `m`), so the check costs
-    ///   `O(L·log L)` piece limits for a stop over `L` pieces.
+    ///   `O(L·log L)` piece limits for a stop over `L` pieces (each piece's way made
+    ///   once, a knot no faster than the speed carried back to it taking none).
     pub fn room_to_slow(
         &self,
         curves: &[Curve],
@@ -790,15 +802,26 @@ impl Knots {
         {
             return false;
         }
+        // The way of piece `k + 1 + n` at `ways[n]`, made where first needed and kept
+        // for the passes from later `m`.
+        let mut ways: Vec<Option<PieceWay>> = Vec::new();
         let mut span = 1;
         loop {
             let m = (k + span).min(known);
+            ways.resize(m - k - 1, None);
+            // A knot no faster than the speed carried back keeps its own (see
+            // [`PieceWay::limit`]): its piece's way is not needed.
             let ahead = (k + 1..m).rev().fold(0.0, |v, i| {
-                self.knots[i]
-                    .speed
-                    .min(self.piece_way(curves, bounds, i).reach(v))
+                let planned = self.knots[i].speed;
+                if planned <= v {
+                    planned
+                } else {
+                    let way =
+                        ways[i - k - 1].get_or_insert_with(|| self.piece_way(curves, bounds, i));
+                    way.limit(planned, v)
+                }
             });
-            if self.piece_way(curves, bounds, k).reach(ahead) >= speed {
+            if ahead >= speed || self.piece_way(curves, bounds, k).reach(ahead) >= speed {
                 return true;
             }
             if m == known {
@@ -881,18 +904,28 @@ impl Knots {
     /// same reference motion and take `u` and `T − u` (see "Streaming on a grid" in
     /// [`super`]). Returns the new knot's index, `k + 1`.
     pub fn insert_inside(&mut self, curves: &[Curve], k: usize, u: f64, t: f64) -> usize {
-        let (curve, from, to) = self.piece_span(curves, k);
-        let (a, b) = (&self.knots[k], &self.knots[k + 1]);
-        let (wa, wb) = (a.speed / curve.rate(from), b.speed / curve.rate(to));
-        let param = (from + wa * u + 0.5 * (wb - wa) / t * u * u).clamp(from, to);
-        let w = wa + (wb - wa) * u / t;
-        let place = Place {
-            element: a.after.element,
-            param,
-        };
-        let mut knot = Knot::at(place, w * curve.rate(param));
-        knot.speed = knot.cap;
+        let knot = inside(curves, &self.knots[k], &self.knots[k + 1], u, t);
         self.knots.insert(k + 1, knot);
+        k + 1
+    }
+
+    /// As [`Knots::remove`] of knot `from` (one [`Knots::insert_inside`] put there)
+    /// followed by [`Knots::insert_inside`] into piece `k` (`k < from`, indices
+    /// without it), moving only the knots between: a window's cut tries one grid time
+    /// after another inside the pieces before it.
+    pub fn move_inside(
+        &mut self,
+        curves: &[Curve],
+        from: usize,
+        k: usize,
+        u: f64,
+        t: f64,
+    ) -> usize {
+        // Knot `k + 1` without the inserted one.
+        let next = if from == k + 1 { k + 2 } else { k + 1 };
+        let knot = inside(curves, &self.knots[k], &self.knots[next], u, t);
+        self.knots[k + 1..=from].rotate_right(1);
+        self.knots[k + 1] = knot;
         k + 1
     }
 
@@ -957,6 +990,23 @@ impl Knots {
             }
         }
     }
+}
+
+/// The knot `u` seconds into the piece from knot `a` to knot `b` of time `t` (see
+/// [`Knots::insert_inside`]).
+fn inside(curves: &[Curve], a: &Knot, b: &Knot, u: f64, t: f64) -> Knot {
+    debug_assert_eq!(a.after.element, b.before.element);
+    let (curve, from, to) = (&curves[a.after.element], a.after.param, b.before.param);
+    let (wa, wb) = (a.speed / curve.rate(from), b.speed / curve.rate(to));
+    let param = (from + wa * u + 0.5 * (wb - wa) / t * u * u).clamp(from, to);
+    let w = wa + (wb - wa) * u / t;
+    let place = Place {
+        element: a.after.element,
+        param,
+    };
+    let mut knot = Knot::at(place, w * curve.rate(param));
+    knot.speed = knot.cap;
+    knot
 }
 
 /// The fastest speed at the end of a piece of length `d` entered at `v` under `a`.

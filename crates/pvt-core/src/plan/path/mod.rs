@@ -1228,9 +1228,9 @@ type RoomAfterCut<'a> = dyn Fn(&Knots, usize) -> bool + 'a;
 /// Where a window of a streamed contour on the grid ends: the last grid time at or before
 /// knot `k` ([`Knots::cut`]'s, or under a jerk limit [`jerk_horizon`]'s) that is a cuttable
 /// knot's time or inside a piece that follows one element at speed, where a knot is
-/// inserted (and `planned` made again), with room to stop on its line at `least`
-/// ([`Knots::room_to_stop`]); without a jerk limit, where there is none, the last knot
-/// at rest up to `k`. The knot's index (the number of pieces before it) and whether it
+/// inserted (and `planned` made again up to it, with no piece after it), with room to
+/// stop on its line at `least` ([`Knots::room_to_stop`]); without a jerk limit, where
+/// there is none, the last knot at rest up to `k`. The knot's index (the number of pieces before it) and whether it
 /// was inserted.
 fn grid_cut(
     knots: &mut Knots,
@@ -1250,6 +1250,10 @@ fn grid_cut(
     }
     let slack = 1e-9 * q;
     let mut g = quanta_count(t, q);
+    // A knot inserted inside a piece for an earlier grid time whose room failed: moved
+    // to the next time inside a piece (the grid times fall, and so do their pieces),
+    // removed before any other use of the knots, whose indices it shifts.
+    let mut tried: Option<usize> = None;
     while g >= 1.0 {
         let tau = crate::plan::quantize::quanta_time(g, q);
         g -= 1.0;
@@ -1268,6 +1272,9 @@ fn grid_cut(
             !inside && piece.part.is_none_or(|p| p.at_knot[end])
         };
         if u <= slack || piece.duration - u <= slack {
+            if let Some(at) = tried.take() {
+                knots.remove(at);
+            }
             let (end, at) = if u <= slack {
                 (0, piece.knot)
             } else {
@@ -1291,13 +1298,25 @@ fn grid_cut(
             g = g.min(quanta_count(starts[piece_index], q) + 1.0);
             continue;
         }
-        let at = knots.insert_inside(curves, i, u, piece.duration);
+        let at = match tried.take() {
+            Some(from) if from > i => knots.move_inside(curves, from, i, u, piece.duration),
+            Some(from) => {
+                knots.remove(from);
+                knots.insert_inside(curves, i, u, piece.duration)
+            }
+            None => knots.insert_inside(curves, i, u, piece.duration),
+        };
         if !room(knots, at) {
-            knots.remove(at);
+            tried = Some(at);
             continue;
         }
-        knots.pieces_into(curves, planning, planned);
+        // The pieces before knot `i` are those of the knots before it, unchanged: only
+        // the piece from `i` to the new knot is made (the window ends there).
+        knots.pieces_up_to(curves, planning, i..at, planned);
         return Some((at, true));
+    }
+    if let Some(at) = tried {
+        knots.remove(at);
     }
     if planning.jerk_mode() {
         return None;

@@ -39,13 +39,16 @@ impl Piece {
     /// Each axis' acceleration at the start and at the end of the cubic.
     pub fn end_accelerations(&self) -> [Vector; 2] {
         let n = self.start.len();
-        [
-            Vector::from_fn(n, |i| self.cubic(i).a0),
-            Vector::from_fn(n, |i| self.cubic(i).end().acceleration),
-        ]
+        let (mut start, mut end) = (Vector::zeros(n), Vector::zeros(n));
+        for (i, (a0, a1)) in start.iter_mut().zip(end.iter_mut()).enumerate() {
+            let h = self.cubic(i);
+            (*a0, *a1) = (h.a0, h.end().acceleration);
+        }
+        [start, end]
     }
 
     /// The cubic of axis `i`: from its start to its end state over the piece's time.
+    #[inline]
     pub fn cubic(&self, i: usize) -> HermiteSegment {
         HermiteSegment::new(
             self.start[i],

@@ -32,6 +32,9 @@ struct Motion<'a> {
     /// Planned (unscaled) start time of every piece, and the total at the end.
     starts: &'a [f64],
     scale: f64,
+    /// The piece the last [`Motion::locate`] found: the grid is walked forward, so the
+    /// next time is mostly in it or the one after.
+    hint: std::cell::Cell<usize>,
 }
 
 impl<'a> Motion<'a> {
@@ -48,6 +51,7 @@ impl<'a> Motion<'a> {
             pieces,
             starts,
             scale,
+            hint: std::cell::Cell::new(0),
         }
     }
 
@@ -56,7 +60,20 @@ impl<'a> Motion<'a> {
     fn locate(&self, t: f64) -> (usize, f64) {
         let u = t / self.scale;
         let n = self.pieces.len();
-        let i = self.starts[1..n].partition_point(|&s| s <= u);
+        // The last piece `i` with `starts[i] ≤ u` (the first where none is): the starts
+        // do not fall, so it is the hinted piece or the next where `u` lies between
+        // their starts, else the search finds it.
+        let holds =
+            |i: usize| (i == 0 || self.starts[i] <= u) && (i + 1 >= n || self.starts[i + 1] > u);
+        let hint = self.hint.get();
+        let i = if hint < n && holds(hint) {
+            hint
+        } else if hint + 1 < n && holds(hint + 1) {
+            hint + 1
+        } else {
+            self.starts[1..n].partition_point(|&s| s <= u)
+        };
+        self.hint.set(i);
         (i, (u - self.starts[i]).clamp(0.0, self.pieces[i].duration))
     }
 
@@ -515,8 +532,9 @@ pub(super) fn resample_once(
         match steps_over(done, bounds) {
             Steps::Within => break,
             Steps::Split(knots_to_add) => {
+                // Both runs are sorted: the stable sort merges them in one pass.
                 grid.extend(knots_to_add);
-                grid.sort_unstable();
+                grid.sort();
                 grid.dedup();
             }
             Steps::Slow(over) => {
@@ -721,11 +739,15 @@ fn interval(
     // The deviation from the plan on each sub-interval between planned knots: both are
     // cubics there, so their difference is one (per axis, its largest magnitude);
     // the axes combine by the norm of their maxima, an upper bound.
-    let h: Vec<HermiteSegment> = (0..dim).map(|ax| piece.cubic(ax)).collect();
+    let mut h = [HermiteSegment::new(0.0, 0.0, 0.0, 0.0, 1.0); crate::axis::AXIS_COUNT];
+    for (ax, hx) in h.iter_mut().enumerate().take(dim) {
+        *hx = piece.cubic(ax);
+    }
+    let h = &h[..dim];
     let mut error: f64 = 0.0;
-    // The elements the interval's planned pieces run on (a corner blend: two), and a
-    // planned knot on each.
-    let mut elements: Vec<(usize, usize)> = Vec::with_capacity(4);
+    // The elements the interval's planned pieces run on (a corner blend: two), each
+    // with the first planned knot on it: at most three (see below).
+    let mut elements = Elements::default();
     let mut i = first;
     loop {
         let from = ta.max(motion.start(i));
@@ -747,9 +769,12 @@ fn interval(
             }
             let planned = &motion.pieces[i];
             let knot = &knots.knots[planned.knot];
-            elements.push((knot.after.element, planned.knot));
+            let mut over = elements.add(knot.after.element, planned.knot);
             if knot.blend.is_some() {
-                elements.push((knot.after.element + 1, planned.knot + 1));
+                over |= elements.add(knot.after.element + 1, planned.knot + 1);
+            }
+            if over {
+                return Err(Over::Tolerance);
             }
             let limit = match knot.blend {
                 Some(j) if knots.junctions[j].transition.is_none() => tolerances.corner,
@@ -791,18 +816,54 @@ fn interval(
     }
     // A piece names one source line; a check looks for the motion near that line's
     // elements and their neighbours. A piece over more than three elements is split
-    // (or its plan slowed) as one over the tolerance; otherwise it names the middle one.
-    let lo = elements.iter().map(|e| e.0).min().unwrap_or(0);
-    let hi = elements.iter().map(|e| e.0).max().unwrap_or(0);
-    if hi > lo + 2 {
-        return Err(Over::Tolerance);
-    }
-    let middle = lo + (hi - lo) / 2;
-    if let Some(&(_, knot)) = elements.iter().find(|e| e.0 == middle) {
+    // (or its plan slowed) as one over the tolerance (found as they are added, above);
+    // otherwise it names the middle one.
+    if let Some(knot) = elements.middle_knot() {
         piece.knot = knot;
     }
     piece.error = error;
     Ok(piece)
+}
+
+/// The distinct elements a resampled piece's planned pieces run on, each with the first
+/// planned knot on it, in the order met, while they span at most three elements.
+#[derive(Default)]
+struct Elements {
+    seen: [(usize, usize); 3],
+    count: usize,
+    lo: usize,
+    hi: usize,
+}
+
+impl Elements {
+    /// Adds `element` with planned knot `knot` (kept only where the element is new).
+    /// True when the elements met span more than three: the piece is over the
+    /// tolerance, whatever else it runs on.
+    fn add(&mut self, element: usize, knot: usize) -> bool {
+        if self.seen[..self.count].iter().any(|e| e.0 == element) {
+            return false;
+        }
+        if self.count == 0 {
+            (self.lo, self.hi) = (element, element);
+        }
+        (self.lo, self.hi) = (self.lo.min(element), self.hi.max(element));
+        if self.hi > self.lo + 2 {
+            return true;
+        }
+        // Within three elements: at most three distinct ones.
+        self.seen[self.count] = (element, knot);
+        self.count += 1;
+        false
+    }
+
+    /// The first planned knot on the middle element of those met.
+    fn middle_knot(&self) -> Option<usize> {
+        let middle = self.lo + (self.hi - self.lo) / 2;
+        self.seen[..self.count]
+            .iter()
+            .find(|e| e.0 == middle)
+            .map(|e| e.1)
+    }
 }
 
 #[cfg(test)]
