@@ -158,16 +158,7 @@ fn digits(b: &[u8], mut at: usize, mut mantissa: u64) -> (u64, usize) {
 }
 
 /// 10⁰ … 10⁷.
-const POW10_U64: [u64; 8] = [
-    1,
-    10,
-    100,
-    1_000,
-    10_000,
-    100_000,
-    1_000_000,
-    10_000_000,
-];
+const POW10_U64: [u64; 8] = [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000, 10_000_000];
 
 /// How many of the eight bytes of `word` (the first in the low byte), from the first,
 /// are decimal digits, and, when fewer than eight, their value.
