@@ -231,15 +231,11 @@ fn push_short_decimal(out: &mut String, x: f64) -> bool {
         return false;
     }
     let m = rounded as u64;
-    let (int, mut fraction, mut places) = (m / UNIT, m % UNIT, 9);
-    if fraction == 0 {
-        places = 1;
-    } else {
-        while fraction % 10 == 0 {
-            fraction /= 10;
-            places -= 1;
-        }
-    }
+    let (int, fraction) = (m / UNIT, m % UNIT);
+    let (fraction, places) = match fraction {
+        0 => (0, 1),
+        _ => without_trailing_zeros(fraction),
+    };
     let mut text = [0u8; 32];
     let mut len = usize::from(x < 0.0);
     text[0] = b'-';
@@ -250,6 +246,24 @@ fn push_short_decimal(out: &mut String, x: f64) -> bool {
     // Only ASCII digits, a sign and a point were written.
     out.push_str(std::str::from_utf8(&text[..len]).unwrap_or_default());
     true
+}
+
+/// A fraction of nine places (`fraction` / 10⁹, not zero) without its trailing zeros:
+/// the digits left and how many places they take. At most eight zeros are stripped: all
+/// eight at once, or by four, two and one, so that which way each step goes is a choice
+/// between two values rather than a loop's exit.
+fn without_trailing_zeros(fraction: u64) -> (u64, usize) {
+    if fraction.is_multiple_of(100_000_000) {
+        return (fraction / 100_000_000, 1);
+    }
+    let strip =
+        |(value, places): (u64, usize), unit: u64, zeros: usize| match value.is_multiple_of(unit) {
+            true => (value / unit, places - zeros),
+            false => (value, places),
+        };
+    let four = strip((fraction, 9), 10_000, 4);
+    let two = strip(four, 100, 2);
+    strip(two, 10, 1)
 }
 
 /// True when `m / 10⁹` cannot be the double `x` whose product `scaled = x·10⁹` (rounded)
@@ -551,6 +565,22 @@ mod tests {
             let mut text = String::new();
             proptest::prop_assert!(push_short_decimal(&mut text, x), "{}", m);
             proptest::prop_assert_eq!(text, ryu_text(x));
+        }
+
+        /// The trailing zeros stripped as a loop strips them, one at a time; half the
+        /// cases end in a run of zeros.
+        #[test]
+        fn trailing_zeros_as_a_loop_strips_them(digits in 1..1_000_000_000u64, zeros in 0..9u32) {
+            let fraction = match digits % 2 {
+                0 => digits,
+                _ => (digits % 10u64.pow(9 - zeros)).max(1) * 10u64.pow(zeros),
+            };
+            let (mut value, mut places) = (fraction, 9);
+            while value % 10 == 0 {
+                value /= 10;
+                places -= 1;
+            }
+            proptest::prop_assert_eq!(without_trailing_zeros(fraction), (value, places));
         }
 
         #[test]
