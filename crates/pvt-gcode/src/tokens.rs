@@ -217,7 +217,7 @@ mod tests {
     /// and the bytes either side of the digits (`/`, `:`).
     fn near_numbers() -> impl Strategy<Value = Vec<u8>> {
         let byte = prop_oneof![
-            8 => (b'0'..=b'9'),
+            8 => b'0'..=b'9',
             1 => prop::sample::select(b"+-. \tXEe/:".to_vec()),
             1 => any::<u8>(),
         ];

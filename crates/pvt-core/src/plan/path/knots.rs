@@ -1286,7 +1286,7 @@ mod tests {
                 _ => unit * std::f64::consts::PI,
             };
             // Two unit tangents `angle` apart: |t_in − t_out| and |t_in + t_out|.
-            let (sin, cos) = (angle / 2.0).sin_cos();
+            let (sin, cos) = libm::sincos(angle / 2.0);
             let ulps = (state >> 60) as i64 - 8;
             let diff = f64::from_bits((2.0 * sin).to_bits().wrapping_add_signed(ulps));
             pairs.push((diff, 2.0 * cos));
