@@ -93,13 +93,21 @@ fn write_integer(slot: &mut [u8], value: u64) -> usize {
 }
 
 /// Fills `slot` (at most 9 long) with the last `slot.len()` decimal digits of `value`,
-/// zero-padded. Each pair of digits is divided out of `value` itself, so with the length
-/// known at compile time the pairs are made side by side rather than one after another.
+/// zero-padded. Eight digits or more: the last eight at once ([`eight_digits`]). Fewer:
+/// each pair of digits is divided out of `value` itself, so with the length known at
+/// compile time the pairs are made side by side rather than one after another.
 #[inline(always)]
 fn write_fraction(slot: &mut [u8], value: u32) {
     // Below 10^9: every power of ten it is divided by fits in a u32.
     let pow10 = |n: usize| POW10_INT[n] as u32;
     let len = slot.len();
+    if len >= 8 {
+        slot[len - 8..].copy_from_slice(&eight_digits(value % pow10(8)));
+        if len == 9 {
+            slot[0] = b'0' + (value / pow10(8) % 10) as u8;
+        }
+        return;
+    }
     for k in 0..len / 2 {
         let pair = 2 * (value / pow10(2 * k) % 100) as usize;
         let end = len - 2 * k;
@@ -108,6 +116,24 @@ fn write_fraction(slot: &mut [u8], value: u32) {
     if len % 2 == 1 {
         slot[0] = b'0' + (value / pow10(len - 1) % 10) as u8;
     }
+}
+
+/// The eight decimal digits of `value` (below 10⁸, zero-padded), first digit first.
+///
+/// The digits are divided out side by side in the lanes of one u64 (SWAR): two lanes of
+/// 32 bits hold the halves `value / 10⁴` and `value % 10⁴`, each split into hundreds in
+/// 16-bit lanes and those into tens in bytes, by multiplying with a rounded-up reciprocal
+/// and shifting: `⌊x·10486 / 2²⁰⌋ = ⌊x / 100⌋` for x < 10⁴ and `⌊x·103 / 2¹⁰⌋ = ⌊x / 10⌋`
+/// for x < 100. No lane's product reaches the next lane's bits that the masks keep.
+#[inline(always)]
+fn eight_digits(value: u32) -> [u8; 8] {
+    let v = u64::from(value);
+    let halves = (v / 10_000) | ((v % 10_000) << 32);
+    let hundreds = ((halves * 10_486) >> 20) & 0x0000_007F_0000_007F;
+    let pairs = hundreds | ((halves - hundreds * 100) << 16);
+    let tens = ((pairs * 103) >> 10) & 0x000F_000F_000F_000F;
+    let digits = tens | ((pairs - tens * 10) << 8);
+    (digits + 0x3030_3030_3030_3030).to_le_bytes()
 }
 
 /// Fills `slot` with the last `slot.len()` decimal digits of `value`, zero-padded.
@@ -189,25 +215,27 @@ pub fn push_exact(out: &mut String, x: f64) {
 /// in this range ryu writes it without an exponent, with `.0` after a whole number.
 /// Whether `x` is such a double is checked exactly: `m` and `10⁹` are exact doubles, so
 /// `m / 10⁹` is correctly rounded, the double that reading `m·10⁻⁹` gives.
+///
+/// Most values written (speeds, times) are not short: they are turned away by
+/// [`far_from_short`] before the division, which is the costly step.
 fn push_short_decimal(out: &mut String, x: f64) -> bool {
     const UNIT: u64 = 1_000_000_000;
     let magnitude = x.abs();
     if !(1e-5..1e6).contains(&magnitude) {
         return false;
     }
-    let m = round_half_away(magnitude * 1e9) as u64;
-    if m as f64 / 1e9 != magnitude {
+    let scaled = magnitude * 1e9;
+    // Below 2^53: the signed conversions are exact, and cheaper than the unsigned.
+    let rounded = round_half_away(scaled) as f64;
+    if far_from_short(scaled, rounded) || rounded / 1e9 != magnitude {
         return false;
     }
-    let (int, mut fraction, mut places) = (m / UNIT, m % UNIT, 9);
-    if fraction == 0 {
-        places = 1;
-    } else {
-        while fraction % 10 == 0 {
-            fraction /= 10;
-            places -= 1;
-        }
-    }
+    let m = rounded as u64;
+    let (int, fraction) = (m / UNIT, m % UNIT);
+    let (fraction, places) = match fraction {
+        0 => (0, 1),
+        _ => without_trailing_zeros(fraction),
+    };
     let mut text = [0u8; 32];
     let mut len = usize::from(x < 0.0);
     text[0] = b'-';
@@ -218,6 +246,39 @@ fn push_short_decimal(out: &mut String, x: f64) -> bool {
     // Only ASCII digits, a sign and a point were written.
     out.push_str(std::str::from_utf8(&text[..len]).unwrap_or_default());
     true
+}
+
+/// A fraction of nine places (`fraction` / 10⁹, not zero) without its trailing zeros:
+/// the digits left and how many places they take. At most eight zeros are stripped: all
+/// eight at once, or by four, two and one, so that which way each step goes is a choice
+/// between two values rather than a loop's exit.
+fn without_trailing_zeros(fraction: u64) -> (u64, usize) {
+    if fraction.is_multiple_of(100_000_000) {
+        return (fraction / 100_000_000, 1);
+    }
+    let strip =
+        |(value, places): (u64, usize), unit: u64, zeros: usize| match value.is_multiple_of(unit) {
+            true => (value / unit, places - zeros),
+            false => (value, places),
+        };
+    let four = strip((fraction, 9), 10_000, 4);
+    let two = strip(four, 100, 2);
+    strip(two, 10, 1)
+}
+
+/// True when `m / 10⁹` cannot be the double `x` whose product `scaled = x·10⁹` (rounded)
+/// is given and rounds to the integer `m` (10⁴ ≤ `scaled` < 10¹⁵, `m` given as an exact
+/// double): a quick refusal without the division, never wrong, for
+/// [`push_short_decimal`].
+///
+/// If `m / 10⁹` rounds to `x`, then |m − x·10⁹| ≤ 10⁹·ulp(x)/2 ≤ x·10⁹·2⁻⁵³, and the
+/// product is off by at most `scaled`·2⁻⁵³, so |`scaled` − m| ≤ `scaled`·2⁻⁵² (to first
+/// order); `scaled − m` is exact (Sterbenz: m ≥ 10⁴ is within a factor 2 of `scaled`).
+/// The refusal asks for four times that bound.
+#[inline(always)]
+fn far_from_short(scaled: f64, m: f64) -> bool {
+    const MARGIN: f64 = 1.0 / (1u64 << 50) as f64; // 2^-50
+    (scaled - m).abs() > scaled * MARGIN
 }
 
 #[cfg(test)]
@@ -248,6 +309,7 @@ mod tests {
             3 => push_fixed::<3>(&mut s, x),
             4 => push_fixed::<4>(&mut s, x),
             6 => push_fixed::<6>(&mut s, x),
+            9 => push_fixed::<9>(&mut s, x),
             _ => unreachable!("no test uses {d} decimals"),
         }
         assert_eq!(&s[..2], b"ab", "what was there is kept");
@@ -430,6 +492,120 @@ mod tests {
         }
         // The fast path is taken often: the short decimals in range.
         assert!(short > 150_000, "{short} short decimals");
+    }
+
+    /// [`push_fixed`]'s rule written out with the standard library alone: `x·10^d`
+    /// rounded half away from zero by `f64::round`, its digits by `format!`, the point
+    /// put in; beyond 2^53 (and NaN, infinities) the standard fixed formatting.
+    fn fixed_reference(x: f64, d: usize) -> String {
+        let scaled = x * format!("1e{d}").parse::<f64>().unwrap();
+        let text = if scaled.is_nan() || scaled.abs() >= 2f64.powi(53) {
+            format!("{x:.d$}")
+        } else {
+            let n = scaled.round();
+            let digits = format!("{:0width$}", n.abs() as u64, width = d + 1);
+            let (int, fraction) = digits.split_at(digits.len() - d);
+            let sign = if n < 0.0 { "-" } else { "" };
+            match d {
+                0 => format!("{sign}{int}"),
+                _ => format!("{sign}{int}.{fraction}"),
+            }
+        };
+        match text.strip_prefix('-') {
+            Some(rest) if rest.bytes().all(|b| b == b'0' || b == b'.') => rest.to_owned(),
+            _ => text,
+        }
+    }
+
+    /// Doubles of every kind for the fixed formats: any bit pattern, a decimal of a few
+    /// places (a programmed coordinate), a tie `(k + ½)·10^-d` and its neighbours, and
+    /// values about the 2^53 edge of the integer path.
+    fn fixed_inputs() -> impl proptest::strategy::Strategy<Value = f64> {
+        use proptest::prelude::*;
+        let bits = any::<u64>().prop_map(f64::from_bits);
+        let decimal = (any::<i64>(), 0..12i32)
+            .prop_map(|(n, places)| (n % 10_000_000_000_000) as f64 / 10f64.powi(places));
+        let tie = (any::<i32>(), 0..10i32, -1..=1i64).prop_map(|(k, d, step)| {
+            let x = (f64::from(k) + 0.5) / 10f64.powi(d);
+            f64::from_bits(x.to_bits().wrapping_add_signed(step))
+        });
+        let edge = (0..10i32, -1e6..1e6f64)
+            .prop_map(|(d, offset)| (2f64.powi(53) + offset) / 10f64.powi(d) * offset.signum());
+        let wide = (-1e18..1e18f64, -30..30i32).prop_map(|(m, e)| m * 10f64.powi(e) / 1e18);
+        prop_oneof![bits, decimal, tie, edge, wide]
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(20_000))]
+
+        /// Every fixed format writes the reference's text, and what was in the buffer
+        /// before is kept.
+        #[test]
+        fn fixed_is_the_reference(x in fixed_inputs()) {
+            for d in [0, 1, 2, 3, 4, 6, 9] {
+                proptest::prop_assert_eq!(fixed(x, d), fixed_reference(x, d), "{:e} with {} decimals", x, d);
+            }
+        }
+
+        /// The shortest text is ryu's.
+        #[test]
+        fn exact_is_ryu(x in fixed_inputs()) {
+            if x.is_finite() {
+                let expected = if x == 0.0 { "0.0".to_owned() } else { ryu_text(x) };
+                proptest::prop_assert_eq!(exact(x), expected, "{:e}", x);
+            }
+        }
+
+        /// Every decimal `m·10⁻⁹` in the fast path's range takes it: the quick refusal
+        /// ([`far_from_short`]) turns none away, including those whose product `x·10⁹`
+        /// is not the integer `m` again.
+        #[test]
+        fn short_decimals_take_the_fast_path(m in 10_000..1_000_000_000_000_000u64) {
+            let x = m as f64 / 1e9;
+            let mut text = String::new();
+            proptest::prop_assert!(push_short_decimal(&mut text, x), "{}", m);
+            proptest::prop_assert_eq!(text, ryu_text(x));
+        }
+
+        /// The trailing zeros stripped as a loop strips them, one at a time; half the
+        /// cases end in a run of zeros.
+        #[test]
+        fn trailing_zeros_as_a_loop_strips_them(digits in 1..1_000_000_000u64, zeros in 0..9u32) {
+            let fraction = match digits % 2 {
+                0 => digits,
+                _ => (digits % 10u64.pow(9 - zeros)).max(1) * 10u64.pow(zeros),
+            };
+            let (mut value, mut places) = (fraction, 9);
+            while value % 10 == 0 {
+                value /= 10;
+                places -= 1;
+            }
+            proptest::prop_assert_eq!(without_trailing_zeros(fraction), (value, places));
+        }
+
+        #[test]
+        fn eight_digits_are_the_zero_padded_number(value in 0..100_000_000u32) {
+            proptest::prop_assert_eq!(
+                eight_digits(value).to_vec(),
+                format!("{value:08}").into_bytes()
+            );
+        }
+    }
+
+    /// The lanes of [`eight_digits`] at every carry: all of 0..10⁵, and each 10⁴-block's
+    /// and 100-block's edges up to 10⁸.
+    #[test]
+    fn eight_digits_at_every_carry() {
+        let edges = (0..10_000u32).flat_map(|k| {
+            let base = k * 10_000;
+            [base, base + 99, base + 100, base + 9_999, base + 9_900]
+        });
+        for value in (0..100_000).chain(edges).chain([99_999_999]) {
+            assert_eq!(
+                eight_digits(value).to_vec(),
+                format!("{value:08}").into_bytes()
+            );
+        }
     }
 
     #[test]

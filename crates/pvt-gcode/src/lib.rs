@@ -374,7 +374,7 @@ impl<'a> Reader<'a> {
         }
         self.number = line.number;
         self.end_offset = line.start + line.text.len();
-        let blank = line.text.trim_matches([' ', '\t']).is_empty();
+        let blank = is_bare(line.text);
         let first = self.at_start && !blank;
         self.at_start &= blank;
         if self.ended.is_some() && self.subprogram_after_end(line) {
@@ -474,9 +474,10 @@ impl<'a> Reader<'a> {
     }
 }
 
-/// True when `text` (after a `%`) holds only blanks.
+/// True when `text` (a line, or what follows a `%`) holds only blanks: read up to its
+/// first other byte, which starts most lines.
 fn is_bare(text: &str) -> bool {
-    text.trim_matches([' ', '\t']).is_empty()
+    text.bytes().all(|b| matches!(b, b' ' | b'\t'))
 }
 
 /// A warning if `line`, after the program end, has any content.

@@ -123,14 +123,29 @@ pub(crate) fn plain_number(b: &[u8]) -> Option<(usize, f64)> {
         return None;
     }
     // Below 2^53 (15 digits): the signed conversion is exact, and cheaper than the unsigned.
-    let magnitude = mantissa as i64 as f64 / EXACT_POWERS_OF_TEN[scale];
+    // A whole number (a G or M code, a feed) needs no division (x / 1 is x).
+    let magnitude = match scale {
+        0 => mantissa as i64 as f64,
+        _ => mantissa as i64 as f64 / EXACT_POWERS_OF_TEN[scale],
+    };
     Some((at, if negative { -magnitude } else { magnitude }))
 }
 
 /// Reads the run of decimal digits of `b` from `at` onto `mantissa` (wrapping: a caller
 /// refuses more than 15 digits); returns the mantissa and where the run ends.
+///
+/// A run shorter than eight (a coordinate's integer part or fraction) is read from the
+/// eight bytes at `at` at once ([`leading_digits`]), without a branch per digit; a
+/// longer run, or one that ends the text, goes on one digit at a time.
 #[inline]
 fn digits(b: &[u8], mut at: usize, mut mantissa: u64) -> (u64, usize) {
+    if let Some(&eight) = b.get(at..).and_then(|rest| rest.first_chunk::<8>()) {
+        let (count, value) = leading_digits(u64::from_le_bytes(eight));
+        if count < 8 {
+            let scale = POW10_U64[count];
+            return (mantissa.wrapping_mul(scale).wrapping_add(value), at + count);
+        }
+    }
     while at < b.len() {
         let digit = b[at].wrapping_sub(b'0');
         if digit >= 10 {
@@ -140,4 +155,103 @@ fn digits(b: &[u8], mut at: usize, mut mantissa: u64) -> (u64, usize) {
         at += 1;
     }
     (mantissa, at)
+}
+
+/// 10⁰ … 10⁷.
+const POW10_U64: [u64; 8] = [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000, 10_000_000];
+
+/// How many of the eight bytes of `word` (the first in the low byte), from the first,
+/// are decimal digits, and, when fewer than eight, their value.
+///
+/// A byte is a digit when `byte − '0'` is below 10: subtracting `'0'` from every byte at
+/// once borrows only out of a byte that is below `'0'`, which is not a digit, so the
+/// first flagged byte is the first that is not a digit. The digits before it are moved
+/// to the top (the lower bytes become zeros, leading zeros of the number) and combined
+/// in three steps, pairs, fours, then eight (Lemire's multiply-and-shift).
+#[inline(always)]
+fn leading_digits(word: u64) -> (usize, u64) {
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    let values = word.wrapping_sub(ONES * u64::from(b'0'));
+    let not_digit = (values | values.wrapping_add(ONES * 0x76)) & (ONES * 0x80);
+    let count = (not_digit.trailing_zeros() / 8) as usize;
+    if count == 0 || count == 8 {
+        return (count, 0);
+    }
+    let aligned = (values << (8 * (8 - count))) & (ONES * 0x0F);
+    let pairs = (aligned.wrapping_mul((10 << 8) | 1) >> 8) & 0x00FF_00FF_00FF_00FF;
+    let fours = (pairs.wrapping_mul((100 << 16) | 1) >> 16) & 0x0000_FFFF_0000_FFFF;
+    (count, fours.wrapping_mul((10_000 << 32) | 1) >> 32)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// [`plain_number`]'s rule read one byte at a time, its value by `str::parse`.
+    fn plain_reference(b: &[u8]) -> Option<(usize, f64)> {
+        let run = |from: usize| b[from..].iter().take_while(|c| c.is_ascii_digit()).count();
+        let sign = usize::from(matches!(b.first(), Some(b'+' | b'-')));
+        let whole = run(sign);
+        let mut at = sign + whole;
+        let mut count = whole;
+        if b.get(at) == Some(&b'.') {
+            let fraction = run(at + 1);
+            count += fraction;
+            at += 1 + fraction;
+        }
+        let next_solid = b[at..].iter().find(|c| !matches!(c, b' ' | b'\t'));
+        let continues = match b.get(at) {
+            Some(b'e' | b'E' | b'.') => true,
+            Some(b' ' | b'\t') => matches!(next_solid, Some(b'0'..=b'9' | b'.')),
+            _ => false,
+        };
+        if count == 0 || count > 15 || continues {
+            return None;
+        }
+        let text = std::str::from_utf8(&b[..at]).ok()?;
+        Some((at, text.parse().ok()?))
+    }
+
+    /// Text a G-code number may be, or nearly: digits, signs, points, blanks, letters,
+    /// and the bytes either side of the digits (`/`, `:`).
+    fn near_numbers() -> impl Strategy<Value = Vec<u8>> {
+        let byte = prop_oneof![
+            8 => b'0'..=b'9',
+            1 => prop::sample::select(b"+-. \tXEe/:".to_vec()),
+            1 => any::<u8>(),
+        ];
+        prop::collection::vec(byte, 0..24)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(20_000))]
+
+        /// Length and value, bit for bit, as the byte-at-a-time reference reads them.
+        #[test]
+        fn plain_number_is_the_reference(bytes in near_numbers()) {
+            let got = plain_number(&bytes).map(|(len, v)| (len, v.to_bits()));
+            let expected = plain_reference(&bytes).map(|(len, v)| (len, v.to_bits()));
+            prop_assert_eq!(got, expected, "{:?}", String::from_utf8_lossy(&bytes));
+        }
+
+        /// The count of leading digits of any eight bytes, and their value.
+        #[test]
+        fn leading_digits_of_any_word(word in any::<u64>(), digits in 0..=8usize, seed in any::<u64>()) {
+            // Half the time the first `digits` bytes are made digits.
+            let mut bytes = word.to_le_bytes();
+            if seed % 2 == 0 {
+                for (i, b) in bytes.iter_mut().take(digits).enumerate() {
+                    *b = b'0' + ((seed >> (4 * i)) % 10) as u8;
+                }
+            }
+            let count = bytes.iter().take_while(|b| b.is_ascii_digit()).count();
+            let (got_count, value) = leading_digits(u64::from_le_bytes(bytes));
+            prop_assert_eq!(got_count, count);
+            if (1..8).contains(&count) {
+                let text = std::str::from_utf8(&bytes[..count]).unwrap();
+                prop_assert_eq!(value, text.parse::<u64>().unwrap());
+            }
+        }
+    }
 }

@@ -150,10 +150,10 @@ impl Interpreter<'_> {
         ];
         let machine = matches!(request.non_modal, Some((NonModal::MachineCoords, _)));
         // In a rotated system X and Y are read in the program's frame and placed
-        // together; every other axis (and G53) is one machine axis.
-        let rotated = !machine && self.rotation() != 0.0;
-        let here = self.to_program(self.position);
-        let mut program = here;
+        // together; every other axis (and G53) is one machine axis. `here`, the program
+        // point where the tool is, is made only in a rotated system, which alone reads it.
+        let here = (!machine && self.rotation() != 0.0).then(|| self.to_program(self.position));
+        let mut program = here.unwrap_or_default();
         let mut end = self.position;
         for axis in Axis::ALL {
             let i = axis.index();
@@ -161,7 +161,7 @@ impl Interpreter<'_> {
                 continue;
             };
             let value = self.program_value(axis, word.value);
-            if rotated && i < 2 {
+            if let (Some(here), true) = (here, i < 2) {
                 program[i] = match self.modal.distance {
                     Distance::Absolute => value,
                     Distance::Incremental => program[i] + value,

@@ -1094,8 +1094,8 @@ fn junction(
     let sum = Vector::from_fn(t_in.len(), |i| t_in[i] + t_out[i]);
     let diff = Vector::from_fn(t_in.len(), |i| t_in[i] - t_out[i]);
     let (sum_norm, diff_norm) = (norm(&sum), norm(&diff));
-    let angle = 2.0 * libm::atan2(diff_norm, sum_norm);
-    let stops = !bounds.accelerates() && corner.is_none() && angle > TANGENT_ANGLE;
+    let stops =
+        !bounds.accelerates() && corner.is_none() && turns_beyond_tangent(diff_norm, sum_norm);
     if sum_norm < 1e-6 || stops {
         return None;
     }
@@ -1155,6 +1155,25 @@ fn junction(
     let zones = [zone(a, &junction, tolerance), zone(b, &junction, tolerance)];
     junction.cap = junction.cap.min(through_cap(&junction, zones, bounds));
     (junction.cap > 0.0).then_some((junction, zones))
+}
+
+/// True when the turning angle `2·atan2(diff, sum)` of two unit tangents (`diff` and
+/// `sum` the norms of their difference and sum) is over [`TANGENT_ANGLE`].
+///
+/// The same answer as that comparison, with `atan2` only near the bound: the angle is
+/// `2·atan(diff / sum)`, increasing in `diff / sum`, so a ratio clearly below (above)
+/// tan(`TANGENT_ANGLE` / 2) answers at once. "Clearly" is 10⁻⁶ relative, which moves the
+/// angle by about 2·10⁻⁸ rad, far beyond the rounding of the product and of `atan2`.
+fn turns_beyond_tangent(diff: f64, sum: f64) -> bool {
+    /// tan(`TANGENT_ANGLE` / 2) = tan(1°).
+    const HALF_TANGENT: f64 = 0.017_455_064_928_217_585;
+    if diff < sum * (HALF_TANGENT * (1.0 - 1e-6)) {
+        return false;
+    }
+    if diff > sum * (HALF_TANGENT * (1.0 + 1e-6)) {
+        return true;
+    }
+    2.0 * libm::atan2(diff, sum) > TANGENT_ANGLE
 }
 
 fn unit_tangent(curve: &Curve, param: f64) -> Vector {
@@ -1352,7 +1371,45 @@ fn scurve_peak(va: f64, vb: f64, cap: f64, a: f64, j: f64, d: f64) -> (f64, f64,
 
 #[cfg(test)]
 mod tests {
-    use super::{scurve_distance, scurve_reachable};
+    use super::{scurve_distance, scurve_reachable, turns_beyond_tangent, TANGENT_ANGLE};
+
+    /// The quick answer is the `atan2` comparison's on tangent pairs turning by every
+    /// angle, most of them within a few ulps of the bound, and on zeros, infinities, NaN.
+    #[test]
+    fn turns_beyond_tangent_is_the_atan2_comparison() {
+        let mut pairs = vec![
+            (0.0, 0.0),
+            (0.0, 2.0),
+            (2.0, 0.0),
+            (f64::INFINITY, 1.0),
+            (1.0, f64::INFINITY),
+            (f64::INFINITY, f64::INFINITY),
+            (f64::NAN, 1.0),
+            (1.0, f64::NAN),
+        ];
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        for k in 0..200_000 {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let unit = state as f64 / u64::MAX as f64;
+            // Half the angles within 3·10⁻⁶ of the bound (either side of the quick
+            // answers' edge, 10⁻⁶), the rest anywhere in [0, π].
+            let angle = match k % 2 {
+                0 => TANGENT_ANGLE * (1.0 + (unit - 0.5) * 6e-6),
+                _ => unit * std::f64::consts::PI,
+            };
+            // Two unit tangents `angle` apart: |t_in − t_out| and |t_in + t_out|.
+            let (sin, cos) = libm::sincos(angle / 2.0);
+            let ulps = (state >> 60) as i64 - 8;
+            let diff = f64::from_bits((2.0 * sin).to_bits().wrapping_add_signed(ulps));
+            pairs.push((diff, 2.0 * cos));
+        }
+        for (diff, sum) in pairs {
+            let atan2 = 2.0 * libm::atan2(diff, sum) > TANGENT_ANGLE;
+            assert_eq!(turns_beyond_tangent(diff, sum), atan2, "{diff:e} {sum:e}");
+        }
+    }
 
     /// The closed-form inversion against the distance it inverts: a speed a little
     /// under the one reached covers at most the length and one a little over at least
