@@ -76,14 +76,7 @@ fn plan_on(
     limits: &BTreeMap<Axis, AxisLimits>,
     quantum: Option<Quantum>,
 ) -> PvtContour {
-    let options = PathOptions {
-        tolerance,
-        corner_tolerance: None,
-        limits: limits.clone(),
-        quantum,
-        servo_period: SERVO,
-        position_resolution: 0.0,
-    };
+    let options = path_options(tolerance, limits, quantum);
     plan_path(c, &XYZ, &options).expect("plans").0
 }
 
@@ -682,14 +675,7 @@ fn curvature_transitions_keep_the_tolerance_jerk_and_steps_at_speed() {
     for (r, tol) in [(5.0, 0.001), (5.0, 0.0005), (1.0, 0.001), (20.0, 0.002)] {
         for (turn, mirror) in [(0.0, false), (0.7, true), (2.5, false), (-1.9, true)] {
             for c in tangent_arcs(r, 12.0, turn, mirror) {
-                let options = PathOptions {
-                    tolerance: tol,
-                    corner_tolerance: None,
-                    limits: lim.clone(),
-                    quantum: None,
-                    servo_period: SERVO,
-                    position_resolution: 0.0,
-                };
+                let options = path_options(tol, &lim, None);
                 let gridded = PathOptions {
                     quantum: Some(MS),
                     ..options.clone()
@@ -762,14 +748,7 @@ fn a_square_on_a_1ms_grid_keeps_its_limits_and_tolerance() {
 fn a_long_contour_streams_on_a_grid_within_its_limits_and_tolerance() {
     let c = lines_then_polygon();
     let lim = limits(100.0, 1000.0);
-    let options = PathOptions {
-        tolerance: 0.001,
-        corner_tolerance: None,
-        limits: lim.clone(),
-        quantum: Some(MS),
-        servo_period: SERVO,
-        position_resolution: 0.0,
-    };
+    let options = path_options(0.001, &lim, Some(MS));
     let (whole, held) = plan_stream_counting(&c, &options, usize::MAX);
     assert_eq!(held, 0, "the whole contour is planned at its end");
     for window in [16, 64, usize::MAX] {
@@ -828,6 +807,23 @@ fn plan_stream_counting(c: &Contour, options: &PathOptions, window: usize) -> (P
     (out.into_inner(), early)
 }
 
+/// The planner's options at `tolerance` (no corner tolerance) under `limits`, on the
+/// grid of `quantum` when given, with the test servo period and no position rounding.
+fn path_options(
+    tolerance: f64,
+    limits: &BTreeMap<Axis, AxisLimits>,
+    quantum: Option<Quantum>,
+) -> PathOptions {
+    PathOptions {
+        tolerance,
+        corner_tolerance: None,
+        limits: limits.clone(),
+        quantum,
+        servo_period: SERVO,
+        position_resolution: 0.0,
+    }
+}
+
 /// Plans `c` through a [`PathStream`] holding at most `window` elements.
 fn plan_windowed(
     c: &Contour,
@@ -835,14 +831,7 @@ fn plan_windowed(
     lim: &BTreeMap<Axis, AxisLimits>,
     window: usize,
 ) -> PvtContour {
-    let options = PathOptions {
-        tolerance: tol,
-        corner_tolerance: None,
-        limits: lim.clone(),
-        quantum: None,
-        servo_period: SERVO,
-        position_resolution: 0.0,
-    };
+    let options = path_options(tol, lim, None);
     plan_stream(c, &options, window)
 }
 
@@ -916,14 +905,7 @@ fn a_tolerance_no_piece_can_meet_is_an_error_naming_the_line() {
             50.0,
         ),
     ]);
-    let options = PathOptions {
-        tolerance: 1e-200,
-        corner_tolerance: None,
-        limits: BTreeMap::new(),
-        quantum: None,
-        servo_period: SERVO,
-        position_resolution: 0.0,
-    };
+    let options = path_options(1e-200, &BTreeMap::new(), None);
     let e = plan_path(&c, &XYZ, &options).unwrap_err();
     assert_eq!(e.code(), "pvtc::plan::path_not_met");
     assert_eq!(e.line(), 1);
@@ -1023,14 +1005,7 @@ fn a_short_line_is_two_triangular_s_curves() {
 fn a_jerk_limit_streams_in_windows_within_every_limit() {
     let c = lines_then_polygon();
     let lim = limits_with_jerk(100.0, 1000.0, Some(50000.0));
-    let options = PathOptions {
-        tolerance: 0.001,
-        corner_tolerance: None,
-        limits: lim,
-        quantum: None,
-        servo_period: SERVO,
-        position_resolution: 0.0,
-    };
+    let options = path_options(0.001, &lim, None);
     let (whole, held) = plan_stream_counting(&c, &options, usize::MAX);
     assert_eq!(held, 0, "the whole contour is planned at its end");
     for window in [16, 64] {
@@ -1061,14 +1036,7 @@ fn a_jerk_limit_streams_on_grids_within_every_limit() {
             seconds: ms / 1000.0,
             rounding: Rounding::Up,
         };
-        let options = PathOptions {
-            tolerance: 0.001,
-            corner_tolerance: None,
-            limits: lim.clone(),
-            quantum: Some(q),
-            servo_period: SERVO,
-            position_resolution: 0.0,
-        };
+        let options = path_options(0.001, &lim, Some(q));
         let (whole, _) = plan_stream_counting(&c, &options, usize::MAX);
         for window in [16, 64] {
             let (planned, early) = plan_stream_counting(&c, &options, window);

@@ -36,6 +36,21 @@ pub(super) struct Part {
 }
 
 impl Piece {
+    /// The piece after knot `k` in `dim` axes with every state, time and error zero: the
+    /// start its builders fill in.
+    pub fn zeroed(dim: usize, knot: usize) -> Piece {
+        Piece {
+            start: Vector::zeros(dim),
+            end: Vector::zeros(dim),
+            start_velocity: Vector::zeros(dim),
+            end_velocity: Vector::zeros(dim),
+            duration: 0.0,
+            error: 0.0,
+            knot,
+            part: None,
+        }
+    }
+
     /// Each axis' acceleration at the start and at the end of the cubic.
     pub fn end_accelerations(&self) -> [Vector; 2] {
         let n = self.start.len();

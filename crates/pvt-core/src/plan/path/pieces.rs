@@ -60,16 +60,7 @@ impl Knots {
         let (curve, from, to) = self.piece_span(curves, k);
         let dim = curve.start.len();
         let (a, b) = (&self.knots[k], &self.knots[k + 1]);
-        let mut piece = Piece {
-            start: Vector::zeros(dim),
-            end: Vector::zeros(dim),
-            start_velocity: Vector::zeros(dim),
-            end_velocity: Vector::zeros(dim),
-            duration: 0.0,
-            error: 0.0,
-            knot: k,
-            part: None,
-        };
+        let mut piece = Piece::zeroed(dim, k);
         curve.position(from, &mut piece.start);
         curve.position(to, &mut piece.end);
         self.velocity(k, curve, from, &mut piece.start_velocity);
@@ -292,14 +283,8 @@ impl Knots {
         let dim = a.start.len();
         let (va, vb) = (self.knots[k].speed, self.knots[k + 1].speed);
         let mut piece = Piece {
-            start: Vector::zeros(dim),
-            end: Vector::zeros(dim),
-            start_velocity: Vector::zeros(dim),
-            end_velocity: Vector::zeros(dim),
-            duration: 0.0,
             error: transition.error,
-            knot: k,
-            part: None,
+            ..Piece::zeroed(dim, k)
         };
         a.position(before.param, &mut piece.start);
         b.position(after.param, &mut piece.end);
