@@ -281,7 +281,10 @@
 //! shorter one is planned whole at its end as above, so its pieces are unchanged.
 //! 1. Each window's plan is made as in step 1 of "Resampling in time", at the shares of
 //!    [`resample::Shares`] in turn, and the first that converges is taken (the whole
-//!    contour takes the shortest). Its knots are capped as [`PathStream`]'s windows
+//!    contour takes the shortest). The tries start at the share the last window
+//!    converged at, then take those before it: a long contour whose windows converge
+//!    only at a later share (a dense raster at the whole jerk) does not spend each
+//!    window's rounds on the shares before it again. Its knots are capped as [`PathStream`]'s windows
 //!    are, at the least tangential acceleration of every share, so the next window,
 //!    whatever share it converges at, can stop from any knot this one cuts at. Under a
 //!    jerk limit each share's plan takes the step and jerk shares of the whole contour's
@@ -590,6 +593,9 @@ pub struct PathStream {
     /// again: twice its size, so that a contour with no such knot costs a few plans of
     /// its length in all, not one per element.
     retry_at: usize,
+    /// On a grid, the share of [`resample::Shares`] the last window converged at: the
+    /// next window's tries start there (see "Streaming on a grid").
+    grid_share: usize,
 }
 
 impl PathStream {
@@ -626,6 +632,7 @@ impl PathStream {
             streamed: false,
             hold: false,
             retry_at: 0,
+            grid_share: 0,
         }
     }
 
@@ -778,7 +785,7 @@ impl PathStream {
             &self.options,
             &self.start,
             quantum,
-            (last, grow),
+            (last, grow, self.grid_share),
             &mut self.grid_scratch,
         );
         let w = match window {
@@ -809,6 +816,7 @@ impl PathStream {
         self.report.speed_change = self.report.speed_change.max(w.speed_change);
         w.knots.emit(&self.curves, &w.pieces, w.count, emit);
         self.streamed = true;
+        self.grid_share = w.share;
         if !last {
             let (element, start) = w.knots.start_after(w.count);
             self.retry_at = self.next_size();
@@ -1080,10 +1088,13 @@ struct GridWindow {
     pieces: Vec<piece::Piece>,
     count: usize,
     speed_change: f64,
+    /// The index of the share of [`resample::Shares`] it converged at.
+    share: usize,
 }
 
 /// Plans a window of a streamed contour on the grid of `quantum` (see "Streaming on a
-/// grid"): the shares of [`resample::Shares`] in turn, the first that converges; each
+/// grid"): the shares of [`resample::Shares`] in turn from `first` (the share the last
+/// window converged at), then those before it, the first that converges; each
 /// plan capped (but at the contour's end) to stop before the window's last element at the
 /// least tangential acceleration of every share, cut at a grid time at or before the
 /// stopping-distance cut, and resampled from the window's start without scaling. Its
@@ -1094,7 +1105,7 @@ fn grid_window(
     options: &PathOptions,
     start: &Start,
     quantum: Quantum,
-    (last, grow): (bool, bool),
+    (last, grow, first): (bool, bool, usize),
     scratch: &mut resample::Scratch,
 ) -> Window {
     let q = quantum.seconds;
@@ -1144,7 +1155,10 @@ fn grid_window(
             knots.room_to_stop(curves, at, &stop)
         }
     };
-    for try_ in &shares.tries {
+    let tries = shares.tries.len();
+    let first = first.min(tries - 1);
+    for share in (first..tries).chain(0..first) {
+        let try_ = &shares.tries[share];
         // As the whole contour's plans (see [`resample_contour`]); without a jerk limit
         // the step and jerk are infinite, at any share.
         let planning = try_.planning(bounds, q);
@@ -1200,6 +1214,7 @@ fn grid_window(
                         pieces: r.pieces,
                         count,
                         speed_change: r.speed_change,
+                        share,
                     });
                 }
                 Err(slow) => {
