@@ -653,8 +653,12 @@ impl PathStream {
         Curve::push_new(element, &self.axes, &mut self.curves);
         let whole = self.hold;
         let full = self.curves.len() >= self.window.max(self.retry_at);
-        let filled = self.curves.len() >= self.fill.max(self.retry_at);
-        if !whole && (full || filled && self.room_for_a_cut()) {
+        let filled = |s: &Self| s.curves.len() >= s.fill.max(s.retry_at);
+        if !whole && !full && filled(self) && !self.room_for_a_cut() {
+            // Too short for a cut with a stop after it: planned at the full window.
+            self.fill = self.window;
+        }
+        if !whole && (full || filled(self)) {
             if self.options.quantum.is_some() {
                 self.stream_on_grid(false, emit)?;
             } else {
@@ -896,9 +900,9 @@ impl PathStream {
 
     /// Whether a window bounded by its pieces ([`WINDOW_PIECES`]) is long enough to be
     /// planned now: its known path (up to its last element) is at least four stopping
-    /// distances, room for a cut with the stopping distance after it. Else the window
-    /// is planned at its full size.
-    fn room_for_a_cut(&mut self) -> bool {
+    /// distances, room for a cut with the stopping distance after it (else the window
+    /// is planned at its full size).
+    fn room_for_a_cut(&self) -> bool {
         let Some((_, known)) = self.curves.split_last() else {
             return false;
         };
@@ -906,11 +910,7 @@ impl PathStream {
             .first()
             .map_or(0.0, |c| c.length(0.0, self.start.param));
         let length: f64 = known.iter().map(|c| c.length(0.0, c.span)).sum();
-        if length - consumed >= 4.0 * self.stopping_distance() {
-            return true;
-        }
-        self.fill = self.window;
-        false
+        length - consumed >= 4.0 * self.stopping_distance()
     }
 
     /// The least tangential acceleration any piece has (see [`least_acceleration`]).

@@ -206,26 +206,21 @@ pub(super) fn transition(a: &Curve, b: &Curve, tolerance: f64) -> Option<Transit
     let mut accel = Vector::zeros(dim);
     let mut jerk = Vector::zeros(dim);
     let mut velocity = Vector::zeros(dim);
-    for part in &parts {
-        let end = [0, 1].map(|i| part.a[i] + part.j[i] * part.t);
-        for local in [part.a, end] {
-            let v = to_axes(local);
-            accel
-                .iter_mut()
-                .zip(&v)
-                .for_each(|(m, x)| *m = m.max(x.abs()));
-        }
-        let v = to_axes(part.j);
-        jerk.iter_mut()
+    // Raises each axis' largest magnitude in `most` to the local vector's on that axis.
+    let raise = |most: &mut Vector, local: [f64; 2]| {
+        let v = to_axes(local);
+        most.iter_mut()
             .zip(&v)
             .for_each(|(m, x)| *m = m.max(x.abs()));
+    };
+    for part in &parts {
+        let end = [0, 1].map(|i| part.a[i] + part.j[i] * part.t);
+        raise(&mut accel, part.a);
+        raise(&mut accel, end);
+        raise(&mut jerk, part.j);
         // Each velocity component is a quadratic: its ends and its vertex.
         for s in [0.0, part.t, vertex(part)] {
-            let w = to_axes(part.at(s.clamp(0.0, part.t)).1);
-            velocity
-                .iter_mut()
-                .zip(&w)
-                .for_each(|(m, x)| *m = m.max(x.abs()));
+            raise(&mut velocity, part.at(s.clamp(0.0, part.t)).1);
         }
     }
     let times = [parts[0].t, parts[1].t];
