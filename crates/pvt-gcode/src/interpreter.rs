@@ -22,6 +22,7 @@ mod machine;
 mod motion;
 mod nurbs;
 mod nurbs_g6;
+mod plain;
 mod spline;
 
 use pvt_core::{EventKind, Position, SpindleState, Units, AXIS_COUNT};

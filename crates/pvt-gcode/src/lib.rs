@@ -72,6 +72,7 @@ pub mod offsets;
 mod oword;
 mod params;
 mod parser;
+mod plain;
 mod prescan;
 mod request;
 mod sink;
@@ -304,6 +305,9 @@ pub struct Reader<'a> {
     number: u32,
     /// Set once the program has ended (M2/M30, closing `%`): what ended it.
     ended: Option<String>,
+    /// Plain lines ([`plain`]) run without a block when the state allows; off only in
+    /// tests that hold the two paths to the same output.
+    plain_lines: bool,
 }
 
 impl<'a> Reader<'a> {
@@ -325,6 +329,7 @@ impl<'a> Reader<'a> {
             end_offset: 0,
             number: 0,
             ended: None,
+            plain_lines: true,
         }
     }
 
@@ -406,6 +411,18 @@ impl<'a> Reader<'a> {
     pub(crate) fn run_line(&mut self, line: SourceLine<'_>) -> bool {
         if self.ended.is_some() {
             return false;
+        }
+        if self.plain_lines && self.interpreter.origin.is_none() {
+            if let Some(plain) = plain::plain_line(line.text) {
+                let span = pvt_core::Span {
+                    start: line.start,
+                    end: line.start + line.text.len(),
+                    line: line.number,
+                };
+                if self.interpreter.run_plain(&plain, span) {
+                    return true;
+                }
+            }
         }
         if memchr::memchr(b'#', line.text.as_bytes()).is_some() {
             self.refresh_view(line.number);

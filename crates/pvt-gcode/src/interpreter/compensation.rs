@@ -255,6 +255,12 @@ impl Interpreter<'_> {
         self.emit(motion, &element);
     }
 
+    /// True when compensation is off and has no exit move pending: a move goes straight
+    /// to the sink.
+    pub(super) fn cutter_idle(&self) -> bool {
+        !self.cutter.on && self.cutter.active.is_none() && self.cutter.exit_from.is_none()
+    }
+
     /// Where the next straight move starts: the tool's centre after G40 (the exit move),
     /// else the machine position (after M6, rs274's re-read one).
     pub(super) fn tool_start(&self) -> Position {
