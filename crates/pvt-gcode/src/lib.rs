@@ -392,6 +392,11 @@ impl<'a> Reader<'a> {
             self.interpreter.warn(warning);
             return false;
         }
+        // A plain line is not an O-word or `%` line: with no body being recorded or
+        // searched for, it runs here, as `run_line` would run it.
+        if self.flow.is_idle() && self.subprograms.is_idle() && self.run_plain_line(line) {
+            return true;
+        }
         if let Some(more) = self.subprogram_line(line) {
             return more;
         }
@@ -402,7 +407,7 @@ impl<'a> Reader<'a> {
             self.opened = true;
             return true;
         }
-        self.run_line(line);
+        self.run_general_line(line);
         true
     }
 
@@ -412,17 +417,34 @@ impl<'a> Reader<'a> {
         if self.ended.is_some() {
             return false;
         }
-        if self.plain_lines && self.interpreter.origin.is_none() {
-            if let Some(plain) = plain::plain_line(line.text) {
-                let span = pvt_core::Span {
-                    start: line.start,
-                    end: line.start + line.text.len(),
-                    line: line.number,
-                };
-                if self.interpreter.run_plain(&plain, span) {
-                    return true;
-                }
-            }
+        if self.run_plain_line(line) {
+            return true;
+        }
+        self.run_general_line(line)
+    }
+
+    /// Runs `line` when it is plain ([`plain`]) and the state allows; returns whether it
+    /// ran. Lines of a subroutine file (shown at the call) take the general path.
+    fn run_plain_line(&mut self, line: SourceLine<'_>) -> bool {
+        if !self.plain_lines || self.ended.is_some() || self.interpreter.origin.is_some() {
+            return false;
+        }
+        let Some(plain) = plain::plain_line(line.text) else {
+            return false;
+        };
+        let span = pvt_core::Span {
+            start: line.start,
+            end: line.start + line.text.len(),
+            line: line.number,
+        };
+        self.interpreter.run_plain(&plain, span)
+    }
+
+    /// Parses and executes one line of G-code through its block and request; returns
+    /// false once the program has ended.
+    fn run_general_line(&mut self, line: SourceLine<'_>) -> bool {
+        if self.ended.is_some() {
+            return false;
         }
         if memchr::memchr(b'#', line.text.as_bytes()).is_some() {
             self.refresh_view(line.number);

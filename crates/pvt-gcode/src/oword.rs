@@ -294,6 +294,14 @@ pub(crate) struct Flow {
     missing: Vec<String>,
 }
 
+impl Flow {
+    /// True when no body is being recorded or skipped: a line that is not an O-word
+    /// line runs as it is.
+    pub fn is_idle(&self) -> bool {
+        self.recording.is_none() && self.skip == Skip::No
+    }
+}
+
 impl Default for Flow {
     fn default() -> Self {
         Flow {

@@ -15,7 +15,7 @@ use crate::block::{Assignment, Block, Word};
 use crate::diagnostic::{span, GcodeDiagnostic};
 use crate::messages::{active, Active};
 use crate::params::{normalize, ParamRef, Parameters};
-use crate::tokens::{number, number_value, plain_number, token_len, HINT_NUMBER};
+use crate::tokens::{number, number_value, plain_number, plain_number_at, token_len, HINT_NUMBER};
 use crate::value::Reader;
 
 /// What a line turned out to be.
@@ -156,6 +156,17 @@ pub(crate) fn parse_line(
     block: &mut Block,
     params: &Parameters,
 ) -> Result<LineKind, GcodeDiagnostic> {
+    parse(line, block, params, true)
+}
+
+/// [`parse_line`]; `words_alone` reads a line of words alone ([`plain_words`]) without
+/// the general loop, which gives the same block (tests turn it off to compare).
+fn parse(
+    line: SourceLine<'_>,
+    block: &mut Block,
+    params: &Parameters,
+    words_alone: bool,
+) -> Result<LineKind, GcodeDiagnostic> {
     let text = line.text;
     block.reset(line.start, line.start + text.len(), line.number);
     // A line that starts with a letter other than N (most lines) has no `%`, block
@@ -163,6 +174,9 @@ pub(crate) fn parse_line(
     let plain = matches!(text.as_bytes().first(), Some(c) if c.is_ascii_alphabetic() && !matches!(c, b'N' | b'n'));
     if !plain && percent_line(text).is_ok() {
         return Ok(LineKind::Percent);
+    }
+    if words_alone && plain && plain_words(text, line.start, block) {
+        return Ok(LineKind::Block);
     }
     let (i, mut first_error) = if plain {
         (text, None)
@@ -204,6 +218,41 @@ pub(crate) fn parse_line(
         Some(diagnostic) => Err(diagnostic),
         None => Ok(LineKind::Block),
     }
+}
+
+/// Reads a line of words alone (letters other than N and O, each with a number
+/// [`plain_number_at`] reads, and blanks) straight into `block`, as the general loop of
+/// [`parse_line`] reads them; returns false, `block.words` emptied, for any other line.
+fn plain_words(text: &str, start: usize, block: &mut Block) -> bool {
+    let b = text.as_bytes();
+    let mut at = 0;
+    while at < b.len() {
+        let letter = b[at].to_ascii_uppercase();
+        let (true, false) = (letter.is_ascii_alphabetic(), matches!(letter, b'N' | b'O')) else {
+            block.words.clear();
+            return false;
+        };
+        let Some((end, value)) = plain_number_at(b, skip_blanks(b, at + 1)) else {
+            block.words.clear();
+            return false;
+        };
+        block.words.push(Word {
+            letter,
+            value,
+            start: start + at,
+            end: start + end,
+        });
+        at = skip_blanks(b, end);
+    }
+    true
+}
+
+#[inline(always)]
+fn skip_blanks(b: &[u8], mut at: usize) -> usize {
+    while matches!(b.get(at), Some(b' ' | b'\t')) {
+        at += 1;
+    }
+    at
 }
 
 /// A `( … )` comment at the reader; a `(MSG, …)`, `(DEBUG, …)` or `(PRINT, …)` one sets

@@ -3,7 +3,8 @@
 //! [`crate::block::Block`] or a [`crate::request::Request`].
 //!
 //! Owns the rule of what is plain: blanks, and at most one each of the words X Y Z A B C
-//! F (either case, blanks allowed after the letter) with a number [`plain_number`] reads,
+//! F (either case, blanks allowed after the letter) with a number
+//! [`crate::tokens::plain_number`] reads,
 //! and G0 or G1. Such a line reads, through [`crate::parser`] and
 //! [`crate::request`], as exactly these words, without a diagnostic; anything else (a
 //! comment, a parameter, a repeated word, another code, a number the general reader
@@ -13,23 +14,34 @@
 use pvt_core::AXIS_COUNT;
 
 use crate::codes::MotionMode;
-use crate::tokens::plain_number;
+use crate::tokens::plain_number_at;
 
 /// The words of a plain line.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub(crate) struct PlainLine {
     /// G0 ([`MotionMode::Rapid`]) or G1 ([`MotionMode::Linear`]), if written.
     pub motion: Option<MotionMode>,
-    /// X Y Z A B C, indexed by [`pvt_core::Axis::index`].
-    pub axes: [Option<f64>; AXIS_COUNT],
-    /// F.
-    pub feed: Option<f64>,
+    /// The values of X Y Z A B C (by [`pvt_core::Axis::index`]) and F, where written.
+    values: [f64; FEED + 1],
+    /// Bit `i` is set when the word of `values[i]` is written.
+    written: u32,
 }
 
 impl PlainLine {
+    /// The value of axis word `i` ([`pvt_core::Axis::index`]), if written.
+    #[inline]
+    pub fn axis(&self, i: usize) -> Option<f64> {
+        (i < AXIS_COUNT && self.written & (1 << i) != 0).then(|| self.values[i])
+    }
+
+    /// The F word's value, if written.
+    pub fn feed(&self) -> Option<f64> {
+        (self.written & (1 << FEED) != 0).then_some(self.values[FEED])
+    }
+
     /// True when the line has an axis word.
     pub fn has_axis_words(&self) -> bool {
-        self.axes.iter().any(Option::is_some)
+        self.written & ((1 << AXIS_COUNT) - 1) != 0
     }
 }
 
@@ -59,11 +71,9 @@ pub(crate) fn plain_line(text: &str) -> Option<PlainLine> {
             return None;
         }
         seen |= 1 << slot;
-        at = skip_blanks(b, at + 1);
-        let (len, value) = plain_number(&b[at..])?;
-        at = skip_blanks(b, at + len);
+        let (end, value) = plain_number_at(b, skip_blanks(b, at + 1))?;
+        at = skip_blanks(b, end);
         match slot {
-            FEED => line.feed = Some(value),
             MOTION => {
                 line.motion = Some(match value.to_bits() {
                     bits if bits == 0f64.to_bits() => MotionMode::Rapid,
@@ -71,12 +81,14 @@ pub(crate) fn plain_line(text: &str) -> Option<PlainLine> {
                     _ => return None,
                 })
             }
-            axis => line.axes[axis] = Some(value),
+            word => line.values[word] = value,
         }
     }
+    line.written = seen & !(1 << MOTION);
     Some(line)
 }
 
+#[inline(always)]
 fn skip_blanks(b: &[u8], mut at: usize) -> usize {
     while matches!(b.get(at), Some(b' ' | b'\t')) {
         at += 1;
@@ -257,21 +269,25 @@ mod tests {
             let parsed = crate::parser::parse_line(source_line, &mut block, &params);
             if let Some(plain) = plain_line(&text) {
                 prop_assert_eq!(parsed, Ok(crate::parser::LineKind::Block));
-                let mut expected = PlainLine::default();
+                let mut motion = None;
+                let mut words = [None; FEED + 1];
                 for word in &block.words {
                     match word.letter {
-                        b'G' => expected.motion = Some(match word.value {
+                        b'G' => motion = Some(match word.value {
                             0.0 => MotionMode::Rapid,
                             _ => MotionMode::Linear,
                         }),
-                        b'F' => expected.feed = Some(word.value),
+                        b'F' => words[FEED] = Some(word.value.to_bits()),
                         letter => {
                             let axis = pvt_core::Axis::from_letter(char::from(letter)).unwrap();
-                            expected.axes[axis.index()] = Some(word.value);
+                            words[axis.index()] = Some(word.value.to_bits());
                         }
                     }
                 }
-                prop_assert_eq!(format!("{plain:?}"), format!("{expected:?}"));
+                let mut got: Vec<_> = (0..AXIS_COUNT).map(|i| plain.axis(i).map(f64::to_bits)).collect();
+                got.push(plain.feed().map(f64::to_bits));
+                prop_assert_eq!(got, words.to_vec());
+                prop_assert_eq!(plain.motion, motion);
                 prop_assert!(block.message.is_none() && block.assignments.is_empty());
             }
         }
@@ -281,9 +297,10 @@ mod tests {
     fn plain_and_not_plain() {
         let plain = plain_line(" G1 x1.5\tY -2 F1500 ").unwrap();
         assert_eq!(plain.motion, Some(MotionMode::Linear));
-        assert_eq!(plain.axes[0], Some(1.5));
-        assert_eq!(plain.axes[1], Some(-2.0));
-        assert_eq!(plain.feed, Some(1500.0));
+        assert_eq!(plain.axis(0), Some(1.5));
+        assert_eq!(plain.axis(1), Some(-2.0));
+        assert_eq!(plain.axis(2), None);
+        assert_eq!(plain.feed(), Some(1500.0));
         assert_eq!(plain_line(""), Some(PlainLine::default()));
         for text in [
             "X1 X2", "G2 X1", "X1 (c)", "N1 X1", "X#1", "X1 0", "G1 G0", "G-0", "X",

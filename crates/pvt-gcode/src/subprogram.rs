@@ -85,6 +85,11 @@ pub(crate) struct Subprograms {
 const MAX_SEARCH_DEPTH: u32 = 16;
 
 impl Subprograms {
+    /// True when no subprogram is being recorded or searched for: a line runs as it is.
+    pub fn is_idle(&self) -> bool {
+        self.recording.is_none() && self.search.is_none()
+    }
+
     /// True when a search may start: none is under way, no body is running and searches
     /// do not nest too deep.
     pub fn can_search(&self) -> bool {

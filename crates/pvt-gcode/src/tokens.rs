@@ -100,8 +100,17 @@ pub(crate) fn short_decimal(text: &str) -> Option<f64> {
 /// exact, so one IEEE division gives the correctly rounded value, bit for bit what
 /// `str::parse` gives, without its general-case machinery.
 pub(crate) fn plain_number(b: &[u8]) -> Option<(usize, f64)> {
-    let negative = b.first() == Some(&b'-');
-    let sign = usize::from(matches!(b.first(), Some(b'+' | b'-')));
+    plain_number_at(b, 0)
+}
+
+/// [`plain_number`] of the text of `b` from byte `at`; returns where the number ends (an
+/// offset in `b`). The bytes before `at` are read only to fetch the last eight bytes of a
+/// line at once; they never change the result.
+#[inline(always)]
+pub(crate) fn plain_number_at(b: &[u8], start: usize) -> Option<(usize, f64)> {
+    let first = b.get(start).copied();
+    let negative = first == Some(b'-');
+    let sign = start + usize::from(matches!(first, Some(b'+' | b'-')));
     let (mut mantissa, int_end) = digits(b, sign, 0);
     let (mut at, mut scale) = (int_end, 0);
     if b.get(at) == Some(&b'.') {
@@ -135,16 +144,14 @@ pub(crate) fn plain_number(b: &[u8]) -> Option<(usize, f64)> {
 /// refuses more than 15 digits); returns the mantissa and where the run ends.
 ///
 /// A run shorter than eight (a coordinate's integer part or fraction) is read from the
-/// eight bytes at `at` at once ([`leading_digits`]), without a branch per digit; a
-/// longer run, or one that ends the text, goes on one digit at a time.
+/// eight bytes at `at` at once ([`leading_digits`], [`eight_at`]), without a branch per
+/// digit; a longer run goes on one digit at a time.
 #[inline]
 fn digits(b: &[u8], mut at: usize, mut mantissa: u64) -> (u64, usize) {
-    if let Some(&eight) = b.get(at..).and_then(|rest| rest.first_chunk::<8>()) {
-        let (count, value) = leading_digits(u64::from_le_bytes(eight));
-        if count < 8 {
-            let scale = POW10_U64[count];
-            return (mantissa.wrapping_mul(scale).wrapping_add(value), at + count);
-        }
+    let (count, value) = leading_digits(eight_at(b, at));
+    if count < 8 {
+        let scale = POW10_U64[count];
+        return (mantissa.wrapping_mul(scale).wrapping_add(value), at + count);
     }
     while at < b.len() {
         let digit = b[at].wrapping_sub(b'0');
@@ -155,6 +162,31 @@ fn digits(b: &[u8], mut at: usize, mut mantissa: u64) -> (u64, usize) {
         at += 1;
     }
     (mantissa, at)
+}
+
+/// The eight bytes of `b` from `at` (the first in the low byte), those past its end read
+/// as zero bytes, which are not digits. Near the end of a text of eight bytes or more,
+/// its last eight bytes are read at once and shifted down.
+#[inline(always)]
+fn eight_at(b: &[u8], at: usize) -> u64 {
+    if let Some(eight) = b.get(at..).and_then(|rest| rest.first_chunk::<8>()) {
+        return u64::from_le_bytes(*eight);
+    }
+    let past = at.min(b.len());
+    match b.last_chunk::<8>() {
+        Some(last) => {
+            // 1 ..= 8 bytes of the last eight lie before `past`.
+            let before = past + 8 - b.len();
+            match before {
+                8 => 0,
+                _ => u64::from_le_bytes(*last) >> (8 * before),
+            }
+        }
+        None => b[past..]
+            .iter()
+            .rev()
+            .fold(0, |word, &c| (word << 8) | u64::from(c)),
+    }
 }
 
 /// 10⁰ … 10⁷.
@@ -233,6 +265,20 @@ mod tests {
             let got = plain_number(&bytes).map(|(len, v)| (len, v.to_bits()));
             let expected = plain_reference(&bytes).map(|(len, v)| (len, v.to_bits()));
             prop_assert_eq!(got, expected, "{:?}", String::from_utf8_lossy(&bytes));
+        }
+
+        /// Read from an offset, a number is what it is alone (the bytes before it only
+        /// serve to load the last eight bytes of the text at once).
+        #[test]
+        fn plain_number_at_an_offset_is_the_number_alone(
+            before in near_numbers(),
+            bytes in near_numbers(),
+        ) {
+            let text = [before.as_slice(), bytes.as_slice()].concat();
+            let got = plain_number_at(&text, before.len())
+                .map(|(end, v)| (end - before.len(), v.to_bits()));
+            let alone = plain_reference(&bytes).map(|(len, v)| (len, v.to_bits()));
+            prop_assert_eq!(got, alone, "{:?}", String::from_utf8_lossy(&text));
         }
 
         /// The count of leading digits of any eight bytes, and their value.

@@ -27,7 +27,7 @@ impl Interpreter<'_> {
         let (true, Some(mode @ (MotionMode::Rapid | MotionMode::Linear))) = (idle, mode) else {
             return false;
         };
-        let feed = plain.feed.map(|written| Feed { written }).or(self.feed);
+        let feed = plain.feed().map(|written| Feed { written }).or(self.feed);
         let step = match plain.has_axis_words() {
             true => match self.plain_move(plain, mode, feed) {
                 Some(step) => Some(step),
@@ -40,7 +40,7 @@ impl Interpreter<'_> {
             self.cycle.code = None;
             self.cycle.initial_level = None;
         }
-        if let Some(written) = plain.feed {
+        if let Some(written) = plain.feed() {
             self.feed = Some(Feed { written });
             self.feed_reported = false;
         }
@@ -73,7 +73,7 @@ impl Interpreter<'_> {
         let mut end = self.position;
         for axis in Axis::ALL {
             let i = axis.index();
-            let Some(written) = plain.axes[i] else {
+            let Some(written) = plain.axis(i) else {
                 continue;
             };
             let value = self.program_value(axis, written);

@@ -395,3 +395,62 @@ proptest::proptest! {
         }
     }
 }
+
+/// Lines of words, nearly: letters (N, O and lower case among them), plain and unusual
+/// numbers, blanks, and now and then a comment, parameter or stray character.
+fn near_word_lines() -> impl proptest::strategy::Strategy<Value = String> {
+    use proptest::prelude::*;
+    let letter = prop::sample::select(b"GXYZIJKFSMPRNOxgab".to_vec());
+    let number = prop::sample::select(vec![
+        "0",
+        "1",
+        "-2.5",
+        "+.5",
+        "10.",
+        "0001.2500",
+        "1 0",
+        "1e3",
+        "1..2",
+        "",
+        "#1",
+        "[1]",
+        "123456789012345678",
+        "-0",
+        "7.0000001",
+    ]);
+    let piece = prop_oneof![
+        8 => (letter, prop::sample::select(vec!["", " ", "\t"]), number)
+            .prop_map(|(l, blank, n)| format!("{}{blank}{n}", char::from(l))),
+        1 => prop::sample::select(vec!["(c)", ";x", "#1=2", "$1", "@2", "%", "/", "*5", "é"])
+            .prop_map(str::to_owned),
+    ];
+    (
+        prop::sample::select(vec!["", " "]),
+        prop::collection::vec((piece, prop::sample::select(vec!["", " ", "  "])), 0..7),
+    )
+        .prop_map(|(lead, pieces)| {
+            let mut text = lead.to_owned();
+            for (piece, gap) in pieces {
+                text.push_str(&piece);
+                text.push_str(gap);
+            }
+            text
+        })
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(5_000))]
+
+    /// A line of words alone read without the general loop gives the block and result
+    /// the general loop gives, words, values (bit for bit) and spans.
+    #[test]
+    fn words_alone_read_as_the_general_loop_reads_them(text in near_word_lines(), start in 0usize..100) {
+        let params = Parameters::default();
+        let line = SourceLine { text: &text, start, number: 7 };
+        let (mut fast, mut general) = (Block::default(), Block::default());
+        let fast_result = super::parse(line, &mut fast, &params, true);
+        let general_result = super::parse(line, &mut general, &params, false);
+        proptest::prop_assert_eq!(fast_result, general_result, "{:?}", text);
+        proptest::prop_assert_eq!(format!("{fast:?}"), format!("{general:?}"), "{:?}", text);
+    }
+}
