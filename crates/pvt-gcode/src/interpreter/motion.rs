@@ -469,33 +469,40 @@ impl Interpreter<'_> {
             self.end_contour();
         }
         self.tool.moved_with = self.tool.offset;
+        // Copied (an element is large) only when the machine stands elsewhere.
+        let Some(at) = self.tool.machine_at.take() else {
+            return self.hand_on(motion, element);
+        };
         let mut element = *element;
-        if let Some(at) = self.tool.machine_at.take() {
-            let plane = match element.kind {
-                ElementKind::Line => None,
-                ElementKind::Arc(arc) => Some(arc.plane),
-                ElementKind::Bezier(bezier) => Some(bezier.plane),
-            };
-            match plane {
-                None => element.start = at,
-                // Off its plane (a Z offset under G17) an arc or spline starts where the
-                // machine is (a helix); in its plane it keeps its start and the machine
-                // gets there first, straight.
-                Some(plane) if plane.project(&at) == plane.project(&element.start) => {
-                    element.start = at;
-                }
-                Some(_) => {
-                    let to_start = Element {
-                        kind: ElementKind::Line,
-                        start: at,
-                        end: element.start,
-                        ..element
-                    };
-                    self.sink.element(motion, &to_start);
-                }
+        let plane = match element.kind {
+            ElementKind::Line => None,
+            ElementKind::Arc(arc) => Some(arc.plane),
+            ElementKind::Bezier(bezier) => Some(bezier.plane),
+        };
+        match plane {
+            None => element.start = at,
+            // Off its plane (a Z offset under G17) an arc or spline starts where the
+            // machine is (a helix); in its plane it keeps its start and the machine
+            // gets there first, straight.
+            Some(plane) if plane.project(&at) == plane.project(&element.start) => {
+                element.start = at;
+            }
+            Some(_) => {
+                let to_start = Element {
+                    kind: ElementKind::Line,
+                    start: at,
+                    end: element.start,
+                    ..element
+                };
+                self.sink.element(motion, &to_start);
             }
         }
-        let element = &element;
+        self.hand_on(motion, &element);
+    }
+
+    /// Hands `element` to the sink, in the open contour (ended after a rapid, or after
+    /// every move under G61).
+    fn hand_on(&mut self, motion: Motion, element: &Element) {
         self.sink.element(motion, element);
         self.open = true;
         self.moved = true;
