@@ -293,6 +293,37 @@ mod tests {
         }
     }
 
+    /// Plain lines in bodies (a subroutine, a loop, a Fanuc subprogram) run as the
+    /// general path runs them, warnings of repeated bodies included.
+    #[test]
+    fn plain_lines_in_bodies_run_as_the_general_path_runs_them() {
+        let source = "G21 G90 G1 F600\n\
+            o100 sub\n G91\n X1 Y1\n G1 X2\n X0 Y0\n G90\no100 endsub\n\
+            o100 call\n\
+            o1 repeat [3]\n G0 X5\n X5\n G1 Y-1 F300\no1 endrepeat\n\
+            M98 P200 L2\n\
+            G1 X9 Z1\n\
+            M30\n\
+            O200\n G91 X0.5\n G90\nM99\n";
+        for options in [
+            GcodeOptions::default(),
+            GcodeOptions {
+                units: Some(pvt_core::Units::Inch),
+                ..GcodeOptions::default()
+            },
+        ] {
+            let plain = compiled(source, &options, true);
+            assert!(
+                plain
+                    .iter()
+                    .filter(|r| r.starts_with("Feed") || r.starts_with("Rapid"))
+                    .count()
+                    > 4
+            );
+            assert_eq!(plain, compiled(source, &options, false));
+        }
+    }
+
     #[test]
     fn plain_and_not_plain() {
         let plain = plain_line(" G1 x1.5\tY -2 F1500 ").unwrap();
