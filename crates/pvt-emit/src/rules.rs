@@ -143,20 +143,27 @@ pub struct RuleCheck {
     /// Source line of the last piece, and whether the open contour has one.
     last_line: u32,
     open: bool,
+    /// Some axis has a rule a piece's cubic can break: travel limits, or counts or
+    /// dynamics the format checks. Without one, a piece's time is all there is to check,
+    /// and `at` is not needed.
+    per_axis: bool,
 }
 
 impl RuleCheck {
     /// The check of `caps` on `axes`, with what `setup` says about each.
     pub fn new(caps: Caps, axes: &[Axis], setup: &BTreeMap<Axis, AxisSetup>) -> RuleCheck {
+        let axes: Vec<(Axis, AxisSetup)> = axes
+            .iter()
+            .map(|a| (*a, setup.get(a).copied().unwrap_or_default()))
+            .collect();
+        let per_axis = caps.scaled || caps.verifies || axes.iter().any(|(_, s)| travel_limited(s));
         RuleCheck {
             caps,
-            axes: axes
-                .iter()
-                .map(|a| (*a, setup.get(a).copied().unwrap_or_default()))
-                .collect(),
             at: vec![(0.0, 0.0); axes.len()],
+            axes,
             last_line: 0,
             open: false,
+            per_axis,
         }
     }
 
@@ -220,10 +227,12 @@ impl RuleCheck {
                 );
             }
         }
+        if !self.per_axis {
+            return Ok(());
+        }
         for i in 0..self.axes.len() {
             let (p0, v0) = self.at[i];
-            let limited =
-                self.axes[i].1.min_position.is_some() || self.axes[i].1.max_position.is_some();
+            let limited = travel_limited(&self.axes[i].1);
             if caps.scaled {
                 self.counts(i, (p0, v0), seg, (contour, segment))?;
             }
@@ -373,6 +382,11 @@ impl RuleCheck {
         }
         Ok(())
     }
+}
+
+/// The machine file limits the axis' travel.
+fn travel_limited(setup: &AxisSetup) -> bool {
+    setup.min_position.is_some() || setup.max_position.is_some()
 }
 
 fn refusal(
