@@ -76,10 +76,8 @@ pub(crate) fn write_fixed<const DECIMALS: usize>(slot: &mut [u8], x: f64) -> usi
 /// at most [`FIXED_SLOT`] bytes of no meaning, and never panics: a caller may write a
 /// whole line and check once.
 ///
-/// The scaled magnitude `s` is rounded to an integer by adding 2^52 (where the doubles'
-/// step is 1, so the sum is `s` rounded to nearest, ties to even) and reading the sum's
-/// bits; a tie that went down to even (`s` − rounded = ½, exact) goes up, away from zero.
-/// The integer is split at the point. The integer part (below 10⁸) is made into its eight
+/// The scaled magnitude is rounded to an integer without a conversion ([`rounded`]),
+/// and split at the point. The integer part (below 10⁸) is made into its eight
 /// zero-padded digits at once ([`eight_digit_values`]), held in a u64 with the first
 /// digit in its lowest byte; its leading zeros are the u64's trailing zero bytes, shifted
 /// out (all but the units digit), and the eight bytes stored whole. The fraction's
@@ -89,23 +87,23 @@ pub(crate) fn write_fixed<const DECIMALS: usize>(slot: &mut [u8], x: f64) -> usi
 pub(crate) fn write_usual_fixed<const DECIMALS: usize>(slot: &mut [u8], x: f64) -> (usize, bool) {
     const { assert!(DECIMALS <= 9, "at most 9 decimals") };
     const ASCII_ZEROS: u64 = u64::from_le_bytes([b'0'; 8]);
-    const STEP_ONE: f64 = 4_503_599_627_370_496.0; // 2^52
-                                                   // Below both, exactly: 10^(8 + DECIMALS) − 1 is a double for DECIMALS ≤ 7, and 2^52
-                                                   // is the smaller for 8 and 9.
+    // Below both, exactly: 10^(8 + DECIMALS) − 1 is a double for DECIMALS ≤ 7, and 2^52
+    // is the smaller for 8 and 9.
     let usual_below = (POW10[DECIMALS] * 1e8 - 1.0).min(STEP_ONE);
     let slot = &mut slot[..FIXED_SLOT];
     let scaled = x * POW10[DECIMALS];
     let magnitude = scaled.abs();
     let usual = magnitude < usual_below;
-    let sum = magnitude + STEP_ONE;
-    let nearest = sum - STEP_ONE;
-    let m = sum.to_bits().wrapping_sub(STEP_ONE.to_bits()) + u64::from(magnitude - nearest == 0.5);
-    let unit = POW10_INT[DECIMALS];
-    let (int, fraction) = (m / unit, m % unit);
+    let m = rounded(magnitude);
     let sign = usize::from(scaled < 0.0 && m != 0);
     slot[0] = b'-';
-    // Below 10⁸ when usual; any other is cut to it, for digits of no meaning.
-    let values = eight_digit_values(int.min(99_999_999) as u32);
+    if DECIMALS == 9 {
+        return (sign + write_nine_decimals(&mut slot[sign..], m), usual);
+    }
+    let unit = POW10_INT[DECIMALS];
+    let (int, fraction) = (m / unit, m % unit);
+    // Below 10⁸ when usual; any other gives digits of no meaning.
+    let values = eight_digit_values(int as u32);
     // At most seven leading zeros: the units digit stays.
     let zeros = ((values.trailing_zeros() / 8) as usize).min(7);
     let digits = (values | ASCII_ZEROS) >> (8 * zeros);
@@ -117,6 +115,32 @@ pub(crate) fn write_usual_fixed<const DECIMALS: usize>(slot: &mut [u8], x: f64) 
     slot[point] = b'.';
     write_fraction::<DECIMALS>(&mut slot[point + 1..point + 1 + 9], fraction as u32);
     (point + 1 + DECIMALS, usual)
+}
+
+/// [`write_usual_fixed`]'s digits for 9 decimals: `m` / 10⁹ (the magnitude rounded,
+/// below 4.5·10¹⁵) written at the start of `slot` (18 long); returns the length.
+///
+/// Split in two halves of eight digits instead of at the point: the high half is the
+/// integer part (at most 7 digits) and the fraction's first digit, the low half its other
+/// eight. The high half's eight bytes are stored with the leading zeros shifted out, then
+/// the point and the fraction's first digit over its last.
+#[inline(always)]
+fn write_nine_decimals(slot: &mut [u8], m: u64) -> usize {
+    const ASCII_ZEROS: u64 = u64::from_le_bytes([b'0'; 8]);
+    let slot = &mut slot[..18];
+    let (high, low) = (m / 100_000_000, m % 100_000_000);
+    // Below 4.5·10⁷ when usual; any other gives digits of no meaning.
+    let values = eight_digit_values(high as u32);
+    // At most six leading zeros: the units digit stays.
+    let zeros = ((values.trailing_zeros() / 8) as usize).min(6);
+    let digits = (values | ASCII_ZEROS) >> (8 * zeros);
+    slot[..8].copy_from_slice(&digits.to_le_bytes());
+    let point = 7 - zeros;
+    slot[point] = b'.';
+    slot[point + 1] = (values >> 56) as u8 | b'0';
+    let last_eight = eight_digit_values(low as u32) | ASCII_ZEROS;
+    slot[point + 2..point + 10].copy_from_slice(&last_eight.to_le_bytes());
+    point + 10
 }
 
 /// Writes the `DECIMALS` (1 to 9) zero-padded digits of `fraction` (below 10^`DECIMALS`)
@@ -182,13 +206,15 @@ fn eight_digits(value: u32) -> [u8; 8] {
 #[inline(always)]
 fn eight_digit_values(value: u32) -> u64 {
     let v = u64::from(value);
-    // Each step `(x << k) − q·((d << k) − 1)` is `q | (x − q·d) << k` lane by lane.
+    // Each step `(x << k) − q·((d << k) − 1)` is `q | (x − q·d) << k` lane by lane. The
+    // operations wrap: a value of 10⁸ or more (which no caller prints) gives digits of no
+    // meaning rather than a panic.
     let high = v / 10_000;
-    let halves = (v << 32) - high * ((10_000 << 32) - 1);
-    let hundreds = ((halves * 10_486) >> 20) & 0x0000_007F_0000_007F;
-    let pairs = (halves << 16) - hundreds * ((100 << 16) - 1);
-    let tens = ((pairs * 103) >> 10) & 0x000F_000F_000F_000F;
-    (pairs << 8) - tens * ((10 << 8) - 1)
+    let halves = (v << 32).wrapping_sub(high.wrapping_mul((10_000 << 32) - 1));
+    let hundreds = (halves.wrapping_mul(10_486) >> 20) & 0x0000_007F_0000_007F;
+    let pairs = (halves << 16).wrapping_sub(hundreds.wrapping_mul((100 << 16) - 1));
+    let tens = (pairs.wrapping_mul(103) >> 10) & 0x000F_000F_000F_000F;
+    (pairs << 8).wrapping_sub(tens.wrapping_mul((10 << 8) - 1))
 }
 
 /// [`push_fixed`] for values too large (or too many decimals) for the integer path.
@@ -212,13 +238,34 @@ pub(crate) fn is_whole(x: f64) -> bool {
 
 /// True when [`push_fixed`] prints `x` with a fraction of zeros (`820.0000` for
 /// 820.0000000000001): the question a reader of the text asks, not whether `x` is whole.
+#[inline]
 pub(crate) fn prints_whole<const DECIMALS: usize>(x: f64) -> bool {
+    let magnitude = (x * POW10[DECIMALS]).abs();
+    if magnitude < STEP_ONE {
+        return rounded(magnitude).is_multiple_of(POW10_INT[DECIMALS]);
+    }
     if !fits_fixed::<DECIMALS>(x) {
         return is_whole(x);
     }
     round_half_away(x * POW10[DECIMALS])
         .unsigned_abs()
         .is_multiple_of(POW10_INT[DECIMALS])
+}
+
+/// 2^52: from here up the doubles' step is 1.
+const STEP_ONE: f64 = 4_503_599_627_370_496.0;
+
+/// `magnitude` (0 ≤ `magnitude` < 2^52) rounded half away from zero, as `f64::round`
+/// does: by adding 2^52, where the doubles' step is 1, so the sum is `magnitude` rounded
+/// to nearest, ties to even, and its bits count the integers from 2^52; a tie that went
+/// down to even (`magnitude` − rounded = ½, exact) goes up. Any other `magnitude` (NaN
+/// too) gives an integer of no meaning, without a panic.
+#[inline(always)]
+fn rounded(magnitude: f64) -> u64 {
+    let sum = magnitude + STEP_ONE;
+    let nearest = sum - STEP_ONE;
+    let tie_down = magnitude - nearest == 0.5;
+    sum.to_bits().wrapping_sub(STEP_ONE.to_bits()) + u64::from(tie_down)
 }
 
 /// `x` (|x| < 2^53) rounded half away from zero, as `f64::round` does, without the call
@@ -453,6 +500,9 @@ mod tests {
         for x in values {
             // Equal as numbers (a -0.0 from `round` prints as 0 either way).
             assert_eq!(round_half_away(x) as f64, x.round(), "{x}");
+            if x.abs() < STEP_ONE {
+                assert_eq!(rounded(x.abs()) as f64, x.abs().round(), "{x}");
+            }
         }
     }
 

@@ -202,8 +202,43 @@ impl RuleCheck {
     ) -> Result<(), InvalidProgram> {
         self.open = true;
         self.last_line = seg.line;
+        self.piece_time(seg, contour, segment)?;
+        if !self.per_axis {
+            return Ok(());
+        }
+        let (scaled, verifies) = (self.caps.scaled, self.caps.verifies);
+        for i in 0..self.axes.len() {
+            let (p0, v0) = self.at[i];
+            let limited = travel_limited(&self.axes[i].1);
+            if scaled {
+                self.counts(i, (p0, v0), seg, (contour, segment))?;
+            }
+            if !(limited || verifies) {
+                // No travel to keep and no dynamics to verify: nothing to compute.
+                self.at[i] = (seg.end[i], seg.velocity[i]);
+                continue;
+            }
+            let cubic = HermiteSegment::new(p0, v0, seg.end[i], seg.velocity[i], seg.duration);
+            for p in position_extremes(&cubic) {
+                self.travel(i, p, contour, segment, seg.line)?;
+            }
+            if verifies {
+                self.dynamics(i, &cubic, contour, segment, seg.line)?;
+            }
+            self.at[i] = (seg.end[i], seg.velocity[i]);
+        }
+        Ok(())
+    }
+
+    /// The piece's time against the format's shortest piece and its grid.
+    fn piece_time(
+        &self,
+        seg: &SegmentRef<'_>,
+        contour: usize,
+        segment: usize,
+    ) -> Result<(), InvalidProgram> {
         let fail = |code, what| Err(refusal(code, what, contour, segment, seg.line));
-        let caps = self.caps;
+        let caps = &self.caps;
         if seg.duration < caps.min_piece_seconds * (1.0 - SLACK) {
             return fail(
                 "pvtc::emit::piece_too_short",
@@ -226,29 +261,6 @@ impl RuleCheck {
                     ),
                 );
             }
-        }
-        if !self.per_axis {
-            return Ok(());
-        }
-        for i in 0..self.axes.len() {
-            let (p0, v0) = self.at[i];
-            let limited = travel_limited(&self.axes[i].1);
-            if caps.scaled {
-                self.counts(i, (p0, v0), seg, (contour, segment))?;
-            }
-            if !(limited || caps.verifies) {
-                // No travel to keep and no dynamics to verify: nothing to compute.
-                self.at[i] = (seg.end[i], seg.velocity[i]);
-                continue;
-            }
-            let cubic = HermiteSegment::new(p0, v0, seg.end[i], seg.velocity[i], seg.duration);
-            for p in position_extremes(&cubic) {
-                self.travel(i, p, contour, segment, seg.line)?;
-            }
-            if caps.verifies {
-                self.dynamics(i, &cubic, contour, segment, seg.line)?;
-            }
-            self.at[i] = (seg.end[i], seg.velocity[i]);
         }
         Ok(())
     }
