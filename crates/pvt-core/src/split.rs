@@ -148,7 +148,8 @@ impl PieceSplitter {
     /// How a piece of `t` seconds is cut; `None` to leave it whole.
     fn cuts(&self, t: f64) -> Option<Cuts> {
         let max = self.max_seconds;
-        if !(t.is_finite() && max.is_finite() && max > 0.0 && t > max) {
+        // A piece no longer than the longest (the usual case) is answered first.
+        if !(t > max && t.is_finite() && max.is_finite() && max > 0.0) {
             return None;
         }
         if let Some(q) = self.quantum.filter(|q| q.is_finite() && *q > 0.0) {

@@ -50,6 +50,9 @@ pub const FORMAT: &str = "pvtc-program";
 /// Value of the `version` field written by this crate.
 pub const VERSION: u32 = 1;
 
+/// Bytes of text gathered before they are written.
+const TEXT_BATCH: usize = 64 * 1024;
+
 /// Streams a pvtc JSON document to `W`.
 pub struct JsonWriter<W> {
     out: W,
@@ -69,7 +72,7 @@ impl<W: Write> JsonWriter<W> {
     pub fn new(out: W) -> JsonWriter<W> {
         JsonWriter {
             out,
-            text: String::with_capacity(256),
+            text: String::with_capacity(TEXT_BATCH + 1024),
             totals: Totals::default(),
             events: Vec::new(),
             triggers: None,
@@ -85,6 +88,15 @@ impl<W: Write> JsonWriter<W> {
     fn flush_text(&mut self) -> io::Result<()> {
         self.out.write_all(self.text.as_bytes())?;
         self.text.clear();
+        Ok(())
+    }
+
+    /// [`Self::flush_text`] once a batch of text is gathered: each piece's text is not
+    /// copied into the output's buffer on its own.
+    fn flush_batch(&mut self) -> io::Result<()> {
+        if self.text.len() >= TEXT_BATCH {
+            self.flush_text()?;
+        }
         Ok(())
     }
 
@@ -161,7 +173,7 @@ impl<W: Write> ProgramWriter for JsonWriter<W> {
         t.push_str(", \"line\": ");
         t.push_str(itoa::Buffer::new().format(seg.line));
         t.push('}');
-        self.flush_text()
+        self.flush_batch()
     }
 
     fn event(&mut self, event: &ProgramEvent) -> io::Result<()> {

@@ -17,6 +17,7 @@
 //! motion); the same program and options always give byte-identical output.
 
 pub mod galil;
+mod gather;
 pub mod json;
 mod lines;
 pub mod movepvt;

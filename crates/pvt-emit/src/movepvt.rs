@@ -27,6 +27,9 @@ use crate::writer::{Header, ProgramWriter};
 use pvt_core::{EventKind, Interpolation, Motion, ProgramEvent, SegmentRef};
 use std::io::{self, Write};
 
+/// Bytes of text gathered before they are written.
+const TEXT_BATCH: usize = 64 * 1024;
+
 /// Streams MovePVT arrays as C source to `W`.
 pub struct MovePvtWriter<W> {
     out: W,
@@ -45,7 +48,7 @@ impl<W: Write> MovePvtWriter<W> {
     pub fn new(out: W) -> MovePvtWriter<W> {
         MovePvtWriter {
             out,
-            text: String::new(),
+            text: String::with_capacity(TEXT_BATCH + 1024),
             velocities: String::new(),
             times: String::new(),
             kinds: Vec::new(),
@@ -62,6 +65,15 @@ impl<W: Write> MovePvtWriter<W> {
     fn flush_text(&mut self) -> io::Result<()> {
         self.out.write_all(self.text.as_bytes())?;
         self.text.clear();
+        Ok(())
+    }
+
+    /// [`Self::flush_text`] once a batch of text is gathered: each piece's text is not
+    /// copied into the output's buffer on its own.
+    fn flush_batch(&mut self) -> io::Result<()> {
+        if self.text.len() >= TEXT_BATCH {
+            self.flush_text()?;
+        }
         Ok(())
     }
 
@@ -171,7 +183,7 @@ impl<W: Write> ProgramWriter for MovePvtWriter<W> {
             push_row(&mut self.velocities, seg.velocity);
         }
         push_row(&mut self.times, &[seg.duration]);
-        self.flush_text()
+        self.flush_batch()
     }
 
     fn event(&mut self, event: &ProgramEvent) -> io::Result<()> {

@@ -20,17 +20,13 @@ const POW10_INT: [u64; 10] = [
     1_000_000_000,
 ];
 
-/// The two digits of every number below 100, in order.
-static DIGIT_PAIRS: [u8; 200] = {
-    let mut pairs = [0u8; 200];
-    let mut n = 0;
-    while n < 100 {
-        pairs[2 * n] = b'0' + (n / 10) as u8;
-        pairs[2 * n + 1] = b'0' + (n % 10) as u8;
-        n += 1;
-    }
-    pairs
-};
+/// Largest magnitude, scaled, that the integer path writes: integers are exact below it.
+const EXACT_INTEGERS: f64 = 9_007_199_254_740_992.0; // 2^53
+
+/// Bytes [`write_fixed`] may write: a sign, 8 integer digits, a point and 9 decimals, and
+/// scratch past them. (An integer part of more than 8 digits is written only with fewer
+/// decimals: below 2^53 the whole takes at most 16 digits.)
+pub(crate) const FIXED_SLOT: usize = 19;
 
 /// Appends `x` with exactly `DECIMALS` (at most 9) digits after the point, never as
 /// negative zero.
@@ -41,113 +37,184 @@ static DIGIT_PAIRS: [u8; 200] = {
 /// magnitude reaches 2^53 (where integers stop being exact) use Rust's exact formatting.
 #[inline]
 pub fn push_fixed<const DECIMALS: usize>(out: &mut Vec<u8>, x: f64) {
-    const EXACT_INTEGERS: f64 = 9_007_199_254_740_992.0; // 2^53
-    const { assert!(DECIMALS <= 9, "at most 9 decimals") };
-    let scaled = x * POW10[DECIMALS];
-    if scaled.is_nan() || scaled.abs() >= EXACT_INTEGERS {
+    if !fits_fixed::<DECIMALS>(x) {
         return push_fixed_exactly(out, x, DECIMALS);
     }
-    let n = round_half_away(scaled);
-    let magnitude = n.unsigned_abs();
-    let unit = POW10_INT[DECIMALS];
-    let (int, fraction) = (magnitude / unit, magnitude % unit);
-    // At most a sign, 20 digits and a point: the text is written in place in room made
-    // for the longest, which is then cut back (no copy, no branch on the length).
+    // The text is written in place in room made for the longest, which is then cut back
+    // (no copy, no branch on the length).
     let start = out.len();
-    out.resize(start + 32, 0);
-    let text = &mut out[start..];
-    let mut len = usize::from(n < 0);
-    text[0] = b'-';
-    len += write_integer(&mut text[len..], int);
-    if DECIMALS > 0 {
-        text[len] = b'.';
-        write_fraction(&mut text[len + 1..len + 1 + DECIMALS], fraction as u32);
-        len += 1 + DECIMALS;
-    }
+    out.resize(start + FIXED_SLOT, 0);
+    let len = write_fixed::<DECIMALS>(&mut out[start..], x);
     out.truncate(start + len);
 }
 
-/// Writes `value` without leading zeros at the start of `slot` (which has room for 20
-/// digits) and returns how many digits it took. Below 10^4 (most coordinates, speeds and
-/// times) it takes no branch on the count of digits: four digits are made, and the
-/// leading zeros shifted out.
+/// True when [`push_fixed`] writes `x` on its integer path ([`write_fixed`]): `x` scaled
+/// by `10^DECIMALS` is a number of magnitude below 2^53.
 #[inline(always)]
-fn write_integer(slot: &mut [u8], value: u64) -> usize {
-    if value >= 10_000 {
-        let count = value.ilog10() as usize + 1;
-        write_digits(&mut slot[..count], value);
-        return count;
-    }
-    let (high, low) = (2 * (value / 100) as usize, 2 * (value % 100) as usize);
-    let four = u32::from_le_bytes([
-        DIGIT_PAIRS[high],
-        DIGIT_PAIRS[high + 1],
-        DIGIT_PAIRS[low],
-        DIGIT_PAIRS[low + 1],
-    ]);
-    let count =
-        1 + usize::from(value >= 10) + usize::from(value >= 100) + usize::from(value >= 1000);
-    let digits = four >> (8 * (4 - count));
-    slot[..4].copy_from_slice(&digits.to_le_bytes());
-    count
+pub(crate) fn fits_fixed<const DECIMALS: usize>(x: f64) -> bool {
+    const { assert!(DECIMALS <= 9, "at most 9 decimals") };
+    // NaN compares false.
+    (x * POW10[DECIMALS]).abs() < EXACT_INTEGERS
 }
 
-/// Fills `slot` (at most 9 long) with the last `slot.len()` decimal digits of `value`,
-/// zero-padded. Eight digits or more: the last eight at once ([`eight_digits`]). Fewer:
-/// each pair of digits is divided out of `value` itself, so with the length known at
-/// compile time the pairs are made side by side rather than one after another.
+/// Writes `x` ([`fits_fixed`]) as [`push_fixed`] does at the start of `slot` (at least
+/// [`FIXED_SLOT`] long) and returns the length of its text; up to [`FIXED_SLOT`] bytes
+/// are written, those after the text being scratch that the next text overwrites or the
+/// caller cuts off.
 #[inline(always)]
-fn write_fraction(slot: &mut [u8], value: u32) {
-    // Below 10^9: every power of ten it is divided by fits in a u32.
-    let pow10 = |n: usize| POW10_INT[n] as u32;
-    let len = slot.len();
-    if len >= 8 {
-        slot[len - 8..].copy_from_slice(&eight_digits(value % pow10(8)));
-        if len == 9 {
-            slot[0] = b'0' + (value / pow10(8) % 10) as u8;
-        }
-        return;
+pub(crate) fn write_fixed<const DECIMALS: usize>(slot: &mut [u8], x: f64) -> usize {
+    match write_usual_fixed::<DECIMALS>(slot, x) {
+        (len, true) => len,
+        _ => write_wide_fixed::<DECIMALS>(slot, x),
     }
-    for k in 0..len / 2 {
-        let pair = 2 * (value / pow10(2 * k) % 100) as usize;
-        let end = len - 2 * k;
-        slot[end - 2..end].copy_from_slice(&DIGIT_PAIRS[pair..pair + 2]);
+}
+
+/// Writes `x` as [`write_fixed`] does and returns the length of its text and true, when
+/// `x` is a usual value: its magnitude scaled by `10^DECIMALS` below both 2^52 and
+/// 10^(8 + `DECIMALS`) − 1 (every position and velocity of 9 decimals below 4.5·10⁶, every
+/// piece time below a day). For any other `x` (NaN too) it returns false, having written
+/// at most [`FIXED_SLOT`] bytes of no meaning, and never panics: a caller may write a
+/// whole line and check once.
+///
+/// The scaled magnitude is rounded to an integer without a conversion ([`rounded`]),
+/// and split at the point. The integer part (below 10⁸) is made into its eight
+/// zero-padded digits at once ([`eight_digit_values`]), held in a u64 with the first
+/// digit in its lowest byte; its leading zeros are the u64's trailing zero bytes, shifted
+/// out (all but the units digit), and the eight bytes stored whole. The fraction's
+/// digits are made the same way and stored after the point. No branch depends on the
+/// value.
+#[inline(always)]
+pub(crate) fn write_usual_fixed<const DECIMALS: usize>(slot: &mut [u8], x: f64) -> (usize, bool) {
+    const { assert!(DECIMALS <= 9, "at most 9 decimals") };
+    const ASCII_ZEROS: u64 = u64::from_le_bytes([b'0'; 8]);
+    // Below both, exactly: 10^(8 + DECIMALS) − 1 is a double for DECIMALS ≤ 7, and 2^52
+    // is the smaller for 8 and 9.
+    let usual_below = (POW10[DECIMALS] * 1e8 - 1.0).min(STEP_ONE);
+    let slot = &mut slot[..FIXED_SLOT];
+    let scaled = x * POW10[DECIMALS];
+    let magnitude = scaled.abs();
+    let usual = magnitude < usual_below;
+    let m = rounded(magnitude);
+    let sign = usize::from(scaled < 0.0 && m != 0);
+    slot[0] = b'-';
+    if DECIMALS == 9 {
+        return (sign + write_nine_decimals(&mut slot[sign..], m), usual);
     }
-    if len % 2 == 1 {
-        slot[0] = b'0' + (value / pow10(len - 1) % 10) as u8;
+    let unit = POW10_INT[DECIMALS];
+    let (int, fraction) = (m / unit, m % unit);
+    // Below 10⁸ when usual; any other gives digits of no meaning.
+    let values = eight_digit_values(int as u32);
+    // At most seven leading zeros: the units digit stays.
+    let zeros = ((values.trailing_zeros() / 8) as usize).min(7);
+    let digits = (values | ASCII_ZEROS) >> (8 * zeros);
+    slot[sign..sign + 8].copy_from_slice(&digits.to_le_bytes());
+    let point = sign + 8 - zeros;
+    if DECIMALS == 0 {
+        return (point, usual);
     }
+    slot[point] = b'.';
+    write_fraction::<DECIMALS>(&mut slot[point + 1..point + 1 + 9], fraction as u32);
+    (point + 1 + DECIMALS, usual)
+}
+
+/// [`write_usual_fixed`]'s digits for 9 decimals: `m` / 10⁹ (the magnitude rounded,
+/// below 4.5·10¹⁵) written at the start of `slot` (18 long); returns the length.
+///
+/// Split in two halves of eight digits instead of at the point: the high half is the
+/// integer part (at most 7 digits) and the fraction's first digit, the low half its other
+/// eight. The high half's eight bytes are stored with the leading zeros shifted out, then
+/// the point and the fraction's first digit over its last.
+#[inline(always)]
+fn write_nine_decimals(slot: &mut [u8], m: u64) -> usize {
+    const ASCII_ZEROS: u64 = u64::from_le_bytes([b'0'; 8]);
+    let slot = &mut slot[..18];
+    let (high, low) = (m / 100_000_000, m % 100_000_000);
+    // Below 4.5·10⁷ when usual; any other gives digits of no meaning.
+    let values = eight_digit_values(high as u32);
+    // At most six leading zeros: the units digit stays.
+    let zeros = ((values.trailing_zeros() / 8) as usize).min(6);
+    let digits = (values | ASCII_ZEROS) >> (8 * zeros);
+    slot[..8].copy_from_slice(&digits.to_le_bytes());
+    let point = 7 - zeros;
+    slot[point] = b'.';
+    slot[point + 1] = (values >> 56) as u8 | b'0';
+    let last_eight = eight_digit_values(low as u32) | ASCII_ZEROS;
+    slot[point + 2..point + 10].copy_from_slice(&last_eight.to_le_bytes());
+    point + 10
+}
+
+/// Writes the `DECIMALS` (1 to 9) zero-padded digits of `fraction` (below 10^`DECIMALS`)
+/// at the start of `slot` (9 long), the rest of which is scratch.
+#[inline(always)]
+fn write_fraction<const DECIMALS: usize>(slot: &mut [u8], fraction: u32) {
+    const ASCII_ZEROS: u64 = u64::from_le_bytes([b'0'; 8]);
+    let slot = &mut slot[..9];
+    if DECIMALS == 9 {
+        slot[0] = (fraction / 100_000_000) as u8 | b'0';
+        let last_eight = eight_digit_values(fraction % 100_000_000) | ASCII_ZEROS;
+        slot[1..9].copy_from_slice(&last_eight.to_le_bytes());
+    } else {
+        // Eight digits of which the first 8 − DECIMALS are zeros, shifted out.
+        let digits = (eight_digit_values(fraction) | ASCII_ZEROS) >> (8 * (8 - DECIMALS));
+        slot[..8].copy_from_slice(&digits.to_le_bytes());
+    }
+}
+
+/// [`write_fixed`] for a value ([`fits_fixed`]) that is not usual
+/// ([`write_usual_fixed`]): its scaled magnitude below 2^53, so the text takes at most a
+/// sign, 16 digits and a point. Out of the way of the usual values, digit by digit.
+#[cold]
+fn write_wide_fixed<const DECIMALS: usize>(slot: &mut [u8], x: f64) -> usize {
+    let n = round_half_away(x * POW10[DECIMALS]);
+    let magnitude = n.unsigned_abs();
+    let unit = POW10_INT[DECIMALS];
+    let (int, fraction) = (magnitude / unit, magnitude % unit);
+    let mut text = [0u8; 32];
+    let sign = usize::from(n < 0);
+    text[0] = b'-';
+    let count = int.checked_ilog10().unwrap_or(0) as usize + 1;
+    let mut value = int;
+    for digit in text[sign..sign + count].iter_mut().rev() {
+        *digit = b'0' + (value % 10) as u8;
+        value /= 10;
+    }
+    let mut len = sign + count;
+    if DECIMALS > 0 {
+        text[len] = b'.';
+        write_fraction::<DECIMALS>(&mut text[len + 1..len + 1 + 9], fraction as u32);
+        len += 1 + DECIMALS;
+    }
+    slot[..len].copy_from_slice(&text[..len]);
+    len
 }
 
 /// The eight decimal digits of `value` (below 10⁸, zero-padded), first digit first.
+#[cfg(test)]
+fn eight_digits(value: u32) -> [u8; 8] {
+    (eight_digit_values(value) | 0x3030_3030_3030_3030).to_le_bytes()
+}
+
+/// The eight decimal digits of `value` (below 10⁸, zero-padded) as the bytes of a u64,
+/// first digit in its lowest byte, each digit's value (0–9) rather than its character.
 ///
 /// The digits are divided out side by side in the lanes of one u64 (SWAR): two lanes of
 /// 32 bits hold the halves `value / 10⁴` and `value % 10⁴`, each split into hundreds in
 /// 16-bit lanes and those into tens in bytes, by multiplying with a rounded-up reciprocal
 /// and shifting: `⌊x·10486 / 2²⁰⌋ = ⌊x / 100⌋` for x < 10⁴ and `⌊x·103 / 2¹⁰⌋ = ⌊x / 10⌋`
-/// for x < 100. No lane's product reaches the next lane's bits that the masks keep.
+/// for x < 100. No lane's product reaches the next lane's bits that the masks keep, and
+/// no lane's difference borrows from the next.
 #[inline(always)]
-fn eight_digits(value: u32) -> [u8; 8] {
+fn eight_digit_values(value: u32) -> u64 {
     let v = u64::from(value);
-    let halves = (v / 10_000) | ((v % 10_000) << 32);
-    let hundreds = ((halves * 10_486) >> 20) & 0x0000_007F_0000_007F;
-    let pairs = hundreds | ((halves - hundreds * 100) << 16);
-    let tens = ((pairs * 103) >> 10) & 0x000F_000F_000F_000F;
-    let digits = tens | ((pairs - tens * 10) << 8);
-    (digits + 0x3030_3030_3030_3030).to_le_bytes()
-}
-
-/// Fills `slot` with the last `slot.len()` decimal digits of `value`, zero-padded.
-fn write_digits(slot: &mut [u8], mut value: u64) {
-    let mut end = slot.len();
-    while end >= 2 {
-        let pair = 2 * (value % 100) as usize;
-        slot[end - 2..end].copy_from_slice(&DIGIT_PAIRS[pair..pair + 2]);
-        value /= 100;
-        end -= 2;
-    }
-    if end == 1 {
-        slot[0] = b'0' + (value % 10) as u8;
-    }
+    // Each step `(x << k) − q·((d << k) − 1)` is `q | (x − q·d) << k` lane by lane. The
+    // operations wrap: a value of 10⁸ or more (which no caller prints) gives digits of no
+    // meaning rather than a panic.
+    let high = v / 10_000;
+    let halves = (v << 32).wrapping_sub(high.wrapping_mul((10_000 << 32) - 1));
+    let hundreds = (halves.wrapping_mul(10_486) >> 20) & 0x0000_007F_0000_007F;
+    let pairs = (halves << 16).wrapping_sub(hundreds.wrapping_mul((100 << 16) - 1));
+    let tens = (pairs.wrapping_mul(103) >> 10) & 0x000F_000F_000F_000F;
+    (pairs << 8).wrapping_sub(tens.wrapping_mul((10 << 8) - 1))
 }
 
 /// [`push_fixed`] for values too large (or too many decimals) for the integer path.
@@ -171,15 +238,34 @@ pub(crate) fn is_whole(x: f64) -> bool {
 
 /// True when [`push_fixed`] prints `x` with a fraction of zeros (`820.0000` for
 /// 820.0000000000001): the question a reader of the text asks, not whether `x` is whole.
+#[inline]
 pub(crate) fn prints_whole<const DECIMALS: usize>(x: f64) -> bool {
-    const EXACT_INTEGERS: f64 = 9_007_199_254_740_992.0; // 2^53
-    let scaled = x * POW10[DECIMALS];
-    if scaled.is_nan() || scaled.abs() >= EXACT_INTEGERS {
+    let magnitude = (x * POW10[DECIMALS]).abs();
+    if magnitude < STEP_ONE {
+        return rounded(magnitude).is_multiple_of(POW10_INT[DECIMALS]);
+    }
+    if !fits_fixed::<DECIMALS>(x) {
         return is_whole(x);
     }
-    round_half_away(scaled)
+    round_half_away(x * POW10[DECIMALS])
         .unsigned_abs()
         .is_multiple_of(POW10_INT[DECIMALS])
+}
+
+/// 2^52: from here up the doubles' step is 1.
+const STEP_ONE: f64 = 4_503_599_627_370_496.0;
+
+/// `magnitude` (0 ≤ `magnitude` < 2^52) rounded half away from zero, as `f64::round`
+/// does: by adding 2^52, where the doubles' step is 1, so the sum is `magnitude` rounded
+/// to nearest, ties to even, and its bits count the integers from 2^52; a tie that went
+/// down to even (`magnitude` − rounded = ½, exact) goes up. Any other `magnitude` (NaN
+/// too) gives an integer of no meaning, without a panic.
+#[inline(always)]
+fn rounded(magnitude: f64) -> u64 {
+    let sum = magnitude + STEP_ONE;
+    let nearest = sum - STEP_ONE;
+    let tie_down = magnitude - nearest == 0.5;
+    sum.to_bits().wrapping_sub(STEP_ONE.to_bits()) + u64::from(tie_down)
 }
 
 /// `x` (|x| < 2^53) rounded half away from zero, as `f64::round` does, without the call
@@ -219,7 +305,6 @@ pub fn push_exact(out: &mut String, x: f64) {
 /// Most values written (speeds, times) are not short: they are turned away by
 /// [`far_from_short`] before the division, which is the costly step.
 fn push_short_decimal(out: &mut String, x: f64) -> bool {
-    const UNIT: u64 = 1_000_000_000;
     let magnitude = x.abs();
     if !(1e-5..1e6).contains(&magnitude) {
         return false;
@@ -230,40 +315,14 @@ fn push_short_decimal(out: &mut String, x: f64) -> bool {
     if far_from_short(scaled, rounded) || rounded / 1e9 != magnitude {
         return false;
     }
-    let m = rounded as u64;
-    let (int, fraction) = (m / UNIT, m % UNIT);
-    let (fraction, places) = match fraction {
-        0 => (0, 1),
-        _ => without_trailing_zeros(fraction),
-    };
-    let mut text = [0u8; 32];
-    let mut len = usize::from(x < 0.0);
-    text[0] = b'-';
-    len += write_integer(&mut text[len..], int);
-    text[len] = b'.';
-    write_fraction(&mut text[len + 1..len + 1 + places], fraction as u32);
-    len += 1 + places;
+    let mut text = [0u8; FIXED_SLOT];
+    let len = write_fixed::<9>(&mut text, x);
+    // The fraction's trailing zeros but its first digit: the last eight digits' zeros.
+    let last_eight = eight_digit_values((rounded as u64 % 100_000_000) as u32);
+    let zeros = (last_eight.leading_zeros() / 8) as usize;
     // Only ASCII digits, a sign and a point were written.
-    out.push_str(std::str::from_utf8(&text[..len]).unwrap_or_default());
+    out.push_str(std::str::from_utf8(&text[..len - zeros]).unwrap_or_default());
     true
-}
-
-/// A fraction of nine places (`fraction` / 10⁹, not zero) without its trailing zeros:
-/// the digits left and how many places they take. At most eight zeros are stripped: all
-/// eight at once, or by four, two and one, so that which way each step goes is a choice
-/// between two values rather than a loop's exit.
-fn without_trailing_zeros(fraction: u64) -> (u64, usize) {
-    if fraction.is_multiple_of(100_000_000) {
-        return (fraction / 100_000_000, 1);
-    }
-    let strip =
-        |(value, places): (u64, usize), unit: u64, zeros: usize| match value.is_multiple_of(unit) {
-            true => (value / unit, places - zeros),
-            false => (value, places),
-        };
-    let four = strip((fraction, 9), 10_000, 4);
-    let two = strip(four, 100, 2);
-    strip(two, 10, 1)
 }
 
 /// True when `m / 10⁹` cannot be the double `x` whose product `scaled = x·10⁹` (rounded)
@@ -314,6 +373,18 @@ mod tests {
         }
         assert_eq!(&s[..2], b"ab", "what was there is kept");
         String::from_utf8(s[2..].to_vec()).unwrap()
+    }
+
+    fn usual(x: f64, d: usize, slot: &mut [u8]) -> (usize, bool) {
+        match d {
+            0 => write_usual_fixed::<0>(slot, x),
+            1 => write_usual_fixed::<1>(slot, x),
+            4 => write_usual_fixed::<4>(slot, x),
+            7 => write_usual_fixed::<7>(slot, x),
+            8 => write_usual_fixed::<8>(slot, x),
+            9 => write_usual_fixed::<9>(slot, x),
+            _ => unreachable!("no test uses {d} decimals"),
+        }
     }
 
     fn exact(x: f64) -> String {
@@ -429,6 +500,9 @@ mod tests {
         for x in values {
             // Equal as numbers (a -0.0 from `round` prints as 0 either way).
             assert_eq!(round_half_away(x) as f64, x.round(), "{x}");
+            if x.abs() < STEP_ONE {
+                assert_eq!(rounded(x.abs()) as f64, x.abs().round(), "{x}");
+            }
         }
     }
 
@@ -519,7 +593,7 @@ mod tests {
 
     /// Doubles of every kind for the fixed formats: any bit pattern, a decimal of a few
     /// places (a programmed coordinate), a tie `(k + ½)·10^-d` and its neighbours, and
-    /// values about the 2^53 edge of the integer path.
+    /// values about the 2^53 edge of the integer path and the edge of the usual values.
     fn fixed_inputs() -> impl proptest::strategy::Strategy<Value = f64> {
         use proptest::prelude::*;
         let bits = any::<u64>().prop_map(f64::from_bits);
@@ -532,7 +606,11 @@ mod tests {
         let edge = (0..10i32, -1e6..1e6f64)
             .prop_map(|(d, offset)| (2f64.powi(53) + offset) / 10f64.powi(d) * offset.signum());
         let wide = (-1e18..1e18f64, -30..30i32).prop_map(|(m, e)| m * 10f64.powi(e) / 1e18);
-        prop_oneof![bits, decimal, tie, edge, wide]
+        let usual_edge = (0..10i32, -4.0..4.0f64).prop_map(|(d, offset)| {
+            let bound = (10f64.powi(8 + d) - 1.0).min(2f64.powi(52));
+            (bound + offset) / 10f64.powi(d) * offset.signum()
+        });
+        prop_oneof![bits, decimal, tie, edge, wide, usual_edge]
     }
 
     proptest::proptest! {
@@ -544,6 +622,44 @@ mod tests {
         fn fixed_is_the_reference(x in fixed_inputs()) {
             for d in [0, 1, 2, 3, 4, 6, 9] {
                 proptest::prop_assert_eq!(fixed(x, d), fixed_reference(x, d), "{:e} with {} decimals", x, d);
+            }
+        }
+
+        /// Away from a tie (where the product `x·10^d` may round either way), every
+        /// fixed format writes what Rust's exact formatting writes, but `-0`.
+        #[test]
+        fn fixed_is_std_formatting_away_from_ties(x in fixed_inputs()) {
+            for d in [0usize, 4, 6, 9] {
+                let scaled = (x * 10f64.powi(d as i32)).abs();
+                let ulp = f64::from_bits(scaled.to_bits() + 1) - scaled;
+                if !scaled.is_finite() || ((scaled.fract() - 0.5).abs() <= 2.0 * ulp) {
+                    continue;
+                }
+                let exact = format!("{x:.d$}");
+                let exact = match exact.strip_prefix('-') {
+                    Some(rest) if rest.bytes().all(|b| b == b'0' || b == b'.') => rest.to_owned(),
+                    _ => exact,
+                };
+                proptest::prop_assert_eq!(fixed(x, d), exact, "{:e} with {} decimals", x, d);
+            }
+        }
+
+        /// A usual value is one below the documented bound, and its text is the
+        /// reference's; any other (NaN, infinities, beyond 2^53) is refused without a
+        /// panic and without writing past the slot.
+        #[test]
+        fn usual_values_are_the_reference_and_others_refused(x in fixed_inputs()) {
+            for d in [0usize, 1, 4, 7, 8, 9] {
+                let mut slot = [b'#'; FIXED_SLOT + 1];
+                let (len, usual) = usual(x, d, &mut slot);
+                let scaled = (x * 10f64.powi(d as i32)).abs();
+                let bound = (10f64.powi(8 + d as i32) - 1.0).min(2f64.powi(52));
+                proptest::prop_assert_eq!(usual, scaled < bound, "{:e} with {} decimals", x, d);
+                proptest::prop_assert!(len <= FIXED_SLOT && slot[FIXED_SLOT] == b'#');
+                if usual {
+                    let text = std::str::from_utf8(&slot[..len]).unwrap();
+                    proptest::prop_assert_eq!(text, fixed_reference(x, d), "{:e} with {} decimals", x, d);
+                }
             }
         }
 
@@ -565,22 +681,6 @@ mod tests {
             let mut text = String::new();
             proptest::prop_assert!(push_short_decimal(&mut text, x), "{}", m);
             proptest::prop_assert_eq!(text, ryu_text(x));
-        }
-
-        /// The trailing zeros stripped as a loop strips them, one at a time; half the
-        /// cases end in a run of zeros.
-        #[test]
-        fn trailing_zeros_as_a_loop_strips_them(digits in 1..1_000_000_000u64, zeros in 0..9u32) {
-            let fraction = match digits % 2 {
-                0 => digits,
-                _ => (digits % 10u64.pow(9 - zeros)).max(1) * 10u64.pow(zeros),
-            };
-            let (mut value, mut places) = (fraction, 9);
-            while value % 10 == 0 {
-                value /= 10;
-                places -= 1;
-            }
-            proptest::prop_assert_eq!(without_trailing_zeros(fraction), (value, places));
         }
 
         #[test]

@@ -61,7 +61,8 @@
 //! program has no move after it.
 //! It must not plan or round times.
 
-use crate::number::push_fixed;
+use crate::gather::Gathered;
+use crate::number::{write_usual_fixed, FIXED_SLOT};
 use crate::triggers::TriggerSupport;
 use crate::writer::{Header, ProgramWriter, Totals};
 use pvt_core::{Axis, CoolantState, EventKind, Motion, ProgramEvent, SegmentRef, SpindleState};
@@ -266,7 +267,7 @@ const LINE_BATCH: usize = 64 * 1024;
 pub struct PmacWriter<W> {
     out: W,
     axes: Vec<Axis>,
-    line: Vec<u8>,
+    line: Gathered,
     totals: Totals,
     events: PmacEvents,
     /// A command event was written since the last piece: the next piece restates `PVT`.
@@ -281,7 +282,7 @@ impl<W: Write> PmacWriter<W> {
         PmacWriter {
             out,
             axes: Vec::new(),
-            line: Vec::with_capacity(LINE_BATCH + 1024),
+            line: Gathered::with_capacity(LINE_BATCH + 1024),
             totals: Totals::default(),
             events: PmacEvents::Comments,
             reenter_pvt: false,
@@ -303,8 +304,26 @@ impl<W: Write> PmacWriter<W> {
         Ok(())
     }
 
+    /// A piece's line with a number [`piece_line`] does not write (a position or velocity
+    /// of 4.5·10⁶ units or more, a piece time of a day or more): each number in room of
+    /// its own.
+    #[cold]
+    fn wide_segment(&mut self, ms: f64, seg: &SegmentRef<'_>) -> io::Result<()> {
+        let t = &mut self.line;
+        t.push_slice(b"TA");
+        t.fixed::<TIME_DECIMALS>(ms);
+        for ((axis, p), v) in self.axes.iter().zip(seg.end).zip(seg.velocity) {
+            t.push_slice(&[b' ', axis.letter() as u8]);
+            t.fixed::<POSITION_DECIMALS>(*p);
+            t.push(b':');
+            t.fixed::<POSITION_DECIMALS>(*v);
+        }
+        t.push(b'\n');
+        self.flush_line()
+    }
+
     fn write_gathered(&mut self) -> io::Result<()> {
-        self.out.write_all(&self.line)?;
+        self.out.write_all(self.line.text())?;
         self.line.clear();
         Ok(())
     }
@@ -333,10 +352,10 @@ impl<W: Write> ProgramWriter for PmacWriter<W> {
             t,
             "; velocities in {units}/s: requires Ix90=1000 (the default; Isx90 on Turbo PMAC)"
         )?;
-        t.extend_from_slice(
+        t.push_slice(
             b"; piece times: TA in ms, set before each piece's axis words; none over 4095 ms\n",
         );
-        t.extend_from_slice(
+        t.push_slice(
             b"; Turbo PMAC: requires I42=1, so that TA times PVT pieces (under I42=0 it does not)\n",
         );
         if header.options.triggers.is_some() {
@@ -349,7 +368,7 @@ impl<W: Write> ProgramWriter for PmacWriter<W> {
         let pmac = &header.options.pmac;
         self.events = pmac.events;
         if pmac.events == PmacEvents::Commands {
-            t.extend_from_slice(
+            t.push_slice(
                 b"; events: PMAC commands; M-codes call PROG 1001, T-codes PROG 1002 (machine-specific)\n",
             );
         }
@@ -386,7 +405,7 @@ impl<W: Write> ProgramWriter for PmacWriter<W> {
         for (axis, p) in self.axes.iter().zip(start) {
             t.push(b' ');
             t.push(axis.letter() as u8);
-            push_fixed::<POSITION_DECIMALS>(t, *p);
+            t.fixed::<POSITION_DECIMALS>(*p);
         }
         t.push(b'\n');
         self.flush_line()
@@ -396,21 +415,18 @@ impl<W: Write> ProgramWriter for PmacWriter<W> {
         let ms = seg.duration * 1000.0;
         if self.totals.segments == 0 || self.reenter_pvt {
             self.reenter_pvt = false;
-            self.line.extend_from_slice(b"PVT");
-            push_fixed::<TIME_DECIMALS>(&mut self.line, ms);
+            self.line.push_slice(b"PVT");
+            self.line.fixed::<TIME_DECIMALS>(ms);
             self.line.push(b'\n');
         }
         self.totals.add_segment(seg.duration);
-        let t = &mut self.line;
-        t.extend_from_slice(b"TA");
-        push_fixed::<TIME_DECIMALS>(t, ms);
-        for ((axis, p), v) in self.axes.iter().zip(seg.end).zip(seg.velocity) {
-            t.extend_from_slice(&[b' ', axis.letter() as u8]);
-            push_fixed::<POSITION_DECIMALS>(t, *p);
-            t.push(b':');
-            push_fixed::<POSITION_DECIMALS>(t, *v);
+        let dim = self.axes.len().min(seg.end.len()).min(seg.velocity.len());
+        let room = self.line.room(2 + FIXED_SLOT + dim * AXIS_WORD_ROOM + 1);
+        match piece_line(room, &self.axes, ms, seg) {
+            (len, true) => self.line.advance(len),
+            // What was written is left as room, and the line written number by number.
+            _ => return self.wide_segment(ms, seg),
         }
-        t.push(b'\n');
         self.flush_line()
     }
 
@@ -437,8 +453,8 @@ impl<W: Write> ProgramWriter for PmacWriter<W> {
         let t = &mut self.line;
         match &event.kind {
             EventKind::Dwell { seconds } => {
-                t.extend_from_slice(b"DWELL");
-                push_fixed::<TIME_DECIMALS>(t, seconds * 1000.0);
+                t.push_slice(b"DWELL");
+                t.fixed::<TIME_DECIMALS>(seconds * 1000.0);
                 writeln!(t, " ; G4 from line {}", event.line)?;
             }
             kind => {
@@ -478,10 +494,37 @@ impl<W: Write> ProgramWriter for PmacWriter<W> {
                 n.fractional_ms, n.segments
             )?;
         }
-        t.extend_from_slice(b"CLOSE\n");
+        t.push_slice(b"CLOSE\n");
         self.write_gathered()?;
         self.out.flush()
     }
+}
+
+/// Room one axis' words take in [`piece_line`]: a space, the letter, the position, a
+/// colon and the velocity.
+const AXIS_WORD_ROOM: usize = 2 + FIXED_SLOT + 1 + FIXED_SLOT;
+
+/// Writes a piece's line, `TA<ms> X<position>:<velocity> …` and its newline, at the start
+/// of `room` (at least `2 + FIXED_SLOT + axes · AXIS_WORD_ROOM + 1` long) and returns
+/// its length and true, when every number is a usual one ([`write_usual_fixed`]); false
+/// when one is not, the room then holding nothing of meaning.
+#[inline(always)]
+fn piece_line(room: &mut [u8], axes: &[Axis], ms: f64, seg: &SegmentRef<'_>) -> (usize, bool) {
+    room[..2].copy_from_slice(b"TA");
+    let (len, mut usual) = write_usual_fixed::<TIME_DECIMALS>(&mut room[2..], ms);
+    let mut at = 2 + len;
+    for ((axis, p), v) in axes.iter().zip(seg.end).zip(seg.velocity) {
+        room[at] = b' ';
+        room[at + 1] = axis.letter() as u8;
+        let (len, p_usual) = write_usual_fixed::<POSITION_DECIMALS>(&mut room[at + 2..], *p);
+        at += 2 + len;
+        room[at] = b':';
+        let (len, v_usual) = write_usual_fixed::<POSITION_DECIMALS>(&mut room[at + 1..], *v);
+        at += 1 + len;
+        usual &= p_usual & v_usual;
+    }
+    room[at] = b'\n';
+    (at + 1, usual)
 }
 
 /// The PMAC command an event is written as under [`PmacEvents::Commands`]; none for a
@@ -524,4 +567,84 @@ fn command(kind: &EventKind) -> Option<String> {
             format!("SEND\"{text}\"")
         }
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::number::push_fixed;
+    use crate::EmitOptions;
+    use proptest::prelude::*;
+    use pvt_core::{Interpolation, Units};
+
+    /// A piece's line as each number alone writes it: `TA`, the time, then each axis.
+    fn reference_line(axes: &[Axis], ms: f64, end: &[f64], velocity: &[f64]) -> Vec<u8> {
+        let mut t = b"TA".to_vec();
+        push_fixed::<TIME_DECIMALS>(&mut t, ms);
+        for ((axis, p), v) in axes.iter().zip(end).zip(velocity) {
+            t.extend_from_slice(&[b' ', axis.letter() as u8]);
+            push_fixed::<POSITION_DECIMALS>(&mut t, *p);
+            t.push(b':');
+            push_fixed::<POSITION_DECIMALS>(&mut t, *v);
+        }
+        t.push(b'\n');
+        t
+    }
+
+    /// A value of a piece: usual coordinates, large ones past the usual range and 2^53,
+    /// and (for a writer without [`crate::Checked`] in front) NaN and infinities.
+    fn value() -> impl Strategy<Value = f64> {
+        prop_oneof![
+            40 => -1e4..1e4f64,
+            1 => -1e7..1e7f64,
+            1 => -1e20..1e20f64,
+            1 => Just(f64::NAN),
+            1 => Just(f64::NEG_INFINITY),
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2_000))]
+
+        /// Every piece's line is the numbers each written alone, whether the line is
+        /// written at once or number by number; nothing written for a refused line is
+        /// kept.
+        #[test]
+        fn piece_lines_are_their_numbers(
+            pieces in proptest::collection::vec(
+                (proptest::collection::vec((value(), value()), 3), 1e-4..10.0f64),
+                1..40,
+            )
+        ) {
+            let axes = [Axis::X, Axis::Y, Axis::Z];
+            let options = EmitOptions::default();
+            let header = Header {
+                axes: &axes,
+                units: Units::Millimetre,
+                interpolation: Interpolation::Pvt,
+                options: &options,
+            };
+            let mut writer = PmacWriter::new(Vec::new());
+            writer.begin(&header).unwrap();
+            writer.contour(Motion::Feed, &[0.0; 3]).unwrap();
+            let before = writer.line.len();
+            let mut expected = Vec::new();
+            for (i, (axis_values, seconds)) in pieces.iter().enumerate() {
+                let (end, velocity): (Vec<f64>, Vec<f64>) = axis_values.iter().copied().unzip();
+                let ms = seconds * 1000.0;
+                if i == 0 {
+                    expected.extend_from_slice(b"PVT");
+                    push_fixed::<TIME_DECIMALS>(&mut expected, ms);
+                    expected.push(b'\n');
+                }
+                expected.extend(reference_line(&axes, ms, &end, &velocity));
+                let seg = SegmentRef { end: &end, velocity: &velocity, duration: *seconds, line: 1 };
+                writer.segment(&seg).unwrap();
+            }
+            prop_assert_eq!(
+                String::from_utf8_lossy(&writer.line.text()[before..]),
+                String::from_utf8_lossy(&expected)
+            );
+        }
+    }
 }

@@ -143,20 +143,27 @@ pub struct RuleCheck {
     /// Source line of the last piece, and whether the open contour has one.
     last_line: u32,
     open: bool,
+    /// Some axis has a rule a piece's cubic can break: travel limits, or counts or
+    /// dynamics the format checks. Without one, a piece's time is all there is to check,
+    /// and `at` is not needed.
+    per_axis: bool,
 }
 
 impl RuleCheck {
     /// The check of `caps` on `axes`, with what `setup` says about each.
     pub fn new(caps: Caps, axes: &[Axis], setup: &BTreeMap<Axis, AxisSetup>) -> RuleCheck {
+        let axes: Vec<(Axis, AxisSetup)> = axes
+            .iter()
+            .map(|a| (*a, setup.get(a).copied().unwrap_or_default()))
+            .collect();
+        let per_axis = caps.scaled || caps.verifies || axes.iter().any(|(_, s)| travel_limited(s));
         RuleCheck {
             caps,
-            axes: axes
-                .iter()
-                .map(|a| (*a, setup.get(a).copied().unwrap_or_default()))
-                .collect(),
             at: vec![(0.0, 0.0); axes.len()],
+            axes,
             last_line: 0,
             open: false,
+            per_axis,
         }
     }
 
@@ -195,8 +202,43 @@ impl RuleCheck {
     ) -> Result<(), InvalidProgram> {
         self.open = true;
         self.last_line = seg.line;
+        self.piece_time(seg, contour, segment)?;
+        if !self.per_axis {
+            return Ok(());
+        }
+        let (scaled, verifies) = (self.caps.scaled, self.caps.verifies);
+        for i in 0..self.axes.len() {
+            let (p0, v0) = self.at[i];
+            let limited = travel_limited(&self.axes[i].1);
+            if scaled {
+                self.counts(i, (p0, v0), seg, (contour, segment))?;
+            }
+            if !(limited || verifies) {
+                // No travel to keep and no dynamics to verify: nothing to compute.
+                self.at[i] = (seg.end[i], seg.velocity[i]);
+                continue;
+            }
+            let cubic = HermiteSegment::new(p0, v0, seg.end[i], seg.velocity[i], seg.duration);
+            for p in position_extremes(&cubic) {
+                self.travel(i, p, contour, segment, seg.line)?;
+            }
+            if verifies {
+                self.dynamics(i, &cubic, contour, segment, seg.line)?;
+            }
+            self.at[i] = (seg.end[i], seg.velocity[i]);
+        }
+        Ok(())
+    }
+
+    /// The piece's time against the format's shortest piece and its grid.
+    fn piece_time(
+        &self,
+        seg: &SegmentRef<'_>,
+        contour: usize,
+        segment: usize,
+    ) -> Result<(), InvalidProgram> {
         let fail = |code, what| Err(refusal(code, what, contour, segment, seg.line));
-        let caps = self.caps;
+        let caps = &self.caps;
         if seg.duration < caps.min_piece_seconds * (1.0 - SLACK) {
             return fail(
                 "pvtc::emit::piece_too_short",
@@ -219,27 +261,6 @@ impl RuleCheck {
                     ),
                 );
             }
-        }
-        for i in 0..self.axes.len() {
-            let (p0, v0) = self.at[i];
-            let limited =
-                self.axes[i].1.min_position.is_some() || self.axes[i].1.max_position.is_some();
-            if caps.scaled {
-                self.counts(i, (p0, v0), seg, (contour, segment))?;
-            }
-            if !(limited || caps.verifies) {
-                // No travel to keep and no dynamics to verify: nothing to compute.
-                self.at[i] = (seg.end[i], seg.velocity[i]);
-                continue;
-            }
-            let cubic = HermiteSegment::new(p0, v0, seg.end[i], seg.velocity[i], seg.duration);
-            for p in position_extremes(&cubic) {
-                self.travel(i, p, contour, segment, seg.line)?;
-            }
-            if caps.verifies {
-                self.dynamics(i, &cubic, contour, segment, seg.line)?;
-            }
-            self.at[i] = (seg.end[i], seg.velocity[i]);
         }
         Ok(())
     }
@@ -373,6 +394,11 @@ impl RuleCheck {
         }
         Ok(())
     }
+}
+
+/// The machine file limits the axis' travel.
+fn travel_limited(setup: &AxisSetup) -> bool {
+    setup.min_position.is_some() || setup.max_position.is_some()
 }
 
 fn refusal(

@@ -100,6 +100,8 @@ pub struct Checked<W> {
     segment: usize,
     pending: Option<(Motion, Vec<f64>)>,
     rules: Option<RuleCheck>,
+    /// The back end's longest piece time ([`Caps::max_piece_seconds`]), once begun.
+    max_piece_seconds: Option<f64>,
     triggers: Option<TriggerClock>,
     /// Position and velocity of every axis after the last segment (for the cubic a
     /// trigger cuts).
@@ -139,6 +141,7 @@ impl<W: ProgramWriter> Checked<W> {
             segment: 0,
             pending: None,
             rules: None,
+            max_piece_seconds: None,
             triggers: None,
             at: (Vec::new(), Vec::new()),
             triggered: false,
@@ -157,6 +160,7 @@ impl<W: ProgramWriter> Checked<W> {
             return Err(StreamError::MissingScale(caps.controller, axis));
         }
         self.rules = Some(rules);
+        self.max_piece_seconds = caps.max_piece_seconds;
         if let Some(triggers) = header.options.triggers {
             if let TriggerSupport::None(why) = caps.triggers {
                 return Err(StreamError::NoTriggers(caps.controller, why));
@@ -201,7 +205,7 @@ impl<W: ProgramWriter> Checked<W> {
         }
         self.segment += 1;
         check_segment(segment, self.contour, self.segment)?;
-        if let Some(max) = self.inner.caps().max_piece_seconds {
+        if let Some(max) = self.max_piece_seconds {
             check_piece_time(segment, max, self.contour, self.segment)?;
         }
         if self.triggers.is_some() {
