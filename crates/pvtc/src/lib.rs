@@ -20,6 +20,7 @@ pub mod input;
 pub mod machine;
 pub mod options;
 pub mod output;
+pub mod pipeline;
 pub mod report;
 pub mod route;
 pub mod settings;
