@@ -2,7 +2,8 @@
 # The speed benchmark of issue 22: the streaming compile (`path` planner, PMAC text,
 # `--quantize off`; PMAC's default 1 ms grid, which streams too, is bench/stream) of three
 # generated programs, against the `gcode` crate's parse of the same file in the
-# same run, with MB/s of input and peak RSS on every output route.
+# same run, with MB/s of input (of wall time, what a compile on several threads is judged
+# by, and of CPU time) and peak RSS on every output route.
 #
 #   bench/speed/run.sh [RUNS]        (RUNS: runs per row, the best time kept; default 3)
 #
@@ -36,20 +37,20 @@ measure() {
     echo "$best $cpu $rss"
 }
 
-echo "| input | MB | route | wall (best of $runs) | CPU (best) | MB/s (CPU) | peak RSS | CPU / gcode parse CPU |"
-echo "| --- | --- | --- | --- | --- | --- | --- | --- |"
+echo "| input | MB | route | wall (best of $runs) | CPU (best) | MB/s (wall) | MB/s (CPU) | peak RSS | CPU / gcode parse CPU |"
+echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"
 for name in lines arcs pocket; do
     file="$dir/$name.ngc"
-    mb=$(awk "BEGIN{printf \"%.1f\", $(stat -c %s "$file") / 1e6}")
+    mb=$(awk "BEGIN{printf \"%.1f\", $(stat -L -c %s "$file") / 1e6}")
     read -r parse parse_cpu parse_rss <<< "$(measure "$bin/examples/gcode_parse $file")"
     for route in "-o $dir/out.pmac" "-o /dev/null" "| cat > /dev/null"; do
         read -r t cpu rss <<< "$(measure "$bin/pvtc compile $file --quantize off $route")"
         awk -v n="$name" -v mb="$mb" -v r="$route" -v t="$t" -v c="$cpu" -v rss="$rss" \
             -v p="$parse_cpu" -v dir="$dir/" 'BEGIN{sub(dir, "", r);
-            printf "| %s | %s | `%s` | %.2f s | %.2f s | %.0f | %.1f MiB | %.2f |\n",
-            n, mb, r, t, c, mb / c, rss / 1024, c / p}'
+            printf "| %s | %s | `%s` | %.2f s | %.2f s | %.0f | %.0f | %.1f MiB | %.2f |\n",
+            n, mb, r, t, c, mb / t, mb / c, rss / 1024, c / p}'
     done
     awk -v n="$name" -v mb="$mb" -v t="$parse" -v c="$parse_cpu" -v rss="$parse_rss" \
-        'BEGIN{printf "| %s | %s | gcode crate parse | %.2f s | %.2f s | %.0f | %.1f MiB | 1.00 |\n",
-        n, mb, t, c, mb / c, rss / 1024}'
+        'BEGIN{printf "| %s | %s | gcode crate parse | %.2f s | %.2f s | %.0f | %.0f | %.1f MiB | 1.00 |\n",
+        n, mb, t, c, mb / t, mb / c, rss / 1024}'
 done

@@ -3,7 +3,8 @@
 //! Layers, each importing only those below it: [`failure`] and [`input`] at the bottom;
 //! [`options`] (what the command line asked, side files read once, no defaults);
 //! [`settings`] (every default, applied once); [`front`] (choosing a front end) and
-//! [`route`] (the one compile path, every input kind into the same planning sink);
+//! [`route`] (the one compile path, every input kind into the same planning sink;
+//! [`pipeline`] runs a streamed G-code compile's front end on a thread of its own);
 //! [`output`] (atomic writes) and [`report`] (the only writer of standard error);
 //! [`args`] (clap); [`commands`] (compile, batch, toolpath, check, plot, manual).
 //! Architecture invariant: no geometry, planning or formatting happens here; a failed run
@@ -20,6 +21,7 @@ pub mod input;
 pub mod machine;
 pub mod options;
 pub mod output;
+pub mod pipeline;
 pub mod report;
 pub mod route;
 pub mod settings;

@@ -232,6 +232,8 @@ pub fn front_end_passes() -> usize {
 }
 
 /// One pass of the G-code front end over the file into `sink`; its errors as reports.
+/// The front end runs on a thread of its own where [`crate::pipeline::threaded`] says
+/// so, `sink` always on this one; the pass is counted on this thread either way.
 pub(crate) fn compile_read(
     path: &std::path::Path,
     name: &str,
@@ -239,8 +241,15 @@ pub(crate) fn compile_read(
     sink: &mut dyn pvt_gcode::ToolpathSink,
 ) -> Result<pvt_gcode::StreamSummary, Failure> {
     PASSES.with(|passes| passes.set(passes.get() + 1));
-    pvt_gcode::compile_read(&mut open(path)?, gcode, sink)
-        .map_err(|error| read_failure(path, error))?
+    let mut input = open(path)?;
+    let mut read = move |sink: &mut dyn pvt_gcode::ToolpathSink| {
+        pvt_gcode::compile_read(&mut input, gcode, sink)
+    };
+    let read = match crate::pipeline::threaded() {
+        true => crate::pipeline::in_two_threads(read, sink),
+        false => read(sink),
+    };
+    read.map_err(|error| read_failure(path, error))?
         .map_err(|errors| Failure::Input(reports(path, name, errors.diagnostics)))
 }
 
