@@ -1529,7 +1529,7 @@ mod tests {
         let options = super::PathOptions {
             tolerance: 1e-4,
             corner_tolerance: None,
-            limits: axes.iter().map(|a| (*a, limit.clone())).collect(),
+            limits: axes.iter().map(|a| (*a, limit)).collect(),
             quantum: None,
             servo_period: crate::defaults::SERVO_PERIOD_S,
             position_resolution: 0.0,
