@@ -47,6 +47,9 @@ pub(super) struct Knot {
     pub speed: f64,
     /// The speed is given (a window's start, already emitted): never lowered.
     fixed: bool,
+    /// This knot's index among the knots the last round's pieces were made from
+    /// ([`Knots::pieces_again`]); `u32::MAX` for a knot made since.
+    pub(super) last_round: u32,
 }
 
 /// Where a window of the path starts: on its first element at `param`, moving at
@@ -137,16 +140,20 @@ pub(super) struct Knots {
     pub min_cruise: f64,
     /// The knots before the last rebuild, whose storage the next rebuild reuses.
     spare: Vec<Knot>,
-    /// The passes' and repairs' per-piece values, whose storage every round reuses.
-    scratch: Scratch,
+    /// The passes' and repairs' per-piece values, whose storage every round reuses
+    /// (boxed: a window on the grid carries its knots by value).
+    pub(super) scratch: Box<Scratch>,
 }
 
 /// Per-piece values the speed passes and the tolerance repair work on, kept with the
 /// knots so that a round allocates none.
 #[derive(Debug, Clone, Default)]
-struct Scratch {
+pub(super) struct Scratch {
     ways: Vec<PieceWay>,
     errors: Vec<f64>,
+    /// The speeds of the knots the last round's pieces were made from (empty: none to
+    /// take over), for [`Knots::pieces_again`].
+    pub(super) made_at: Vec<f64>,
 }
 
 /// What the speed passes know of one piece: how fast it may run and how its speed may
@@ -199,7 +206,7 @@ pub(super) struct KnotStorage {
     knots: Vec<Knot>,
     junctions: Vec<Junction>,
     spare: Vec<Knot>,
-    scratch: Scratch,
+    pub(super) scratch: Box<Scratch>,
 }
 
 impl Knots {
@@ -224,6 +231,7 @@ impl Knot {
             cap,
             speed: 0.0,
             fixed: false,
+            last_round: u32::MAX,
         }
     }
 }
@@ -258,6 +266,9 @@ impl Knots {
         } = storage;
         knots.clear();
         knots.reserve(2 * curves.len() + 1);
+        // Another window's pieces: none is taken over.
+        let mut scratch = scratch;
+        scratch.made_at.clear();
         knots.push(first);
         junctions.clear();
         junctions.reserve(curves.len());
@@ -274,44 +285,66 @@ impl Knots {
             this.knots[0].junction = Some(0);
             this.junctions.push(j.clone());
         }
-        // Each junction is made as its element comes, and kept for the next one.
-        let mut before: Option<(Junction, [f64; 2])> = None;
+        // Each junction is made as its element comes, straight into `junctions` (it is
+        // large: a curvature transition rides in it); the next element needs only where
+        // a cut junction joins it and its cap.
+        let mut joins: Option<(f64, f64)> = None;
+        // A line's unit tangent is the same at both of its ends: the outgoing tangent of
+        // one junction is the incoming tangent of the next.
+        let mut line_tangent: Option<Vector> = None;
         for (e, curve) in curves.iter().enumerate() {
-            let mut after = curves
-                .get(e + 1)
-                .and_then(|next| junction(curve, next, bounds, tolerance, corner, narrow));
-            if e == 0
-                && after
-                    .as_ref()
-                    .is_some_and(|j| j.0.leaves_before(start.param, curve))
-            {
-                // A window that starts past where a transition would leave its first
-                // element (never after a cut, which is never inside one): the junction
-                // as the stretched grid makes it, without a transition.
-                after = junction(curve, &curves[1], bounds, tolerance, corner, true);
+            let end_tangent = line_tangent.take();
+            let mut after = false;
+            if let Some(next) = curves.get(e + 1) {
+                let t_in = end_tangent.unwrap_or_else(|| unit_tangent(curve, curve.span));
+                let t_out = unit_tangent(next, 0.0);
+                if next.is_line() {
+                    line_tangent = Some(t_out);
+                }
+                let make = |narrow: bool, out: &mut Vec<Junction>| {
+                    let tangents = [t_in, t_out];
+                    junction(
+                        curve, next, tangents, bounds, tolerance, corner, narrow, out,
+                    )
+                };
+                after = make(narrow, &mut this.junctions);
+                if e == 0 && after && this.last_junction().leaves_before(start.param, curve) {
+                    // A window that starts past where a transition would leave its first
+                    // element (never after a cut, which is never inside one): the
+                    // junction as the stretched grid makes it, without a transition.
+                    this.junctions.pop();
+                    after = make(true, &mut this.junctions);
+                }
             }
-            if let Some(l) = before.as_ref().and_then(|j| j.0.joins_at()) {
+            if let Some((l, cap)) = joins {
                 let place = Place {
                     element: e,
                     param: l,
                 };
-                this.knots
-                    .push(Knot::at(place, before.as_ref().map_or(0.0, |j| j.0.cap)));
+                this.knots.push(Knot::at(place, cap));
             }
             let from = if e == 0 { start.param } else { 0.0 };
             for param in inner_params(curve, tolerance).filter(|p| *p > from) {
                 this.knots
                     .push(Knot::at(Place { element: e, param }, f64::INFINITY));
             }
-            this.push_end(curves, e, after.as_ref());
-            before = after;
+            joins = after.then(|| this.last_junction()).and_then(|j| {
+                let cap = j.cap;
+                j.joins_at().map(|l| (l, cap))
+            });
+            this.push_end(curves, e, after);
         }
         this
     }
 
+    /// The junction last made (by `junction`, which pushes it).
+    fn last_junction(&self) -> &Junction {
+        &self.junctions[self.junctions.len() - 1]
+    }
+
     /// The knot that ends element `e`: the contour's end, a corner blend's start, a
     /// junction passed at speed, or an exact stop.
-    fn push_end(&mut self, curves: &[Curve], e: usize, junction: Option<&(Junction, [f64; 2])>) {
+    fn push_end(&mut self, curves: &[Curve], e: usize, junction: bool) {
         let curve = &curves[e];
         let end = Place {
             element: e,
@@ -321,8 +354,7 @@ impl Knots {
             self.knots.push(Knot::at(end, 0.0));
             return;
         }
-        let index = self.junctions.len();
-        let Some((j, _)) = junction else {
+        if !junction {
             let mut knot = Knot::at(end, 0.0);
             knot.after = Place {
                 element: e + 1,
@@ -330,8 +362,9 @@ impl Knots {
             };
             self.knots.push(knot);
             return;
-        };
-        self.junctions.push(j.clone());
+        }
+        let index = self.junctions.len() - 1;
+        let j = &self.junctions[index];
         if let Some(leaves) = j.leaves_at(curve.span) {
             let mut knot = Knot::at(
                 Place {
@@ -358,8 +391,7 @@ impl Knots {
     pub fn plan_speeds(&mut self, curves: &[Curve], bounds: &AxisBounds) {
         let n = self.knots.len();
         let mut ways = std::mem::take(&mut self.scratch.ways);
-        ways.clear();
-        ways.extend((0..n - 1).map(|k| self.piece_way(curves, bounds, k)));
+        self.ways_again(curves, bounds, &mut ways);
         for (k, knot) in self.knots.iter_mut().enumerate() {
             let mut cap = knot.cap;
             if k > 0 {
@@ -381,6 +413,31 @@ impl Knots {
             self.knots[k + 1].speed = speed;
         }
         self.scratch.ways = ways;
+    }
+
+    /// Every piece's [`PieceWay`] into `ways`, which holds the last round's where one of
+    /// this settling was made ([`Knots::pieces_again`]): a piece between two knots that
+    /// were consecutive then keeps its way, which follows from their places and the
+    /// window's curves, junctions and bounds alone (never from their speeds or caps).
+    /// The ways kept move back (or stay), so `ways` is rewritten from its end.
+    fn ways_again(&self, curves: &[Curve], bounds: &AxisBounds, ways: &mut Vec<PieceWay>) {
+        let n = self.knots.len();
+        let last = self.scratch.made_at.len();
+        if last < 2 || ways.len() + 1 != last {
+            ways.clear();
+            ways.extend((0..n - 1).map(|k| self.piece_way(curves, bounds, k)));
+            return;
+        }
+        ways.resize(n - 1, ways[0]);
+        for k in (0..n - 1).rev() {
+            let i = self.knots[k].last_round as usize;
+            let kept = i <= k && i + 1 < last && self.knots[k + 1].last_round as usize == i + 1;
+            ways[k] = if kept {
+                ways[i]
+            } else {
+                self.piece_way(curves, bounds, k)
+            };
+        }
     }
 
     /// Piece `k`'s length, cap and what bounds its change of speed.
@@ -1079,25 +1136,29 @@ fn inner_params(curve: &Curve, tolerance: f64) -> impl Iterator<Item = f64> {
     (1..n).map(move |i| span * i as f64 / n as f64)
 }
 
-/// The junction from `a` into `b` with the lengths on each side over which its pieces
-/// may turn (for the acceleration cap); `None` when it must be an exact stop.
+/// The junction from `a` into `b`, whose unit tangents at the joint are `tangents`
+/// (arriving, leaving), pushed onto `out`; false, and nothing pushed, when it must be
+/// an exact stop. Beside a junction passed at speed its pieces may turn over the zones
+/// of [`zone`] (for the acceleration cap).
+#[allow(clippy::too_many_arguments)]
 fn junction(
     a: &Curve,
     b: &Curve,
+    tangents: [Vector; 2],
     bounds: &AxisBounds,
     tolerance: f64,
     corner: Option<f64>,
     narrow: bool,
-) -> Option<(Junction, [f64; 2])> {
-    let t_in = unit_tangent(a, a.span);
-    let t_out = unit_tangent(b, 0.0);
+    out: &mut Vec<Junction>,
+) -> bool {
+    let [t_in, t_out] = tangents;
     let sum = Vector::from_fn(t_in.len(), |i| t_in[i] + t_out[i]);
     let diff = Vector::from_fn(t_in.len(), |i| t_in[i] - t_out[i]);
     let (sum_norm, diff_norm) = (norm(&sum), norm(&diff));
     let stops =
         !bounds.accelerates() && corner.is_none() && turns_beyond_tangent(diff_norm, sum_norm);
     if sum_norm < 1e-6 || stops {
-        return None;
+        return false;
     }
     let direction = Vector::from_fn(sum.len(), |i| sum[i] / sum_norm);
     let deviation = norm(&Vector::from_fn(direction.len(), |i| {
@@ -1118,7 +1179,7 @@ fn junction(
             junction.cap = junction.cap.min(t.cap(bounds));
             junction.tolerance = tolerance;
             junction.transition = Some(t);
-            return (junction.cap > 0.0).then_some((junction, [0.0; 2]));
+            return keep(junction, out);
         }
     }
     let blends = bounds.accelerates() || corner.is_some();
@@ -1150,11 +1211,20 @@ fn junction(
             blend_cap(&junction, l, bounds)
         };
         junction.cap = junction.cap.min(cap);
-        return (junction.cap > 0.0).then_some((junction, [0.0; 2]));
+        return keep(junction, out);
     }
     let zones = [zone(a, &junction, tolerance), zone(b, &junction, tolerance)];
     junction.cap = junction.cap.min(through_cap(&junction, zones, bounds));
-    (junction.cap > 0.0).then_some((junction, zones))
+    keep(junction, out)
+}
+
+/// Pushes `junction` onto `out` when it can be passed at some speed.
+fn keep(junction: Junction, out: &mut Vec<Junction>) -> bool {
+    let passes = junction.cap > 0.0;
+    if passes {
+        out.push(junction);
+    }
+    passes
 }
 
 /// True when the turning angle `2·atan2(diff, sum)` of two unit tangents (`diff` and

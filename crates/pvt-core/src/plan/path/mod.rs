@@ -968,9 +968,10 @@ fn settle_into(
     tolerance: f64,
     pieces: &mut Vec<piece::Piece>,
 ) -> bool {
+    knots.forget_pieces();
     for _ in 0..MAX_ROUNDS {
         knots.plan_speeds(curves, bounds);
-        knots.pieces_into(curves, bounds, pieces);
+        knots.pieces_again(curves, bounds, pieces);
         if knots.split_over(curves, pieces, tolerance)
             || knots.slow_over(pieces, bounds)
             || knots.step_over(pieces, bounds)
@@ -1507,6 +1508,114 @@ mod tests {
             ),
             "{result:?}"
         );
+    }
+
+    /// A settling whose rounds split pieces and slow knots keeps the pieces and speed-pass
+    /// values of the knots a round did not change (`Knots::pieces_again`,
+    /// `Knots::ways_again`): its pieces are, bit for bit, those made afresh from its
+    /// final knots, and it made fewer than it kept.
+    #[test]
+    fn a_settling_keeps_only_what_its_rounds_left_unchanged() {
+        use super::knots::{KnotStorage, Knots, Start};
+        use crate::axis::Axis;
+        use crate::limits::AxisLimits;
+        use crate::toolpath::{Arc, ArcDirection, Element, ElementKind, Plane, Span};
+        let axes = [Axis::X, Axis::Y, Axis::Z];
+        let limit = AxisLimits {
+            velocity: Some(200.0),
+            acceleration: Some(2000.0),
+            jerk: None,
+        };
+        let options = super::PathOptions {
+            tolerance: 1e-4,
+            corner_tolerance: None,
+            limits: axes.iter().map(|a| (*a, limit)).collect(),
+            quantum: None,
+            servo_period: crate::defaults::SERVO_PERIOD_S,
+            position_resolution: 0.0,
+        };
+        let at = |x: f64, y: f64| {
+            let mut p = [0.0; crate::axis::AXIS_COUNT];
+            (p[0], p[1]) = (x, y);
+            p
+        };
+        let element = |kind, start, end| Element {
+            kind,
+            start,
+            end,
+            feed: 150.0,
+            span: Span::default(),
+        };
+        let arc = |center: [f64; 2], direction| {
+            ElementKind::Arc(Arc {
+                plane: Plane::XY,
+                center,
+                direction,
+                extra_turns: 0,
+            })
+        };
+        // A pocket's stroke: lines and the arcs of its corners, both ways round.
+        let mut elements = Vec::new();
+        for row in 0..6 {
+            let y = 2.0 * row as f64;
+            let (from, to) = if row % 2 == 0 {
+                (0.0, 10.0)
+            } else {
+                (10.0, 0.0)
+            };
+            elements.push(element(ElementKind::Line, at(from, y), at(to, y)));
+            let (turn, side) = match row % 2 {
+                0 => (ArcDirection::CounterClockwise, 10.0),
+                _ => (ArcDirection::Clockwise, 0.0),
+            };
+            elements.push(element(
+                arc([side, y + 1.0], turn),
+                at(to, y),
+                at(to, y + 2.0),
+            ));
+        }
+        let mut curves = Vec::new();
+        for e in &elements {
+            super::Curve::push_new(e, &axes, &mut curves);
+        }
+        let bounds = super::AxisBounds::new(&axes, &options);
+        let start = Start {
+            param: 0.0,
+            speed: 0.0,
+            junction: None,
+        };
+        let storage = KnotStorage::default();
+        let mut knots = Knots::new(&curves, &bounds, 1e-4, None, &start, false, storage);
+        let first = knots.knots.len();
+        let mut pieces = Vec::new();
+        assert!(super::settle_into(
+            &mut knots,
+            &curves,
+            &bounds,
+            1e-4,
+            &mut pieces
+        ));
+        assert!(knots.knots.len() > first, "no round split a piece");
+        let mut fresh = Vec::new();
+        knots.pieces_into(&curves, &bounds, &mut fresh);
+        assert_eq!(format!("{pieces:?}"), format!("{fresh:?}"));
+        // One more round by hand: the worse half of the pieces split.
+        let worst = pieces.iter().map(|p| p.error).fold(0.0, f64::max);
+        assert!(knots.split_over(&curves, &pieces, 0.5 * worst));
+        knots.plan_speeds(&curves, &bounds);
+        let made_at = knots.scratch.made_at.clone();
+        let unchanged = |k: usize| {
+            let (a, b) = (&knots.knots[k], &knots.knots[k + 1]);
+            let i = a.last_round as usize;
+            b.last_round as usize == i + 1
+                && made_at[i].to_bits() == a.speed.to_bits()
+                && made_at[i + 1].to_bits() == b.speed.to_bits()
+        };
+        let kept = (0..knots.knots.len() - 1).filter(|&k| unchanged(k)).count();
+        assert!(kept > 0 && kept < knots.knots.len() - 1, "{kept} kept");
+        knots.pieces_again(&curves, &bounds, &mut pieces);
+        knots.pieces_into(&curves, &bounds, &mut fresh);
+        assert_eq!(format!("{pieces:?}"), format!("{fresh:?}"));
     }
 
     #[test]

@@ -24,6 +24,55 @@ impl Knots {
         self.pieces_up_to(curves, bounds, 0..self.knots.len() - 1, out);
     }
 
+    /// As [`Knots::pieces_into`] where `out` holds the last round's pieces of one
+    /// settling: a piece between two knots that were consecutive last round
+    /// ([`Knot::last_round`]) at the same speeds (bit for bit) is the same piece, since a
+    /// piece follows from its two knots alone (and the window's curves, junctions and
+    /// bounds, which a settling does not change) and a round moves no knot (it inserts
+    /// knots and sets speeds and caps), so only the pieces a round changed are made
+    /// again. Each piece kept moves back in `out` (or stays), and `out` is rewritten
+    /// from its end. Under a jerk limit, where a piece may be several parts, every piece
+    /// is made again.
+    pub fn pieces_again(&mut self, curves: &[Curve], bounds: &AxisBounds, out: &mut Vec<Piece>) {
+        let mut made_at = std::mem::take(&mut self.scratch.made_at);
+        let n = self.knots.len();
+        if self.jerk_mode || made_at.is_empty() || out.len() + 1 != made_at.len() {
+            self.pieces_into(curves, bounds, out);
+        } else {
+            let dim = curves[0].start.len();
+            out.resize(n - 1, Piece::zeroed(dim, 0));
+            let same = |knot: &Knot, i: usize| made_at[i].to_bits() == knot.speed.to_bits();
+            for k in (0..n - 1).rev() {
+                let (a, b) = (&self.knots[k], &self.knots[k + 1]);
+                let i = a.last_round as usize;
+                // `out[..=k]` still holds the last round's pieces: those after it are
+                // this round's.
+                let kept = i <= k
+                    && i + 1 < made_at.len()
+                    && b.last_round as usize == i + 1
+                    && same(a, i)
+                    && same(b, i + 1);
+                if kept {
+                    out[k] = out[i].clone();
+                    out[k].knot = k;
+                } else {
+                    self.make_piece(curves, bounds, k, &mut out[k]);
+                }
+            }
+        }
+        made_at.clear();
+        made_at.extend(self.knots.iter().map(|k| k.speed));
+        for (k, knot) in self.knots.iter_mut().enumerate() {
+            knot.last_round = k as u32;
+        }
+        self.scratch.made_at = made_at;
+    }
+
+    /// Forgets the last round's pieces: the next [`Knots::pieces_again`] makes all.
+    pub fn forget_pieces(&mut self) {
+        self.scratch.made_at.clear();
+    }
+
     /// The pieces of knots `knots` (a range that starts at or before the first knot of
     /// no piece in `out`) in place of `out`'s from that knot on, and none after: each
     /// piece follows from its two knots alone, so where the knots before `knots.start`
@@ -44,11 +93,11 @@ impl Knots {
                     continue;
                 }
             }
-            let piece = self.piece(curves, bounds, k);
             if self.jerk_mode {
+                let piece = self.piece(curves, bounds, k);
                 self.scurve(curves, bounds, k, piece, out);
             } else {
-                out.push(piece);
+                self.push_piece(curves, bounds, k, out);
             }
         }
     }
@@ -57,10 +106,37 @@ impl Knots {
         if let Some(j) = self.knots[k].blend {
             return self.blend_piece(curves, k, j);
         }
+        let mut piece = Piece::zeroed(curves[0].start.len(), k);
+        self.fill_piece(curves, bounds, k, &mut piece);
+        piece
+    }
+
+    /// [`Knots::piece`] pushed onto `out`, built where it lies (a piece is large).
+    fn push_piece(&self, curves: &[Curve], bounds: &AxisBounds, k: usize, out: &mut Vec<Piece>) {
+        if let Some(j) = self.knots[k].blend {
+            out.push(self.blend_piece(curves, k, j));
+            return;
+        }
+        out.push(Piece::zeroed(curves[0].start.len(), k));
+        let last = out.len() - 1;
+        self.fill_piece(curves, bounds, k, &mut out[last]);
+    }
+
+    /// [`Knots::piece`] written over `piece`.
+    fn make_piece(&self, curves: &[Curve], bounds: &AxisBounds, k: usize, piece: &mut Piece) {
+        if let Some(j) = self.knots[k].blend {
+            *piece = self.blend_piece(curves, k, j);
+            return;
+        }
+        *piece = Piece::zeroed(curves[0].start.len(), k);
+        self.fill_piece(curves, bounds, k, piece);
+    }
+
+    /// The piece after knot `k`, not a corner blend, written into `piece` (zeroed, of
+    /// the curves' axes, after knot `k`).
+    fn fill_piece(&self, curves: &[Curve], bounds: &AxisBounds, k: usize, piece: &mut Piece) {
         let (curve, from, to) = self.piece_span(curves, k);
-        let dim = curve.start.len();
         let (a, b) = (&self.knots[k], &self.knots[k + 1]);
-        let mut piece = Piece::zeroed(dim, k);
         curve.position(from, &mut piece.start);
         curve.position(to, &mut piece.end);
         self.velocity(k, curve, from, &mut piece.start_velocity);
@@ -85,7 +161,7 @@ impl Knots {
             let cap = speed_cap(curve, from, to, bounds);
             piece.duration = 1.5 * curve.length(from, to) / cap;
             if self.jerk_mode {
-                piece.duration = piece.duration.max(rest_time(&piece, bounds));
+                piece.duration = piece.duration.max(rest_time(piece, bounds));
             }
             piece.error = if curve.is_line() {
                 curve.fit
@@ -93,7 +169,6 @@ impl Knots {
                 f64::INFINITY
             };
         }
-        piece
     }
 }
 
