@@ -552,6 +552,15 @@ impl<'a> Interpreter<'a> {
         // G64 P0 is plain G64, as rs274 reads it: no tolerance of its own.
         let p = request.p.filter(|p| p.value != 0.0);
         if let (Some((PathMode::Continuous, _)), Some(p)) = (request.path_mode, p) {
+            if p.value.abs() < pvt_core::defaults::SMALLEST_TOLERANCE {
+                self.push(GcodeDiagnostic::BadValue {
+                    word: p.name(),
+                    expected:
+                        "a path tolerance of at least 0.000001 (program units), or P0 for none",
+                    span: span(p.span()),
+                });
+                return;
+            }
             let tolerance = p.value.abs() * self.scale();
             self.path_tolerance = Some(tolerance);
             self.sink.path_tolerance(tolerance);

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::ok;
+use common::{errors, ok};
 use proptest::prelude::*;
 use pvt_core::{Element, ElementKind, EventKind, Motion, Units};
 use pvt_gcode::{compile, compile_into, GcodeOptions, ToolpathSink};
@@ -226,4 +226,25 @@ proptest! {
             }
         }
     }
+}
+
+#[test]
+fn a_path_tolerance_finer_than_the_smallest_is_refused_at_its_word() {
+    // 1e-201 would make the planner cut an arc into pieces without bound.
+    let tiny = format!("G21 F100 G64 P0.{}1 G1 X1\n", "0".repeat(200));
+    assert_eq!(errors(&tiny), [("bad_value", 1, 14)]);
+    assert_eq!(
+        errors("G20 F100\nG1 X1\nG64 P0.0000009\n"),
+        [("bad_value", 3, 5)]
+    );
+    // The smallest is accepted, in either unit; P0 is plain G64.
+    assert_eq!(
+        ok("G21 F100 G64 P0.000001 G1 X1\n").path_tolerance,
+        Some(1e-6)
+    );
+    assert_eq!(
+        ok("G20 F100 G64 P0.000001 G1 X1\n").path_tolerance,
+        Some(1e-6)
+    );
+    assert_eq!(ok("G21 F100 G64 P0 G1 X1\n").path_tolerance, None);
 }

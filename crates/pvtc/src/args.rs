@@ -149,7 +149,7 @@ pub struct PipelineArgs {
     /// Path planner: round a corner between two lines within this distance, program
     /// units, without stopping (without --machine too, at the feed) [default: corners
     /// blend within the path tolerance with --machine, and stop without it].
-    #[arg(long = "corner-tolerance", value_name = "T", value_parser = positive_number)]
+    #[arg(long = "corner-tolerance", value_name = "T", value_parser = tolerance_number)]
     pub corner_tolerance: Option<f64>,
     /// Fixed time per piece for pt/chord-forward/chord-back/const-accel/spline/lspb, e.g. 5ms;
     /// default: time = distance / feed.
@@ -180,8 +180,8 @@ pub struct PipelineArgs {
     pub rapid: Option<f64>,
     /// Path tolerance: the farthest the motion may be from the programmed geometry (path
     /// planner; a program's G64 P overrides it), or the chord tolerance of arcs and curves
-    /// (other planners), program units [default: 0.001 mm].
-    #[arg(long, value_name = "T", value_parser = positive_number)]
+    /// (other planners), program units, at least 0.000001 [default: 0.001 mm].
+    #[arg(long, value_name = "T", value_parser = tolerance_number)]
     pub tolerance: Option<f64>,
     /// DXF: cut only this layer (repeatable; default every layer).
     #[arg(long = "layer", value_name = "NAME")]
@@ -760,6 +760,18 @@ fn positive_number(text: &str) -> Result<f64, String> {
         Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
         Ok(_) => Err("must be a finite number greater than zero".into()),
         Err(e) => Err(e.to_string()),
+    }
+}
+
+/// `--tolerance`, `--corner-tolerance`: a finite number of at least
+/// [`pvt_core::defaults::SMALLEST_TOLERANCE`] program units.
+fn tolerance_number(text: &str) -> Result<f64, String> {
+    let smallest = pvt_core::defaults::SMALLEST_TOLERANCE;
+    match positive_number(text)? {
+        x if x >= smallest => Ok(x),
+        _ => Err(format!(
+            "must be at least {smallest} (program units): pvtc plans to no finer tolerance"
+        )),
     }
 }
 

@@ -1801,3 +1801,17 @@ fn an_inch_program_and_its_mm_twin_take_the_same_time_as_pmac_text() {
         "inch {inch_ms} ms, mm {mm_ms} ms"
     );
 }
+
+#[test]
+fn a_tolerance_finer_than_the_smallest_is_a_usage_error() {
+    let ngc = "samples/gcode/an208_octagon.ngc";
+    for option in ["--tolerance", "--corner-tolerance"] {
+        let o = pvtc(&["compile", ngc, option, "1e-200", "-o", "-"], None);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{option}: {err}");
+        assert!(err.contains("must be at least 0.000001"), "{option}: {err}");
+        assert!(o.stdout.is_empty(), "{option}");
+        let o = pvtc(&["compile", ngc, option, "0.000001", "-o", "-"], None);
+        assert!(o.status.success(), "{option}: {}", stderr(&o));
+    }
+}

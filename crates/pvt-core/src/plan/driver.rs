@@ -72,6 +72,14 @@ pub(crate) fn plan_buffered(
 
 /// Rejects options that are out of range or that the chosen planner cannot honour.
 pub fn check_options(options: &PlanOptions) -> Result<(), PlanError> {
+    // The path tolerance is the caller's share of these (a drawing's curves take the
+    // rest), so only the two given tolerances are held to the smallest.
+    let tolerances = [Some(options.tolerance.get()), options.corner_tolerance];
+    for tolerance in tolerances.into_iter().flatten() {
+        if !(tolerance.is_finite() && tolerance >= crate::defaults::SMALLEST_TOLERANCE) {
+            return Err(PlanError::BadTolerance { tolerance });
+        }
+    }
     if let Some(q) = options.quantize {
         if !(q.is_finite() && q > 0.0) {
             return Err(PlanError::BadQuantum { seconds: q });
@@ -264,3 +272,30 @@ fn append(into: &mut PvtContour, from: &PvtContour) {
 #[cfg(test)]
 #[path = "planner_tests.rs"]
 mod planner_tests;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_tolerance_finer_than_the_smallest_is_refused() {
+        let smallest = crate::defaults::SMALLEST_TOLERANCE;
+        let with = |tolerance: f64, corner: Option<f64>| PlanOptions {
+            tolerance: crate::discretize::ChordTolerance::new(tolerance).unwrap(),
+            corner_tolerance: corner,
+            ..PlanOptions::default()
+        };
+        assert_eq!(check_options(&with(smallest, Some(smallest))), Ok(()));
+        let fine = smallest * 0.999;
+        for options in [
+            with(fine, None),
+            with(0.001, Some(fine)),
+            with(1e-200, None),
+        ] {
+            assert!(matches!(
+                check_options(&options),
+                Err(PlanError::BadTolerance { .. })
+            ));
+        }
+    }
+}

@@ -42,6 +42,12 @@ pub enum PlanError {
         /// The offending quantum, seconds.
         seconds: f64,
     },
+    /// A tolerance below [`crate::defaults::SMALLEST_TOLERANCE`] or not finite.
+    #[error("tolerance {tolerance} must be finite and at least 0.000001 (program units)")]
+    BadTolerance {
+        /// The offending tolerance, program units.
+        tolerance: f64,
+    },
     /// A given segment time is zero, negative or not finite.
     #[error(
         "segment ending on line {line} takes {duration} s; a time must be finite and positive"
@@ -89,6 +95,7 @@ impl PlanError {
             PlanError::BadAccel { .. } => "pvtc::plan::bad_accel",
             PlanError::BadTimeSlice { .. } => "pvtc::plan::bad_time_slice",
             PlanError::BadQuantum { .. } => "pvtc::plan::bad_quantum",
+            PlanError::BadTolerance { .. } => "pvtc::plan::bad_tolerance",
             PlanError::BadDuration { .. } => "pvtc::plan::bad_duration",
             PlanError::NotAtRest { .. } => "pvtc::plan::not_at_rest",
             PlanError::BadShape => "pvtc::plan::bad_shape",
