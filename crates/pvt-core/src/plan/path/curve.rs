@@ -100,13 +100,12 @@ impl Curve {
                 return;
             }
         }
-        if let Some(curve) = Curve::whole(element, axes) {
-            out.push(curve);
-        }
+        Curve::push_whole(element, axes, out);
     }
 
-    /// The curve of a line or arc (a Bézier off the projected axes: its chord).
-    fn whole(element: &Element, axes: &[Axis]) -> Option<Curve> {
+    /// Appends the curve of a line or arc (a Bézier off the projected axes: its chord)
+    /// to `out`, none when it does not move: built where it lies (a curve is large).
+    fn push_whole(element: &Element, axes: &[Axis], out: &mut Vec<Curve>) {
         let start = Vector::from_fn(axes.len(), |i| element.start[axes[i].index()]);
         let end = Vector::from_fn(axes.len(), |i| element.end[axes[i].index()]);
         let shape = match element.kind {
@@ -121,15 +120,17 @@ impl Curve {
                 (Shape::Line { unit }, length)
             }
         };
-        (span.is_finite() && span > 0.0).then_some(Curve {
-            start,
-            end,
-            span,
-            feed: element.feed,
-            line: element.span.line,
-            fit: 0.0,
-            shape,
-        })
+        if span.is_finite() && span > 0.0 {
+            out.push(Curve {
+                start,
+                end,
+                span,
+                feed: element.feed,
+                line: element.span.line,
+                fit: 0.0,
+                shape,
+            });
+        }
     }
 
     /// True for a straight line.
@@ -448,7 +449,7 @@ fn bezier_parts(element: &Element, bezier: &Bezier, axes: &[Axis]) -> Option<Vec
             .iter()
             .any(|r| r.is_nan() || *r <= 1e-9 * scale);
         if cusp || !(scale > 0.0 && scale.is_finite()) {
-            out.extend(Curve::whole(&part, axes));
+            Curve::push_whole(&part, axes, &mut out);
             continue;
         }
         let mut linear_rate = Vector::from_fn(axes.len(), |i| {

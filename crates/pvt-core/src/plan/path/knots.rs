@@ -84,8 +84,9 @@ pub(super) struct Junction {
     pub tangents: [Vector; 2],
     /// Under a jerk limit, between a line and a tangent circle: the curvature
     /// transition that replaces a short stretch of each (see [`super::transition`]).
-    /// Its knots are marked as a corner blend's are ([`Knot::blend`]).
-    pub transition: Option<Transition>,
+    /// Its knots are marked as a corner blend's are ([`Knot::blend`]). Boxed: it is
+    /// large and rare, and every junction is built and moved, with one or without.
+    pub transition: Option<Box<Transition>>,
 }
 
 impl Junction {
@@ -151,6 +152,8 @@ pub(super) struct Knots {
 pub(super) struct Scratch {
     ways: Vec<PieceWay>,
     errors: Vec<f64>,
+    /// Each knot's known path ahead ([`Knots::known_ahead`]).
+    ahead: Vec<f64>,
     /// The speeds of the knots the last round's pieces were made from (empty: none to
     /// take over), for [`Knots::pieces_again`].
     pub(super) made_at: Vec<f64>,
@@ -757,16 +760,17 @@ impl Knots {
     /// Distance from every knot to the start of the window's last element (0 on it):
     /// what is known to lie ahead of each knot, since the last element's end, and with
     /// it how the last element is left, depends on elements not yet read.
-    fn known_ahead(&self, curves: &[Curve]) -> Vec<f64> {
+    /// Written into `ahead`, whose storage the window's scratch keeps.
+    fn known_ahead(&self, curves: &[Curve], ahead: &mut Vec<f64>) {
         let n = self.knots.len();
         let last = &curves[curves.len() - 1];
         let unknown = last.length(0.0, last.span);
-        let mut ahead = vec![0.0; n];
+        ahead.clear();
+        ahead.resize(n, 0.0);
         for k in (0..n - 1).rev() {
             ahead[k] = ahead[k + 1] + self.piece_length(curves, k);
         }
         ahead.iter_mut().for_each(|d| *d = (*d - unknown).max(0.0));
-        ahead
     }
 
     /// Caps every knot (but the fixed start) at the speed from which the least
@@ -774,12 +778,14 @@ impl Knots {
     /// elements after the window ask, a window cut at any knot can still meet it.
     /// (Under a jerk limit the window is cut at [`Knots::stop_horizon`] instead.)
     pub fn cap_for_window(&mut self, curves: &[Curve], least: f64) {
-        let ahead = self.known_ahead(curves);
-        for (knot, d) in self.knots.iter_mut().zip(ahead) {
+        let mut ahead = std::mem::take(&mut self.scratch.ahead);
+        self.known_ahead(curves, &mut ahead);
+        for (knot, &d) in self.knots.iter_mut().zip(&ahead) {
             if !knot.fixed {
                 knot.cap = knot.cap.min((2.0 * least * d).sqrt());
             }
         }
+        self.scratch.ahead = ahead;
     }
 
     /// The index of the last knot that ends a piece on known path (before the window's
@@ -921,15 +927,18 @@ impl Knots {
     /// after it (see [`Knots::known_ahead`]; never a knot that starts a corner blend, never
     /// one on the last element), and never earlier than half the knots; `None` when there
     /// is none.
-    pub fn cut(&self, curves: &[Curve], keep: f64) -> Option<usize> {
+    pub fn cut(&mut self, curves: &[Curve], keep: f64) -> Option<usize> {
         let n = self.knots.len();
         let last = curves.len() - 1;
-        let ahead = self.known_ahead(curves);
-        (1..n - 1).rev().find(|&k| {
+        let mut ahead = std::mem::take(&mut self.scratch.ahead);
+        self.known_ahead(curves, &mut ahead);
+        let cut = (1..n - 1).rev().find(|&k| {
             let knot = &self.knots[k];
             let cuttable = knot.blend.is_none() && knot.after.element < last;
             cuttable && (ahead[k] >= keep || k <= n / 2)
-        })
+        });
+        self.scratch.ahead = ahead;
+        cut
     }
 
     /// True when knot `k` lies inside a line, the pieces beside it on that line, at least
@@ -1178,7 +1187,7 @@ fn junction(
         if let Some(t) = super::transition::transition(a, b, tolerance) {
             junction.cap = junction.cap.min(t.cap(bounds));
             junction.tolerance = tolerance;
-            junction.transition = Some(t);
+            junction.transition = Some(Box::new(t));
             return keep(junction, out);
         }
     }
@@ -1213,8 +1222,10 @@ fn junction(
         junction.cap = junction.cap.min(cap);
         return keep(junction, out);
     }
-    let zones = [zone(a, &junction, tolerance), zone(b, &junction, tolerance)];
-    junction.cap = junction.cap.min(through_cap(&junction, zones, bounds));
+    if bounds.limits_speed() {
+        let zones = [zone(a, &junction, tolerance), zone(b, &junction, tolerance)];
+        junction.cap = junction.cap.min(through_cap(&junction, zones, bounds));
+    }
     keep(junction, out)
 }
 
@@ -1268,6 +1279,10 @@ fn zone(c: &Curve, j: &Junction, tolerance: f64) -> f64 {
 fn through_cap(j: &Junction, zones: [f64; 2], bounds: &AxisBounds) -> f64 {
     let mut cap = f64::INFINITY;
     for i in 0..j.direction.len() {
+        if bounds.velocity[i] == f64::INFINITY && bounds.acceleration[i] == f64::INFINITY {
+            // No limit on the axis: every quotient below is infinite (or NaN), no cap.
+            continue;
+        }
         if j.direction[i] != 0.0 {
             cap = cap.min(bounds.velocity[i] / j.direction[i].abs());
         }

@@ -425,6 +425,7 @@ pub(super) struct Vector {
 
 impl Vector {
     /// `len` zeros (at most [`AXIS_COUNT`](crate::axis::AXIS_COUNT)).
+    #[inline]
     pub fn zeros(len: usize) -> Vector {
         debug_assert!(len <= crate::axis::AXIS_COUNT, "{len} axes");
         Vector {
@@ -433,10 +434,14 @@ impl Vector {
         }
     }
 
-    /// `f(0), …, f(len − 1)`.
+    /// `f(0), …, f(len − 1)`, in that order (inlined: the planner makes several for
+    /// every element, each a loop of a few axes).
+    #[inline]
     pub fn from_fn(len: usize, mut f: impl FnMut(usize) -> f64) -> Vector {
         let mut v = Vector::zeros(len);
-        v.iter_mut().enumerate().for_each(|(i, x)| *x = f(i));
+        for (i, x) in v.values[..v.len].iter_mut().enumerate() {
+            *x = f(i);
+        }
         v
     }
 }
@@ -515,6 +520,15 @@ impl AxisBounds {
             resolution: options.quantum.map_or(0.0, |_| options.position_resolution),
             quantum: options.quantum.map_or(0.0, |q| q.seconds),
         }
+    }
+
+    /// True when some axis has a velocity or an acceleration limit: without one, no
+    /// axis caps a junction's speed (every quotient of [`knots`]' caps is infinite).
+    fn limits_speed(&self) -> bool {
+        self.velocity
+            .iter()
+            .chain(&self.acceleration)
+            .any(|&l| l != f64::INFINITY)
     }
 
     fn accelerates(&self) -> bool {
@@ -731,7 +745,7 @@ impl PathStream {
             knots.knots.len() - 1
         } else {
             let cut = if bounds.jerk_mode() {
-                jerk_cut(&knots, curves, &pieces, bounds, self.may_grow())
+                jerk_cut(&mut knots, curves, &pieces, bounds, self.may_grow())
             } else {
                 knots.cut(curves, self.stopping_distance())
             };
@@ -1188,7 +1202,7 @@ fn grid_window(
                 (knots.knots.len() - 1, false)
             } else {
                 let k = if bounds.jerk_mode() {
-                    jerk_horizon(&knots, curves, &slowest, grow)
+                    jerk_horizon(&mut knots, curves, &slowest, grow)
                 } else {
                     knots.cut(curves, keep)
                 };
@@ -1352,7 +1366,12 @@ fn grid_cut(
 /// emit little of it) and `grow` allows; without `grow` (the window at its largest,
 /// [`JERK_WINDOW_GROWTH`]), [`Knots::cut`]'s knot with the closed-form stop
 /// [`scurve_stop`] after it: slower there than the whole contour, never wrong.
-fn jerk_horizon(knots: &Knots, curves: &[Curve], bounds: &AxisBounds, grow: bool) -> Option<usize> {
+fn jerk_horizon(
+    knots: &mut Knots,
+    curves: &[Curve],
+    bounds: &AxisBounds,
+    grow: bool,
+) -> Option<usize> {
     match knots.stop_horizon(curves, bounds) {
         Some(k) if !grow || 2 * k >= knots.knots.len() => Some(k),
         _ if grow => None,
@@ -1372,7 +1391,7 @@ fn jerk_horizon(knots: &Knots, curves: &[Curve], bounds: &AxisBounds, grow: bool
 /// other half (it is checked against rest, as a contour's start is), so the step where
 /// they meet is within the bound. `None` when there is no such knot.
 fn jerk_cut(
-    knots: &Knots,
+    knots: &mut Knots,
     curves: &[Curve],
     pieces: &[piece::Piece],
     bounds: &AxisBounds,
