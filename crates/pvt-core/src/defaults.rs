@@ -2,7 +2,7 @@
 //!
 //! Owns the numbers used when neither the command line, a machine file nor the program
 //! gives a value: the rapid rate, the tolerances, the DXF join tolerance and point limit,
-//! the servo period `check` samples at, and the smallest tolerance planned to. Front ends, the planners and the CLI refer to
+//! the servo period `check` samples at. Front ends, the planners and the CLI refer to
 //! these constants and never write the numbers again (`tests/tidy.rs` checks the rapid
 //! rate). Beside the constants it holds the resolutions that depend on a program's units
 //! ([`rapid_per_minute`], [`tolerance`]), one function each, which the front ends and
@@ -14,13 +14,6 @@ pub const RAPID_MM_PER_MIN: f64 = 5000.0;
 /// Tolerance, millimetres: the path tolerance of the path planner and the chord
 /// tolerance (largest sagitta) of the others.
 pub const TOLERANCE_MM: f64 = 0.001;
-
-/// Smallest path, chord or corner tolerance pvtc plans to, in the program's units (1 nm
-/// in millimetres, 25.4 nm in inches): a finer one is refused where it is given
-/// (`--tolerance`, `--corner-tolerance`, G64 P), since the pieces of an arc grow without
-/// bound as the tolerance shrinks (G64 P1e-200 would exhaust memory) and no machine
-/// positions finer.
-pub const SMALLEST_TOLERANCE: f64 = 1e-6;
 
 /// G-code arc centre check: absolute radius tolerance, millimetres.
 pub const ARC_ABS_TOLERANCE_MM: f64 = 0.002;

@@ -24,6 +24,13 @@ impl ChordTolerance {
     /// Default, millimetres: [`crate::defaults::TOLERANCE_MM`].
     pub const DEFAULT_MM: f64 = crate::defaults::TOLERANCE_MM;
 
+    /// Smallest path, chord or corner tolerance pvtc plans to, in the program's units
+    /// (1 nm in millimetres, 25.4 nm in inches): a finer one is refused where it is
+    /// given (`--tolerance`, `--corner-tolerance`, G64 P, [`crate::plan::check_options`]),
+    /// since the pieces of an arc grow without bound as the tolerance shrinks (G64
+    /// P1e-201 exhausted memory) and no machine positions finer.
+    pub const SMALLEST: f64 = 1e-6;
+
     /// A tolerance; `None` unless it is finite and positive.
     pub fn new(value: f64) -> Option<ChordTolerance> {
         (value.is_finite() && value > 0.0).then_some(ChordTolerance(value))

@@ -552,7 +552,7 @@ impl<'a> Interpreter<'a> {
         // G64 P0 is plain G64, as rs274 reads it: no tolerance of its own.
         let p = request.p.filter(|p| p.value != 0.0);
         if let (Some((PathMode::Continuous, _)), Some(p)) = (request.path_mode, p) {
-            if p.value.abs() < pvt_core::defaults::SMALLEST_TOLERANCE {
+            if p.value.abs() < pvt_core::ChordTolerance::SMALLEST {
                 self.push(GcodeDiagnostic::BadValue {
                     word: p.name(),
                     expected:

@@ -764,9 +764,9 @@ fn positive_number(text: &str) -> Result<f64, String> {
 }
 
 /// `--tolerance`, `--corner-tolerance`: a finite number of at least
-/// [`pvt_core::defaults::SMALLEST_TOLERANCE`] program units.
+/// [`pvt_core::ChordTolerance::SMALLEST`] program units.
 fn tolerance_number(text: &str) -> Result<f64, String> {
-    let smallest = pvt_core::defaults::SMALLEST_TOLERANCE;
+    let smallest = pvt_core::ChordTolerance::SMALLEST;
     match positive_number(text)? {
         x if x >= smallest => Ok(x),
         _ => Err(format!(

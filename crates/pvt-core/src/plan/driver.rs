@@ -76,7 +76,7 @@ pub fn check_options(options: &PlanOptions) -> Result<(), PlanError> {
     // rest), so only the two given tolerances are held to the smallest.
     let tolerances = [Some(options.tolerance.get()), options.corner_tolerance];
     for tolerance in tolerances.into_iter().flatten() {
-        if !(tolerance.is_finite() && tolerance >= crate::defaults::SMALLEST_TOLERANCE) {
+        if !(tolerance.is_finite() && tolerance >= crate::discretize::ChordTolerance::SMALLEST) {
             return Err(PlanError::BadTolerance { tolerance });
         }
     }
@@ -279,7 +279,7 @@ mod tests {
 
     #[test]
     fn a_tolerance_finer_than_the_smallest_is_refused() {
-        let smallest = crate::defaults::SMALLEST_TOLERANCE;
+        let smallest = crate::discretize::ChordTolerance::SMALLEST;
         let with = |tolerance: f64, corner: Option<f64>| PlanOptions {
             tolerance: crate::discretize::ChordTolerance::new(tolerance).unwrap(),
             corner_tolerance: corner,

@@ -42,7 +42,7 @@ pub enum PlanError {
         /// The offending quantum, seconds.
         seconds: f64,
     },
-    /// A tolerance below [`crate::defaults::SMALLEST_TOLERANCE`] or not finite.
+    /// A tolerance below [`crate::ChordTolerance::SMALLEST`] or not finite.
     #[error("tolerance {tolerance} must be finite and at least 0.000001 (program units)")]
     BadTolerance {
         /// The offending tolerance, program units.
