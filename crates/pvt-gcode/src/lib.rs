@@ -414,9 +414,6 @@ impl<'a> Reader<'a> {
     /// Parses and executes one line of G-code (not a control line); returns false once
     /// the program has ended.
     pub(crate) fn run_line(&mut self, line: SourceLine<'_>) -> bool {
-        if self.ended.is_some() {
-            return false;
-        }
         if self.run_plain_line(line) {
             return true;
         }

@@ -240,22 +240,16 @@ impl Interpreter<'_> {
         if self.modal.feed_mode == FeedMode::InverseTime {
             return self.inverse_time_rate(request, block, length());
         }
-        // The F number is read in the units in force when the move runs, as rs274 reads
-        // it: `G20 F20` then `G21 G1 X100` feeds at 20 mm/min.
-        let per_minute = match (self.feed, self.options.default_feed) {
-            (Some(feed), _) => feed.written * self.scale(),
-            (None, Some(default)) => default,
-            (None, None) => {
-                if !self.feed_reported {
-                    self.feed_reported = true;
-                    let at = move_span(request, block);
-                    self.push(GcodeDiagnostic::NoFeed { span: span(at) });
-                }
-                return None;
+        let Some(per_minute) = self.feed_per_minute(self.feed) else {
+            if !self.feed_reported {
+                self.feed_reported = true;
+                let at = move_span(request, block);
+                self.push(GcodeDiagnostic::NoFeed { span: span(at) });
             }
+            return None;
         };
-        if per_minute > 0.0 && per_minute.is_finite() {
-            return Some(per_minute / 60.0);
+        if let Some(rate) = feed_per_second(per_minute) {
+            return Some(rate);
         }
         if !self.feed_reported {
             self.feed_reported = true;
@@ -272,6 +266,17 @@ impl Interpreter<'_> {
             });
         }
         None
+    }
+
+    /// The feed of a G94 move at `feed` (the F in force), output units per minute: its
+    /// number read in the units in force when the move runs, as rs274 reads it (`G20 F20`
+    /// then `G21 G1 X100` feeds at 20 mm/min), else the default feed; `None` without
+    /// either. Plain lines ([`super::plain`]) take it from here too.
+    pub(super) fn feed_per_minute(&self, feed: Option<Feed>) -> Option<f64> {
+        match (feed, self.options.default_feed) {
+            (Some(feed), _) => Some(feed.written * self.scale()),
+            (None, default) => default,
+        }
     }
 
     /// G93: the block's F is 1 / the minutes the move takes.
@@ -800,4 +805,10 @@ fn arc_length(arc: &Arc, start: &Position, end: &Position) -> f64 {
         .map(|i| (end[i] - start[i]) * (end[i] - start[i]))
         .sum();
     (in_plane * in_plane + others).sqrt()
+}
+
+/// A feed of `per_minute`, units per second; `None` when it is not positive and finite
+/// (`pvtc::gcode::zero_feed`).
+pub(super) fn feed_per_second(per_minute: f64) -> Option<f64> {
+    (per_minute > 0.0 && per_minute.is_finite()).then(|| per_minute / 60.0)
 }

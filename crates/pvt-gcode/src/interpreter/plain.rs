@@ -87,17 +87,10 @@ impl Interpreter<'_> {
         }
         let (motion, rate) = match mode {
             MotionMode::Rapid => (Motion::Rapid, self.rapid_rate()),
-            _ => {
-                let per_minute = match (feed, self.options.default_feed) {
-                    (Some(feed), _) => feed.written * self.scale(),
-                    (None, Some(default)) => default,
-                    (None, None) => return None,
-                };
-                if !(per_minute > 0.0 && per_minute.is_finite()) {
-                    return None;
-                }
-                (Motion::Feed, per_minute / 60.0)
-            }
+            _ => (
+                Motion::Feed,
+                super::motion::feed_per_second(self.feed_per_minute(feed)?)?,
+            ),
         };
         let start = self.tool_start();
         (end != start).then_some((motion, start, end, rate))
