@@ -829,10 +829,10 @@ impl PathStream {
                 return Ok(());
             }
         };
-        let worst = w.pieces.iter().map(|p| p.error).fold(0.0, f64::max);
+        let worst = w.pieces.errors().fold(0.0, f64::max);
         self.report.error_bound = self.report.error_bound.max(worst);
         self.report.speed_change = self.report.speed_change.max(w.speed_change);
-        w.knots.emit(&self.curves, &w.pieces, w.count, emit);
+        w.pieces.emit(&w.knots, &self.curves, w.count, emit);
         self.streamed = true;
         self.grid_share = w.share;
         if !last {
@@ -865,7 +865,7 @@ impl PathStream {
         if bounds.jerk_mode() {
             if let Some((k, r)) = resample(f64::INFINITY) {
                 *knots = k;
-                return Ok((r.speed_change, r.pieces));
+                return Ok((r.speed_change, r.pieces.to_pieces()));
             }
         }
         // The stretched grid's pieces and speed change (its plan dropped before the
@@ -887,7 +887,7 @@ impl PathStream {
         match (resample(bar), grid) {
             (Some((k, r)), _) => {
                 *knots = k;
-                Ok((r.speed_change, r.pieces))
+                Ok((r.speed_change, r.pieces.to_pieces()))
             }
             (None, Some(g)) => Ok(g),
             (None, None) => Err(not_met),
@@ -1079,7 +1079,7 @@ fn resample_contour(
             &mut scratch,
         );
         if let Some(r) = r {
-            bar = r.pieces.iter().map(|p| p.duration).sum();
+            bar = r.pieces.durations().sum();
             best = Some((knots, r));
         }
     }
@@ -1100,7 +1100,7 @@ enum Window {
 /// `count` on the grid (at the contour's end, all of them).
 struct GridWindow {
     knots: Knots,
-    pieces: Vec<piece::Piece>,
+    pieces: resample::GridPieces,
     count: usize,
     speed_change: f64,
     /// The index of the share of [`resample::Shares`] it converged at.
