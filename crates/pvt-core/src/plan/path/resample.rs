@@ -166,10 +166,8 @@ pub(super) struct Scratch {
     /// the next round's, which reuses the last's on the same intervals.
     done: GridPieces,
     next: GridPieces,
-    /// Grid intervals still to resample, latest first.
+    /// Parts of a grid interval still to resample, latest first.
     todo: Vec<(u64, u64)>,
-    /// Each resampled piece's speed at mid-time and the plan's at the same point.
-    speeds: Vec<(f64, f64)>,
 }
 
 impl Scratch {
@@ -276,6 +274,15 @@ impl GridPieces {
         self.ends.iter().map(|e| e.error)
     }
 
+    /// The largest error bound of the pieces before the first from knot `count` on.
+    pub fn worst_before(&self, count: usize) -> f64 {
+        self.ends
+            .iter()
+            .take_while(|e| e.knot < count)
+            .map(|e| e.error)
+            .fold(0.0, f64::max)
+    }
+
     /// Piece `i`'s end position and velocity.
     fn end_state(&self, i: usize) -> (&[f64], &[f64]) {
         self.state(i + 1)
@@ -308,11 +315,6 @@ impl GridPieces {
             knot: e.knot,
             part: None,
         }
-    }
-
-    /// Every piece whole.
-    pub fn to_pieces(&self) -> Vec<Piece> {
-        (0..self.len()).map(|i| self.piece(i)).collect()
     }
 
     /// Emits the pieces of `knots`' knots before knot `count`, in order (as
@@ -553,28 +555,22 @@ pub(super) fn resample(
     limits: &Limits<'_>,
     quantum: Quantum,
     bar: f64,
-    mut planned: Vec<Piece>,
+    planned: &mut Vec<Piece>,
     scratch: &mut Scratch,
 ) -> Option<Resampled> {
     let q = quantum.seconds;
     for _ in 0..limits.rounds {
-        if quanta_time(grid_count(&planned, q), q) >= bar - 0.5 * q {
+        if quanta_time(grid_count(planned, q), q) >= bar - 0.5 * q {
             return None;
         }
         let bounds = limits.bounds;
-        match resample_once(knots, bounds, limits.tolerances, q, &planned, true, scratch) {
+        match resample_once(knots, bounds, limits.tolerances, q, planned, true, scratch) {
             Ok(resampled) => return Some(resampled),
             Err(slow) => {
                 for (knot_range, factor) in slow {
                     knots.slow_knots(knot_range, factor);
                 }
-                if !settle_into(
-                    knots,
-                    curves,
-                    limits.planning,
-                    limits.tolerance,
-                    &mut planned,
-                ) {
+                if !settle_into(knots, curves, limits.planning, limits.tolerance, planned) {
                     return None;
                 }
             }
@@ -611,7 +607,6 @@ pub(super) fn resample_once(
         done,
         next,
         todo,
-        speeds,
         ..
     } = scratch;
     let total: f64 = planned.iter().map(|p| p.duration).sum();
@@ -693,7 +688,7 @@ pub(super) fn resample_once(
         }
     }
     debug_assert!(done.is_whole(grid), "the pieces cover the grid");
-    let speed_change = speed_change(&motion, done, speeds);
+    let speed_change = speed_change(&motion, done);
     Ok(Resampled {
         pieces: std::mem::take(done),
         speed_change,
@@ -703,7 +698,7 @@ pub(super) fn resample_once(
 /// Into `pieces`, the pieces of every interval of `grid` (reusing those of `done` on the
 /// same interval), each over the tolerance split at its middle, with their intervals; the
 /// planned knot ranges to slow and by what factor (none when every piece is in).
-/// `todo` is storage for the intervals still to resample.
+/// `todo` is storage for the parts of one grid interval still to resample.
 #[allow(clippy::too_many_arguments, clippy::type_complexity)]
 fn resample_grid(
     knots: &Knots,
@@ -719,50 +714,57 @@ fn resample_grid(
     pieces.clear();
     let mut slow = Vec::new();
     let mut reuse = done.ends.iter().map(|e| e.interval).enumerate().peekable();
-    // Intervals still to resample, latest first.
-    todo.clear();
-    todo.extend(grid.windows(2).rev().map(|w| (w[0], w[1])));
-    while let Some((a, b)) = todo.pop() {
-        while reuse.next_if(|d| d.1 .0 < a).is_some() {}
-        if let Some(&(i, _)) = reuse.peek().filter(|d| d.1 == (a, b)) {
-            pieces.push_from(done, i);
-            continue;
-        }
-        match interval(knots, bounds, tolerances, q, motion, (a, b), last) {
-            Ok(piece) => pieces.push((a, b), &piece),
-            Err(Over::Tolerance) if b - a >= 2 => {
-                let mid = a + (b - a) / 2;
-                todo.push((mid, b));
-                todo.push((a, mid));
+    for w in grid.windows(2) {
+        // The parts of this interval still to resample, latest first: a part over the
+        // tolerance is split in two, each resampled before the next interval.
+        todo.clear();
+        todo.push((w[0], w[1]));
+        while let Some((a, b)) = todo.pop() {
+            while reuse.next_if(|d| d.1 .0 < a).is_some() {}
+            if let Some(&(i, _)) = reuse.peek().filter(|d| d.1 == (a, b)) {
+                pieces.push_from(done, i);
+                continue;
             }
-            Err(Over::Tolerance) => slow.push((covered(motion, a, b, q), 0.9)),
-            Err(Over::Limit(factor)) => slow.push((covered(motion, a, b, q), factor)),
+            match interval(knots, bounds, tolerances, q, motion, (a, b), last) {
+                Ok(piece) => pieces.push((a, b), &piece),
+                Err(Over::Tolerance) if b - a >= 2 => {
+                    let mid = a + (b - a) / 2;
+                    todo.push((mid, b));
+                    todo.push((a, mid));
+                }
+                Err(Over::Tolerance) => slow.push((covered(motion, a, b, q), 0.9)),
+                Err(Over::Limit(factor)) => slow.push((covered(motion, a, b, q), factor)),
+            }
         }
     }
     slow
 }
 
 /// Each piece's speed at mid-time against the plan's at the same point of the path: the
-/// largest relative change where the plan moves at 1 % of its fastest or more. `speeds`
-/// is storage for both speeds of every piece.
-fn speed_change(motion: &Motion<'_>, pieces: &GridPieces, speeds: &mut Vec<(f64, f64)>) -> f64 {
-    let mut start = 0.0;
-    speeds.clear();
-    speeds.extend((0..pieces.len()).map(|i| {
-        let p = pieces.piece(i);
-        let mid = start + 0.5 * p.duration;
-        start += p.duration;
-        let (i, u) = motion.locate(mid);
-        let dim = p.start.len();
-        let plan = Vector::from_fn(dim, |a| motion.axis_state(i, a, u).velocity * motion.scale);
-        let now = Vector::from_fn(dim, |a| p.cubic(a).at(0.5 * p.duration).velocity);
-        (crate::vector::norm(&plan), crate::vector::norm(&now))
-    }));
-    let fastest = speeds.iter().fold(0.0_f64, |m, s| m.max(s.0));
-    speeds
-        .iter()
-        .filter(|(before, _)| *before > 0.01 * fastest)
-        .map(|(before, now)| (now - before).abs() / before)
+/// largest relative change where the plan moves at 1 % of its fastest or more. Two
+/// passes over the pieces (the first finds the fastest), so that no speed is stored.
+fn speed_change(motion: &Motion<'_>, pieces: &GridPieces) -> f64 {
+    // The plan's speed at each piece's mid-time, with the piece.
+    let plan_speeds = || {
+        let mut start = 0.0;
+        (0..pieces.len()).map(move |i| {
+            let duration = pieces.ends[i].duration;
+            let mid = start + 0.5 * duration;
+            start += duration;
+            let (k, u) = motion.locate(mid);
+            let dim = pieces.dim;
+            let plan = Vector::from_fn(dim, |a| motion.axis_state(k, a, u).velocity * motion.scale);
+            (i, crate::vector::norm(&plan))
+        })
+    };
+    let fastest = plan_speeds().fold(0.0_f64, |m, (_, s)| m.max(s));
+    plan_speeds()
+        .filter(|&(_, before)| before > 0.01 * fastest)
+        .map(|(i, before)| {
+            let p = pieces.piece(i);
+            let now = Vector::from_fn(p.start.len(), |a| p.cubic(a).at(0.5 * p.duration).velocity);
+            (crate::vector::norm(&now) - before).abs() / before
+        })
         .fold(0.0, f64::max)
 }
 
