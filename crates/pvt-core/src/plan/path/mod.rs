@@ -737,9 +737,10 @@ impl PathStream {
             }
         }
         if let Some(quantum) = self.options.quantum {
-            let (change, chosen) = self.on_quantum_grid(&mut knots, pieces, quantum)?;
-            self.report.speed_change = self.report.speed_change.max(change);
-            pieces = chosen;
+            // On a grid a window is planned here at the contour's end only (streamed
+            // windows are [`PathStream::stream_on_grid`]'s).
+            debug_assert!(last, "a window on a grid is streamed");
+            return self.emit_on_grid(knots, pieces, quantum, emit);
         }
         let count = if last {
             knots.knots.len() - 1
@@ -829,10 +830,10 @@ impl PathStream {
                 return Ok(());
             }
         };
-        let worst = w.pieces.iter().map(|p| p.error).fold(0.0, f64::max);
+        let worst = w.pieces.errors().fold(0.0, f64::max);
         self.report.error_bound = self.report.error_bound.max(worst);
         self.report.speed_change = self.report.speed_change.max(w.speed_change);
-        w.knots.emit(&self.curves, &w.pieces, w.count, emit);
+        w.pieces.emit(&w.knots, &self.curves, w.count, emit);
         self.streamed = true;
         self.grid_share = w.share;
         if !last {
@@ -845,27 +846,68 @@ impl PathStream {
         Ok(())
     }
 
+    /// The whole contour's settled `pieces` of `knots` on the grid of `quantum`
+    /// ([`PathStream::on_quantum_grid`]), emitted, with the report's error bound and
+    /// speed change; the storage of the knots and pieces is kept for the next contour.
+    fn emit_on_grid(
+        &mut self,
+        mut knots: Knots,
+        pieces: Vec<piece::Piece>,
+        quantum: Quantum,
+        emit: &mut dyn FnMut(&SegmentRef<'_>),
+    ) -> Result<(), PlanError> {
+        let (change, chosen) = self.on_quantum_grid(&mut knots, pieces, quantum)?;
+        self.report.speed_change = self.report.speed_change.max(change);
+        let count = knots.knots.len() - 1;
+        let worst = match &chosen {
+            OnQuantumGrid::Stretched(pieces) => pieces
+                .iter()
+                .take_while(|p| p.knot < count)
+                .map(|p| p.error)
+                .fold(0.0, f64::max),
+            OnQuantumGrid::Resampled(pieces) => pieces.worst_before(count),
+        };
+        self.report.error_bound = self.report.error_bound.max(worst);
+        match chosen {
+            OnQuantumGrid::Stretched(pieces) => {
+                knots.emit(&self.curves, &pieces, count, emit);
+                self.pieces = pieces;
+                self.knot_storage = knots.into_storage();
+            }
+            OnQuantumGrid::Resampled(pieces) => {
+                pieces.emit(&knots, &self.curves, count, emit);
+                self.grid_scratch.give_back(knots, pieces);
+            }
+        }
+        Ok(())
+    }
+
     /// The settled `pieces` of `knots` on the grid of `quantum` (see "Quantization"):
     /// resampled, or stretched piece by piece, whichever is shorter by half a quantum
     /// (the stretched one on a tie). Under a jerk limit the resampled grid is tried first
     /// and the stretched one only where it fails. Returns the speed change and the pieces;
-    /// `knots` become those of the chosen plan.
+    /// `knots` become those of the chosen plan. The resampling's plans fill the storage
+    /// of the stream's grid windows.
     fn on_quantum_grid(
-        &self,
+        &mut self,
         knots: &mut Knots,
         pieces: Vec<piece::Piece>,
         quantum: Quantum,
-    ) -> Result<(f64, Vec<piece::Piece>), PlanError> {
+    ) -> Result<(f64, OnQuantumGrid), PlanError> {
         let (curves, bounds, tolerance) = (&self.curves, &self.bounds, self.options.tolerance);
         let not_met = PlanError::PathNotMet {
             line: curves[0].line,
         };
-        let resample =
-            |bar| resample_contour(curves, bounds, &self.options, &self.start, quantum, bar);
+        let scratch = &mut self.grid_scratch;
+        let (options, start) = (&self.options, &self.start);
+        let mut resample = |bar| {
+            let r = resample_contour(curves, bounds, options, start, quantum, bar, scratch);
+            r.map(|(k, r)| (k, r.speed_change, OnQuantumGrid::Resampled(r.pieces)))
+        };
         if bounds.jerk_mode() {
-            if let Some((k, r)) = resample(f64::INFINITY) {
+            if let Some((k, change, r)) = resample(f64::INFINITY) {
                 *knots = k;
-                return Ok((r.speed_change, r.pieces));
+                return Ok((change, r));
             }
         }
         // The stretched grid's pieces and speed change (its plan dropped before the
@@ -877,7 +919,9 @@ impl PathStream {
             )
         });
         if bounds.jerk_mode() {
-            return grid.ok_or(not_met);
+            return grid
+                .map(|(change, g)| (change, OnQuantumGrid::Stretched(g)))
+                .ok_or(not_met);
         }
         // The resampled grid where it is faster by at least half a quantum (both
         // totals are whole quanta), else the stretched one.
@@ -885,11 +929,11 @@ impl PathStream {
             g.iter().map(|p| p.duration).sum::<f64>()
         });
         match (resample(bar), grid) {
-            (Some((k, r)), _) => {
+            (Some((k, change, r)), _) => {
                 *knots = k;
-                Ok((r.speed_change, r.pieces))
+                Ok((change, r))
             }
-            (None, Some(g)) => Ok(g),
+            (None, Some((change, g))) => Ok((change, OnQuantumGrid::Stretched(g))),
             (None, None) => Err(not_met),
         }
     }
@@ -962,19 +1006,9 @@ pub fn plan_path(
 }
 
 /// Plans speeds, splits pieces over the tolerance and slows pieces over a limit until
-/// none is; the final pieces, or `None` after [`MAX_ROUNDS`].
-fn settle(
-    knots: &mut Knots,
-    curves: &[Curve],
-    bounds: &AxisBounds,
-    tolerance: f64,
-) -> Option<Vec<piece::Piece>> {
-    let mut pieces = Vec::new();
-    settle_into(knots, curves, bounds, tolerance, &mut pieces).then_some(pieces)
-}
-
-/// [`settle`] into `pieces`, whose storage every round reuses (and the next window, where
-/// the stream keeps it); false after [`MAX_ROUNDS`].
+/// none is, into `pieces`, whose storage every round reuses (and the next window, where
+/// the stream keeps it); false after [`MAX_ROUNDS`]. (The pieces follow from the
+/// knots alone: `pieces` may hold anything before.)
 fn settle_into(
     knots: &mut Knots,
     curves: &[Curve],
@@ -995,6 +1029,12 @@ fn settle_into(
         return true;
     }
     false
+}
+
+/// A whole contour on the grid: its pieces stretched to whole quanta, or resampled.
+enum OnQuantumGrid {
+    Stretched(Vec<piece::Piece>),
+    Resampled(resample::GridPieces),
 }
 
 /// The planned pieces and the same on the grid.
@@ -1022,7 +1062,9 @@ fn on_grid(
         if !changed {
             return Some(OnGrid { planned, grid });
         }
-        planned = settle(knots, curves, bounds, tolerance)?;
+        if !settle_into(knots, curves, bounds, tolerance, &mut planned) {
+            return None;
+        }
     }
     None
 }
@@ -1030,7 +1072,9 @@ fn on_grid(
 /// The contour planned at [`resample::RESAMPLE_SHARE`] of the tolerances and at each of
 /// [`resample::ACCELERATION_SHARES`] of the acceleration limits in turn, resampled onto
 /// the grid of `quantum` (see "Quantization"): the last that is shorter in total time
-/// than `bar` and every one before by at least half a quantum, or `None`.
+/// than `bar` and every one before by at least half a quantum, or `None`. The plans
+/// fill `scratch`'s storage (the resampled pieces of a beaten one go back to it).
+#[allow(clippy::too_many_arguments)]
 fn resample_contour(
     curves: &[Curve],
     bounds: &AxisBounds,
@@ -1038,6 +1082,7 @@ fn resample_contour(
     start: &Start,
     quantum: Quantum,
     mut bar: f64,
+    scratch: &mut resample::Scratch,
 ) -> Option<(Knots, resample::Resampled)> {
     let shares = resample::Shares::new(bounds, quantum.seconds);
     let share = shares.tolerance;
@@ -1047,40 +1092,45 @@ fn resample_contour(
         path: options.tolerance,
         corner: options.corner_tolerance.unwrap_or(options.tolerance),
     };
-    let mut best = None;
-    let mut scratch = resample::Scratch::default();
+    let mut best: Option<(Knots, resample::Resampled)> = None;
     for try_ in shares.tries {
         let planning = try_.planning(bounds, quantum.seconds);
-        let storage = KnotStorage::default();
+        let storage = std::mem::take(&mut scratch.knots);
         let mut knots = Knots::new(curves, &planning, tolerance, corner, start, false, storage);
-        let Some(mut planned) = settle(&mut knots, curves, &planning, tolerance) else {
-            continue;
-        };
-        if knots.add_trapezoids(curves, &planning) {
-            let Some(p) = settle(&mut knots, curves, &planning, tolerance) else {
-                continue;
-            };
-            planned = p;
-        }
-        let limits = resample::Limits {
-            planning: &planning,
-            bounds,
-            tolerance,
-            tolerances,
-            rounds: try_.rounds,
-        };
-        let r = resample::resample(
-            &mut knots,
-            curves,
-            &limits,
-            quantum,
-            bar,
-            planned,
-            &mut scratch,
-        );
-        if let Some(r) = r {
-            bar = r.pieces.iter().map(|p| p.duration).sum();
-            best = Some((knots, r));
+        let mut planned = std::mem::take(&mut scratch.planned);
+        let settled = settle_into(&mut knots, curves, &planning, tolerance, &mut planned)
+            && (!knots.add_trapezoids(curves, &planning)
+                || settle_into(&mut knots, curves, &planning, tolerance, &mut planned));
+        let r = settled
+            .then(|| {
+                let limits = resample::Limits {
+                    planning: &planning,
+                    bounds,
+                    tolerance,
+                    tolerances,
+                    rounds: try_.rounds,
+                };
+                resample::resample(
+                    &mut knots,
+                    curves,
+                    &limits,
+                    quantum,
+                    bar,
+                    &mut planned,
+                    scratch,
+                )
+            })
+            .flatten();
+        scratch.planned = planned;
+        match r {
+            Some(r) => {
+                bar = r.pieces.durations().sum();
+                // The plan it beats gives its storage to the next.
+                if let Some((k, beaten)) = best.replace((knots, r)) {
+                    scratch.give_back(k, beaten.pieces);
+                }
+            }
+            None => scratch.knots = knots.into_storage(),
         }
     }
     best
@@ -1100,7 +1150,7 @@ enum Window {
 /// `count` on the grid (at the contour's end, all of them).
 struct GridWindow {
     knots: Knots,
-    pieces: Vec<piece::Piece>,
+    pieces: resample::GridPieces,
     count: usize,
     speed_change: f64,
     /// The index of the share of [`resample::Shares`] it converged at.

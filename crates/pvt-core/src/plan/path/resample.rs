@@ -16,6 +16,7 @@ use super::piece::Piece;
 use super::{settle_into, AxisBounds, Vector, MAX_ROUNDS};
 use crate::hermite::{HermiteSegment, State};
 use crate::plan::quantize::{quanta_time, Quantum};
+use crate::program::SegmentRef;
 
 /// Share of the path (and corner) tolerance the plan that is resampled is planned to: the
 /// rest is for the resampled pieces' deviation from it. On 1 ms grids that deviation is
@@ -163,9 +164,9 @@ pub(super) struct Scratch {
     grid: Vec<u64>,
     /// The last round's pieces (the resampled pieces' storage), and, under a jerk limit,
     /// the next round's, which reuses the last's on the same intervals.
-    done: Round,
-    next: Round,
-    /// Grid intervals still to resample, latest first.
+    done: GridPieces,
+    next: GridPieces,
+    /// Parts of a grid interval still to resample, latest first.
     todo: Vec<(u64, u64)>,
     /// Each resampled piece's speed at mid-time and the plan's at the same point.
     speeds: Vec<(f64, f64)>,
@@ -173,35 +174,181 @@ pub(super) struct Scratch {
 
 impl Scratch {
     /// Takes back the storage of a window's knots and resampled pieces once they are out.
-    pub fn give_back(&mut self, knots: Knots, pieces: Vec<Piece>) {
+    pub fn give_back(&mut self, knots: Knots, pieces: GridPieces) {
         self.knots = knots.into_storage();
-        self.done.pieces = pieces;
+        self.done = pieces;
     }
 }
 
-/// One round's resampled pieces, each with its grid interval `[a, b]` in quanta.
+/// Resampled pieces as the grid keeps them, in a third of the room of [`Piece`]s: each
+/// piece's end position and velocity (its axes only, in one flat vector) and its grid
+/// interval `[a, b]` in quanta, time, error bound and knot. Each piece starts where the
+/// one before ends: both are the planned motion at the same grid time, the same state
+/// (the first at the window's start, kept once).
 #[derive(Debug, Default)]
-struct Round {
-    intervals: Vec<(u64, u64)>,
-    pieces: Vec<Piece>,
+pub(super) struct GridPieces {
+    /// Axes of every state.
+    dim: usize,
+    /// The first piece's start position and velocity, then every piece's end position
+    /// and velocity: `2·dim` values each.
+    states: Vec<f64>,
+    ends: Vec<GridEnd>,
 }
 
-impl Round {
+/// What a resampled piece keeps besides its end state.
+#[derive(Debug, Clone, Copy)]
+struct GridEnd {
+    interval: (u64, u64),
+    duration: f64,
+    error: f64,
+    knot: usize,
+}
+
+impl GridPieces {
     fn clear(&mut self) {
-        self.intervals.clear();
-        self.pieces.clear();
+        self.states.clear();
+        self.ends.clear();
     }
 
-    fn push(&mut self, interval: (u64, u64), piece: Piece) {
-        self.intervals.push(interval);
-        self.pieces.push(piece);
+    /// Adds `piece` on grid interval `interval` after the last one.
+    fn push(&mut self, interval: (u64, u64), piece: &Piece) {
+        if self.states.is_empty() {
+            self.dim = piece.start.len();
+            self.states.extend_from_slice(&piece.start);
+            self.states.extend_from_slice(&piece.start_velocity);
+        }
+        // A piece that follows the last one on the grid starts in its end state (a
+        // round with a piece left out fails as a whole: its pieces are not used).
+        debug_assert!(
+            self.ends.last().is_none_or(|e| e.interval.1 != interval.0) || {
+                let (end, velocity) = self.end_state(self.ends.len() - 1);
+                (end, velocity) == (&piece.start[..], &piece.start_velocity[..])
+            }
+        );
+        self.states.extend_from_slice(&piece.end);
+        self.states.extend_from_slice(&piece.end_velocity);
+        self.ends.push(GridEnd {
+            interval,
+            duration: piece.duration,
+            error: piece.error,
+            knot: piece.knot,
+        });
+    }
+
+    /// Adds piece `i` of `other` after the last one.
+    fn push_from(&mut self, other: &GridPieces, i: usize) {
+        let d = 2 * other.dim;
+        if self.states.is_empty() {
+            self.dim = other.dim;
+            self.states
+                .extend_from_slice(&other.states[d * i..d * (i + 1)]);
+        }
+        self.states
+            .extend_from_slice(&other.states[d * (i + 1)..d * (i + 2)]);
+        self.ends.push(other.ends[i]);
+    }
+
+    /// Whether the pieces run over every interval of `grid` in turn (each starting where
+    /// the one before ends).
+    fn is_whole(&self, grid: &[u64]) -> bool {
+        let mut at = grid.first().copied();
+        for e in &self.ends {
+            if at != Some(e.interval.0) {
+                return false;
+            }
+            at = Some(e.interval.1);
+        }
+        at == grid.last().copied()
+    }
+
+    /// How many pieces there are.
+    pub fn len(&self) -> usize {
+        self.ends.len()
+    }
+
+    /// Every piece's time, in order.
+    pub fn durations(&self) -> impl Iterator<Item = f64> + '_ {
+        self.ends.iter().map(|e| e.duration)
+    }
+
+    /// Every piece's error bound, in order.
+    pub fn errors(&self) -> impl Iterator<Item = f64> + '_ {
+        self.ends.iter().map(|e| e.error)
+    }
+
+    /// The largest error bound of the pieces before the first from knot `count` on.
+    pub fn worst_before(&self, count: usize) -> f64 {
+        self.ends
+            .iter()
+            .take_while(|e| e.knot < count)
+            .map(|e| e.error)
+            .fold(0.0, f64::max)
+    }
+
+    /// Piece `i`'s end position and velocity.
+    fn end_state(&self, i: usize) -> (&[f64], &[f64]) {
+        self.state(i + 1)
+    }
+
+    /// Piece `i`'s start position and velocity: the end of the one before.
+    fn start_state(&self, i: usize) -> (&[f64], &[f64]) {
+        self.state(i)
+    }
+
+    /// State `s` of `states` (0 the first piece's start, `i + 1` piece `i`'s end).
+    fn state(&self, s: usize) -> (&[f64], &[f64]) {
+        let (d, at) = (self.dim, 2 * self.dim * s);
+        (&self.states[at..at + d], &self.states[at + d..at + 2 * d])
+    }
+
+    /// Piece `i` whole.
+    pub fn piece(&self, i: usize) -> Piece {
+        let dim = self.dim;
+        let (start, start_velocity) = self.start_state(i);
+        let (end, end_velocity) = self.end_state(i);
+        let e = &self.ends[i];
+        Piece {
+            start: Vector::from_fn(dim, |a| start[a]),
+            end: Vector::from_fn(dim, |a| end[a]),
+            start_velocity: Vector::from_fn(dim, |a| start_velocity[a]),
+            end_velocity: Vector::from_fn(dim, |a| end_velocity[a]),
+            duration: e.duration,
+            error: e.error,
+            knot: e.knot,
+            part: None,
+        }
+    }
+
+    /// Emits the pieces of `knots`' knots before knot `count`, in order (as
+    /// [`Knots::emit`] does for pieces).
+    pub fn emit(
+        &self,
+        knots: &Knots,
+        curves: &[Curve],
+        count: usize,
+        emit: &mut dyn FnMut(&SegmentRef<'_>),
+    ) {
+        for (i, e) in self
+            .ends
+            .iter()
+            .enumerate()
+            .take_while(|(_, e)| e.knot < count)
+        {
+            let (end, velocity) = self.end_state(i);
+            emit(&SegmentRef {
+                end,
+                velocity,
+                duration: e.duration,
+                line: curves[knots.knots[e.knot].after.element].line,
+            });
+        }
     }
 }
 
 /// The resampled contour.
 pub(super) struct Resampled {
     /// The pieces, in the storage of [`Scratch`] (give it back when done with them).
-    pub pieces: Vec<Piece>,
+    pub pieces: GridPieces,
     /// Largest relative change of the speed at a resampled piece's mid-time against the
     /// plan at the same point of the path, where the plan moves at 1 % of the contour's
     /// fastest or more (near a stop a relative change says little: the grid times there
@@ -410,28 +557,22 @@ pub(super) fn resample(
     limits: &Limits<'_>,
     quantum: Quantum,
     bar: f64,
-    mut planned: Vec<Piece>,
+    planned: &mut Vec<Piece>,
     scratch: &mut Scratch,
 ) -> Option<Resampled> {
     let q = quantum.seconds;
     for _ in 0..limits.rounds {
-        if quanta_time(grid_count(&planned, q), q) >= bar - 0.5 * q {
+        if quanta_time(grid_count(planned, q), q) >= bar - 0.5 * q {
             return None;
         }
         let bounds = limits.bounds;
-        match resample_once(knots, bounds, limits.tolerances, q, &planned, true, scratch) {
+        match resample_once(knots, bounds, limits.tolerances, q, planned, true, scratch) {
             Ok(resampled) => return Some(resampled),
             Err(slow) => {
                 for (knot_range, factor) in slow {
                     knots.slow_knots(knot_range, factor);
                 }
-                if !settle_into(
-                    knots,
-                    curves,
-                    limits.planning,
-                    limits.tolerance,
-                    &mut planned,
-                ) {
+                if !settle_into(knots, curves, limits.planning, limits.tolerance, planned) {
                     return None;
                 }
             }
@@ -498,7 +639,7 @@ pub(super) fn resample_once(
     for round in 0..=MAX_ROUNDS {
         let slow = if round == 0 {
             done.clear();
-            let none = Round::default();
+            let none = GridPieces::default();
             resample_grid(
                 knots,
                 bounds,
@@ -539,16 +680,20 @@ pub(super) fn resample_once(
             }
             Steps::Slow(over) => {
                 let slow = over.into_iter().map(|(at, factor)| {
-                    let (a, b) = (done.intervals[at.start].0, done.intervals[at.end - 1].1);
+                    let (a, b) = (
+                        done.ends[at.start].interval.0,
+                        done.ends[at.end - 1].interval.1,
+                    );
                     (covered(&motion, a, b, q), factor)
                 });
                 return Err(slow.collect());
             }
         }
     }
-    let speed_change = speed_change(&motion, &done.pieces, speeds);
+    debug_assert!(done.is_whole(grid), "the pieces cover the grid");
+    let speed_change = speed_change(&motion, done, speeds);
     Ok(Resampled {
-        pieces: std::mem::take(&mut done.pieces),
+        pieces: std::mem::take(done),
         speed_change,
     })
 }
@@ -556,7 +701,7 @@ pub(super) fn resample_once(
 /// Into `pieces`, the pieces of every interval of `grid` (reusing those of `done` on the
 /// same interval), each over the tolerance split at its middle, with their intervals; the
 /// planned knot ranges to slow and by what factor (none when every piece is in).
-/// `todo` is storage for the intervals still to resample.
+/// `todo` is storage for the parts of one grid interval still to resample.
 #[allow(clippy::too_many_arguments, clippy::type_complexity)]
 fn resample_grid(
     knots: &Knots,
@@ -564,32 +709,35 @@ fn resample_grid(
     tolerances: Tolerances,
     q: f64,
     motion: &Motion<'_>,
-    (grid, done): (&[u64], &Round),
-    pieces: &mut Round,
+    (grid, done): (&[u64], &GridPieces),
+    pieces: &mut GridPieces,
     todo: &mut Vec<(u64, u64)>,
 ) -> Vec<(std::ops::Range<usize>, f64)> {
     let last = *grid.last().unwrap_or(&0);
     pieces.clear();
     let mut slow = Vec::new();
-    let mut reuse = done.intervals.iter().zip(&done.pieces).peekable();
-    // Intervals still to resample, latest first.
-    todo.clear();
-    todo.extend(grid.windows(2).rev().map(|w| (w[0], w[1])));
-    while let Some((a, b)) = todo.pop() {
-        while reuse.next_if(|d| d.0 .0 < a).is_some() {}
-        if let Some(d) = reuse.peek().filter(|d| *d.0 == (a, b)) {
-            pieces.push((a, b), d.1.clone());
-            continue;
-        }
-        match interval(knots, bounds, tolerances, q, motion, (a, b), last) {
-            Ok(piece) => pieces.push((a, b), piece),
-            Err(Over::Tolerance) if b - a >= 2 => {
-                let mid = a + (b - a) / 2;
-                todo.push((mid, b));
-                todo.push((a, mid));
+    let mut reuse = done.ends.iter().map(|e| e.interval).enumerate().peekable();
+    for w in grid.windows(2) {
+        // The parts of this interval still to resample, latest first: a part over the
+        // tolerance is split in two, each resampled before the next interval.
+        todo.clear();
+        todo.push((w[0], w[1]));
+        while let Some((a, b)) = todo.pop() {
+            while reuse.next_if(|d| d.1 .0 < a).is_some() {}
+            if let Some(&(i, _)) = reuse.peek().filter(|d| d.1 == (a, b)) {
+                pieces.push_from(done, i);
+                continue;
             }
-            Err(Over::Tolerance) => slow.push((covered(motion, a, b, q), 0.9)),
-            Err(Over::Limit(factor)) => slow.push((covered(motion, a, b, q), factor)),
+            match interval(knots, bounds, tolerances, q, motion, (a, b), last) {
+                Ok(piece) => pieces.push((a, b), &piece),
+                Err(Over::Tolerance) if b - a >= 2 => {
+                    let mid = a + (b - a) / 2;
+                    todo.push((mid, b));
+                    todo.push((a, mid));
+                }
+                Err(Over::Tolerance) => slow.push((covered(motion, a, b, q), 0.9)),
+                Err(Over::Limit(factor)) => slow.push((covered(motion, a, b, q), factor)),
+            }
         }
     }
     slow
@@ -598,10 +746,11 @@ fn resample_grid(
 /// Each piece's speed at mid-time against the plan's at the same point of the path: the
 /// largest relative change where the plan moves at 1 % of its fastest or more. `speeds`
 /// is storage for both speeds of every piece.
-fn speed_change(motion: &Motion<'_>, pieces: &[Piece], speeds: &mut Vec<(f64, f64)>) -> f64 {
+fn speed_change(motion: &Motion<'_>, pieces: &GridPieces, speeds: &mut Vec<(f64, f64)>) -> f64 {
     let mut start = 0.0;
     speeds.clear();
-    speeds.extend(pieces.iter().map(|p| {
+    speeds.extend((0..pieces.len()).map(|i| {
+        let p = pieces.piece(i);
         let mid = start + 0.5 * p.duration;
         start += p.duration;
         let (i, u) = motion.locate(mid);
@@ -637,24 +786,22 @@ enum Steps {
 /// misses the motion's acceleration at its ends by up to `4/27·|Δj|·T` (on one quantum:
 /// `T = q`), so where a step is over, the intervals beside the knot get a grid knot one
 /// quantum from it; where both are one quantum already, the plan is slowed.
-fn steps_over(round: &Round, bounds: &AxisBounds) -> Steps {
-    let (intervals, pieces) = (&round.intervals, &round.pieces);
+fn steps_over(pieces: &GridPieces, bounds: &AxisBounds) -> Steps {
     let n = pieces.len();
-    let ends: Vec<[Vector; 2]> = pieces.iter().map(Piece::end_accelerations).collect();
-    let dim = pieces[0].start.len();
+    let dim = pieces.dim;
     let mut split = Vec::new();
     let mut slow = Vec::new();
+    // The acceleration at the end of the piece before the knot (rest before the first).
+    let mut end_before = Vector::zeros(dim);
     for i in 0..=n {
-        let before = if i == 0 {
-            Vector::zeros(dim)
-        } else {
-            ends[i - 1][1]
-        };
-        let after = ends.get(i).map_or(Vector::zeros(dim), |e| e[0]);
+        let accelerations = (i < n).then(|| pieces.piece(i).end_accelerations());
+        let after = accelerations.map_or(Vector::zeros(dim), |e| e[0]);
+        let end = accelerations.map_or(Vector::zeros(dim), |e| e[1]);
+        let before = std::mem::replace(&mut end_before, end);
         let share = if i == 0 || i == n { 0.5 } else { 1.0 };
         let beside = i.saturating_sub(1)..(i + 1).min(n);
         let around = i.saturating_sub(2)..(i + 2).min(n);
-        let rounding: f64 = pieces[beside.clone()]
+        let rounding: f64 = pieces.ends[beside.clone()]
             .iter()
             .map(|p| 6.0 * bounds.resolution / (p.duration * p.duration))
             .sum();
@@ -674,12 +821,13 @@ fn steps_over(round: &Round, bounds: &AxisBounds) -> Steps {
             continue;
         }
         let mut wide = false;
-        if i > 0 && intervals[i - 1].1 - intervals[i - 1].0 >= 2 {
-            split.push(intervals[i - 1].1 - 1);
+        let interval = |i: usize| pieces.ends[i].interval;
+        if i > 0 && interval(i - 1).1 - interval(i - 1).0 >= 2 {
+            split.push(interval(i - 1).1 - 1);
             wide = true;
         }
-        if i < n && intervals[i].1 - intervals[i].0 >= 2 {
-            split.push(intervals[i].0 + 1);
+        if i < n && interval(i).1 - interval(i).0 >= 2 {
+            split.push(interval(i).0 + 1);
             wide = true;
         }
         if !wide {
