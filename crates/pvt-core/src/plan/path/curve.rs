@@ -37,8 +37,10 @@ pub(super) struct Curve {
 
 #[derive(Debug, Clone)]
 enum Shape {
-    /// φ is the distance from the start along `unit`.
-    Line { unit: Vector },
+    /// φ is the distance from the start along `unit`; `tangent` is `unit` divided by its
+    /// own norm, the line's unit tangent as [`Curve::unit_tangent`] gives it (made once,
+    /// with the curve: every junction asks for it).
+    Line { unit: Vector, tangent: Vector },
     /// φ is the swept angle; see [`Curve::position`].
     Arc(ArcShape),
     /// φ = `scale`·u on a part of a Bézier; see [`BezierShape`].
@@ -117,7 +119,9 @@ impl Curve {
             None => {
                 let length = distance(&start, &end);
                 let unit = Vector::from_fn(start.len(), |i| (end[i] - start[i]) / length);
-                (Shape::Line { unit }, length)
+                let n = norm(&unit);
+                let tangent = Vector::from_fn(unit.len(), |i| unit[i] / n);
+                (Shape::Line { unit, tangent }, length)
             }
         };
         if span.is_finite() && span > 0.0 {
@@ -166,7 +170,7 @@ impl Curve {
             return;
         }
         match &self.shape {
-            Shape::Line { unit } => {
+            Shape::Line { unit, .. } => {
                 for ((o, s), u) in out.iter_mut().zip(&self.start).zip(unit) {
                     *o = s + u * phi;
                 }
@@ -194,7 +198,7 @@ impl Curve {
     /// dc/dφ at `φ`.
     pub fn derivative(&self, phi: f64, out: &mut [f64]) {
         match &self.shape {
-            Shape::Line { unit } => out.copy_from_slice(unit),
+            Shape::Line { unit, .. } => out.copy_from_slice(unit),
             Shape::Arc(a) => {
                 out.copy_from_slice(&a.linear_rate);
                 let (sin, cos) = a.sin_cos(phi);
@@ -209,6 +213,28 @@ impl Curve {
                 out[b.second] = d[1] / b.scale;
             }
         }
+    }
+
+    /// A line's unit tangent (the same at every `φ`), `None` on any other curve.
+    #[inline]
+    pub fn line_tangent(&self) -> Option<&Vector> {
+        match &self.shape {
+            Shape::Line { tangent, .. } => Some(tangent),
+            _ => None,
+        }
+    }
+
+    /// The unit tangent at `φ`: [`Curve::derivative`] divided by its norm (a line's is
+    /// kept with it).
+    pub fn unit_tangent(&self, phi: f64) -> Vector {
+        if let Shape::Line { tangent, .. } = &self.shape {
+            return *tangent;
+        }
+        let mut t = Vector::zeros(self.start.len());
+        self.derivative(phi, &mut t);
+        let n = norm(&t);
+        t.iter_mut().for_each(|x| *x /= n);
+        t
     }
 
     /// |dc/dφ| at `φ`: path length per unit of parameter.
@@ -284,7 +310,7 @@ impl Curve {
     #[inline]
     pub fn axis_factors(&self, from: f64, to: f64, i: usize) -> (f64, f64) {
         match &self.shape {
-            Shape::Line { unit } => (unit[i].abs(), 0.0),
+            Shape::Line { unit, .. } => (unit[i].abs(), 0.0),
             Shape::Bezier(b) => self.bezier_factors(b, from, to, i),
             Shape::Arc(a) => {
                 let r = self.max_radius(a);

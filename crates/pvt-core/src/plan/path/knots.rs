@@ -292,18 +292,25 @@ impl Knots {
         // large: a curvature transition rides in it); the next element needs only where
         // a cut junction joins it and its cap.
         let mut joins: Option<(f64, f64)> = None;
-        // A line's unit tangent is the same at both of its ends: the outgoing tangent of
-        // one junction is the incoming tangent of the next.
-        let mut line_tangent: Option<Vector> = None;
         for (e, curve) in curves.iter().enumerate() {
-            let end_tangent = line_tangent.take();
             let mut after = false;
             if let Some(next) = curves.get(e + 1) {
-                let t_in = end_tangent.unwrap_or_else(|| unit_tangent(curve, curve.span));
-                let t_out = unit_tangent(next, 0.0);
-                if next.is_line() {
-                    line_tangent = Some(t_out);
-                }
+                // A line's unit tangent is kept with it; an arc's is made here.
+                let (own_in, own_out);
+                let t_in = match curve.line_tangent() {
+                    Some(t) => t,
+                    None => {
+                        own_in = curve.unit_tangent(curve.span);
+                        &own_in
+                    }
+                };
+                let t_out = match next.line_tangent() {
+                    Some(t) => t,
+                    None => {
+                        own_out = next.unit_tangent(0.0);
+                        &own_out
+                    }
+                };
                 let make = |narrow: bool, out: &mut Vec<Junction>| {
                     let tangents = [t_in, t_out];
                     junction(
@@ -637,6 +644,11 @@ impl Knots {
     /// Lowers the speed caps at both ends of every piece whose closed-form velocity or
     /// acceleration peak exceeds a limit. Returns whether any did.
     pub fn slow_over(&mut self, pieces: &[Piece], bounds: &AxisBounds) -> bool {
+        let limits = [&bounds.velocity, &bounds.acceleration, &bounds.jerk];
+        if limits.iter().all(|l| l.iter().all(|&x| x == f64::INFINITY)) {
+            // No limit on any axis: every piece's factor is 1 (see `Piece::limit_factor`).
+            return false;
+        }
         let mut slowed = false;
         for piece in pieces {
             let k = piece.knot;
@@ -1148,12 +1160,13 @@ fn inner_params(curve: &Curve, tolerance: f64) -> impl Iterator<Item = f64> {
 /// The junction from `a` into `b`, whose unit tangents at the joint are `tangents`
 /// (arriving, leaving), pushed onto `out`; false, and nothing pushed, when it must be
 /// an exact stop. Beside a junction passed at speed its pieces may turn over the zones
-/// of [`zone`] (for the acceleration cap).
+/// of [`zone`] (for the acceleration cap). The junction is written where it lies in
+/// `out` (it is large) and taken back off where it cannot be passed at any speed.
 #[allow(clippy::too_many_arguments)]
 fn junction(
     a: &Curve,
     b: &Curve,
-    tangents: [Vector; 2],
+    tangents: [&Vector; 2],
     bounds: &AxisBounds,
     tolerance: f64,
     corner: Option<f64>,
@@ -1161,38 +1174,66 @@ fn junction(
     out: &mut Vec<Junction>,
 ) -> bool {
     let [t_in, t_out] = tangents;
-    let sum = Vector::from_fn(t_in.len(), |i| t_in[i] + t_out[i]);
-    let diff = Vector::from_fn(t_in.len(), |i| t_in[i] - t_out[i]);
+    let n = t_in.len();
+    let (mut sum, mut diff) = (Vector::zeros(n), Vector::zeros(n));
+    for i in 0..n {
+        let (x, y) = (t_in.values[i], t_out.values[i]);
+        sum.values[i] = x + y;
+        diff.values[i] = x - y;
+    }
     let (sum_norm, diff_norm) = (norm(&sum), norm(&diff));
     let stops =
         !bounds.accelerates() && corner.is_none() && turns_beyond_tangent(diff_norm, sum_norm);
     if sum_norm < 1e-6 || stops {
         return false;
     }
-    let direction = Vector::from_fn(sum.len(), |i| sum[i] / sum_norm);
-    let deviation = norm(&Vector::from_fn(direction.len(), |i| {
-        direction[i] - t_in[i]
-    }));
-    let mut junction = Junction {
+    // The bisector, and its difference from the arriving tangent.
+    let (mut direction, mut off) = (Vector::zeros(n), Vector::zeros(n));
+    for i in 0..n {
+        let d = sum.values[i] / sum_norm;
+        direction.values[i] = d;
+        off.values[i] = d - t_in.values[i];
+    }
+    out.push(Junction {
         direction,
-        deviation,
+        deviation: norm(&off),
         blend: None,
         half_turn_sin: 0.5 * diff_norm,
         tolerance: corner.unwrap_or(tolerance),
         cap: a.feed.min(b.feed),
-        tangents: [t_in, t_out],
+        tangents: [*t_in, *t_out],
         transition: None,
-    };
+    });
+    let last = out.len() - 1;
+    let limits = (bounds, tolerance, corner.is_some(), narrow);
+    let passes = junction_cap(a, b, &mut out[last], limits);
+    if !passes {
+        out.pop();
+    }
+    passes
+}
+
+/// Caps `junction` (from `a` into `b`, as [`junction`] makes it) under `limits` (the
+/// bounds, the path tolerance, whether a corner tolerance is given, `narrow`): a
+/// curvature transition, a corner blend, or the zones of a junction passed at speed.
+/// Returns whether it can be passed at some speed.
+fn junction_cap(
+    a: &Curve,
+    b: &Curve,
+    junction: &mut Junction,
+    limits: (&AxisBounds, f64, bool, bool),
+) -> bool {
+    let (bounds, tolerance, corner, narrow) = limits;
     if bounds.jerk_mode() && !narrow {
         if let Some(t) = super::transition::transition(a, b, tolerance) {
             junction.cap = junction.cap.min(t.cap(bounds));
             junction.tolerance = tolerance;
             junction.transition = Some(Box::new(t));
-            return keep(junction, out);
+            return junction.cap > 0.0;
         }
     }
-    let blends = bounds.accelerates() || corner.is_some();
-    if a.is_line() && b.is_line() && blends && deviation > 1e-12 {
+    let blends = bounds.accelerates() || corner;
+    if a.is_line() && b.is_line() && blends && junction.deviation > 1e-12 {
         // At equal end speeds the blend passes within L·sin(α/2)/2 of the corner (see
         // `blend_error`): L is sized for that, and unequal speeds are evened out where
         // they would take it farther. On a time grid, whose stretches move the inner
@@ -1215,27 +1256,16 @@ fn junction(
             .min(most * b.span);
         junction.blend = Some(l);
         let cap = if bounds.jerk_mode() {
-            smooth_blend_cap(&junction, l, bounds)
+            smooth_blend_cap(junction, l, bounds)
         } else {
-            blend_cap(&junction, l, bounds)
+            blend_cap(junction, l, bounds)
         };
         junction.cap = junction.cap.min(cap);
-        return keep(junction, out);
+    } else if bounds.limits_speed() {
+        let zones = [zone(a, junction, tolerance), zone(b, junction, tolerance)];
+        junction.cap = junction.cap.min(through_cap(junction, zones, bounds));
     }
-    if bounds.limits_speed() {
-        let zones = [zone(a, &junction, tolerance), zone(b, &junction, tolerance)];
-        junction.cap = junction.cap.min(through_cap(&junction, zones, bounds));
-    }
-    keep(junction, out)
-}
-
-/// Pushes `junction` onto `out` when it can be passed at some speed.
-fn keep(junction: Junction, out: &mut Vec<Junction>) -> bool {
-    let passes = junction.cap > 0.0;
-    if passes {
-        out.push(junction);
-    }
-    passes
+    junction.cap > 0.0
 }
 
 /// True when the turning angle `2·atan2(diff, sum)` of two unit tangents (`diff` and
@@ -1255,14 +1285,6 @@ fn turns_beyond_tangent(diff: f64, sum: f64) -> bool {
         return true;
     }
     2.0 * libm::atan2(diff, sum) > TANGENT_ANGLE
-}
-
-fn unit_tangent(curve: &Curve, param: f64) -> Vector {
-    let mut t = Vector::zeros(curve.start.len());
-    curve.derivative(param, &mut t);
-    let n = norm(&t);
-    t.iter_mut().for_each(|x| *x /= n);
-    t
 }
 
 /// Length of the zone beside a junction passed at speed whose piece's error
