@@ -195,6 +195,21 @@ impl Curve {
         }
     }
 
+    /// [`Curve::position`] as a vector: the ends are copied whole (no copy of a slice of
+    /// unknown length, which is a call to `memcpy`).
+    #[inline]
+    pub fn point(&self, phi: f64) -> Vector {
+        if phi >= self.span {
+            return self.end;
+        }
+        if phi <= 0.0 {
+            return self.start;
+        }
+        let mut p = Vector::zeros(self.start.len());
+        self.position(phi, &mut p);
+        p
+    }
+
     /// dc/dφ at `φ`.
     pub fn derivative(&self, phi: f64, out: &mut [f64]) {
         match &self.shape {

@@ -292,6 +292,7 @@ impl Knots {
         // large: a curvature transition rides in it); the next element needs only where
         // a cut junction joins it and its cap.
         let mut joins: Option<(f64, f64)> = None;
+        let rules = JunctionRules::new(bounds, tolerance, corner, narrow);
         for (e, curve) in curves.iter().enumerate() {
             let mut after = false;
             if let Some(next) = curves.get(e + 1) {
@@ -312,10 +313,8 @@ impl Knots {
                     }
                 };
                 let make = |narrow: bool, out: &mut Vec<Junction>| {
-                    let tangents = [t_in, t_out];
-                    junction(
-                        curve, next, tangents, bounds, tolerance, corner, narrow, out,
-                    )
+                    let rules = JunctionRules { narrow, ..rules };
+                    junction(curve, next, [t_in, t_out], &rules, out)
                 };
                 after = make(narrow, &mut this.junctions);
                 if e == 0 && after && this.last_junction().leaves_before(start.param, curve) {
@@ -790,6 +789,10 @@ impl Knots {
     /// elements after the window ask, a window cut at any knot can still meet it.
     /// (Under a jerk limit the window is cut at [`Knots::stop_horizon`] instead.)
     pub fn cap_for_window(&mut self, curves: &[Curve], least: f64) {
+        if least == f64::INFINITY && !self.knots.iter().any(|k| !k.fixed && k.cap.is_nan()) {
+            // Every cap is `√∞ = ∞` (or `√NaN` at `d = 0`), and `min` keeps the knot's own.
+            return;
+        }
         let mut ahead = std::mem::take(&mut self.scratch.ahead);
         self.known_ahead(curves, &mut ahead);
         for (knot, &d) in self.knots.iter_mut().zip(&ahead) {
@@ -943,7 +946,13 @@ impl Knots {
         let n = self.knots.len();
         let last = curves.len() - 1;
         let mut ahead = std::mem::take(&mut self.scratch.ahead);
-        self.known_ahead(curves, &mut ahead);
+        if keep > 0.0 {
+            self.known_ahead(curves, &mut ahead);
+        } else {
+            // Every knot has at least no path after it (`known_ahead` is never below 0).
+            ahead.clear();
+            ahead.resize(n, 0.0);
+        }
         let cut = (1..n - 1).rev().find(|&k| {
             let knot = &self.knots[k];
             let cuttable = knot.blend.is_none() && knot.after.element < last;
@@ -1100,6 +1109,9 @@ fn reachable(v: f64, a: f64, d: f64) -> f64 {
 /// limit and each axis' share of its acceleration limit for the centripetal part.
 pub(super) fn speed_cap(curve: &Curve, from: f64, to: f64, bounds: &AxisBounds) -> f64 {
     let mut cap = curve.feed;
+    if bounds.free {
+        return cap;
+    }
     for i in 0..bounds.velocity.len() {
         if bounds.velocity[i] == f64::INFINITY && bounds.acceleration[i] == f64::INFINITY {
             // No limit on the axis: every quotient below is infinite (or NaN), no cap.
@@ -1124,6 +1136,9 @@ fn tangential_accel(curve: &Curve, from: f64, to: f64, bounds: &AxisBounds, spee
     let finite_normal = curve
         .normal_bound()
         .is_some_and(|n| (speed * speed * n).is_finite());
+    if finite_normal && bounds.free {
+        return accel;
+    }
     for i in 0..bounds.acceleration.len() {
         if finite_normal && bounds.acceleration[i] == f64::INFINITY {
             continue;
@@ -1157,20 +1172,46 @@ fn inner_params(curve: &Curve, tolerance: f64) -> impl Iterator<Item = f64> {
     (1..n).map(move |i| span * i as f64 / n as f64)
 }
 
+/// What every junction of a window is made under: the bounds and tolerances, `narrow`
+/// (see [`Knots::new`]), and what the bounds limit, asked once per window.
+#[derive(Clone, Copy)]
+struct JunctionRules<'b> {
+    bounds: &'b AxisBounds,
+    tolerance: f64,
+    corner: Option<f64>,
+    narrow: bool,
+    /// [`AxisBounds::accelerates`].
+    accelerates: bool,
+    /// [`AxisBounds::jerk_mode`].
+    jerk: bool,
+    /// [`AxisBounds::limits_speed`].
+    limits_speed: bool,
+}
+
+impl<'b> JunctionRules<'b> {
+    fn new(bounds: &'b AxisBounds, tolerance: f64, corner: Option<f64>, narrow: bool) -> Self {
+        JunctionRules {
+            bounds,
+            tolerance,
+            corner,
+            narrow,
+            accelerates: bounds.accelerates(),
+            jerk: bounds.jerk_mode(),
+            limits_speed: bounds.limits_speed(),
+        }
+    }
+}
+
 /// The junction from `a` into `b`, whose unit tangents at the joint are `tangents`
 /// (arriving, leaving), pushed onto `out`; false, and nothing pushed, when it must be
 /// an exact stop. Beside a junction passed at speed its pieces may turn over the zones
 /// of [`zone`] (for the acceleration cap). The junction is written where it lies in
 /// `out` (it is large) and taken back off where it cannot be passed at any speed.
-#[allow(clippy::too_many_arguments)]
 fn junction(
     a: &Curve,
     b: &Curve,
     tangents: [&Vector; 2],
-    bounds: &AxisBounds,
-    tolerance: f64,
-    corner: Option<f64>,
-    narrow: bool,
+    rules: &JunctionRules<'_>,
     out: &mut Vec<Junction>,
 ) -> bool {
     let [t_in, t_out] = tangents;
@@ -1183,7 +1224,7 @@ fn junction(
     }
     let (sum_norm, diff_norm) = (norm(&sum), norm(&diff));
     let stops =
-        !bounds.accelerates() && corner.is_none() && turns_beyond_tangent(diff_norm, sum_norm);
+        !rules.accelerates && rules.corner.is_none() && turns_beyond_tangent(diff_norm, sum_norm);
     if sum_norm < 1e-6 || stops {
         return false;
     }
@@ -1199,32 +1240,25 @@ fn junction(
         deviation: norm(&off),
         blend: None,
         half_turn_sin: 0.5 * diff_norm,
-        tolerance: corner.unwrap_or(tolerance),
+        tolerance: rules.corner.unwrap_or(rules.tolerance),
         cap: a.feed.min(b.feed),
         tangents: [*t_in, *t_out],
         transition: None,
     });
     let last = out.len() - 1;
-    let limits = (bounds, tolerance, corner.is_some(), narrow);
-    let passes = junction_cap(a, b, &mut out[last], limits);
+    let passes = junction_cap(a, b, &mut out[last], rules);
     if !passes {
         out.pop();
     }
     passes
 }
 
-/// Caps `junction` (from `a` into `b`, as [`junction`] makes it) under `limits` (the
-/// bounds, the path tolerance, whether a corner tolerance is given, `narrow`): a
+/// Caps `junction` (from `a` into `b`, as [`junction`] makes it) under `rules`: a
 /// curvature transition, a corner blend, or the zones of a junction passed at speed.
 /// Returns whether it can be passed at some speed.
-fn junction_cap(
-    a: &Curve,
-    b: &Curve,
-    junction: &mut Junction,
-    limits: (&AxisBounds, f64, bool, bool),
-) -> bool {
-    let (bounds, tolerance, corner, narrow) = limits;
-    if bounds.jerk_mode() && !narrow {
+fn junction_cap(a: &Curve, b: &Curve, junction: &mut Junction, rules: &JunctionRules<'_>) -> bool {
+    let (bounds, tolerance, narrow) = (rules.bounds, rules.tolerance, rules.narrow);
+    if rules.jerk && !narrow {
         if let Some(t) = super::transition::transition(a, b, tolerance) {
             junction.cap = junction.cap.min(t.cap(bounds));
             junction.tolerance = tolerance;
@@ -1232,7 +1266,7 @@ fn junction_cap(
             return junction.cap > 0.0;
         }
     }
-    let blends = bounds.accelerates() || corner;
+    let blends = rules.accelerates || rules.corner.is_some();
     if a.is_line() && b.is_line() && blends && junction.deviation > 1e-12 {
         // At equal end speeds the blend passes within L·sin(α/2)/2 of the corner (see
         // `blend_error`): L is sized for that, and unequal speeds are evened out where
@@ -1241,27 +1275,23 @@ fn junction_cap(
         // any of them.
         // Under a jerk limit the blend is the smooth pulse of `pieces`, within
         // L·sin(α/2)/3 of the corner at equal speeds (see `smooth_blend_error`).
-        let share = match (narrow, bounds.jerk_mode()) {
+        let share = match (narrow, rules.jerk) {
             (true, _) => 1.0,
             (false, true) => 3.0 * (1.0 - 1e-9),
             (false, false) => 2.0 * (1.0 - 1e-9),
         };
-        let most = if bounds.jerk_mode() {
-            SMOOTH_BLEND_SPAN
-        } else {
-            0.45
-        };
+        let most = if rules.jerk { SMOOTH_BLEND_SPAN } else { 0.45 };
         let l = (share * junction.tolerance / junction.half_turn_sin)
             .min(most * a.span)
             .min(most * b.span);
         junction.blend = Some(l);
-        let cap = if bounds.jerk_mode() {
+        let cap = if rules.jerk {
             smooth_blend_cap(junction, l, bounds)
         } else {
             blend_cap(junction, l, bounds)
         };
         junction.cap = junction.cap.min(cap);
-    } else if bounds.limits_speed() {
+    } else if rules.limits_speed {
         let zones = [zone(a, junction, tolerance), zone(b, junction, tolerance)];
         junction.cap = junction.cap.min(through_cap(junction, zones, bounds));
     }

@@ -495,6 +495,10 @@ pub(super) struct AxisBounds {
     pub resolution: f64,
     /// The grid's quantum, seconds (0 without one): no piece on the grid is shorter.
     pub quantum: f64,
+    /// No axis has a velocity or an acceleration limit: every speed cap is the feed and
+    /// the tangential acceleration is unbounded (asked once, not per piece; a copy whose
+    /// limits are scaled by positive shares keeps it, as infinite limits stay infinite).
+    pub free: bool,
 }
 
 impl AxisBounds {
@@ -511,9 +515,15 @@ impl AxisBounds {
                 .collect()
         };
         let jerk = get(|l| l.jerk);
+        let (velocity, acceleration) = (get(|l| l.velocity), get(|l| l.acceleration));
+        let free = velocity
+            .iter()
+            .chain(&acceleration)
+            .all(|&l| l == f64::INFINITY);
         AxisBounds {
-            velocity: get(|l| l.velocity),
-            acceleration: get(|l| l.acceleration),
+            free,
+            velocity,
+            acceleration,
             step: jerk.iter().map(|j| j * servo_period).collect(),
             jerk,
             servo_period,

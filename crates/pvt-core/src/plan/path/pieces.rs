@@ -137,8 +137,8 @@ impl Knots {
     fn fill_piece(&self, curves: &[Curve], bounds: &AxisBounds, k: usize, piece: &mut Piece) {
         let (curve, from, to) = self.piece_span(curves, k);
         let (a, b) = (&self.knots[k], &self.knots[k + 1]);
-        curve.position(from, &mut piece.start);
-        curve.position(to, &mut piece.end);
+        piece.start = curve.point(from);
+        piece.end = curve.point(to);
         self.velocity(k, curve, from, &mut piece.start_velocity);
         self.velocity(k + 1, curve, to, &mut piece.end_velocity);
         let (wa, wb) = (a.speed / curve.rate(from), b.speed / curve.rate(to));
