@@ -78,10 +78,10 @@ pub(super) struct Junction {
     /// How far a corner blend may be from the corner and the lines (the corner
     /// tolerance, else the path tolerance).
     pub tolerance: f64,
-    /// The speed cap at the junction (or of the blend piece).
+    /// The speed cap at the junction (or of the blend piece). (Its unit tangents are
+    /// its curves' own, [`Curve::unit_tangent`] at their ends: not kept here, a junction
+    /// is made for every element and moved.)
     pub cap: f64,
-    /// Unit tangents arriving and leaving.
-    pub tangents: [Vector; 2],
     /// Under a jerk limit, between a line and a tangent circle: the curvature
     /// transition that replaces a short stretch of each (see [`super::transition`]).
     /// Its knots are marked as a corner blend's are ([`Knot::blend`]). Boxed: it is
@@ -1242,21 +1242,25 @@ fn junction(
         half_turn_sin: 0.5 * diff_norm,
         tolerance: rules.corner.unwrap_or(rules.tolerance),
         cap: a.feed.min(b.feed),
-        tangents: [*t_in, *t_out],
         transition: None,
     });
     let last = out.len() - 1;
-    let passes = junction_cap(a, b, &mut out[last], rules);
+    let passes = junction_cap([a, b], tangents, &mut out[last], rules);
     if !passes {
         out.pop();
     }
     passes
 }
 
-/// Caps `junction` (from `a` into `b`, as [`junction`] makes it) under `rules`: a
-/// curvature transition, a corner blend, or the zones of a junction passed at speed.
-/// Returns whether it can be passed at some speed.
-fn junction_cap(a: &Curve, b: &Curve, junction: &mut Junction, rules: &JunctionRules<'_>) -> bool {
+/// Caps `junction` (from `a` into `b` with unit tangents `tangents`, as [`junction`]
+/// makes it) under `rules`: a curvature transition, a corner blend, or the zones of a
+/// junction passed at speed. Returns whether it can be passed at some speed.
+fn junction_cap(
+    [a, b]: [&Curve; 2],
+    tangents: [&Vector; 2],
+    junction: &mut Junction,
+    rules: &JunctionRules<'_>,
+) -> bool {
     let (bounds, tolerance, narrow) = (rules.bounds, rules.tolerance, rules.narrow);
     if rules.jerk && !narrow {
         if let Some(t) = super::transition::transition(a, b, tolerance) {
@@ -1286,14 +1290,15 @@ fn junction_cap(a: &Curve, b: &Curve, junction: &mut Junction, rules: &JunctionR
             .min(most * b.span);
         junction.blend = Some(l);
         let cap = if rules.jerk {
-            smooth_blend_cap(junction, l, bounds)
+            smooth_blend_cap(tangents, l, bounds)
         } else {
-            blend_cap(junction, l, bounds)
+            blend_cap(tangents, l, bounds)
         };
         junction.cap = junction.cap.min(cap);
     } else if rules.limits_speed {
         let zones = [zone(a, junction, tolerance), zone(b, junction, tolerance)];
-        junction.cap = junction.cap.min(through_cap(junction, zones, bounds));
+        let cap = through_cap(&junction.direction, tangents, zones, bounds);
+        junction.cap = junction.cap.min(cap);
     }
     junction.cap > 0.0
 }
@@ -1328,18 +1333,23 @@ fn zone(c: &Curve, j: &Junction, tolerance: f64) -> f64 {
 
 /// Speed cap of a junction passed at speed: each axis' velocity along the bisector, and
 /// the lateral acceleration 4·v²·|t_i − d_i|/L of the zone pieces of length L.
-fn through_cap(j: &Junction, zones: [f64; 2], bounds: &AxisBounds) -> f64 {
+fn through_cap(
+    direction: &Vector,
+    tangents: [&Vector; 2],
+    zones: [f64; 2],
+    bounds: &AxisBounds,
+) -> f64 {
     let mut cap = f64::INFINITY;
-    for i in 0..j.direction.len() {
+    for i in 0..direction.len() {
         if bounds.velocity[i] == f64::INFINITY && bounds.acceleration[i] == f64::INFINITY {
             // No limit on the axis: every quotient below is infinite (or NaN), no cap.
             continue;
         }
-        if j.direction[i] != 0.0 {
-            cap = cap.min(bounds.velocity[i] / j.direction[i].abs());
+        if direction[i] != 0.0 {
+            cap = cap.min(bounds.velocity[i] / direction[i].abs());
         }
-        for (t, l) in j.tangents.iter().zip(zones) {
-            let lateral = (t[i] - j.direction[i]).abs();
+        for (t, l) in tangents.iter().zip(zones) {
+            let lateral = (t[i] - direction[i]).abs();
             if lateral > 0.0 && l > 0.0 {
                 cap = cap.min((bounds.acceleration[i] * l / (4.0 * lateral)).sqrt());
             }
@@ -1350,10 +1360,10 @@ fn through_cap(j: &Junction, zones: [f64; 2], bounds: &AxisBounds) -> f64 {
 
 /// Speed cap of a corner blend of half-length L at equal end speeds v: its
 /// acceleration at either end is v²·(u₂ − u₁)/(2L) on each axis.
-fn blend_cap(j: &Junction, l: f64, bounds: &AxisBounds) -> f64 {
+fn blend_cap(tangents: [&Vector; 2], l: f64, bounds: &AxisBounds) -> f64 {
     let mut cap = f64::INFINITY;
-    for i in 0..j.direction.len() {
-        let turn = (j.tangents[1][i] - j.tangents[0][i]).abs();
+    for i in 0..tangents[0].len() {
+        let turn = (tangents[1][i] - tangents[0][i]).abs();
         if turn > 0.0 {
             cap = cap.min((2.0 * l * bounds.acceleration[i] / turn).sqrt());
         }
@@ -1385,10 +1395,10 @@ const BLEND_SPEED_RATIO: f64 = 1.5;
 /// Speed cap of a jerk-limited corner blend of half-length L at equal end speeds v (see
 /// `Knots::smooth_blend`): its acceleration peaks at `v²·|u₂ − u₁|/L` and its jerk is
 /// `v³·|u₂ − u₁|/L²` on each axis; the jerk takes [`TURN_JERK_SHARE`] of the limit.
-fn smooth_blend_cap(j: &Junction, l: f64, bounds: &AxisBounds) -> f64 {
+fn smooth_blend_cap(tangents: [&Vector; 2], l: f64, bounds: &AxisBounds) -> f64 {
     let mut cap = f64::INFINITY;
-    for i in 0..j.direction.len() {
-        let turn = (j.tangents[1][i] - j.tangents[0][i]).abs();
+    for i in 0..tangents[0].len() {
+        let turn = (tangents[1][i] - tangents[0][i]).abs();
         if turn > 0.0 {
             cap = cap.min((l * bounds.acceleration[i] / turn).sqrt());
             cap = cap.min(libm::cbrt(TURN_JERK_SHARE * bounds.jerk[i] * l * l / turn));
