@@ -438,11 +438,15 @@ impl Vector {
     /// every element, each a loop of a few axes).
     #[inline]
     pub fn from_fn(len: usize, mut f: impl FnMut(usize) -> f64) -> Vector {
-        let mut v = Vector::zeros(len);
-        for (i, x) in v.values[..v.len].iter_mut().enumerate() {
-            *x = f(i);
+        debug_assert!(len <= crate::axis::AXIS_COUNT, "{len} axes");
+        let len = len.min(crate::axis::AXIS_COUNT);
+        // A whole array of values, not one slot written at a time: the vector is then
+        // made in registers where it is moved, not written and read back at once (a
+        // wide read of narrow writes stalls the store buffer).
+        Vector {
+            values: std::array::from_fn(|i| if i < len { f(i) } else { 0.0 }),
+            len,
         }
-        v
     }
 }
 
