@@ -1228,16 +1228,9 @@ fn junction(
     if sum_norm < 1e-6 || stops {
         return false;
     }
-    // The bisector, and its difference from the arriving tangent.
-    let (mut direction, mut off) = (Vector::zeros(n), Vector::zeros(n));
-    for i in 0..n {
-        let d = sum.values[i] / sum_norm;
-        direction.values[i] = d;
-        off.values[i] = d - t_in.values[i];
-    }
     out.push(Junction {
-        direction,
-        deviation: norm(&off),
+        direction: Vector::zeros(n),
+        deviation: 0.0,
         blend: None,
         half_turn_sin: 0.5 * diff_norm,
         tolerance: rules.corner.unwrap_or(rules.tolerance),
@@ -1245,6 +1238,17 @@ fn junction(
         transition: None,
     });
     let last = out.len() - 1;
+    // The bisector, written where the junction lies (the sum made again, not read back:
+    // a vector written one value at a time and read two at a time stalls), and its
+    // difference from the arriving tangent.
+    let junction = &mut out[last];
+    let mut off = Vector::zeros(n);
+    for i in 0..n {
+        let d = (t_in.values[i] + t_out.values[i]) / sum_norm;
+        junction.direction.values[i] = d;
+        off.values[i] = d - t_in.values[i];
+    }
+    junction.deviation = norm(&off);
     let passes = junction_cap([a, b], tangents, &mut out[last], rules);
     if !passes {
         out.pop();
