@@ -253,6 +253,7 @@ impl Curve {
     }
 
     /// |dc/dφ| at `φ`: path length per unit of parameter.
+    #[inline]
     pub fn rate(&self, phi: f64) -> f64 {
         match &self.shape {
             Shape::Line { .. } => 1.0,
@@ -275,6 +276,7 @@ impl Curve {
     /// In the plane, c = r(φ)·e^{i(a₀ ± φ)} with r linear, so |dⁿc/dφⁿ| ≤ r_max + n·|dr/dφ|;
     /// the other axes are linear in φ. A Bézier part's are those of [`BezierShape`]. A
     /// line has none.
+    #[inline]
     pub fn derivative_bounds(&self) -> [f64; 3] {
         match &self.shape {
             Shape::Line { .. } => [0.0; 3],
@@ -289,6 +291,7 @@ impl Curve {
 
     /// Path length between two parameters (exact on lines and circles, the mean rate on
     /// a spiral, Simpson's rule on a Bézier part).
+    #[inline]
     pub fn length(&self, from: f64, to: f64) -> f64 {
         let mid = 0.5 * (from + to);
         if let Shape::Bezier(_) = &self.shape {
@@ -311,6 +314,7 @@ impl Curve {
 
     /// A bound on every axis' second factor of [`Curve::axis_factors`] over the whole
     /// curve, without a sine (`None` on a Bézier part, whose factor may be infinite).
+    #[inline]
     pub fn normal_bound(&self) -> Option<f64> {
         match &self.shape {
             Shape::Line { .. } => Some(0.0),

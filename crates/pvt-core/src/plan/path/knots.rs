@@ -482,8 +482,15 @@ impl Knots {
             return way;
         }
         let (curve, from, to) = self.piece_span(curves, k);
-        way.cap = speed_cap(curve, from, to, bounds);
-        way.accel = tangential_accel(curve, from, to, bounds, way.cap);
+        let feed = curve.feed;
+        let bounded = |n: f64| (feed * feed * n).is_finite();
+        if bounds.free && curve.normal_bound().is_some_and(bounded) {
+            // What `speed_cap` and `tangential_accel` give without a limit, asked here.
+            way.cap = feed;
+        } else {
+            way.cap = speed_cap(curve, from, to, bounds);
+            way.accel = tangential_accel(curve, from, to, bounds, way.cap);
+        }
         way.length = curve.length(from, to);
         if self.jerk_mode {
             way.jerk = path_jerk(curve, from, to, bounds);
@@ -576,6 +583,7 @@ impl Knots {
     }
 
     /// The element and parameter range of piece `k` (from knot `k` to knot `k + 1`).
+    #[inline]
     pub fn piece_span<'c>(&self, curves: &'c [Curve], k: usize) -> (&'c Curve, f64, f64) {
         let a = self.knots[k].after;
         let b = self.knots[k + 1].before;
@@ -1062,6 +1070,7 @@ impl Knots {
     }
 
     /// The velocity of knot `k` leaving along (or arriving on) `curve` at `param`.
+    #[inline]
     pub fn velocity(&self, k: usize, curve: &Curve, param: f64, out: &mut [f64]) {
         let knot = &self.knots[k];
         match knot.junction {
