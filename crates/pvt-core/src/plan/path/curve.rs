@@ -253,7 +253,7 @@ impl Curve {
     }
 
     /// |dc/dφ| at `φ`: path length per unit of parameter.
-    #[inline]
+    #[inline(always)]
     pub fn rate(&self, phi: f64) -> f64 {
         match &self.shape {
             Shape::Line { .. } => 1.0,

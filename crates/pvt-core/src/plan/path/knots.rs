@@ -1069,8 +1069,25 @@ impl Knots {
         }
     }
 
+    /// [`Knots::velocity`] as a vector of the curve's axes: along a junction's
+    /// direction made in place, without a call.
+    #[inline(always)]
+    pub fn velocity_at(&self, k: usize, curve: &Curve, param: f64) -> Vector {
+        let knot = &self.knots[k];
+        match knot.junction {
+            Some(j) if knot.speed > 0.0 => {
+                let direction = &self.junctions[j].direction;
+                Vector::from_fn(direction.len(), |i| knot.speed * direction.values[i])
+            }
+            _ => {
+                let mut out = Vector::zeros(curve.start.len());
+                self.velocity(k, curve, param, &mut out);
+                out
+            }
+        }
+    }
+
     /// The velocity of knot `k` leaving along (or arriving on) `curve` at `param`.
-    #[inline]
     pub fn velocity(&self, k: usize, curve: &Curve, param: f64, out: &mut [f64]) {
         let knot = &self.knots[k];
         match knot.junction {

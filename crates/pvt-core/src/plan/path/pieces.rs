@@ -139,8 +139,8 @@ impl Knots {
         let (a, b) = (&self.knots[k], &self.knots[k + 1]);
         piece.start = curve.point(from);
         piece.end = curve.point(to);
-        self.velocity(k, curve, from, &mut piece.start_velocity);
-        self.velocity(k + 1, curve, to, &mut piece.end_velocity);
+        piece.start_velocity = self.velocity_at(k, curve, from);
+        piece.end_velocity = self.velocity_at(k + 1, curve, to);
         let (wa, wb) = (a.speed / curve.rate(from), b.speed / curve.rate(to));
         let span = to - from;
         if wa + wb > 0.0 {
