@@ -1611,3 +1611,175 @@ mod tests {
         assert!((covered - 1.0).abs() <= 1e-9, "{covered}");
     }
 }
+
+/// The shortcuts a window without limits takes (a line's kept unit tangent, the
+/// junction's bisector written in place, `AxisBounds::free`, no known path without a
+/// stopping distance, no limit check), each against the full computation made afresh,
+/// bit for bit, on random programs of lines and arcs (helical, both ways round).
+#[cfg(test)]
+mod shortcut_tests {
+    use super::{KnotStorage, Knots, Start};
+    use crate::axis::{Axis, AXIS_COUNT};
+    use crate::plan::path::{curve::Curve, AxisBounds, PathOptions, Vector};
+    use crate::toolpath::{Arc, ArcDirection, Element, ElementKind, Plane, Span};
+    use crate::vector::norm;
+
+    /// A random program of `n` elements: chords of 0.2 along a wandering heading, one in
+    /// four an arc through the next point, at random feeds.
+    fn program(seed: u64, n: usize) -> Vec<Element> {
+        let mut state = seed;
+        let mut next = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut at = [0.0; AXIS_COUNT];
+        let mut elements = Vec::new();
+        let mut heading = 0.0;
+        for _ in 0..n {
+            let mut end = at;
+            // Most chords turn by under a degree (passed at speed), one in ten sharply.
+            heading += 0.03 * (next() - 0.5) + if next() < 0.1 { 2.0 } else { 0.0 };
+            (end[0], end[1]) = (
+                at[0] + 0.2 * libm::cos(heading),
+                at[1] + 0.2 * libm::sin(heading),
+            );
+            end[2] = at[2] + 0.01 * (next() - 0.5);
+            let kind = if next() < 0.25 {
+                let (mx, my) = (0.5 * (at[0] + end[0]), 0.5 * (at[1] + end[1]));
+                let side = 0.05 + next();
+                let direction = if next() < 0.5 {
+                    ArcDirection::Clockwise
+                } else {
+                    ArcDirection::CounterClockwise
+                };
+                let (dx, dy) = (end[0] - at[0], end[1] - at[1]);
+                ElementKind::Arc(Arc {
+                    plane: Plane::XY,
+                    center: [mx - side * dy, my + side * dx],
+                    direction,
+                    extra_turns: 0,
+                })
+            } else {
+                ElementKind::Line
+            };
+            let feed = 10.0 + 40.0 * next();
+            elements.push(Element {
+                kind,
+                start: at,
+                end,
+                feed,
+                span: Span::default(),
+            });
+            at = end;
+        }
+        elements
+    }
+
+    /// The unit tangent as [`Curve::derivative`] over its norm.
+    fn fresh_tangent(curve: &Curve, phi: f64) -> Vector {
+        let mut t = Vector::zeros(curve.start.len());
+        curve.derivative(phi, &mut t);
+        let n = norm(&t);
+        Vector::from_fn(t.len(), |i| t[i] / n)
+    }
+
+    fn bits(v: &[f64]) -> Vec<u64> {
+        v.iter().map(|x| x.to_bits()).collect()
+    }
+
+    /// The window's caps and cut without a stopping distance: as with the known path
+    /// ahead of every knot computed.
+    fn assert_window_shortcuts(knots: &mut Knots, curves: &[Curve]) {
+        let mut capped = knots.clone();
+        capped.cap_for_window(curves, f64::INFINITY);
+        let mut ahead = Vec::new();
+        knots.known_ahead(curves, &mut ahead);
+        for (k, (knot, &d)) in knots.knots.iter().zip(&ahead).enumerate() {
+            let cap = if knot.fixed {
+                knot.cap
+            } else {
+                knot.cap.min((2.0 * f64::INFINITY * d).sqrt())
+            };
+            assert_eq!(capped.knots[k].cap.to_bits(), cap.to_bits());
+        }
+        let n = knots.knots.len();
+        let last = curves.len() - 1;
+        let cut = (1..n - 1).rev().find(|&k| {
+            let knot = &knots.knots[k];
+            knot.blend.is_none() && knot.after.element < last && (ahead[k] >= 0.0 || k <= n / 2)
+        });
+        assert_eq!(knots.cut(curves, 0.0), cut);
+    }
+
+    #[test]
+    fn without_limits_the_shortcuts_are_the_full_computation() {
+        let axes = [Axis::X, Axis::Y, Axis::Z];
+        let options = PathOptions {
+            tolerance: 1e-3,
+            corner_tolerance: None,
+            limits: Default::default(),
+            quantum: None,
+            servo_period: crate::defaults::SERVO_PERIOD_S,
+            position_resolution: 0.0,
+        };
+        let bounds = AxisBounds::new(&axes, &options);
+        assert!(bounds.free);
+        let full = AxisBounds {
+            free: false,
+            ..bounds.clone()
+        };
+        let mut junctions = 0;
+        for seed in 1..40 {
+            let mut curves = Vec::new();
+            for e in &program(seed, 60) {
+                Curve::push_new(e, &axes, &mut curves);
+            }
+            for c in &curves {
+                for phi in [0.0, 0.5 * c.span, c.span] {
+                    assert_eq!(bits(&c.unit_tangent(phi)), bits(&fresh_tangent(c, phi)));
+                }
+            }
+            let start = Start {
+                param: 0.0,
+                speed: 0.0,
+                junction: None,
+            };
+            let storage = KnotStorage::default();
+            let mut knots = Knots::new(&curves, &bounds, 1e-3, None, &start, false, storage);
+            let mut pieces = Vec::new();
+            assert!(crate::plan::path::settle_into(
+                &mut knots,
+                &curves,
+                &bounds,
+                1e-3,
+                &mut pieces
+            ));
+            for knot in &knots.knots {
+                let Some(j) = knot.junction else { continue };
+                let (a, b) = (&curves[knot.before.element], &curves[knot.after.element]);
+                let (t_in, t_out) = (fresh_tangent(a, a.span), fresh_tangent(b, 0.0));
+                let sum = Vector::from_fn(3, |i| t_in[i] + t_out[i]);
+                let direction = Vector::from_fn(3, |i| sum[i] / norm(&sum));
+                let off = Vector::from_fn(3, |i| direction[i] - t_in[i]);
+                let junction = &knots.junctions[j];
+                assert_eq!(bits(&junction.direction), bits(&direction));
+                assert_eq!(junction.deviation.to_bits(), norm(&off).to_bits());
+                junctions += 1;
+            }
+            for k in 0..knots.knots.len() - 1 {
+                let (quick, slow) = (
+                    knots.piece_way(&curves, &bounds, k),
+                    knots.piece_way(&curves, &full, k),
+                );
+                assert_eq!(format!("{quick:?}"), format!("{slow:?}"));
+            }
+            for piece in &pieces {
+                assert_eq!(piece.limit_factor(&bounds), 1.0);
+            }
+            assert_window_shortcuts(&mut knots, &curves);
+        }
+        assert!(junctions > 600, "{junctions} junctions");
+    }
+}
