@@ -312,17 +312,20 @@ impl Knots {
                         &own_out
                     }
                 };
-                let make = |narrow: bool, out: &mut Vec<Junction>| {
-                    let rules = JunctionRules { narrow, ..rules };
-                    junction(curve, next, [t_in, t_out], &rules, out)
+                let make = |rules: &JunctionRules<'_>, out: &mut Vec<Junction>| {
+                    junction(curve, next, [t_in, t_out], rules, out)
                 };
-                after = make(narrow, &mut this.junctions);
+                after = make(&rules, &mut this.junctions);
                 if e == 0 && after && this.last_junction().leaves_before(start.param, curve) {
                     // A window that starts past where a transition would leave its first
                     // element (never after a cut, which is never inside one): the
                     // junction as the stretched grid makes it, without a transition.
                     this.junctions.pop();
-                    after = make(true, &mut this.junctions);
+                    let narrow = JunctionRules {
+                        narrow: true,
+                        ..rules
+                    };
+                    after = make(&narrow, &mut this.junctions);
                 }
             }
             if let Some((l, cap)) = joins {
