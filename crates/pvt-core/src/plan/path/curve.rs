@@ -1,6 +1,7 @@
 //! One programmed element as a parametric curve on the program's axes.
 //!
-//! Owns the exact position, first derivative and derivative bounds of a line, arc, helix,
+//! Owns the exact position, first derivative (and unit tangent: a line's is made once,
+//! with its curve) and derivative bounds of a line, arc, helix,
 //! spiral arc or cubic Bézier, by a parameter `φ` (arc length on a line, swept angle on an
 //! arc, the Bézier parameter scaled by the part's length on a Bézier), and the split of a
 //! Bézier into parts whose speed `|dc/dφ|` stays near 1 (see [`bezier_parts`]). It must

@@ -1395,8 +1395,9 @@ fn through_cap(
 /// acceleration at either end is v²·(u₂ − u₁)/(2L) on each axis.
 fn blend_cap(tangents: [&Vector; 2], l: f64, bounds: &AxisBounds) -> f64 {
     let mut cap = f64::INFINITY;
-    for i in 0..tangents[0].len() {
-        let turn = (tangents[1][i] - tangents[0][i]).abs();
+    let [arriving, leaving] = tangents;
+    for (i, (t1, t2)) in arriving.iter().zip(leaving.iter()).enumerate() {
+        let turn = (t2 - t1).abs();
         if turn > 0.0 {
             cap = cap.min((2.0 * l * bounds.acceleration[i] / turn).sqrt());
         }
@@ -1430,8 +1431,9 @@ const BLEND_SPEED_RATIO: f64 = 1.5;
 /// `v³·|u₂ − u₁|/L²` on each axis; the jerk takes [`TURN_JERK_SHARE`] of the limit.
 fn smooth_blend_cap(tangents: [&Vector; 2], l: f64, bounds: &AxisBounds) -> f64 {
     let mut cap = f64::INFINITY;
-    for i in 0..tangents[0].len() {
-        let turn = (tangents[1][i] - tangents[0][i]).abs();
+    let [arriving, leaving] = tangents;
+    for (i, (t1, t2)) in arriving.iter().zip(leaving.iter()).enumerate() {
+        let turn = (t2 - t1).abs();
         if turn > 0.0 {
             cap = cap.min((l * bounds.acceleration[i] / turn).sqrt());
             cap = cap.min(libm::cbrt(TURN_JERK_SHARE * bounds.jerk[i] * l * l / turn));
