@@ -213,20 +213,40 @@ impl Curve {
 
     /// dc/dφ at `φ`.
     pub fn derivative(&self, phi: f64, out: &mut [f64]) {
+        let (base, plane) = self.derivative_parts(phi);
+        out.copy_from_slice(&base);
+        if let Some((first, second, x, y)) = plane {
+            (out[first], out[second]) = (x, y);
+        }
+    }
+
+    /// [`Curve::derivative`] as a vector (copied whole, not through a slice).
+    #[inline]
+    pub fn derivative_vector(&self, phi: f64) -> Vector {
+        let (mut out, plane) = self.derivative_parts(phi);
+        if let Some((first, second, x, y)) = plane {
+            (out.values[first], out.values[second]) = (x, y);
+        }
+        out
+    }
+
+    /// dc/dφ at `φ` off the plane (or all of it on a line), and where there is one, the
+    /// plane's two axes and their values.
+    #[inline]
+    fn derivative_parts(&self, phi: f64) -> (Vector, Option<(usize, usize, f64, f64)>) {
         match &self.shape {
-            Shape::Line { unit, .. } => out.copy_from_slice(unit),
+            Shape::Line { unit, .. } => (*unit, None),
             Shape::Arc(a) => {
-                out.copy_from_slice(&a.linear_rate);
                 let (sin, cos) = a.sin_cos(phi);
                 let r = a.start_radius + a.radius_rate * phi;
-                out[a.first] = a.radius_rate * cos - a.turn * r * sin;
-                out[a.second] = a.radius_rate * sin + a.turn * r * cos;
+                let x = a.radius_rate * cos - a.turn * r * sin;
+                let y = a.radius_rate * sin + a.turn * r * cos;
+                (a.linear_rate, Some((a.first, a.second, x, y)))
             }
             Shape::Bezier(b) => {
-                out.copy_from_slice(&b.linear_rate);
                 let d = bezier::derivative(&b.points, phi / b.scale);
-                out[b.first] = d[0] / b.scale;
-                out[b.second] = d[1] / b.scale;
+                let plane = (b.first, b.second, d[0] / b.scale, d[1] / b.scale);
+                (b.linear_rate, Some(plane))
             }
         }
     }
@@ -246,8 +266,7 @@ impl Curve {
         if let Shape::Line { tangent, .. } = &self.shape {
             return *tangent;
         }
-        let mut t = Vector::zeros(self.start.len());
-        self.derivative(phi, &mut t);
+        let mut t = self.derivative_vector(phi);
         let n = norm(&t);
         t.iter_mut().for_each(|x| *x /= n);
         t

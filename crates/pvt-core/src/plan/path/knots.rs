@@ -1083,8 +1083,9 @@ impl Knots {
                 Vector::from_fn(direction.len(), |i| knot.speed * direction.values[i])
             }
             _ => {
-                let mut out = Vector::zeros(curve.start.len());
-                self.velocity(k, curve, param, &mut out);
+                let mut out = curve.derivative_vector(param);
+                let scale = knot.speed / norm(&out);
+                out.iter_mut().for_each(|x| *x *= scale);
                 out
             }
         }
