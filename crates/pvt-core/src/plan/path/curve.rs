@@ -1,6 +1,7 @@
 //! One programmed element as a parametric curve on the program's axes.
 //!
-//! Owns the exact position, first derivative and derivative bounds of a line, arc, helix,
+//! Owns the exact position, first derivative (and unit tangent: a line's is made once,
+//! with its curve) and derivative bounds of a line, arc, helix,
 //! spiral arc or cubic Bézier, by a parameter `φ` (arc length on a line, swept angle on an
 //! arc, the Bézier parameter scaled by the part's length on a Bézier), and the split of a
 //! Bézier into parts whose speed `|dc/dφ|` stays near 1 (see [`bezier_parts`]). It must
@@ -37,8 +38,10 @@ pub(super) struct Curve {
 
 #[derive(Debug, Clone)]
 enum Shape {
-    /// φ is the distance from the start along `unit`.
-    Line { unit: Vector },
+    /// φ is the distance from the start along `unit`; `tangent` is `unit` divided by its
+    /// own norm, the line's unit tangent as [`Curve::unit_tangent`] gives it (made once,
+    /// with the curve: every junction asks for it).
+    Line { unit: Vector, tangent: Vector },
     /// φ is the swept angle; see [`Curve::position`].
     Arc(ArcShape),
     /// φ = `scale`·u on a part of a Bézier; see [`BezierShape`].
@@ -117,7 +120,9 @@ impl Curve {
             None => {
                 let length = distance(&start, &end);
                 let unit = Vector::from_fn(start.len(), |i| (end[i] - start[i]) / length);
-                (Shape::Line { unit }, length)
+                let n = norm(&unit);
+                let tangent = Vector::from_fn(unit.len(), |i| unit[i] / n);
+                (Shape::Line { unit, tangent }, length)
             }
         };
         if span.is_finite() && span > 0.0 {
@@ -166,7 +171,7 @@ impl Curve {
             return;
         }
         match &self.shape {
-            Shape::Line { unit } => {
+            Shape::Line { unit, .. } => {
                 for ((o, s), u) in out.iter_mut().zip(&self.start).zip(unit) {
                     *o = s + u * phi;
                 }
@@ -191,27 +196,84 @@ impl Curve {
         }
     }
 
+    /// [`Curve::position`] as a vector: the ends are copied whole (no copy of a slice of
+    /// unknown length, which is a call to `memcpy`).
+    #[inline]
+    pub fn point(&self, phi: f64) -> Vector {
+        if phi >= self.span {
+            return self.end;
+        }
+        if phi <= 0.0 {
+            return self.start;
+        }
+        let mut p = Vector::zeros(self.start.len());
+        self.position(phi, &mut p);
+        p
+    }
+
     /// dc/dφ at `φ`.
     pub fn derivative(&self, phi: f64, out: &mut [f64]) {
+        let (base, plane) = self.derivative_parts(phi);
+        out.copy_from_slice(&base);
+        if let Some((first, second, x, y)) = plane {
+            (out[first], out[second]) = (x, y);
+        }
+    }
+
+    /// [`Curve::derivative`] as a vector (copied whole, not through a slice).
+    #[inline]
+    pub fn derivative_vector(&self, phi: f64) -> Vector {
+        let (mut out, plane) = self.derivative_parts(phi);
+        if let Some((first, second, x, y)) = plane {
+            (out.values[first], out.values[second]) = (x, y);
+        }
+        out
+    }
+
+    /// dc/dφ at `φ` off the plane (or all of it on a line), and where there is one, the
+    /// plane's two axes and their values.
+    #[inline]
+    fn derivative_parts(&self, phi: f64) -> (Vector, Option<(usize, usize, f64, f64)>) {
         match &self.shape {
-            Shape::Line { unit } => out.copy_from_slice(unit),
+            Shape::Line { unit, .. } => (*unit, None),
             Shape::Arc(a) => {
-                out.copy_from_slice(&a.linear_rate);
                 let (sin, cos) = a.sin_cos(phi);
                 let r = a.start_radius + a.radius_rate * phi;
-                out[a.first] = a.radius_rate * cos - a.turn * r * sin;
-                out[a.second] = a.radius_rate * sin + a.turn * r * cos;
+                let x = a.radius_rate * cos - a.turn * r * sin;
+                let y = a.radius_rate * sin + a.turn * r * cos;
+                (a.linear_rate, Some((a.first, a.second, x, y)))
             }
             Shape::Bezier(b) => {
-                out.copy_from_slice(&b.linear_rate);
                 let d = bezier::derivative(&b.points, phi / b.scale);
-                out[b.first] = d[0] / b.scale;
-                out[b.second] = d[1] / b.scale;
+                let plane = (b.first, b.second, d[0] / b.scale, d[1] / b.scale);
+                (b.linear_rate, Some(plane))
             }
         }
     }
 
+    /// A line's unit tangent (the same at every `φ`), `None` on any other curve.
+    #[inline]
+    pub fn line_tangent(&self) -> Option<&Vector> {
+        match &self.shape {
+            Shape::Line { tangent, .. } => Some(tangent),
+            _ => None,
+        }
+    }
+
+    /// The unit tangent at `φ`: [`Curve::derivative`] divided by its norm (a line's is
+    /// kept with it).
+    pub fn unit_tangent(&self, phi: f64) -> Vector {
+        if let Shape::Line { tangent, .. } = &self.shape {
+            return *tangent;
+        }
+        let mut t = self.derivative_vector(phi);
+        let n = norm(&t);
+        t.iter_mut().for_each(|x| *x /= n);
+        t
+    }
+
     /// |dc/dφ| at `φ`: path length per unit of parameter.
+    #[inline(always)]
     pub fn rate(&self, phi: f64) -> f64 {
         match &self.shape {
             Shape::Line { .. } => 1.0,
@@ -234,6 +296,7 @@ impl Curve {
     /// In the plane, c = r(φ)·e^{i(a₀ ± φ)} with r linear, so |dⁿc/dφⁿ| ≤ r_max + n·|dr/dφ|;
     /// the other axes are linear in φ. A Bézier part's are those of [`BezierShape`]. A
     /// line has none.
+    #[inline]
     pub fn derivative_bounds(&self) -> [f64; 3] {
         match &self.shape {
             Shape::Line { .. } => [0.0; 3],
@@ -248,6 +311,7 @@ impl Curve {
 
     /// Path length between two parameters (exact on lines and circles, the mean rate on
     /// a spiral, Simpson's rule on a Bézier part).
+    #[inline]
     pub fn length(&self, from: f64, to: f64) -> f64 {
         let mid = 0.5 * (from + to);
         if let Shape::Bezier(_) = &self.shape {
@@ -270,6 +334,7 @@ impl Curve {
 
     /// A bound on every axis' second factor of [`Curve::axis_factors`] over the whole
     /// curve, without a sine (`None` on a Bézier part, whose factor may be infinite).
+    #[inline]
     pub fn normal_bound(&self) -> Option<f64> {
         match &self.shape {
             Shape::Line { .. } => Some(0.0),
@@ -284,7 +349,7 @@ impl Curve {
     #[inline]
     pub fn axis_factors(&self, from: f64, to: f64, i: usize) -> (f64, f64) {
         match &self.shape {
-            Shape::Line { unit } => (unit[i].abs(), 0.0),
+            Shape::Line { unit, .. } => (unit[i].abs(), 0.0),
             Shape::Bezier(b) => self.bezier_factors(b, from, to, i),
             Shape::Arc(a) => {
                 let r = self.max_radius(a);

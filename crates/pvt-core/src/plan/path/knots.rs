@@ -78,10 +78,10 @@ pub(super) struct Junction {
     /// How far a corner blend may be from the corner and the lines (the corner
     /// tolerance, else the path tolerance).
     pub tolerance: f64,
-    /// The speed cap at the junction (or of the blend piece).
+    /// The speed cap at the junction (or of the blend piece). (Its unit tangents are
+    /// its curves' own, [`Curve::unit_tangent`] at their ends: not kept here, a junction
+    /// is made for every element and moved.)
     pub cap: f64,
-    /// Unit tangents arriving and leaving.
-    pub tangents: [Vector; 2],
     /// Under a jerk limit, between a line and a tangent circle: the curvature
     /// transition that replaces a short stretch of each (see [`super::transition`]).
     /// Its knots are marked as a corner blend's are ([`Knot::blend`]). Boxed: it is
@@ -292,31 +292,40 @@ impl Knots {
         // large: a curvature transition rides in it); the next element needs only where
         // a cut junction joins it and its cap.
         let mut joins: Option<(f64, f64)> = None;
-        // A line's unit tangent is the same at both of its ends: the outgoing tangent of
-        // one junction is the incoming tangent of the next.
-        let mut line_tangent: Option<Vector> = None;
+        let rules = JunctionRules::new(bounds, tolerance, corner, narrow);
         for (e, curve) in curves.iter().enumerate() {
-            let end_tangent = line_tangent.take();
             let mut after = false;
             if let Some(next) = curves.get(e + 1) {
-                let t_in = end_tangent.unwrap_or_else(|| unit_tangent(curve, curve.span));
-                let t_out = unit_tangent(next, 0.0);
-                if next.is_line() {
-                    line_tangent = Some(t_out);
-                }
-                let make = |narrow: bool, out: &mut Vec<Junction>| {
-                    let tangents = [t_in, t_out];
-                    junction(
-                        curve, next, tangents, bounds, tolerance, corner, narrow, out,
-                    )
+                // A line's unit tangent is kept with it; an arc's is made here.
+                let (own_in, own_out);
+                let t_in = match curve.line_tangent() {
+                    Some(t) => t,
+                    None => {
+                        own_in = curve.unit_tangent(curve.span);
+                        &own_in
+                    }
                 };
-                after = make(narrow, &mut this.junctions);
+                let t_out = match next.line_tangent() {
+                    Some(t) => t,
+                    None => {
+                        own_out = next.unit_tangent(0.0);
+                        &own_out
+                    }
+                };
+                let make = |rules: &JunctionRules<'_>, out: &mut Vec<Junction>| {
+                    junction(curve, next, [t_in, t_out], rules, out)
+                };
+                after = make(&rules, &mut this.junctions);
                 if e == 0 && after && this.last_junction().leaves_before(start.param, curve) {
                     // A window that starts past where a transition would leave its first
                     // element (never after a cut, which is never inside one): the
                     // junction as the stretched grid makes it, without a transition.
                     this.junctions.pop();
-                    after = make(true, &mut this.junctions);
+                    let narrow = JunctionRules {
+                        narrow: true,
+                        ..rules
+                    };
+                    after = make(&narrow, &mut this.junctions);
                 }
             }
             if let Some((l, cap)) = joins {
@@ -476,8 +485,15 @@ impl Knots {
             return way;
         }
         let (curve, from, to) = self.piece_span(curves, k);
-        way.cap = speed_cap(curve, from, to, bounds);
-        way.accel = tangential_accel(curve, from, to, bounds, way.cap);
+        let feed = curve.feed;
+        let bounded = |n: f64| (feed * feed * n).is_finite();
+        if bounds.free && curve.normal_bound().is_some_and(bounded) {
+            // What `speed_cap` and `tangential_accel` give without a limit, asked here.
+            way.cap = feed;
+        } else {
+            way.cap = speed_cap(curve, from, to, bounds);
+            way.accel = tangential_accel(curve, from, to, bounds, way.cap);
+        }
         way.length = curve.length(from, to);
         if self.jerk_mode {
             way.jerk = path_jerk(curve, from, to, bounds);
@@ -570,6 +586,7 @@ impl Knots {
     }
 
     /// The element and parameter range of piece `k` (from knot `k` to knot `k + 1`).
+    #[inline]
     pub fn piece_span<'c>(&self, curves: &'c [Curve], k: usize) -> (&'c Curve, f64, f64) {
         let a = self.knots[k].after;
         let b = self.knots[k + 1].before;
@@ -637,6 +654,11 @@ impl Knots {
     /// Lowers the speed caps at both ends of every piece whose closed-form velocity or
     /// acceleration peak exceeds a limit. Returns whether any did.
     pub fn slow_over(&mut self, pieces: &[Piece], bounds: &AxisBounds) -> bool {
+        let limits = [&bounds.velocity, &bounds.acceleration, &bounds.jerk];
+        if limits.iter().all(|l| l.iter().all(|&x| x == f64::INFINITY)) {
+            // No limit on any axis: every piece's factor is 1 (see `Piece::limit_factor`).
+            return false;
+        }
         let mut slowed = false;
         for piece in pieces {
             let k = piece.knot;
@@ -778,6 +800,10 @@ impl Knots {
     /// elements after the window ask, a window cut at any knot can still meet it.
     /// (Under a jerk limit the window is cut at [`Knots::stop_horizon`] instead.)
     pub fn cap_for_window(&mut self, curves: &[Curve], least: f64) {
+        if least == f64::INFINITY && !self.knots.iter().any(|k| !k.fixed && k.cap.is_nan()) {
+            // Every cap is `√∞ = ∞` (or `√NaN` at `d = 0`), and `min` keeps the knot's own.
+            return;
+        }
         let mut ahead = std::mem::take(&mut self.scratch.ahead);
         self.known_ahead(curves, &mut ahead);
         for (knot, &d) in self.knots.iter_mut().zip(&ahead) {
@@ -931,7 +957,13 @@ impl Knots {
         let n = self.knots.len();
         let last = curves.len() - 1;
         let mut ahead = std::mem::take(&mut self.scratch.ahead);
-        self.known_ahead(curves, &mut ahead);
+        if keep > 0.0 {
+            self.known_ahead(curves, &mut ahead);
+        } else {
+            // Every knot has at least no path after it (`known_ahead` is never below 0).
+            ahead.clear();
+            ahead.resize(n, 0.0);
+        }
         let cut = (1..n - 1).rev().find(|&k| {
             let knot = &self.knots[k];
             let cuttable = knot.blend.is_none() && knot.after.element < last;
@@ -1040,6 +1072,25 @@ impl Knots {
         }
     }
 
+    /// [`Knots::velocity`] as a vector of the curve's axes: along a junction's
+    /// direction made in place, without a call.
+    #[inline(always)]
+    pub fn velocity_at(&self, k: usize, curve: &Curve, param: f64) -> Vector {
+        let knot = &self.knots[k];
+        match knot.junction {
+            Some(j) if knot.speed > 0.0 => {
+                let direction = &self.junctions[j].direction;
+                Vector::from_fn(direction.len(), |i| knot.speed * direction.values[i])
+            }
+            _ => {
+                let mut out = curve.derivative_vector(param);
+                let scale = knot.speed / norm(&out);
+                out.iter_mut().for_each(|x| *x *= scale);
+                out
+            }
+        }
+    }
+
     /// The velocity of knot `k` leaving along (or arriving on) `curve` at `param`.
     pub fn velocity(&self, k: usize, curve: &Curve, param: f64, out: &mut [f64]) {
         let knot = &self.knots[k];
@@ -1088,6 +1139,9 @@ fn reachable(v: f64, a: f64, d: f64) -> f64 {
 /// limit and each axis' share of its acceleration limit for the centripetal part.
 pub(super) fn speed_cap(curve: &Curve, from: f64, to: f64, bounds: &AxisBounds) -> f64 {
     let mut cap = curve.feed;
+    if bounds.free {
+        return cap;
+    }
     for i in 0..bounds.velocity.len() {
         if bounds.velocity[i] == f64::INFINITY && bounds.acceleration[i] == f64::INFINITY {
             // No limit on the axis: every quotient below is infinite (or NaN), no cap.
@@ -1112,6 +1166,9 @@ fn tangential_accel(curve: &Curve, from: f64, to: f64, bounds: &AxisBounds, spee
     let finite_normal = curve
         .normal_bound()
         .is_some_and(|n| (speed * speed * n).is_finite());
+    if finite_normal && bounds.free {
+        return accel;
+    }
     for i in 0..bounds.acceleration.len() {
         if finite_normal && bounds.acceleration[i] == f64::INFINITY {
             continue;
@@ -1145,54 +1202,110 @@ fn inner_params(curve: &Curve, tolerance: f64) -> impl Iterator<Item = f64> {
     (1..n).map(move |i| span * i as f64 / n as f64)
 }
 
-/// The junction from `a` into `b`, whose unit tangents at the joint are `tangents`
-/// (arriving, leaving), pushed onto `out`; false, and nothing pushed, when it must be
-/// an exact stop. Beside a junction passed at speed its pieces may turn over the zones
-/// of [`zone`] (for the acceleration cap).
-#[allow(clippy::too_many_arguments)]
-fn junction(
-    a: &Curve,
-    b: &Curve,
-    tangents: [Vector; 2],
-    bounds: &AxisBounds,
+/// What every junction of a window is made under: the bounds and tolerances, `narrow`
+/// (see [`Knots::new`]), and what the bounds limit, asked once per window.
+#[derive(Clone, Copy)]
+struct JunctionRules<'b> {
+    bounds: &'b AxisBounds,
     tolerance: f64,
     corner: Option<f64>,
     narrow: bool,
+    /// [`AxisBounds::accelerates`].
+    accelerates: bool,
+    /// [`AxisBounds::jerk_mode`].
+    jerk: bool,
+    /// [`AxisBounds::limits_speed`].
+    limits_speed: bool,
+}
+
+impl<'b> JunctionRules<'b> {
+    fn new(bounds: &'b AxisBounds, tolerance: f64, corner: Option<f64>, narrow: bool) -> Self {
+        JunctionRules {
+            bounds,
+            tolerance,
+            corner,
+            narrow,
+            accelerates: bounds.accelerates(),
+            jerk: bounds.jerk_mode(),
+            limits_speed: bounds.limits_speed(),
+        }
+    }
+}
+
+/// The junction from `a` into `b`, whose unit tangents at the joint are `tangents`
+/// (arriving, leaving), pushed onto `out`; false, and nothing pushed, when it must be
+/// an exact stop. Beside a junction passed at speed its pieces may turn over the zones
+/// of [`zone`] (for the acceleration cap). The junction is written where it lies in
+/// `out` (it is large) and taken back off where it cannot be passed at any speed.
+fn junction(
+    a: &Curve,
+    b: &Curve,
+    tangents: [&Vector; 2],
+    rules: &JunctionRules<'_>,
     out: &mut Vec<Junction>,
 ) -> bool {
     let [t_in, t_out] = tangents;
-    let sum = Vector::from_fn(t_in.len(), |i| t_in[i] + t_out[i]);
-    let diff = Vector::from_fn(t_in.len(), |i| t_in[i] - t_out[i]);
+    let n = t_in.len();
+    let (mut sum, mut diff) = (Vector::zeros(n), Vector::zeros(n));
+    for i in 0..n {
+        let (x, y) = (t_in.values[i], t_out.values[i]);
+        sum.values[i] = x + y;
+        diff.values[i] = x - y;
+    }
     let (sum_norm, diff_norm) = (norm(&sum), norm(&diff));
     let stops =
-        !bounds.accelerates() && corner.is_none() && turns_beyond_tangent(diff_norm, sum_norm);
+        !rules.accelerates && rules.corner.is_none() && turns_beyond_tangent(diff_norm, sum_norm);
     if sum_norm < 1e-6 || stops {
         return false;
     }
-    let direction = Vector::from_fn(sum.len(), |i| sum[i] / sum_norm);
-    let deviation = norm(&Vector::from_fn(direction.len(), |i| {
-        direction[i] - t_in[i]
-    }));
-    let mut junction = Junction {
-        direction,
-        deviation,
+    out.push(Junction {
+        direction: Vector::zeros(n),
+        deviation: 0.0,
         blend: None,
         half_turn_sin: 0.5 * diff_norm,
-        tolerance: corner.unwrap_or(tolerance),
+        tolerance: rules.corner.unwrap_or(rules.tolerance),
         cap: a.feed.min(b.feed),
-        tangents: [t_in, t_out],
         transition: None,
-    };
-    if bounds.jerk_mode() && !narrow {
+    });
+    let last = out.len() - 1;
+    // The bisector, written where the junction lies (the sum made again, not read back:
+    // a vector written one value at a time and read two at a time stalls), and its
+    // difference from the arriving tangent.
+    let junction = &mut out[last];
+    let mut off = Vector::zeros(n);
+    for i in 0..n {
+        let d = (t_in.values[i] + t_out.values[i]) / sum_norm;
+        junction.direction.values[i] = d;
+        off.values[i] = d - t_in.values[i];
+    }
+    junction.deviation = norm(&off);
+    let passes = junction_cap([a, b], tangents, &mut out[last], rules);
+    if !passes {
+        out.pop();
+    }
+    passes
+}
+
+/// Caps `junction` (from `a` into `b` with unit tangents `tangents`, as [`junction`]
+/// makes it) under `rules`: a curvature transition, a corner blend, or the zones of a
+/// junction passed at speed. Returns whether it can be passed at some speed.
+fn junction_cap(
+    [a, b]: [&Curve; 2],
+    tangents: [&Vector; 2],
+    junction: &mut Junction,
+    rules: &JunctionRules<'_>,
+) -> bool {
+    let (bounds, tolerance, narrow) = (rules.bounds, rules.tolerance, rules.narrow);
+    if rules.jerk && !narrow {
         if let Some(t) = super::transition::transition(a, b, tolerance) {
             junction.cap = junction.cap.min(t.cap(bounds));
             junction.tolerance = tolerance;
             junction.transition = Some(Box::new(t));
-            return keep(junction, out);
+            return junction.cap > 0.0;
         }
     }
-    let blends = bounds.accelerates() || corner.is_some();
-    if a.is_line() && b.is_line() && blends && deviation > 1e-12 {
+    let blends = rules.accelerates || rules.corner.is_some();
+    if a.is_line() && b.is_line() && blends && junction.deviation > 1e-12 {
         // At equal end speeds the blend passes within L·sin(α/2)/2 of the corner (see
         // `blend_error`): L is sized for that, and unequal speeds are evened out where
         // they would take it farther. On a time grid, whose stretches move the inner
@@ -1200,42 +1313,28 @@ fn junction(
         // any of them.
         // Under a jerk limit the blend is the smooth pulse of `pieces`, within
         // L·sin(α/2)/3 of the corner at equal speeds (see `smooth_blend_error`).
-        let share = match (narrow, bounds.jerk_mode()) {
+        let share = match (narrow, rules.jerk) {
             (true, _) => 1.0,
             (false, true) => 3.0 * (1.0 - 1e-9),
             (false, false) => 2.0 * (1.0 - 1e-9),
         };
-        let most = if bounds.jerk_mode() {
-            SMOOTH_BLEND_SPAN
-        } else {
-            0.45
-        };
+        let most = if rules.jerk { SMOOTH_BLEND_SPAN } else { 0.45 };
         let l = (share * junction.tolerance / junction.half_turn_sin)
             .min(most * a.span)
             .min(most * b.span);
         junction.blend = Some(l);
-        let cap = if bounds.jerk_mode() {
-            smooth_blend_cap(&junction, l, bounds)
+        let cap = if rules.jerk {
+            smooth_blend_cap(tangents, l, bounds)
         } else {
-            blend_cap(&junction, l, bounds)
+            blend_cap(tangents, l, bounds)
         };
         junction.cap = junction.cap.min(cap);
-        return keep(junction, out);
+    } else if rules.limits_speed {
+        let zones = [zone(a, junction, tolerance), zone(b, junction, tolerance)];
+        let cap = through_cap(&junction.direction, tangents, zones, bounds);
+        junction.cap = junction.cap.min(cap);
     }
-    if bounds.limits_speed() {
-        let zones = [zone(a, &junction, tolerance), zone(b, &junction, tolerance)];
-        junction.cap = junction.cap.min(through_cap(&junction, zones, bounds));
-    }
-    keep(junction, out)
-}
-
-/// Pushes `junction` onto `out` when it can be passed at some speed.
-fn keep(junction: Junction, out: &mut Vec<Junction>) -> bool {
-    let passes = junction.cap > 0.0;
-    if passes {
-        out.push(junction);
-    }
-    passes
+    junction.cap > 0.0
 }
 
 /// True when the turning angle `2·atan2(diff, sum)` of two unit tangents (`diff` and
@@ -1257,14 +1356,6 @@ fn turns_beyond_tangent(diff: f64, sum: f64) -> bool {
     2.0 * libm::atan2(diff, sum) > TANGENT_ANGLE
 }
 
-fn unit_tangent(curve: &Curve, param: f64) -> Vector {
-    let mut t = Vector::zeros(curve.start.len());
-    curve.derivative(param, &mut t);
-    let n = norm(&t);
-    t.iter_mut().for_each(|x| *x /= n);
-    t
-}
-
 /// Length of the zone beside a junction passed at speed whose piece's error
 /// 4/27·L·deviation takes half the tolerance (at most 45 % of the element).
 fn zone(c: &Curve, j: &Junction, tolerance: f64) -> f64 {
@@ -1276,18 +1367,23 @@ fn zone(c: &Curve, j: &Junction, tolerance: f64) -> f64 {
 
 /// Speed cap of a junction passed at speed: each axis' velocity along the bisector, and
 /// the lateral acceleration 4·v²·|t_i − d_i|/L of the zone pieces of length L.
-fn through_cap(j: &Junction, zones: [f64; 2], bounds: &AxisBounds) -> f64 {
+fn through_cap(
+    direction: &Vector,
+    tangents: [&Vector; 2],
+    zones: [f64; 2],
+    bounds: &AxisBounds,
+) -> f64 {
     let mut cap = f64::INFINITY;
-    for i in 0..j.direction.len() {
+    for i in 0..direction.len() {
         if bounds.velocity[i] == f64::INFINITY && bounds.acceleration[i] == f64::INFINITY {
             // No limit on the axis: every quotient below is infinite (or NaN), no cap.
             continue;
         }
-        if j.direction[i] != 0.0 {
-            cap = cap.min(bounds.velocity[i] / j.direction[i].abs());
+        if direction[i] != 0.0 {
+            cap = cap.min(bounds.velocity[i] / direction[i].abs());
         }
-        for (t, l) in j.tangents.iter().zip(zones) {
-            let lateral = (t[i] - j.direction[i]).abs();
+        for (t, l) in tangents.iter().zip(zones) {
+            let lateral = (t[i] - direction[i]).abs();
             if lateral > 0.0 && l > 0.0 {
                 cap = cap.min((bounds.acceleration[i] * l / (4.0 * lateral)).sqrt());
             }
@@ -1298,10 +1394,11 @@ fn through_cap(j: &Junction, zones: [f64; 2], bounds: &AxisBounds) -> f64 {
 
 /// Speed cap of a corner blend of half-length L at equal end speeds v: its
 /// acceleration at either end is v²·(u₂ − u₁)/(2L) on each axis.
-fn blend_cap(j: &Junction, l: f64, bounds: &AxisBounds) -> f64 {
+fn blend_cap(tangents: [&Vector; 2], l: f64, bounds: &AxisBounds) -> f64 {
     let mut cap = f64::INFINITY;
-    for i in 0..j.direction.len() {
-        let turn = (j.tangents[1][i] - j.tangents[0][i]).abs();
+    let [arriving, leaving] = tangents;
+    for (i, (t1, t2)) in arriving.iter().zip(leaving.iter()).enumerate() {
+        let turn = (t2 - t1).abs();
         if turn > 0.0 {
             cap = cap.min((2.0 * l * bounds.acceleration[i] / turn).sqrt());
         }
@@ -1333,10 +1430,11 @@ const BLEND_SPEED_RATIO: f64 = 1.5;
 /// Speed cap of a jerk-limited corner blend of half-length L at equal end speeds v (see
 /// `Knots::smooth_blend`): its acceleration peaks at `v²·|u₂ − u₁|/L` and its jerk is
 /// `v³·|u₂ − u₁|/L²` on each axis; the jerk takes [`TURN_JERK_SHARE`] of the limit.
-fn smooth_blend_cap(j: &Junction, l: f64, bounds: &AxisBounds) -> f64 {
+fn smooth_blend_cap(tangents: [&Vector; 2], l: f64, bounds: &AxisBounds) -> f64 {
     let mut cap = f64::INFINITY;
-    for i in 0..j.direction.len() {
-        let turn = (j.tangents[1][i] - j.tangents[0][i]).abs();
+    let [arriving, leaving] = tangents;
+    for (i, (t1, t2)) in arriving.iter().zip(leaving.iter()).enumerate() {
+        let turn = (t2 - t1).abs();
         if turn > 0.0 {
             cap = cap.min((l * bounds.acceleration[i] / turn).sqrt());
             cap = cap.min(libm::cbrt(TURN_JERK_SHARE * bounds.jerk[i] * l * l / turn));
@@ -1517,5 +1615,177 @@ mod tests {
         let r = scurve_reachable(5.0, f64::INFINITY, j, 1.0);
         let covered = scurve_distance(5.0, r, f64::INFINITY, j);
         assert!((covered - 1.0).abs() <= 1e-9, "{covered}");
+    }
+}
+
+/// The shortcuts a window without limits takes (a line's kept unit tangent, the
+/// junction's bisector written in place, `AxisBounds::free`, no known path without a
+/// stopping distance, no limit check), each against the full computation made afresh,
+/// bit for bit, on random programs of lines and arcs (helical, both ways round).
+#[cfg(test)]
+mod shortcut_tests {
+    use super::{KnotStorage, Knots, Start};
+    use crate::axis::{Axis, AXIS_COUNT};
+    use crate::plan::path::{curve::Curve, AxisBounds, PathOptions, Vector};
+    use crate::toolpath::{Arc, ArcDirection, Element, ElementKind, Plane, Span};
+    use crate::vector::norm;
+
+    /// A random program of `n` elements: chords of 0.2 along a wandering heading, one in
+    /// four an arc through the next point, at random feeds.
+    fn program(seed: u64, n: usize) -> Vec<Element> {
+        let mut state = seed;
+        let mut next = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut at = [0.0; AXIS_COUNT];
+        let mut elements = Vec::new();
+        let mut heading = 0.0;
+        for _ in 0..n {
+            let mut end = at;
+            // Most chords turn by under a degree (passed at speed), one in ten sharply.
+            heading += 0.03 * (next() - 0.5) + if next() < 0.1 { 2.0 } else { 0.0 };
+            (end[0], end[1]) = (
+                at[0] + 0.2 * libm::cos(heading),
+                at[1] + 0.2 * libm::sin(heading),
+            );
+            end[2] = at[2] + 0.01 * (next() - 0.5);
+            let kind = if next() < 0.25 {
+                let (mx, my) = (0.5 * (at[0] + end[0]), 0.5 * (at[1] + end[1]));
+                let side = 0.05 + next();
+                let direction = if next() < 0.5 {
+                    ArcDirection::Clockwise
+                } else {
+                    ArcDirection::CounterClockwise
+                };
+                let (dx, dy) = (end[0] - at[0], end[1] - at[1]);
+                ElementKind::Arc(Arc {
+                    plane: Plane::XY,
+                    center: [mx - side * dy, my + side * dx],
+                    direction,
+                    extra_turns: 0,
+                })
+            } else {
+                ElementKind::Line
+            };
+            let feed = 10.0 + 40.0 * next();
+            elements.push(Element {
+                kind,
+                start: at,
+                end,
+                feed,
+                span: Span::default(),
+            });
+            at = end;
+        }
+        elements
+    }
+
+    /// The unit tangent as [`Curve::derivative`] over its norm.
+    fn fresh_tangent(curve: &Curve, phi: f64) -> Vector {
+        let mut t = Vector::zeros(curve.start.len());
+        curve.derivative(phi, &mut t);
+        let n = norm(&t);
+        Vector::from_fn(t.len(), |i| t[i] / n)
+    }
+
+    fn bits(v: &[f64]) -> Vec<u64> {
+        v.iter().map(|x| x.to_bits()).collect()
+    }
+
+    /// The window's caps and cut without a stopping distance: as with the known path
+    /// ahead of every knot computed.
+    fn assert_window_shortcuts(knots: &mut Knots, curves: &[Curve]) {
+        let mut capped = knots.clone();
+        capped.cap_for_window(curves, f64::INFINITY);
+        let mut ahead = Vec::new();
+        knots.known_ahead(curves, &mut ahead);
+        for (k, (knot, &d)) in knots.knots.iter().zip(&ahead).enumerate() {
+            let cap = if knot.fixed {
+                knot.cap
+            } else {
+                knot.cap.min((2.0 * f64::INFINITY * d).sqrt())
+            };
+            assert_eq!(capped.knots[k].cap.to_bits(), cap.to_bits());
+        }
+        let n = knots.knots.len();
+        let last = curves.len() - 1;
+        let cut = (1..n - 1).rev().find(|&k| {
+            let knot = &knots.knots[k];
+            knot.blend.is_none() && knot.after.element < last && (ahead[k] >= 0.0 || k <= n / 2)
+        });
+        assert_eq!(knots.cut(curves, 0.0), cut);
+    }
+
+    #[test]
+    fn without_limits_the_shortcuts_are_the_full_computation() {
+        let axes = [Axis::X, Axis::Y, Axis::Z];
+        let options = PathOptions {
+            tolerance: 1e-3,
+            corner_tolerance: None,
+            limits: Default::default(),
+            quantum: None,
+            servo_period: crate::defaults::SERVO_PERIOD_S,
+            position_resolution: 0.0,
+        };
+        let bounds = AxisBounds::new(&axes, &options);
+        assert!(bounds.free);
+        let full = AxisBounds {
+            free: false,
+            ..bounds.clone()
+        };
+        let mut junctions = 0;
+        for seed in 1..40 {
+            let mut curves = Vec::new();
+            for e in &program(seed, 60) {
+                Curve::push_new(e, &axes, &mut curves);
+            }
+            for c in &curves {
+                for phi in [0.0, 0.5 * c.span, c.span] {
+                    assert_eq!(bits(&c.unit_tangent(phi)), bits(&fresh_tangent(c, phi)));
+                }
+            }
+            let start = Start {
+                param: 0.0,
+                speed: 0.0,
+                junction: None,
+            };
+            let storage = KnotStorage::default();
+            let mut knots = Knots::new(&curves, &bounds, 1e-3, None, &start, false, storage);
+            let mut pieces = Vec::new();
+            assert!(crate::plan::path::settle_into(
+                &mut knots,
+                &curves,
+                &bounds,
+                1e-3,
+                &mut pieces
+            ));
+            for knot in &knots.knots {
+                let Some(j) = knot.junction else { continue };
+                let (a, b) = (&curves[knot.before.element], &curves[knot.after.element]);
+                let (t_in, t_out) = (fresh_tangent(a, a.span), fresh_tangent(b, 0.0));
+                let sum = Vector::from_fn(3, |i| t_in[i] + t_out[i]);
+                let direction = Vector::from_fn(3, |i| sum[i] / norm(&sum));
+                let off = Vector::from_fn(3, |i| direction[i] - t_in[i]);
+                let junction = &knots.junctions[j];
+                assert_eq!(bits(&junction.direction), bits(&direction));
+                assert_eq!(junction.deviation.to_bits(), norm(&off).to_bits());
+                junctions += 1;
+            }
+            for k in 0..knots.knots.len() - 1 {
+                let (quick, slow) = (
+                    knots.piece_way(&curves, &bounds, k),
+                    knots.piece_way(&curves, &full, k),
+                );
+                assert_eq!(format!("{quick:?}"), format!("{slow:?}"));
+            }
+            for piece in &pieces {
+                assert_eq!(piece.limit_factor(&bounds), 1.0);
+            }
+            assert_window_shortcuts(&mut knots, &curves);
+        }
+        assert!(junctions > 600, "{junctions} junctions");
     }
 }

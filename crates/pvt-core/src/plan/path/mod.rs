@@ -438,11 +438,15 @@ impl Vector {
     /// every element, each a loop of a few axes).
     #[inline]
     pub fn from_fn(len: usize, mut f: impl FnMut(usize) -> f64) -> Vector {
-        let mut v = Vector::zeros(len);
-        for (i, x) in v.values[..v.len].iter_mut().enumerate() {
-            *x = f(i);
+        debug_assert!(len <= crate::axis::AXIS_COUNT, "{len} axes");
+        let len = len.min(crate::axis::AXIS_COUNT);
+        // A whole array of values, not one slot written at a time: the vector is then
+        // made in registers where it is moved, not written and read back at once (a
+        // wide read of narrow writes stalls the store buffer).
+        Vector {
+            values: std::array::from_fn(|i| if i < len { f(i) } else { 0.0 }),
+            len,
         }
-        v
     }
 }
 
@@ -495,6 +499,10 @@ pub(super) struct AxisBounds {
     pub resolution: f64,
     /// The grid's quantum, seconds (0 without one): no piece on the grid is shorter.
     pub quantum: f64,
+    /// No axis has a velocity or an acceleration limit: every speed cap is the feed and
+    /// the tangential acceleration is unbounded (asked once, not per piece; a copy whose
+    /// limits are scaled by positive shares keeps it, as infinite limits stay infinite).
+    pub free: bool,
 }
 
 impl AxisBounds {
@@ -511,9 +519,15 @@ impl AxisBounds {
                 .collect()
         };
         let jerk = get(|l| l.jerk);
+        let (velocity, acceleration) = (get(|l| l.velocity), get(|l| l.acceleration));
+        let free = velocity
+            .iter()
+            .chain(&acceleration)
+            .all(|&l| l == f64::INFINITY);
         AxisBounds {
-            velocity: get(|l| l.velocity),
-            acceleration: get(|l| l.acceleration),
+            free,
+            velocity,
+            acceleration,
             step: jerk.iter().map(|j| j * servo_period).collect(),
             jerk,
             servo_period,

@@ -137,10 +137,10 @@ impl Knots {
     fn fill_piece(&self, curves: &[Curve], bounds: &AxisBounds, k: usize, piece: &mut Piece) {
         let (curve, from, to) = self.piece_span(curves, k);
         let (a, b) = (&self.knots[k], &self.knots[k + 1]);
-        curve.position(from, &mut piece.start);
-        curve.position(to, &mut piece.end);
-        self.velocity(k, curve, from, &mut piece.start_velocity);
-        self.velocity(k + 1, curve, to, &mut piece.end_velocity);
+        piece.start = curve.point(from);
+        piece.end = curve.point(to);
+        piece.start_velocity = self.velocity_at(k, curve, from);
+        piece.end_velocity = self.velocity_at(k + 1, curve, to);
         let (wa, wb) = (a.speed / curve.rate(from), b.speed / curve.rate(to));
         let span = to - from;
         if wa + wb > 0.0 {
@@ -191,7 +191,7 @@ impl Knots {
         out: &mut Vec<Piece>,
     ) {
         if let Some(j) = self.knots[k].blend {
-            self.smooth_blend(k, j, whole, out);
+            self.smooth_blend(curves, k, j, whole, out);
             return;
         }
         if whole.at_rest() {
@@ -299,7 +299,14 @@ impl Knots {
     /// linear), so it is exact; the error is [`smooth_blend_error`]. Speeds more than a
     /// factor of two apart (`θ` outside `(0, 1)`; the passes keep them within 1.5) keep
     /// the one-cubic blend `whole`.
-    fn smooth_blend(&self, k: usize, j: usize, whole: Piece, out: &mut Vec<Piece>) {
+    fn smooth_blend(
+        &self,
+        curves: &[Curve],
+        k: usize,
+        j: usize,
+        whole: Piece,
+        out: &mut Vec<Piece>,
+    ) {
         let junction = &self.junctions[j];
         let l = junction.blend.unwrap_or(0.0);
         let (va, vb) = (self.knots[k].speed, self.knots[k + 1].speed);
@@ -309,7 +316,7 @@ impl Knots {
             return;
         }
         let t = l / va + l / vb;
-        let [t1, t2] = &junction.tangents;
+        let [t1, t2] = &self.blend_tangents(curves, k);
         let dim = whole.start.len();
         let dv = Vector::from_fn(dim, |i| vb * t2[i] - va * t1[i]);
         let mid = Vector::from_fn(dim, |i| {
@@ -531,6 +538,14 @@ fn rest_time(piece: &Piece, bounds: &AxisBounds) -> f64 {
 }
 
 impl Knots {
+    /// The unit tangents of the two lines of the corner blend after knot `k`: those its
+    /// junction was made with.
+    fn blend_tangents(&self, curves: &[Curve], k: usize) -> [Vector; 2] {
+        let e = self.knots[k].after.element;
+        let (a, b) = (&curves[e], &curves[e + 1]);
+        [a.unit_tangent(a.span), b.unit_tangent(0.0)]
+    }
+
     /// The corner blend after knot `k`: from the first line at L before the corner to
     /// the second at L after it, velocities along each line, time from
     /// [`blend_time`], so both inner control points lie on the lines within L of the
@@ -548,11 +563,12 @@ impl Knots {
         let (va, vb) = (self.knots[k].speed, self.knots[k + 1].speed);
         let scaled = |t: &[f64], v: f64| Vector::from_fn(t.len(), |i| t[i] * v);
         let duration = blend_time(l, va, vb);
+        let [t1, t2] = self.blend_tangents(curves, k);
         Piece {
             start,
             end,
-            start_velocity: scaled(&junction.tangents[0], va),
-            end_velocity: scaled(&junction.tangents[1], vb),
+            start_velocity: scaled(&t1, va),
+            end_velocity: scaled(&t2, vb),
             duration,
             error: blend_error(
                 l,
