@@ -47,13 +47,14 @@ enum Call {
 }
 
 impl Call {
-    /// Makes the call on `sink`.
-    fn replay(self, sink: &mut dyn ToolpathSink) {
+    /// Makes the call on `sink`, from where the call lies in its batch (moving a
+    /// 184-byte call out first was a copy per element on the planner's thread).
+    fn replay(&self, sink: &mut dyn ToolpathSink) {
         match self {
-            Call::Element(motion, element) => sink.element(motion, &element),
+            Call::Element(motion, element) => sink.element(*motion, element),
             Call::EndContour => sink.end_contour(),
-            Call::Event(event, line) => sink.event(&event, line),
-            Call::PathTolerance(tolerance) => sink.path_tolerance(tolerance),
+            Call::Event(event, line) => sink.event(event, *line),
+            Call::PathTolerance(tolerance) => sink.path_tolerance(*tolerance),
         }
     }
 }
@@ -170,9 +171,10 @@ where
         };
         THREADS.with(|threads| threads.set(threads.get() + 1));
         for mut batch in arrived.iter() {
-            for call in batch.drain(..) {
+            for call in &batch {
                 call.replay(sink);
             }
+            batch.clear();
             // The front end may have finished and dropped its end: the batch goes.
             let _ = give_back.try_send(batch);
         }
