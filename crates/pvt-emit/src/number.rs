@@ -104,8 +104,9 @@ pub(crate) fn write_usual_fixed<const DECIMALS: usize>(slot: &mut [u8], x: f64) 
     let (int, fraction) = (m / unit, m % unit);
     // Below 10⁸ when usual; any other gives digits of no meaning.
     let values = eight_digit_values(int as u32);
-    // At most seven leading zeros: the units digit stays.
-    let zeros = ((values.trailing_zeros() / 8) as usize).min(7);
+    // At most seven leading zeros: the units digit stays (a bit set in its byte stops
+    // the count there).
+    let zeros = ((values | 1 << 56).trailing_zeros() / 8) as usize;
     let digits = (values | ASCII_ZEROS) >> (8 * zeros);
     slot[sign..sign + 8].copy_from_slice(&digits.to_le_bytes());
     let point = sign + 8 - zeros;
@@ -131,8 +132,9 @@ fn write_nine_decimals(slot: &mut [u8], m: u64) -> usize {
     let (high, low) = (m / 100_000_000, m % 100_000_000);
     // Below 4.5·10⁷ when usual; any other gives digits of no meaning.
     let values = eight_digit_values(high as u32);
-    // At most six leading zeros: the units digit stays.
-    let zeros = ((values.trailing_zeros() / 8) as usize).min(6);
+    // At most six leading zeros: the units digit stays (a bit set in its byte stops the
+    // count there).
+    let zeros = ((values | 1 << 48).trailing_zeros() / 8) as usize;
     let digits = (values | ASCII_ZEROS) >> (8 * zeros);
     slot[..8].copy_from_slice(&digits.to_le_bytes());
     let point = 7 - zeros;

@@ -419,13 +419,18 @@ impl<W: Write> ProgramWriter for PmacWriter<W> {
             self.line.fixed::<TIME_DECIMALS>(ms);
             self.line.push(b'\n');
         }
-        self.totals.add_segment(seg.duration);
         let dim = self.axes.len().min(seg.end.len()).min(seg.velocity.len());
         let room = self.line.room(2 + FIXED_SLOT + dim * AXIS_WORD_ROOM + 1);
         match piece_line(room, &self.axes, ms, seg) {
-            (len, true) => self.line.advance(len),
+            (len, Some(whole_ms)) => {
+                self.totals.add_printed_segment(seg.duration, whole_ms);
+                self.line.advance(len);
+            }
             // What was written is left as room, and the line written number by number.
-            _ => return self.wide_segment(ms, seg),
+            _ => {
+                self.totals.add_segment(seg.duration);
+                return self.wide_segment(ms, seg);
+            }
         }
         self.flush_line()
     }
@@ -506,13 +511,22 @@ const AXIS_WORD_ROOM: usize = 2 + FIXED_SLOT + 1 + FIXED_SLOT;
 
 /// Writes a piece's line, `TA<ms> X<position>:<velocity> …` and its newline, at the start
 /// of `room` (at least `2 + FIXED_SLOT + axes · AXIS_WORD_ROOM + 1` long) and returns
-/// its length and true, when every number is a usual one ([`write_usual_fixed`]); false
-/// when one is not, the room then holding nothing of meaning.
+/// its length and, when every number is a usual one ([`write_usual_fixed`]), whether the
+/// time is printed as whole milliseconds (its decimals all zeros); `None` when one is
+/// not, the room then holding nothing of meaning.
 #[inline(always)]
-fn piece_line(room: &mut [u8], axes: &[Axis], ms: f64, seg: &SegmentRef<'_>) -> (usize, bool) {
+fn piece_line(
+    room: &mut [u8],
+    axes: &[Axis],
+    ms: f64,
+    seg: &SegmentRef<'_>,
+) -> (usize, Option<bool>) {
     room[..2].copy_from_slice(b"TA");
     let (len, mut usual) = write_usual_fixed::<TIME_DECIMALS>(&mut room[2..], ms);
     let mut at = 2 + len;
+    // A usual time has a point and TIME_DECIMALS (4) decimals: the text's last four bytes.
+    let decimals: [u8; TIME_DECIMALS] = room[at - TIME_DECIMALS..at].try_into().unwrap_or([0; 4]);
+    let whole_ms = decimals == [b'0'; TIME_DECIMALS];
     for ((axis, p), v) in axes.iter().zip(seg.end).zip(seg.velocity) {
         room[at] = b' ';
         room[at + 1] = axis.letter() as u8;
@@ -524,7 +538,7 @@ fn piece_line(room: &mut [u8], axes: &[Axis], ms: f64, seg: &SegmentRef<'_>) -> 
         usual &= p_usual & v_usual;
     }
     room[at] = b'\n';
-    (at + 1, usual)
+    (at + 1, usual.then_some(whole_ms))
 }
 
 /// The PMAC command an event is written as under [`PmacEvents::Commands`]; none for a
