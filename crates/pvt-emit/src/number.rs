@@ -81,8 +81,10 @@ pub(crate) fn write_fixed<const DECIMALS: usize>(slot: &mut [u8], x: f64) -> usi
 /// zero-padded digits at once ([`eight_digit_values`]), held in a u64 with the first
 /// digit in its lowest byte; its leading zeros are the u64's trailing zero bytes, shifted
 /// out (all but the units digit), and the eight bytes stored whole. The fraction's
-/// digits are made the same way and stored after the point. No branch depends on the
-/// value.
+/// digits are made the same way and stored after the point. The one branch that depends
+/// on the value is on the integer part's size: one below 10⁴ (with 9 decimals: below
+/// 1000), as a program's coordinates, speeds and piece times in ms mostly are, takes
+/// four digits at once ([`four_digit_values`]), at about half the cost.
 #[inline(always)]
 pub(crate) fn write_usual_fixed<const DECIMALS: usize>(slot: &mut [u8], x: f64) -> (usize, bool) {
     const { assert!(DECIMALS <= 9, "at most 9 decimals") };
@@ -102,14 +104,23 @@ pub(crate) fn write_usual_fixed<const DECIMALS: usize>(slot: &mut [u8], x: f64) 
     }
     let unit = POW10_INT[DECIMALS];
     let (int, fraction) = (m / unit, m % unit);
-    // Below 10⁸ when usual; any other gives digits of no meaning.
-    let values = eight_digit_values(int as u32);
-    // At most seven leading zeros: the units digit stays (a bit set in its byte stops
-    // the count there).
-    let zeros = ((values | 1 << 56).trailing_zeros() / 8) as usize;
-    let digits = (values | ASCII_ZEROS) >> (8 * zeros);
-    slot[sign..sign + 8].copy_from_slice(&digits.to_le_bytes());
-    let point = sign + 8 - zeros;
+    let point = if int < 10_000 {
+        let values = four_digit_values(int as u32);
+        // At most three leading zeros: the units digit stays (a bit set in its byte
+        // stops the count there).
+        let zeros = ((values | 1 << 24).trailing_zeros() / 8) as usize;
+        let digits = (values | ASCII_ZEROS as u32) >> (8 * zeros);
+        slot[sign..sign + 4].copy_from_slice(&digits.to_le_bytes());
+        sign + 4 - zeros
+    } else {
+        // Below 10⁸ when usual; any other gives digits of no meaning.
+        let values = eight_digit_values(int as u32);
+        // At most seven leading zeros, as above.
+        let zeros = ((values | 1 << 56).trailing_zeros() / 8) as usize;
+        let digits = (values | ASCII_ZEROS) >> (8 * zeros);
+        slot[sign..sign + 8].copy_from_slice(&digits.to_le_bytes());
+        sign + 8 - zeros
+    };
     if DECIMALS == 0 {
         return (point, usual);
     }
@@ -124,23 +135,37 @@ pub(crate) fn write_usual_fixed<const DECIMALS: usize>(slot: &mut [u8], x: f64) 
 ///
 /// Split in two halves of eight digits instead of at the point: the high half is the
 /// integer part (at most 7 digits) and the fraction's first digit, the low half its other
-/// eight. The high half's eight bytes are stored with the leading zeros shifted out, then
-/// the point and the fraction's first digit over its last.
+/// eight. The high half's bytes are stored with the leading zeros shifted out, then the
+/// point and the fraction's first digit over its last; a high half below 10⁴ (an
+/// integer part below 1000) as four digits ([`four_digit_values`]).
 #[inline(always)]
 fn write_nine_decimals(slot: &mut [u8], m: u64) -> (usize, u64) {
     const ASCII_ZEROS: u64 = u64::from_le_bytes([b'0'; 8]);
     let slot = &mut slot[..18];
     let (high, low) = (m / 100_000_000, m % 100_000_000);
-    // Below 4.5·10⁷ when usual; any other gives digits of no meaning.
-    let values = eight_digit_values(high as u32);
-    // At most six leading zeros: the units digit stays (a bit set in its byte stops the
-    // count there).
-    let zeros = ((values | 1 << 48).trailing_zeros() / 8) as usize;
-    let digits = (values | ASCII_ZEROS) >> (8 * zeros);
-    slot[..8].copy_from_slice(&digits.to_le_bytes());
-    let point = 7 - zeros;
-    slot[point] = b'.';
-    slot[point + 1] = (values >> 56) as u8 | b'0';
+    let point = if high < 10_000 {
+        let values = four_digit_values(high as u32);
+        // At most two leading zeros: the units digit stays (a bit set in its byte stops
+        // the count there).
+        let zeros = ((values | 1 << 16).trailing_zeros() / 8) as usize;
+        let digits = (values | ASCII_ZEROS as u32) >> (8 * zeros);
+        slot[..4].copy_from_slice(&digits.to_le_bytes());
+        let point = 3 - zeros;
+        slot[point] = b'.';
+        slot[point + 1] = (values >> 24) as u8 | b'0';
+        point
+    } else {
+        // Below 4.5·10⁷ when usual; any other gives digits of no meaning.
+        let values = eight_digit_values(high as u32);
+        // At most six leading zeros, as above.
+        let zeros = ((values | 1 << 48).trailing_zeros() / 8) as usize;
+        let digits = (values | ASCII_ZEROS) >> (8 * zeros);
+        slot[..8].copy_from_slice(&digits.to_le_bytes());
+        let point = 7 - zeros;
+        slot[point] = b'.';
+        slot[point + 1] = (values >> 56) as u8 | b'0';
+        point
+    };
     let last_eight = eight_digit_values(low as u32);
     slot[point + 2..point + 10].copy_from_slice(&(last_eight | ASCII_ZEROS).to_le_bytes());
     (point + 10, last_eight)
@@ -156,6 +181,10 @@ fn write_fraction<const DECIMALS: usize>(slot: &mut [u8], fraction: u32) {
         slot[0] = (fraction / 100_000_000) as u8 | b'0';
         let last_eight = eight_digit_values(fraction % 100_000_000) | ASCII_ZEROS;
         slot[1..9].copy_from_slice(&last_eight.to_le_bytes());
+    } else if DECIMALS <= 4 {
+        // Four digits of which the first 4 − DECIMALS are zeros, shifted out.
+        let digits = (four_digit_values(fraction) | ASCII_ZEROS as u32) >> (8 * (4 - DECIMALS));
+        slot[..4].copy_from_slice(&digits.to_le_bytes());
     } else {
         // Eight digits of which the first 8 − DECIMALS are zeros, shifted out.
         let digits = (eight_digit_values(fraction) | ASCII_ZEROS) >> (8 * (8 - DECIMALS));
@@ -195,6 +224,18 @@ fn write_wide_fixed<const DECIMALS: usize>(slot: &mut [u8], x: f64) -> usize {
 #[cfg(test)]
 fn eight_digits(value: u32) -> [u8; 8] {
     (eight_digit_values(value) | 0x3030_3030_3030_3030).to_le_bytes()
+}
+
+/// The four decimal digits of `value` (below 10⁴, zero-padded) as the bytes of a u32,
+/// first digit in its lowest byte, each digit's value (0–9): [`eight_digit_values`]'
+/// last two steps on one half. A value of 10⁴ or more gives digits of no meaning.
+#[inline(always)]
+fn four_digit_values(value: u32) -> u32 {
+    // ⌊x·5243 / 2¹⁹⌋ = ⌊x / 100⌋ for x < 10⁴ (up to 43 699).
+    let hundreds = value.wrapping_mul(5_243) >> 19;
+    let pairs = (value << 16).wrapping_sub(hundreds.wrapping_mul((100 << 16) - 1));
+    let tens = (pairs.wrapping_mul(103) >> 10) & 0x000F_000F;
+    (pairs << 8).wrapping_sub(tens.wrapping_mul((10 << 8) - 1))
 }
 
 /// The eight decimal digits of `value` (below 10⁸, zero-padded) as the bytes of a u64,
@@ -745,6 +786,15 @@ mod tests {
                 eight_digits(value).to_vec(),
                 format!("{value:08}").into_bytes()
             );
+        }
+    }
+
+    /// [`four_digit_values`] on every value it takes.
+    #[test]
+    fn four_digits_are_the_zero_padded_number() {
+        for value in 0..10_000u32 {
+            let digits = (four_digit_values(value) | 0x3030_3030).to_le_bytes();
+            assert_eq!(digits.to_vec(), format!("{value:04}").into_bytes());
         }
     }
 
