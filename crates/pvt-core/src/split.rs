@@ -207,10 +207,11 @@ impl PieceSplitter {
     #[inline]
     fn cuts(&self, t: f64) -> Option<Cuts> {
         // A piece no longer than the longest (the usual case) is answered first.
-        if !(t > self.max_seconds) {
-            return None;
+        if t > self.max_seconds {
+            self.long_cuts(t)
+        } else {
+            None
         }
-        self.long_cuts(t)
     }
 
     /// [`PieceSplitter::cuts`] for a piece longer than the longest.
