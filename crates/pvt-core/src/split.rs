@@ -325,6 +325,23 @@ mod tests {
         same_motion(&c, &s);
     }
 
+    /// The last piece's state is kept in place up to six axes and in a vector beyond:
+    /// contours of one to eight axes are cut along their own cubics alike.
+    #[test]
+    fn every_axis_count_is_cut_along_its_cubic() {
+        for dim in 1..=8 {
+            let at = |k: usize, x: f64| (0..dim).map(|a| x + (a + k) as f64).collect::<Vec<_>>();
+            let mut c = PvtContour::new(Motion::Feed, at(0, 0.0));
+            c.push(&at(1, 10.0), &at(1, 0.5), 9.5, 1);
+            c.push(&at(2, 12.0), &at(2, -0.25), 2.0, 2);
+            c.push(&at(3, -4.0), &vec![0.0; dim], 13.0, 3);
+            let s = split_long_pieces(&c, 4.095, None);
+            assert_eq!(s.len(), 3 + 1 + 4, "{dim} axes");
+            assert_eq!(s.segment(2).end, c.segment(0).end);
+            same_motion(&c, &s);
+        }
+    }
+
     #[test]
     fn quantized_pieces_stay_on_the_grid() {
         let mut c = PvtContour::new(Motion::Feed, vec![0.0]);
