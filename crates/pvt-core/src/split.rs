@@ -121,7 +121,9 @@ impl AxisValues {
         self.len = len;
         self.inline = [0.0; AXIS_COUNT];
         self.spilled.clear();
-        self.spilled.resize(len, 0.0);
+        if len > AXIS_COUNT {
+            self.spilled.resize(len, 0.0);
+        }
     }
 
     /// The values kept.
