@@ -11,6 +11,9 @@ use crate::number::{
 };
 use std::io::{self, Write};
 
+/// Bytes of room a growing [`Gathered`] zeroes ahead of its text.
+const ZEROED_AHEAD: usize = 4096;
+
 /// Text gathered for one output: `bytes[..used]`, the rest room to write into.
 #[derive(Debug)]
 pub(crate) struct Gathered {
@@ -43,12 +46,15 @@ impl Gathered {
     }
 
     /// At least `len` bytes of room after the text, to write into; [`Gathered::advance`]
-    /// then keeps what was written. Only a buffer too small grows.
+    /// then keeps what was written. Only a buffer too small grows, by [`ZEROED_AHEAD`]
+    /// bytes of zeros at a time (its capacity doubles as a vector's does, untouched), so a
+    /// buffer that holds a whole array (MovePVT) is resident only as far as it is written.
     #[inline]
     pub(crate) fn room(&mut self, len: usize) -> &mut [u8] {
         let end = self.used + len;
         if end > self.bytes.len() {
-            self.bytes.resize(end.max(2 * self.bytes.len()), 0);
+            self.bytes
+                .resize(end.max(self.bytes.len() + ZEROED_AHEAD), 0);
         }
         &mut self.bytes[self.used..end]
     }
