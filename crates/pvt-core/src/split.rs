@@ -22,6 +22,7 @@
 //!
 //! For PVT contours only: a PT piece is not a cubic.
 
+use crate::axis::AXIS_COUNT;
 use crate::hermite::HermiteSegment;
 use crate::plan::quantize::quanta_time;
 use crate::program::{PvtContour, SegmentRef};
@@ -70,11 +71,68 @@ pub struct PieceSplitter {
     max_seconds: f64,
     quantum: Option<f64>,
     /// Where the last piece ended, and its end velocity.
-    position: Vec<f64>,
-    velocity: Vec<f64>,
+    position: AxisValues,
+    velocity: AxisValues,
     /// One sub-piece's end state, reused.
     end: Vec<f64>,
     end_velocity: Vec<f64>,
+}
+
+/// A value per axis, kept in place for up to [`AXIS_COUNT`] axes (copied without a call
+/// into `memcpy`, which a piece's few values do not pay for), in a vector for more.
+#[derive(Debug, Clone)]
+struct AxisValues {
+    len: usize,
+    inline: [f64; AXIS_COUNT],
+    spilled: Vec<f64>,
+}
+
+impl AxisValues {
+    fn new() -> AxisValues {
+        AxisValues {
+            len: 0,
+            inline: [0.0; AXIS_COUNT],
+            spilled: Vec::new(),
+        }
+    }
+
+    /// Keeps `values`.
+    #[inline]
+    fn set(&mut self, values: &[f64]) {
+        self.len = values.len();
+        let inline = &mut self.inline;
+        // Each length its own fixed-size copy.
+        match values.len() {
+            1 => inline[..1].copy_from_slice(values),
+            2 => inline[..2].copy_from_slice(values),
+            3 => inline[..3].copy_from_slice(values),
+            4 => inline[..4].copy_from_slice(values),
+            5 => inline[..5].copy_from_slice(values),
+            6 => inline[..6].copy_from_slice(values),
+            _ => {
+                self.spilled.clear();
+                self.spilled.extend_from_slice(values);
+            }
+        }
+    }
+
+    /// `len` zeros.
+    fn set_zeros(&mut self, len: usize) {
+        self.len = len;
+        self.inline = [0.0; AXIS_COUNT];
+        self.spilled.clear();
+        if len > AXIS_COUNT {
+            self.spilled.resize(len, 0.0);
+        }
+    }
+
+    /// The values kept.
+    fn get(&self) -> &[f64] {
+        match self.inline.get(..self.len) {
+            Some(values) => values,
+            None => &self.spilled,
+        }
+    }
 }
 
 impl PieceSplitter {
@@ -83,8 +141,8 @@ impl PieceSplitter {
         PieceSplitter {
             max_seconds,
             quantum,
-            position: Vec::new(),
-            velocity: Vec::new(),
+            position: AxisValues::new(),
+            velocity: AxisValues::new(),
             end: Vec::new(),
             end_velocity: Vec::new(),
         }
@@ -92,63 +150,76 @@ impl PieceSplitter {
 
     /// Starts a contour at rest at `start`.
     pub fn start(&mut self, start: &[f64]) {
-        self.position.clear();
-        self.position.extend_from_slice(start);
-        self.velocity.clear();
-        self.velocity.resize(start.len(), 0.0);
+        self.position.set(start);
+        self.velocity.set_zeros(start.len());
     }
 
     /// Passes `seg` (the next piece of the contour) to `emit`, cut where it is too long.
-    pub fn push(&mut self, seg: &SegmentRef<'_>, emit: &mut dyn FnMut(&SegmentRef<'_>)) {
-        let dim = seg.end.len();
-        let cuts = self.cuts(seg.duration);
-        if let (Some(cuts), true) = (cuts, self.position.len() == dim) {
-            let n = cuts.count();
-            let cubics: Vec<HermiteSegment> = (0..dim)
-                .map(|k| {
-                    HermiteSegment::new(
-                        self.position[k],
-                        self.velocity[k],
-                        seg.end[k],
-                        seg.velocity[k],
-                        seg.duration,
-                    )
-                })
-                .collect();
-            self.end.resize(dim, 0.0);
-            self.end_velocity.resize(dim, 0.0);
-            for k in 1..=n {
-                let (at, duration) = cuts.sub_piece(k, seg.duration);
-                if k == n {
-                    self.end.copy_from_slice(seg.end);
-                    self.end_velocity.copy_from_slice(seg.velocity);
-                } else {
-                    for (axis, cubic) in cubics.iter().enumerate() {
-                        let state = cubic.at(at);
-                        self.end[axis] = state.position;
-                        self.end_velocity[axis] = state.velocity;
-                    }
-                }
-                emit(&SegmentRef {
-                    end: &self.end,
-                    velocity: &self.end_velocity,
-                    duration,
-                    line: seg.line,
-                });
-            }
-        } else {
-            emit(seg);
+    #[inline]
+    pub fn push<F: FnMut(&SegmentRef<'_>)>(&mut self, seg: &SegmentRef<'_>, emit: &mut F) {
+        match self.cuts(seg.duration) {
+            Some(cuts) if self.position.len == seg.end.len() => self.cut(seg, cuts, emit),
+            _ => emit(seg),
         }
-        self.position.clear();
-        self.position.extend_from_slice(seg.end);
-        self.velocity.clear();
-        self.velocity.extend_from_slice(seg.velocity);
+        self.position.set(seg.end);
+        self.velocity.set(seg.velocity);
+    }
+
+    /// Passes `seg` to `emit` as the sub-pieces `cuts` says.
+    #[cold]
+    fn cut<F: FnMut(&SegmentRef<'_>)>(&mut self, seg: &SegmentRef<'_>, cuts: Cuts, emit: &mut F) {
+        let dim = seg.end.len();
+        let n = cuts.count();
+        let (position, velocity) = (self.position.get(), self.velocity.get());
+        let cubics: Vec<HermiteSegment> = (0..dim)
+            .map(|k| {
+                HermiteSegment::new(
+                    position[k],
+                    velocity[k],
+                    seg.end[k],
+                    seg.velocity[k],
+                    seg.duration,
+                )
+            })
+            .collect();
+        self.end.resize(dim, 0.0);
+        self.end_velocity.resize(dim, 0.0);
+        for k in 1..=n {
+            let (at, duration) = cuts.sub_piece(k, seg.duration);
+            if k == n {
+                self.end.copy_from_slice(seg.end);
+                self.end_velocity.copy_from_slice(seg.velocity);
+            } else {
+                for (axis, cubic) in cubics.iter().enumerate() {
+                    let state = cubic.at(at);
+                    self.end[axis] = state.position;
+                    self.end_velocity[axis] = state.velocity;
+                }
+            }
+            emit(&SegmentRef {
+                end: &self.end,
+                velocity: &self.end_velocity,
+                duration,
+                line: seg.line,
+            });
+        }
     }
 
     /// How a piece of `t` seconds is cut; `None` to leave it whole.
+    #[inline]
     fn cuts(&self, t: f64) -> Option<Cuts> {
-        let max = self.max_seconds;
         // A piece no longer than the longest (the usual case) is answered first.
+        if t > self.max_seconds {
+            self.long_cuts(t)
+        } else {
+            None
+        }
+    }
+
+    /// [`PieceSplitter::cuts`] for a piece longer than the longest.
+    #[cold]
+    fn long_cuts(&self, t: f64) -> Option<Cuts> {
+        let max = self.max_seconds;
         if !(t > max && t.is_finite() && max.is_finite() && max > 0.0) {
             return None;
         }
@@ -254,6 +325,23 @@ mod tests {
         assert_eq!(s.segment(220), c.segment(1));
         assert!(s.lines[..220].iter().all(|&l| l == 1));
         same_motion(&c, &s);
+    }
+
+    /// The last piece's state is kept in place up to six axes and in a vector beyond:
+    /// contours of one to eight axes are cut along their own cubics alike.
+    #[test]
+    fn every_axis_count_is_cut_along_its_cubic() {
+        for dim in 1..=8 {
+            let at = |k: usize, x: f64| (0..dim).map(|a| x + (a + k) as f64).collect::<Vec<_>>();
+            let mut c = PvtContour::new(Motion::Feed, at(0, 0.0));
+            c.push(&at(1, 10.0), &at(1, 0.5), 9.5, 1);
+            c.push(&at(2, 12.0), &at(2, -0.25), 2.0, 2);
+            c.push(&at(3, -4.0), &vec![0.0; dim], 13.0, 3);
+            let s = split_long_pieces(&c, 4.095, None);
+            assert_eq!(s.len(), 3 + 1 + 4, "{dim} axes");
+            assert_eq!(s.segment(2).end, c.segment(0).end);
+            same_motion(&c, &s);
+        }
     }
 
     #[test]

@@ -5,8 +5,14 @@
 //! and no change of a vector's length per number ([`Gathered::room`]). It must not choose
 //! what is written nor a number's form: the back end and [`crate::number`] do.
 
-use crate::number::{fits_fixed, push_fixed, write_fixed, FIXED_SLOT};
+use crate::number::{
+    copy_short, fits_fixed, push_exact, push_fixed, write_exact, write_fixed, EXACT_SLOT,
+    FIXED_SLOT,
+};
 use std::io::{self, Write};
+
+/// Bytes of room a growing [`Gathered`] zeroes ahead of its text.
+const ZEROED_AHEAD: usize = 4096;
 
 /// Text gathered for one output: `bytes[..used]`, the rest room to write into.
 #[derive(Debug)]
@@ -40,12 +46,15 @@ impl Gathered {
     }
 
     /// At least `len` bytes of room after the text, to write into; [`Gathered::advance`]
-    /// then keeps what was written. Only a buffer too small grows.
+    /// then keeps what was written. Only a buffer too small grows, by [`ZEROED_AHEAD`]
+    /// bytes of zeros at a time (its capacity doubles as a vector's does, untouched), so a
+    /// buffer that holds a whole array (MovePVT) is resident only as far as it is written.
     #[inline]
     pub(crate) fn room(&mut self, len: usize) -> &mut [u8] {
         let end = self.used + len;
         if end > self.bytes.len() {
-            self.bytes.resize(end.max(2 * self.bytes.len()), 0);
+            self.bytes
+                .resize(end.max(self.bytes.len() + ZEROED_AHEAD), 0);
         }
         &mut self.bytes[self.used..end]
     }
@@ -81,6 +90,66 @@ impl Gathered {
             push_fixed::<DECIMALS>(&mut text, x);
             self.push_slice(&text);
         }
+    }
+}
+
+impl Gathered {
+    /// Appends the shortest text that reads back as exactly `x`, as
+    /// [`crate::number::push_exact`] writes it.
+    #[inline]
+    pub(crate) fn exact(&mut self, x: f64) {
+        let len = write_exact(self.room(EXACT_SLOT), x);
+        self.advance(len);
+    }
+
+    /// Appends `text`.
+    #[inline]
+    pub(crate) fn push_str(&mut self, text: &str) {
+        self.push_slice(text.as_bytes());
+    }
+
+    /// Drops the last byte gathered, if any.
+    pub(crate) fn pop(&mut self) {
+        self.used = self.used.saturating_sub(1);
+    }
+}
+
+impl Gathered {
+    /// Appends `text` (at most [`EXACT_SLOT`] bytes: a number's digits) without a call
+    /// into `memcpy`.
+    #[inline]
+    pub(crate) fn push_short(&mut self, text: &[u8]) {
+        let len = copy_short(self.room(EXACT_SLOT), text);
+        self.advance(len);
+    }
+}
+
+/// Text a back end appends to: its gathered batch, or a string it holds for later.
+pub(crate) trait TextOut {
+    /// Appends `text`.
+    fn put(&mut self, text: &str);
+    /// Appends the shortest text that reads back as exactly `x`
+    /// ([`crate::number::push_exact`]).
+    fn exact(&mut self, x: f64);
+}
+
+impl TextOut for String {
+    fn put(&mut self, text: &str) {
+        self.push_str(text);
+    }
+    fn exact(&mut self, x: f64) {
+        push_exact(self, x);
+    }
+}
+
+impl TextOut for Gathered {
+    #[inline]
+    fn put(&mut self, text: &str) {
+        self.push_slice(text.as_bytes());
+    }
+    #[inline]
+    fn exact(&mut self, x: f64) {
+        Gathered::exact(self, x);
     }
 }
 

@@ -36,6 +36,7 @@
 //! `"events"`: one `{"t": …, "p": […]}` per trigger, its time from the start of the
 //! motion (s; dwells add none) and where the axes are; the segments are cut at them.
 
+use crate::gather::{Gathered, TextOut};
 use crate::number::push_exact;
 use crate::writer::{Header, ProgramWriter, Totals};
 use pvt_core::{
@@ -56,7 +57,7 @@ const TEXT_BATCH: usize = 64 * 1024;
 /// Streams a pvtc JSON document to `W`.
 pub struct JsonWriter<W> {
     out: W,
-    text: String,
+    text: Gathered,
     totals: Totals,
     /// Every event of the program, as JSON objects, printed after the contours: memory
     /// grows with the number of events (not of pieces).
@@ -72,7 +73,7 @@ impl<W: Write> JsonWriter<W> {
     pub fn new(out: W) -> JsonWriter<W> {
         JsonWriter {
             out,
-            text: String::with_capacity(TEXT_BATCH + 1024),
+            text: Gathered::with_capacity(TEXT_BATCH + 1024),
             totals: Totals::default(),
             events: Vec::new(),
             triggers: None,
@@ -86,7 +87,7 @@ impl<W: Write> JsonWriter<W> {
     }
 
     fn flush_text(&mut self) -> io::Result<()> {
-        self.out.write_all(self.text.as_bytes())?;
+        self.out.write_all(self.text.text())?;
         self.text.clear();
         Ok(())
     }
@@ -157,22 +158,23 @@ impl<W: Write> ProgramWriter for JsonWriter<W> {
 
     fn segment(&mut self, seg: &SegmentRef<'_>) -> io::Result<()> {
         let t = &mut self.text;
-        t.push_str(if self.totals.segments_in_contour == 0 {
-            "\n      {\"p\": "
-        } else {
-            ",\n      {\"p\": "
-        });
+        if self.totals.segments_in_contour > 0 {
+            t.push(b',');
+        }
+        t.push_slice(b"\n      {\"p\": ");
         self.totals.add_segment(seg.duration);
-        self.at.clear();
-        self.at.extend_from_slice(seg.end);
+        if self.triggers.is_some() {
+            self.at.clear();
+            self.at.extend_from_slice(seg.end);
+        }
         list(t, seg.end);
-        t.push_str(", \"v\": ");
+        t.push_slice(b", \"v\": ");
         list(t, seg.velocity);
-        t.push_str(", \"t\": ");
-        push_exact(t, seg.duration);
-        t.push_str(", \"line\": ");
-        t.push_str(itoa::Buffer::new().format(seg.line));
-        t.push('}');
+        t.push_slice(b", \"t\": ");
+        t.exact(seg.duration);
+        t.push_slice(b", \"line\": ");
+        t.push_short(itoa::Buffer::new().format(seg.line).as_bytes());
+        t.push(b'}');
         self.flush_batch()
     }
 
@@ -250,7 +252,7 @@ impl<W: Write> ProgramWriter for JsonWriter<W> {
             ",\n  \"segment_count\": {},\n  \"total_time\": ",
             self.totals.segments
         ));
-        push_exact(&mut self.text, self.totals.time);
+        self.text.exact(self.totals.time);
         self.text.push_str("\n}\n");
         self.flush_text()?;
         self.out.flush()
@@ -276,15 +278,16 @@ fn quote(s: &str) -> String {
     serde_json::to_string(s).expect("a string always serializes")
 }
 
-fn list(text: &mut String, values: &[f64]) {
-    text.push('[');
+#[inline]
+fn list<T: TextOut>(text: &mut T, values: &[f64]) {
+    text.put("[");
     for (i, x) in values.iter().enumerate() {
         if i > 0 {
-            text.push_str(", ");
+            text.put(", ");
         }
-        push_exact(text, *x);
+        text.exact(*x);
     }
-    text.push(']');
+    text.put("]");
 }
 
 /// Why a JSON document is not a pvtc program.

@@ -22,7 +22,7 @@
 //! layout allows. Counts come from `sizeof` after the arrays, so nothing needs a count
 //! up front. It must not plan or round.
 
-use crate::number::push_exact;
+use crate::gather::Gathered;
 use crate::writer::{Header, ProgramWriter};
 use pvt_core::{EventKind, Interpolation, Motion, ProgramEvent, SegmentRef};
 use std::io::{self, Write};
@@ -33,9 +33,9 @@ const TEXT_BATCH: usize = 64 * 1024;
 /// Streams MovePVT arrays as C source to `W`.
 pub struct MovePvtWriter<W> {
     out: W,
-    text: String,
-    velocities: String,
-    times: String,
+    text: Gathered,
+    velocities: Gathered,
+    times: Gathered,
     kinds: Vec<Motion>,
     /// The last contour's arrays are already closed (an event followed it).
     closed: bool,
@@ -48,9 +48,9 @@ impl<W: Write> MovePvtWriter<W> {
     pub fn new(out: W) -> MovePvtWriter<W> {
         MovePvtWriter {
             out,
-            text: String::with_capacity(TEXT_BATCH + 1024),
-            velocities: String::new(),
-            times: String::new(),
+            text: Gathered::with_capacity(TEXT_BATCH + 1024),
+            velocities: Gathered::with_capacity(0),
+            times: Gathered::with_capacity(0),
             kinds: Vec::new(),
             closed: false,
             pt: false,
@@ -63,7 +63,7 @@ impl<W: Write> MovePvtWriter<W> {
     }
 
     fn flush_text(&mut self) -> io::Result<()> {
-        self.out.write_all(self.text.as_bytes())?;
+        self.out.write_all(self.text.text())?;
         self.text.clear();
         Ok(())
     }
@@ -87,12 +87,12 @@ impl<W: Write> MovePvtWriter<W> {
         if !self.pt {
             self.text
                 .push_str(&format!("static double pvtc_c{n}_velocity[] = {{\n"));
-            self.text.push_str(&self.velocities);
+            self.text.push_slice(self.velocities.text());
             self.text.push_str("};\n");
         }
         self.text
             .push_str(&format!("static double pvtc_c{n}_time[] = {{\n"));
-        self.text.push_str(&self.times);
+        self.text.push_slice(self.times.text());
         self.text.push_str("};\n");
         self.text.push_str(&format!(
             "#define PVTC_C{n}_POINTS ((long)(sizeof pvtc_c{n}_time / sizeof pvtc_c{n}_time[0]))\n"
@@ -103,14 +103,16 @@ impl<W: Write> MovePvtWriter<W> {
     }
 }
 
-fn push_row(text: &mut String, values: &[f64]) {
-    text.push_str("    ");
+/// Appends one row of an array: `    a, b, c,` and its newline.
+#[inline]
+fn push_row(text: &mut Gathered, values: &[f64]) {
+    text.push_slice(b"    ");
     for x in values {
-        push_exact(text, *x);
-        text.push_str(", ");
+        text.exact(*x);
+        text.push_slice(b", ");
     }
     text.pop();
-    text.push('\n');
+    text.push(b'\n');
 }
 
 fn c_comment(s: &str) -> String {

@@ -81,8 +81,10 @@ pub(crate) fn write_fixed<const DECIMALS: usize>(slot: &mut [u8], x: f64) -> usi
 /// zero-padded digits at once ([`eight_digit_values`]), held in a u64 with the first
 /// digit in its lowest byte; its leading zeros are the u64's trailing zero bytes, shifted
 /// out (all but the units digit), and the eight bytes stored whole. The fraction's
-/// digits are made the same way and stored after the point. No branch depends on the
-/// value.
+/// digits are made the same way and stored after the point. The one branch that depends
+/// on the value is on the integer part's size: one below 10⁴ (with 9 decimals: below
+/// 1000), as a program's coordinates, speeds and piece times in ms mostly are, takes
+/// four digits at once ([`four_digit_values`]), at about half the cost.
 #[inline(always)]
 pub(crate) fn write_usual_fixed<const DECIMALS: usize>(slot: &mut [u8], x: f64) -> (usize, bool) {
     const { assert!(DECIMALS <= 9, "at most 9 decimals") };
@@ -98,17 +100,27 @@ pub(crate) fn write_usual_fixed<const DECIMALS: usize>(slot: &mut [u8], x: f64) 
     let sign = usize::from(scaled < 0.0 && m != 0);
     slot[0] = b'-';
     if DECIMALS == 9 {
-        return (sign + write_nine_decimals(&mut slot[sign..], m), usual);
+        return (sign + write_nine_decimals(&mut slot[sign..], m).0, usual);
     }
     let unit = POW10_INT[DECIMALS];
     let (int, fraction) = (m / unit, m % unit);
-    // Below 10⁸ when usual; any other gives digits of no meaning.
-    let values = eight_digit_values(int as u32);
-    // At most seven leading zeros: the units digit stays.
-    let zeros = ((values.trailing_zeros() / 8) as usize).min(7);
-    let digits = (values | ASCII_ZEROS) >> (8 * zeros);
-    slot[sign..sign + 8].copy_from_slice(&digits.to_le_bytes());
-    let point = sign + 8 - zeros;
+    let point = if int < 10_000 {
+        let values = four_digit_values(int as u32);
+        // At most three leading zeros: the units digit stays (a bit set in its byte
+        // stops the count there).
+        let zeros = ((values | 1 << 24).trailing_zeros() / 8) as usize;
+        let digits = (values | ASCII_ZEROS as u32) >> (8 * zeros);
+        slot[sign..sign + 4].copy_from_slice(&digits.to_le_bytes());
+        sign + 4 - zeros
+    } else {
+        // Below 10⁸ when usual; any other gives digits of no meaning.
+        let values = eight_digit_values(int as u32);
+        // At most seven leading zeros, as above.
+        let zeros = ((values | 1 << 56).trailing_zeros() / 8) as usize;
+        let digits = (values | ASCII_ZEROS) >> (8 * zeros);
+        slot[sign..sign + 8].copy_from_slice(&digits.to_le_bytes());
+        sign + 8 - zeros
+    };
     if DECIMALS == 0 {
         return (point, usual);
     }
@@ -118,29 +130,45 @@ pub(crate) fn write_usual_fixed<const DECIMALS: usize>(slot: &mut [u8], x: f64) 
 }
 
 /// [`write_usual_fixed`]'s digits for 9 decimals: `m` / 10⁹ (the magnitude rounded,
-/// below 4.5·10¹⁵) written at the start of `slot` (18 long); returns the length.
+/// below 4.5·10¹⁵) written at the start of `slot` (18 long); returns the length, and the
+/// values of the fraction's last eight digits ([`eight_digit_values`]).
 ///
 /// Split in two halves of eight digits instead of at the point: the high half is the
 /// integer part (at most 7 digits) and the fraction's first digit, the low half its other
-/// eight. The high half's eight bytes are stored with the leading zeros shifted out, then
-/// the point and the fraction's first digit over its last.
+/// eight. The high half's bytes are stored with the leading zeros shifted out, then the
+/// point and the fraction's first digit over its last; a high half below 10⁴ (an
+/// integer part below 1000) as four digits ([`four_digit_values`]).
 #[inline(always)]
-fn write_nine_decimals(slot: &mut [u8], m: u64) -> usize {
+fn write_nine_decimals(slot: &mut [u8], m: u64) -> (usize, u64) {
     const ASCII_ZEROS: u64 = u64::from_le_bytes([b'0'; 8]);
     let slot = &mut slot[..18];
     let (high, low) = (m / 100_000_000, m % 100_000_000);
-    // Below 4.5·10⁷ when usual; any other gives digits of no meaning.
-    let values = eight_digit_values(high as u32);
-    // At most six leading zeros: the units digit stays.
-    let zeros = ((values.trailing_zeros() / 8) as usize).min(6);
-    let digits = (values | ASCII_ZEROS) >> (8 * zeros);
-    slot[..8].copy_from_slice(&digits.to_le_bytes());
-    let point = 7 - zeros;
-    slot[point] = b'.';
-    slot[point + 1] = (values >> 56) as u8 | b'0';
-    let last_eight = eight_digit_values(low as u32) | ASCII_ZEROS;
-    slot[point + 2..point + 10].copy_from_slice(&last_eight.to_le_bytes());
-    point + 10
+    let point = if high < 10_000 {
+        let values = four_digit_values(high as u32);
+        // At most two leading zeros: the units digit stays (a bit set in its byte stops
+        // the count there).
+        let zeros = ((values | 1 << 16).trailing_zeros() / 8) as usize;
+        let digits = (values | ASCII_ZEROS as u32) >> (8 * zeros);
+        slot[..4].copy_from_slice(&digits.to_le_bytes());
+        let point = 3 - zeros;
+        slot[point] = b'.';
+        slot[point + 1] = (values >> 24) as u8 | b'0';
+        point
+    } else {
+        // Below 4.5·10⁷ when usual; any other gives digits of no meaning.
+        let values = eight_digit_values(high as u32);
+        // At most six leading zeros, as above.
+        let zeros = ((values | 1 << 48).trailing_zeros() / 8) as usize;
+        let digits = (values | ASCII_ZEROS) >> (8 * zeros);
+        slot[..8].copy_from_slice(&digits.to_le_bytes());
+        let point = 7 - zeros;
+        slot[point] = b'.';
+        slot[point + 1] = (values >> 56) as u8 | b'0';
+        point
+    };
+    let last_eight = eight_digit_values(low as u32);
+    slot[point + 2..point + 10].copy_from_slice(&(last_eight | ASCII_ZEROS).to_le_bytes());
+    (point + 10, last_eight)
 }
 
 /// Writes the `DECIMALS` (1 to 9) zero-padded digits of `fraction` (below 10^`DECIMALS`)
@@ -153,6 +181,10 @@ fn write_fraction<const DECIMALS: usize>(slot: &mut [u8], fraction: u32) {
         slot[0] = (fraction / 100_000_000) as u8 | b'0';
         let last_eight = eight_digit_values(fraction % 100_000_000) | ASCII_ZEROS;
         slot[1..9].copy_from_slice(&last_eight.to_le_bytes());
+    } else if DECIMALS <= 4 {
+        // Four digits of which the first 4 − DECIMALS are zeros, shifted out.
+        let digits = (four_digit_values(fraction) | ASCII_ZEROS as u32) >> (8 * (4 - DECIMALS));
+        slot[..4].copy_from_slice(&digits.to_le_bytes());
     } else {
         // Eight digits of which the first 8 − DECIMALS are zeros, shifted out.
         let digits = (eight_digit_values(fraction) | ASCII_ZEROS) >> (8 * (8 - DECIMALS));
@@ -192,6 +224,18 @@ fn write_wide_fixed<const DECIMALS: usize>(slot: &mut [u8], x: f64) -> usize {
 #[cfg(test)]
 fn eight_digits(value: u32) -> [u8; 8] {
     (eight_digit_values(value) | 0x3030_3030_3030_3030).to_le_bytes()
+}
+
+/// The four decimal digits of `value` (below 10⁴, zero-padded) as the bytes of a u32,
+/// first digit in its lowest byte, each digit's value (0–9): [`eight_digit_values`]'
+/// last two steps on one half. A value of 10⁴ or more gives digits of no meaning.
+#[inline(always)]
+fn four_digit_values(value: u32) -> u32 {
+    // ⌊x·5243 / 2¹⁹⌋ = ⌊x / 100⌋ for x < 10⁴ (up to 43 699).
+    let hundreds = value.wrapping_mul(5_243) >> 19;
+    let pairs = (value << 16).wrapping_sub(hundreds.wrapping_mul((100 << 16) - 1));
+    let tens = (pairs.wrapping_mul(103) >> 10) & 0x000F_000F;
+    (pairs << 8).wrapping_sub(tens.wrapping_mul((10 << 8) - 1))
 }
 
 /// The eight decimal digits of `value` (below 10⁸, zero-padded) as the bytes of a u64,
@@ -278,22 +322,70 @@ fn round_half_away(x: f64) -> i64 {
     t + i64::from(fraction >= 0.5) - i64::from(fraction <= -0.5)
 }
 
-/// Appends the shortest text that reads back as exactly `x` (ryu's text), never as `-0.0`.
-///
-/// A value that is a decimal of at most 9 places between 10⁻⁵ and 10⁶ (a programmed
-/// coordinate, a round feed) is written by [`push_short_decimal`] at fixed-point speed;
-/// any other goes to ryu. Both give the same bytes (tested on random values).
+/// Appends the shortest text that reads back as exactly `x` (ryu's text), never as `-0.0`
+/// ([`write_exact`]).
 pub fn push_exact(out: &mut String, x: f64) {
-    let x = if x == 0.0 { 0.0 } else { x };
-    if push_short_decimal(out, x) {
-        return;
-    }
-    let mut buffer = ryu::Buffer::new();
-    out.push_str(buffer.format_finite(x));
+    let mut slot = [0u8; EXACT_SLOT];
+    let len = write_exact(&mut slot, x);
+    // Only ASCII digits, a sign, a point and an exponent were written.
+    out.push_str(std::str::from_utf8(&slot[..len]).unwrap_or_default());
 }
 
-/// Appends `x` as ryu would and returns true when `x` is the double nearest a decimal
-/// `m·10⁻⁹` with `10⁻⁵ ≤ |x| < 10⁶`; otherwise appends nothing and returns false.
+/// Bytes [`write_exact`] may write: the longest shortest text of a double is 24 bytes
+/// (`-2.2250738585072014e-308`), and the fixed-point path writes [`FIXED_SLOT`] bytes.
+pub(crate) const EXACT_SLOT: usize = 32;
+
+/// Writes the shortest text that reads back as exactly `x` (ryu's text), never as
+/// `-0.0`, at the start of `slot` (at least [`EXACT_SLOT`] long) and returns its length;
+/// the bytes after it are scratch.
+///
+/// A value that is a decimal of at most 9 places between 10⁻⁵ and 10⁶ (a programmed
+/// coordinate, a round feed) is written by [`write_short_decimal`] at fixed-point speed;
+/// any other below 10¹⁶ by żmij, which finds the same shortest digits as ryu about twice
+/// as fast and writes them in ryu's form below 10¹⁶ (from there it writes `e+16` where
+/// ryu writes `e16`); the rest by ryu. All give ryu's bytes (tested on random values).
+#[inline]
+pub(crate) fn write_exact(slot: &mut [u8], x: f64) -> usize {
+    let slot = &mut slot[..EXACT_SLOT];
+    let x = if x == 0.0 { 0.0 } else { x };
+    if let Some(len) = write_short_decimal(slot, x) {
+        return len;
+    }
+    if x.abs() < 1e16 {
+        let mut buffer = zmij::Buffer::new();
+        return copy_short(slot, buffer.format_finite(x).as_bytes());
+    }
+    let mut buffer = ryu::Buffer::new();
+    copy_short(slot, buffer.format_finite(x).as_bytes())
+}
+
+/// Copies `text` (at most 32 bytes) to the start of `slot` (32 long) by two overlapping
+/// copies of a fixed size, without a call into `memcpy`; returns its length.
+#[inline(always)]
+pub(crate) fn copy_short(slot: &mut [u8], text: &[u8]) -> usize {
+    let slot = &mut slot[..EXACT_SLOT];
+    let n = text.len().min(EXACT_SLOT);
+    if n >= 16 {
+        slot[..16].copy_from_slice(&text[..16]);
+        slot[n - 16..n].copy_from_slice(&text[n - 16..n]);
+    } else if n >= 8 {
+        slot[..8].copy_from_slice(&text[..8]);
+        slot[n - 8..n].copy_from_slice(&text[n - 8..n]);
+    } else if n >= 4 {
+        slot[..4].copy_from_slice(&text[..4]);
+        slot[n - 4..n].copy_from_slice(&text[n - 4..n]);
+    } else if n >= 2 {
+        slot[..2].copy_from_slice(&text[..2]);
+        slot[n - 2..n].copy_from_slice(&text[n - 2..n]);
+    } else if n == 1 {
+        slot[0] = text[0];
+    }
+    n
+}
+
+/// Writes `x` as ryu would at the start of `slot` ([`EXACT_SLOT`] long) and returns its
+/// length when `x` is the double nearest a decimal `m·10⁻⁹` with `10⁻⁵ ≤ |x| < 10⁶`;
+/// otherwise `None`, `slot` then holding scratch.
 ///
 /// Why the text is ryu's: such a decimal has at most 15 significant digits, and two
 /// distinct decimals of at most 15 significant digits are never the same double, so
@@ -304,31 +396,34 @@ pub fn push_exact(out: &mut String, x: f64) {
 ///
 /// Most values written (speeds, times) are not short: they are turned away by
 /// [`far_from_short`] before the division, which is the costly step.
-fn push_short_decimal(out: &mut String, x: f64) -> bool {
+#[inline(always)]
+fn write_short_decimal(slot: &mut [u8], x: f64) -> Option<usize> {
     let magnitude = x.abs();
     if !(1e-5..1e6).contains(&magnitude) {
-        return false;
+        return None;
     }
     let scaled = magnitude * 1e9;
     // Below 2^53: the signed conversions are exact, and cheaper than the unsigned.
-    let rounded = round_half_away(scaled) as f64;
+    let m = round_half_away(scaled);
+    let rounded = m as f64;
     if far_from_short(scaled, rounded) || rounded / 1e9 != magnitude {
-        return false;
+        return None;
     }
-    let mut text = [0u8; FIXED_SLOT];
-    let len = write_fixed::<9>(&mut text, x);
+    // As write_fixed::<9> writes it (a usual value, `m` its magnitude rounded, never
+    // zero), then cut after the fraction's last digit that is not zero (the first stays).
+    let slot = &mut slot[..EXACT_SLOT];
+    let sign = usize::from(x < 0.0);
+    slot[0] = b'-';
+    let (len, last_eight) = write_nine_decimals(&mut slot[sign..], m.unsigned_abs());
     // The fraction's trailing zeros but its first digit: the last eight digits' zeros.
-    let last_eight = eight_digit_values((rounded as u64 % 100_000_000) as u32);
     let zeros = (last_eight.leading_zeros() / 8) as usize;
-    // Only ASCII digits, a sign and a point were written.
-    out.push_str(std::str::from_utf8(&text[..len - zeros]).unwrap_or_default());
-    true
+    Some(sign + len - zeros)
 }
 
 /// True when `m / 10⁹` cannot be the double `x` whose product `scaled = x·10⁹` (rounded)
 /// is given and rounds to the integer `m` (10⁴ ≤ `scaled` < 10¹⁵, `m` given as an exact
 /// double): a quick refusal without the division, never wrong, for
-/// [`push_short_decimal`].
+/// [`write_short_decimal`].
 ///
 /// If `m / 10⁹` rounds to `x`, then |m − x·10⁹| ≤ 10⁹·ulp(x)/2 ≤ x·10⁹·2⁻⁵³, and the
 /// product is off by at most `scaled`·2⁻⁵³, so |`scaled` − m| ≤ `scaled`·2⁻⁵² (to first
@@ -562,7 +657,7 @@ mod tests {
         let mut short = 0;
         for x in values.into_iter().filter(|x| x.is_finite() && *x != 0.0) {
             assert_eq!(exact(x), ryu_text(x), "{x:e}");
-            short += usize::from(push_short_decimal(&mut String::new(), x));
+            short += usize::from(write_short_decimal(&mut [0; EXACT_SLOT], x).is_some());
         }
         // The fast path is taken often: the short decimals in range.
         assert!(short > 150_000, "{short} short decimals");
@@ -678,8 +773,10 @@ mod tests {
         #[test]
         fn short_decimals_take_the_fast_path(m in 10_000..1_000_000_000_000_000u64) {
             let x = m as f64 / 1e9;
-            let mut text = String::new();
-            proptest::prop_assert!(push_short_decimal(&mut text, x), "{}", m);
+            let mut slot = [0; EXACT_SLOT];
+            let len = write_short_decimal(&mut slot, x);
+            proptest::prop_assert!(len.is_some(), "{}", m);
+            let text = std::str::from_utf8(&slot[..len.unwrap_or(0)]).unwrap();
             proptest::prop_assert_eq!(text, ryu_text(x));
         }
 
@@ -689,6 +786,15 @@ mod tests {
                 eight_digits(value).to_vec(),
                 format!("{value:08}").into_bytes()
             );
+        }
+    }
+
+    /// [`four_digit_values`] on every value it takes.
+    #[test]
+    fn four_digits_are_the_zero_padded_number() {
+        for value in 0..10_000u32 {
+            let digits = (four_digit_values(value) | 0x3030_3030).to_le_bytes();
+            assert_eq!(digits.to_vec(), format!("{value:04}").into_bytes());
         }
     }
 
@@ -705,6 +811,44 @@ mod tests {
                 eight_digits(value).to_vec(),
                 format!("{value:08}").into_bytes()
             );
+        }
+    }
+
+    /// Every path of [`write_exact`] writes ryu's bytes at its edges: the short decimals'
+    /// range, żmij's (ryu writes `1e16`, żmij `1e+16`), subnormals and the extremes.
+    #[test]
+    fn exact_is_ryu_at_the_edges_of_each_path() {
+        let mut values = vec![
+            1e16,
+            9_999_999_999_999_998.0,
+            1e15,
+            1.2345e20,
+            1e300,
+            f64::MAX,
+            f64::MIN_POSITIVE,
+            2.2250738585072014e-308,
+            5e-324,
+            1e-5,
+            9.999999999999999e-6,
+            1e6,
+            999_999.999_999_999_9,
+            1e-7,
+            0.1,
+            3.0,
+        ];
+        for k in -320..=308 {
+            let x = 10f64.powi(k);
+            values.extend([
+                x,
+                f64::from_bits(x.to_bits() + 1),
+                f64::from_bits(x.to_bits().saturating_sub(1)),
+            ]);
+        }
+        for x in values.clone() {
+            values.push(-x);
+        }
+        for x in values.into_iter().filter(|x| x.is_finite() && *x != 0.0) {
+            assert_eq!(exact(x), ryu_text(x), "{x:e}");
         }
     }
 

@@ -267,6 +267,8 @@ const LINE_BATCH: usize = 64 * 1024;
 pub struct PmacWriter<W> {
     out: W,
     axes: Vec<Axis>,
+    /// Each axis' letter, as written before its position.
+    letters: Vec<u8>,
     line: Gathered,
     totals: Totals,
     events: PmacEvents,
@@ -282,6 +284,7 @@ impl<W: Write> PmacWriter<W> {
         PmacWriter {
             out,
             axes: Vec::new(),
+            letters: Vec::new(),
             line: Gathered::with_capacity(LINE_BATCH + 1024),
             totals: Totals::default(),
             events: PmacEvents::Comments,
@@ -332,6 +335,7 @@ impl<W: Write> PmacWriter<W> {
 impl<W: Write> ProgramWriter for PmacWriter<W> {
     fn begin(&mut self, header: &Header<'_>) -> io::Result<()> {
         self.axes = header.axes.to_vec();
+        self.letters = self.axes.iter().map(|a| a.letter() as u8).collect();
         let units = header.units.name();
         let t = &mut self.line;
         writeln!(
@@ -419,13 +423,18 @@ impl<W: Write> ProgramWriter for PmacWriter<W> {
             self.line.fixed::<TIME_DECIMALS>(ms);
             self.line.push(b'\n');
         }
-        self.totals.add_segment(seg.duration);
         let dim = self.axes.len().min(seg.end.len()).min(seg.velocity.len());
         let room = self.line.room(2 + FIXED_SLOT + dim * AXIS_WORD_ROOM + 1);
-        match piece_line(room, &self.axes, ms, seg) {
-            (len, true) => self.line.advance(len),
+        match piece_line(room, &self.letters, ms, seg) {
+            (len, Some(whole_ms)) => {
+                self.totals.add_printed_segment(seg.duration, whole_ms);
+                self.line.advance(len);
+            }
             // What was written is left as room, and the line written number by number.
-            _ => return self.wide_segment(ms, seg),
+            _ => {
+                self.totals.add_segment(seg.duration);
+                return self.wide_segment(ms, seg);
+            }
         }
         self.flush_line()
     }
@@ -506,25 +515,47 @@ const AXIS_WORD_ROOM: usize = 2 + FIXED_SLOT + 1 + FIXED_SLOT;
 
 /// Writes a piece's line, `TA<ms> X<position>:<velocity> …` and its newline, at the start
 /// of `room` (at least `2 + FIXED_SLOT + axes · AXIS_WORD_ROOM + 1` long) and returns
-/// its length and true, when every number is a usual one ([`write_usual_fixed`]); false
-/// when one is not, the room then holding nothing of meaning.
+/// its length and, when every number is a usual one ([`write_usual_fixed`]), whether the
+/// time is printed as whole milliseconds (its decimals all zeros); `None` when one is
+/// not, the room then holding nothing of meaning.
 #[inline(always)]
-fn piece_line(room: &mut [u8], axes: &[Axis], ms: f64, seg: &SegmentRef<'_>) -> (usize, bool) {
+fn piece_line(
+    room: &mut [u8],
+    letters: &[u8],
+    ms: f64,
+    seg: &SegmentRef<'_>,
+) -> (usize, Option<bool>) {
     room[..2].copy_from_slice(b"TA");
     let (len, mut usual) = write_usual_fixed::<TIME_DECIMALS>(&mut room[2..], ms);
     let mut at = 2 + len;
-    for ((axis, p), v) in axes.iter().zip(seg.end).zip(seg.velocity) {
+    // A usual time has a point and TIME_DECIMALS (4) decimals: the text's last four bytes.
+    let decimals: [u8; TIME_DECIMALS] = room[at - TIME_DECIMALS..at].try_into().unwrap_or([0; 4]);
+    let whole_ms = decimals == [b'0'; TIME_DECIMALS];
+    for ((letter, p), v) in letters.iter().zip(seg.end).zip(seg.velocity) {
         room[at] = b' ';
-        room[at + 1] = axis.letter() as u8;
-        let (len, p_usual) = write_usual_fixed::<POSITION_DECIMALS>(&mut room[at + 2..], *p);
+        room[at + 1] = *letter;
+        let (len, p_usual) = write_coordinate(&mut room[at + 2..], *p);
         at += 2 + len;
         room[at] = b':';
-        let (len, v_usual) = write_usual_fixed::<POSITION_DECIMALS>(&mut room[at + 1..], *v);
+        let (len, v_usual) = write_coordinate(&mut room[at + 1..], *v);
         at += 1 + len;
         usual &= p_usual & v_usual;
     }
     room[at] = b'\n';
-    (at + 1, usual)
+    (at + 1, usual.then_some(whole_ms))
+}
+
+/// A position or velocity as [`write_usual_fixed`] writes it with
+/// [`POSITION_DECIMALS`]: an exact zero (an axis at rest, or at 0), common in a program,
+/// at once.
+#[inline(always)]
+fn write_coordinate(slot: &mut [u8], x: f64) -> (usize, bool) {
+    const ZERO: &[u8; 2 + POSITION_DECIMALS] = b"0.000000000";
+    if x == 0.0 {
+        slot[..ZERO.len()].copy_from_slice(ZERO);
+        return (ZERO.len(), true);
+    }
+    write_usual_fixed::<POSITION_DECIMALS>(slot, x)
 }
 
 /// The PMAC command an event is written as under [`PmacEvents::Commands`]; none for a
@@ -596,6 +627,8 @@ mod tests {
     fn value() -> impl Strategy<Value = f64> {
         prop_oneof![
             40 => -1e4..1e4f64,
+            4 => Just(0.0),
+            2 => Just(-0.0),
             1 => -1e7..1e7f64,
             1 => -1e20..1e20f64,
             1 => Just(f64::NAN),

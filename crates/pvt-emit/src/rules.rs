@@ -194,6 +194,7 @@ impl RuleCheck {
     }
 
     /// Checks one piece (`segment` of `contour`, 1-based).
+    #[inline]
     pub fn piece(
         &mut self,
         seg: &SegmentRef<'_>,
@@ -202,6 +203,23 @@ impl RuleCheck {
     ) -> Result<(), InvalidProgram> {
         self.open = true;
         self.last_line = seg.line;
+        let caps = &self.caps;
+        // The usual piece (long enough, no grid asked for, nothing per axis) is answered
+        // here; any other goes through every rule.
+        let short = seg.duration < caps.min_piece_seconds * (1.0 - SLACK);
+        if short || caps.quantum_required || self.per_axis {
+            return self.piece_rules(seg, contour, segment);
+        }
+        Ok(())
+    }
+
+    /// [`RuleCheck::piece`]'s rules in full: the piece's time, then each axis.
+    fn piece_rules(
+        &mut self,
+        seg: &SegmentRef<'_>,
+        contour: usize,
+        segment: usize,
+    ) -> Result<(), InvalidProgram> {
         self.piece_time(seg, contour, segment)?;
         if !self.per_axis {
             return Ok(());

@@ -49,35 +49,45 @@ pub fn check_start(start: &[f64], contour: usize, line: u32) -> Result<(), Inval
 }
 
 /// Checks one segment's piece time, positions and velocities.
+#[inline]
 pub fn check_segment(
     seg: &SegmentRef<'_>,
     contour: usize,
     segment: usize,
 ) -> Result<(), InvalidProgram> {
-    let fail = |what: String| InvalidProgram {
+    // x·0 is 0 for every finite x and NaN for any other: one sum answers for all.
+    let zeros = |values: &[f64]| values.iter().fold(0.0, |sum, x| sum + x * 0.0);
+    let time_ok = seg.duration.is_finite() && seg.duration > 0.0;
+    if time_ok && zeros(seg.end) + zeros(seg.velocity) == 0.0 {
+        return Ok(());
+    }
+    Err(segment_refusal(seg, contour, segment))
+}
+
+/// Why [`check_segment`] refuses `seg`: its time first, then its values.
+#[cold]
+fn segment_refusal(seg: &SegmentRef<'_>, contour: usize, segment: usize) -> InvalidProgram {
+    let what = if !(seg.duration.is_finite() && seg.duration > 0.0) {
+        format!(
+            "piece time {} s (a trajectory the XPS refuses with -75: non-positive time)",
+            seg.duration
+        )
+    } else {
+        "a position or velocity that is not finite".into()
+    };
+    InvalidProgram {
         contour,
         segment,
         line: seg.line,
         what,
         internal: true,
         code: InvalidProgram::CODE,
-    };
-    if !(seg.duration.is_finite() && seg.duration > 0.0) {
-        return Err(fail(format!(
-            "piece time {} s (a trajectory the XPS refuses with -75: non-positive time)",
-            seg.duration
-        )));
     }
-    // x·0 is 0 for every finite x and NaN for any other: one sum answers for all.
-    let zeros = |values: &[f64]| values.iter().fold(0.0, |sum, x| sum + x * 0.0);
-    if zeros(seg.end) + zeros(seg.velocity) != 0.0 {
-        return Err(fail("a position or velocity that is not finite".into()));
-    }
-    Ok(())
 }
 
 /// Checks that a segment's piece time is at most `max_seconds` (within a relative 1e-12,
 /// the rounding of a time cut into equal parts), for formats with a longest piece time.
+#[inline]
 pub fn check_piece_time(
     seg: &SegmentRef<'_>,
     max_seconds: f64,
@@ -87,7 +97,18 @@ pub fn check_piece_time(
     if seg.duration <= max_seconds * (1.0 + 1e-12) {
         return Ok(());
     }
-    Err(InvalidProgram {
+    Err(piece_time_refusal(seg, max_seconds, contour, segment))
+}
+
+/// Why [`check_piece_time`] refuses `seg`.
+#[cold]
+fn piece_time_refusal(
+    seg: &SegmentRef<'_>,
+    max_seconds: f64,
+    contour: usize,
+    segment: usize,
+) -> InvalidProgram {
+    InvalidProgram {
         contour,
         segment,
         line: seg.line,
@@ -97,7 +118,7 @@ pub fn check_piece_time(
         ),
         internal: false,
         code: InvalidProgram::CODE,
-    })
+    }
 }
 
 /// Checks every position, velocity and piece time of `program`.

@@ -50,13 +50,20 @@ impl Totals {
 
     /// Counts one segment of `duration` seconds.
     pub fn add_segment(&mut self, duration: f64) {
+        // As PMAC text prints it: 820.0000 ms is whole, whatever bits carried it.
+        let whole =
+            crate::number::prints_whole::<{ crate::pmac::TIME_DECIMALS }>(duration * 1000.0);
+        self.add_printed_segment(duration, whole);
+    }
+
+    /// [`Totals::add_segment`] for a segment whose time PMAC text prints as a whole
+    /// number of milliseconds or not (`whole_ms`), as the caller already knows.
+    #[inline]
+    pub(crate) fn add_printed_segment(&mut self, duration: f64, whole_ms: bool) {
         self.segments += 1;
         self.segments_in_contour += 1;
         self.time += duration;
-        // As PMAC text prints it: 820.0000 ms is whole, whatever bits carried it.
-        if !crate::number::prints_whole::<{ crate::pmac::TIME_DECIMALS }>(duration * 1000.0) {
-            self.fractional_ms += 1;
-        }
+        self.fractional_ms += usize::from(!whole_ms);
     }
 }
 
@@ -175,13 +182,12 @@ impl<W: ProgramWriter> Checked<W> {
 
     /// An error unless [`Checked::begin`] succeeded: a refused header (its error already
     /// returned to the caller) stops everything after it.
+    #[inline]
     fn ready(&self) -> Result<(), StreamError> {
         if self.begun {
             return Ok(());
         }
-        Err(StreamError::Io(io::Error::other(
-            "the output's header was refused, so nothing more is written",
-        )))
+        Err(refused_header())
     }
 
     /// Starts a contour at rest at `start`, after checking it.
@@ -194,14 +200,8 @@ impl<W: ProgramWriter> Checked<W> {
     /// Writes a segment, after checking it.
     pub fn segment(&mut self, segment: &SegmentRef<'_>) -> Result<(), StreamError> {
         self.ready()?;
-        if let Some((motion, start)) = self.pending.take() {
-            self.contour += 1;
-            self.segment = 0;
-            if let Some(rules) = self.rules.as_mut() {
-                rules.contour(&start, self.contour)?;
-            }
-            self.inner.contour(motion, &start)?;
-            self.at = (start, vec![0.0; segment.end.len()]);
+        if self.pending.is_some() {
+            self.open_contour(segment.end.len())?;
         }
         self.segment += 1;
         check_segment(segment, self.contour, self.segment)?;
@@ -215,6 +215,22 @@ impl<W: ProgramWriter> Checked<W> {
             rules.piece(segment, self.contour, self.segment)?;
         }
         Ok(self.inner.segment(segment)?)
+    }
+
+    /// Passes the pending contour on, at its first segment (of `dim` axes).
+    #[cold]
+    fn open_contour(&mut self, dim: usize) -> Result<(), StreamError> {
+        let Some((motion, start)) = self.pending.take() else {
+            return Ok(());
+        };
+        self.contour += 1;
+        self.segment = 0;
+        if let Some(rules) = self.rules.as_mut() {
+            rules.contour(&start, self.contour)?;
+        }
+        self.inner.contour(motion, &start)?;
+        self.at = (start, vec![0.0; dim]);
+        Ok(())
     }
 
     /// Writes a segment cut at the triggers inside it, each part checked.
@@ -264,6 +280,14 @@ impl<W: ProgramWriter> Checked<W> {
         self.inner.finish()?;
         Ok(self.inner)
     }
+}
+
+/// The error of every call after a refused header ([`Checked::begin`]).
+#[cold]
+fn refused_header() -> StreamError {
+    StreamError::Io(io::Error::other(
+        "the output's header was refused, so nothing more is written",
+    ))
 }
 
 impl<T: ProgramWriter + ?Sized> ProgramWriter for Box<T> {

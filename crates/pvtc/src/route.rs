@@ -70,7 +70,9 @@ impl<W: ProgramWriter> PieceSink for WriterSink<W> {
                 contour.push(piece.end, piece.velocity, piece.duration, piece.line);
             }
             if error.is_none() {
-                *error = writer.segment(piece).err();
+                if let Err(e) = writer.segment(piece) {
+                    *error = Some(e);
+                }
             }
         };
         match self.splitter.as_mut() {
