@@ -19,23 +19,76 @@
 //!
 //! Buffering: C wants each array whole, so while a contour's positions stream out, its
 //! velocity and time arrays are held as text until the contour ends — the least this
-//! layout allows. Counts come from `sizeof` after the arrays, so nothing needs a count
-//! up front. It must not plan or round.
+//! layout allows. Each held array keeps at most [`HOLD_IN_MEMORY`] bytes in memory and
+//! the rest in an anonymous temporary file (removed by the system when closed), so a
+//! contour of any length is written in bounded memory. Counts come from `sizeof` after
+//! the arrays, so nothing needs a count up front. It must not plan or round.
 
 use crate::gather::Gathered;
 use crate::writer::{Header, ProgramWriter};
 use pvt_core::{EventKind, Interpolation, Motion, ProgramEvent, SegmentRef};
-use std::io::{self, Write};
+use std::io::{self, Seek, SeekFrom, Write};
 
 /// Bytes of text gathered before they are written.
 const TEXT_BATCH: usize = 64 * 1024;
+
+/// Bytes of a held array kept in memory; beyond them its text goes to a temporary file.
+pub const HOLD_IN_MEMORY: usize = 64 * 1024;
+
+/// The text of an array held until its contour ends: in memory up to a bound, the text
+/// before it in an anonymous temporary file.
+struct Held {
+    text: Gathered,
+    spilled: Option<std::fs::File>,
+    bound: usize,
+}
+
+impl Held {
+    fn new(bound: usize) -> Held {
+        Held {
+            text: Gathered::with_capacity(0),
+            spilled: None,
+            bound,
+        }
+    }
+
+    /// Appends a row of `values`, moving the text held in memory to the file once it
+    /// passes the bound.
+    fn row(&mut self, values: &[f64]) -> io::Result<()> {
+        push_row(&mut self.text, values);
+        if self.text.len() < self.bound {
+            return Ok(());
+        }
+        let file = match &mut self.spilled {
+            Some(file) => file,
+            None => self.spilled.insert(tempfile::tempfile()?),
+        };
+        file.write_all(self.text.text())?;
+        self.text.clear();
+        Ok(())
+    }
+
+    /// Writes the whole held text to `out`, in order, and empties it (the file is kept,
+    /// emptied, for the next contour).
+    fn write_to(&mut self, out: &mut impl Write) -> io::Result<()> {
+        if let Some(file) = &mut self.spilled {
+            file.seek(SeekFrom::Start(0))?;
+            io::copy(file, out)?;
+            file.set_len(0)?;
+            file.seek(SeekFrom::Start(0))?;
+        }
+        out.write_all(self.text.text())?;
+        self.text.clear();
+        Ok(())
+    }
+}
 
 /// Streams MovePVT arrays as C source to `W`.
 pub struct MovePvtWriter<W> {
     out: W,
     text: Gathered,
-    velocities: Gathered,
-    times: Gathered,
+    velocities: Held,
+    times: Held,
     kinds: Vec<Motion>,
     /// The last contour's arrays are already closed (an event followed it).
     closed: bool,
@@ -46,11 +99,16 @@ pub struct MovePvtWriter<W> {
 impl<W: Write> MovePvtWriter<W> {
     /// A writer into `out`.
     pub fn new(out: W) -> MovePvtWriter<W> {
+        MovePvtWriter::holding(out, HOLD_IN_MEMORY)
+    }
+
+    /// A writer into `out` that keeps at most `bound` bytes of each held array in memory.
+    fn holding(out: W, bound: usize) -> MovePvtWriter<W> {
         MovePvtWriter {
             out,
             text: Gathered::with_capacity(TEXT_BATCH + 1024),
-            velocities: Gathered::with_capacity(0),
-            times: Gathered::with_capacity(0),
+            velocities: Held::new(bound),
+            times: Held::new(bound),
             kinds: Vec::new(),
             closed: false,
             pt: false,
@@ -87,18 +145,18 @@ impl<W: Write> MovePvtWriter<W> {
         if !self.pt {
             self.text
                 .push_str(&format!("static double pvtc_c{n}_velocity[] = {{\n"));
-            self.text.push_slice(self.velocities.text());
+            self.flush_text()?;
+            self.velocities.write_to(&mut self.out)?;
             self.text.push_str("};\n");
         }
         self.text
             .push_str(&format!("static double pvtc_c{n}_time[] = {{\n"));
-        self.text.push_slice(self.times.text());
+        self.flush_text()?;
+        self.times.write_to(&mut self.out)?;
         self.text.push_str("};\n");
         self.text.push_str(&format!(
             "#define PVTC_C{n}_POINTS ((long)(sizeof pvtc_c{n}_time / sizeof pvtc_c{n}_time[0]))\n"
         ));
-        self.velocities.clear();
-        self.times.clear();
         self.flush_text()
     }
 }
@@ -182,9 +240,9 @@ impl<W: Write> ProgramWriter for MovePvtWriter<W> {
     fn segment(&mut self, seg: &SegmentRef<'_>) -> io::Result<()> {
         push_row(&mut self.text, seg.end);
         if !self.pt {
-            push_row(&mut self.velocities, seg.velocity);
+            self.velocities.row(seg.velocity)?;
         }
-        push_row(&mut self.times, &[seg.duration]);
+        self.times.row(&[seg.duration])?;
         self.flush_batch()
     }
 
@@ -257,5 +315,90 @@ impl<W: Write> ProgramWriter for MovePvtWriter<W> {
         }
         self.flush_text()?;
         self.out.flush()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::EmitOptions;
+    use pvt_core::{Axis, Units};
+
+    /// Three contours of `pieces` each (the second after an event), written by `writer`.
+    fn program(mut writer: MovePvtWriter<Vec<u8>>, pt: bool, pieces: usize) -> Vec<u8> {
+        let axes = [Axis::X, Axis::Y, Axis::Z];
+        let options = EmitOptions::default();
+        let header = Header {
+            axes: &axes,
+            units: Units::Millimetre,
+            interpolation: if pt {
+                Interpolation::Pt
+            } else {
+                Interpolation::Pvt
+            },
+            options: &options,
+        };
+        writer.begin(&header).unwrap();
+        for c in 0..3 {
+            if c == 1 {
+                let kind = EventKind::Dwell { seconds: 0.5 };
+                let event = ProgramEvent {
+                    before_contour: 1,
+                    kind,
+                    line: 7,
+                };
+                writer.event(&event).unwrap();
+            }
+            writer.contour(Motion::Feed, &[c as f64, 0.0, 0.0]).unwrap();
+            for i in 0..pieces {
+                let x = i as f64 * 0.1 + c as f64;
+                let end = [x, x.sin(), -x / 3.0];
+                let velocity = [1.0 / (i + 1) as f64, 0.25, -0.125 * i as f64];
+                let seg = SegmentRef {
+                    end: &end,
+                    velocity: &velocity,
+                    duration: 0.001 * (1 + i % 7) as f64,
+                    line: 10 + i as u32,
+                };
+                writer.segment(&seg).unwrap();
+            }
+        }
+        writer.finish().unwrap();
+        writer.into_inner()
+    }
+
+    /// Held arrays moved to a temporary file many times over (a bound of 1 KiB) give the
+    /// same text as arrays held whole in memory, for PVT and PT, and no held array
+    /// keeps more than the bound and one row in memory.
+    #[test]
+    fn arrays_held_in_a_file_are_the_arrays_held_in_memory() {
+        for pt in [false, true] {
+            let whole = program(MovePvtWriter::holding(Vec::new(), usize::MAX), pt, 3_000);
+            let spilled = program(MovePvtWriter::holding(Vec::new(), 1024), pt, 3_000);
+            assert!(whole.len() > 200_000, "{} bytes", whole.len());
+            assert!(whole == spilled, "PT {pt}: the texts differ");
+            let text = String::from_utf8(whole).unwrap();
+            // Independently: three time arrays of 3,000 rows each.
+            assert_eq!(text.matches("_time[] = {").count(), 3);
+            for array in text.split("_time[] = {\n").skip(1) {
+                let rows = array.split("};").next().unwrap().lines().count();
+                assert_eq!(rows, 3_000, "time rows");
+            }
+        }
+        let mut writer = MovePvtWriter::holding(Vec::new(), 1024);
+        writer.contour(Motion::Feed, &[0.0; 3]).unwrap();
+        for i in 0..2_000 {
+            let v = [i as f64 / 7.0, 1e-3 / (i + 1) as f64, 123.456789];
+            let seg = SegmentRef {
+                end: &v,
+                velocity: &v,
+                duration: 0.001,
+                line: 1,
+            };
+            writer.segment(&seg).unwrap();
+            assert!(writer.velocities.text.len() < 1024 + 128);
+            assert!(writer.times.text.len() < 1024 + 128);
+        }
+        assert!(writer.velocities.spilled.is_some() && writer.times.spilled.is_some());
     }
 }
