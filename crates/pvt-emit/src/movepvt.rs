@@ -352,7 +352,7 @@ mod tests {
             writer.contour(Motion::Feed, &[c as f64, 0.0, 0.0]).unwrap();
             for i in 0..pieces {
                 let x = i as f64 * 0.1 + c as f64;
-                let end = [x, x.sin(), -x / 3.0];
+                let end = [x, libm::sin(x), -x / 3.0];
                 let velocity = [1.0 / (i + 1) as f64, 0.25, -0.125 * i as f64];
                 let seg = SegmentRef {
                     end: &end,
