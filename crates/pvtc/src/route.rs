@@ -242,23 +242,12 @@ pub(crate) fn compile_read(
     gcode: &pvt_gcode::GcodeOptions,
     sink: &mut dyn pvt_gcode::ToolpathSink,
 ) -> Result<pvt_gcode::StreamSummary, Failure> {
-    read_pass(path, name, gcode, sink, crate::pipeline::threaded())
-}
-
-/// [`compile_read`], on two threads only where `threaded`.
-fn read_pass(
-    path: &std::path::Path,
-    name: &str,
-    gcode: &pvt_gcode::GcodeOptions,
-    sink: &mut dyn pvt_gcode::ToolpathSink,
-    threaded: bool,
-) -> Result<pvt_gcode::StreamSummary, Failure> {
     PASSES.with(|passes| passes.set(passes.get() + 1));
     let mut input = open(path)?;
     let mut read = move |sink: &mut dyn pvt_gcode::ToolpathSink| {
         pvt_gcode::compile_read(&mut input, gcode, sink)
     };
-    let read = match threaded {
+    let read = match crate::pipeline::threaded() {
         true => crate::pipeline::in_two_threads(read, sink),
         false => read(sink),
     };
@@ -433,15 +422,14 @@ pub fn compile_streaming(
 /// so a pipe never receives a program that an error in its source would cut short; the
 /// planner's and the back end's failures (a path the planner cannot meet, a value a
 /// format cannot hold) still end a stream where they happen. Its warnings are dropped:
-/// the writing pass reports them. It runs on this thread alone: its sink only notes
-/// axes, so a second thread would only add the batches' copying.
+/// the writing pass reports them.
 fn front_end_layout(
     path: &std::path::Path,
     name: &str,
     gcode: &pvt_gcode::GcodeOptions,
 ) -> Result<Layout, Failure> {
     let mut moved = MovedAxes::default();
-    let summary = read_pass(path, name, gcode, &mut moved, false)?;
+    let summary = compile_read(path, name, gcode, &mut moved)?;
     Ok(Layout {
         axes: moved.axes(),
         units: summary.units,
