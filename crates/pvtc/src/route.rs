@@ -178,7 +178,7 @@ impl<W: ProgramWriter> ToolpathSink for PlanningSink<W> {
     }
 }
 
-/// A sink that only notes which axes move (a stream's check pass: the header needs them).
+/// A sink that only notes which axes move (pass 1 of streaming: the header needs them).
 #[derive(Debug, Default)]
 pub struct MovedAxes {
     moved: [bool; pvt_core::AXIS_COUNT],
@@ -369,9 +369,7 @@ pub fn compile_to(
 /// [`pvt_gcode::prescan`] guesses them and one pass plans and writes; when the compile
 /// finds otherwise, the file is cut back and a second pass writes again. The null device
 /// is such a file. Into a stream (a pipe, a terminal), which cannot start over, a first
-/// pass checks the program and finds them, and a second writes: the first is the front
-/// end alone ([`front_end_layout`]), or, under `deny_warnings`, a pass that plans into
-/// nothing, since a planning warning must fail the run before the first byte too.
+/// pass plans into nothing, checking the program and finding them, and a second writes.
 pub fn compile_streaming(
     path: &std::path::Path,
     name: &str,
@@ -388,13 +386,11 @@ pub fn compile_streaming(
     let gcode = crate::front::gcode_options(options);
     let prescan = pvt_gcode::prescan(&mut open(path)?).map_err(|e| read_failure(path, e))?;
     let mut layout = Layout::guess(&prescan, &gcode);
-    if !out.can_restart() && !deny_warnings {
-        layout = front_end_layout(path, name, &gcode)?;
-    } else if !out.can_restart() {
+    if !out.can_restart() {
         // A stream cannot start over: a first pass plans the whole program into nothing,
-        // so that a pipe never receives a program that a warning under --deny-warnings
-        // would cut short. It finds the axes and units too (checking again under them
-        // when the prescan guessed otherwise).
+        // so that a pipe never receives a program that an error, or a warning under
+        // --deny-warnings, would cut short. It finds the axes and units too (checking
+        // again under them when the prescan guessed otherwise).
         let mut nothing = std::io::sink();
         let mut null = Target::Stream(&mut nothing);
         let mut check = write_pass(path, name, options, &gcode, &layout, &mut null)?;
@@ -415,25 +411,6 @@ pub fn compile_streaming(
         pass = write_pass(path, name, options, &gcode, &pass.layout.clone(), out)?;
     }
     crate::report::deny(outcome_warnings(path, name, options, pass)?, deny_warnings)
-}
-
-/// The layout the front end alone finds over the whole file: the check a stream gets
-/// before its first byte when no warning may fail the run. Every G-code error fails it,
-/// so a pipe never receives a program that an error in its source would cut short; the
-/// planner's and the back end's failures (a path the planner cannot meet, a value a
-/// format cannot hold) still end a stream where they happen. Its warnings are dropped:
-/// the writing pass reports them.
-fn front_end_layout(
-    path: &std::path::Path,
-    name: &str,
-    gcode: &pvt_gcode::GcodeOptions,
-) -> Result<Layout, Failure> {
-    let mut moved = MovedAxes::default();
-    let summary = compile_read(path, name, gcode, &mut moved)?;
-    Ok(Layout {
-        axes: moved.axes(),
-        units: summary.units,
-    })
 }
 
 /// What a pass ended with: its warnings, notes and summary, or its failure.
