@@ -136,6 +136,49 @@ fn stdout_redirected_to_a_file_streams_and_starts_over_like_an_output_file() {
     );
 }
 
+/// Into a pipe, the whole program is checked before the first byte: an error on its
+/// last line leaves the pipe empty and is reported once; a warning is reported once
+/// and the program is written whole, the bytes a file gets.
+#[test]
+fn a_pipe_gets_nothing_from_a_program_with_an_error_and_each_warning_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let moves: String = (1..=5000).map(|i| format!("G1 X{i} F600\n")).collect();
+    let bad = dir.path().join("bad.ngc");
+    std::fs::write(&bad, moves.clone() + "G1 X2 E7 Y2\n").unwrap();
+    let o = pvtc(&["compile", bad.to_str().unwrap()], None);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(o.stdout.is_empty(), "nothing on the pipe");
+    assert_eq!(
+        stderr(&o).matches("bad.ngc:5001:").count(),
+        1,
+        "{}",
+        stderr(&o)
+    );
+
+    let warned = dir.path().join("warned.ngc");
+    std::fs::write(&warned, moves + "G1 X5000\nM2\n").unwrap();
+    let o = pvtc(&["compile", warned.to_str().unwrap()], None);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        stderr(&o).matches("warned.ngc:5001:").count(),
+        1,
+        "{}",
+        stderr(&o)
+    );
+    let out = dir.path().join("warned.pmac");
+    let to_file = pvtc(
+        &[
+            "compile",
+            warned.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert!(to_file.status.success(), "{}", stderr(&to_file));
+    assert_eq!(std::fs::read(&out).unwrap(), o.stdout);
+}
+
 /// `pvtc compile p.ngc >> p.ngc` would read its own output for ever: it is refused.
 #[test]
 fn standard_output_into_the_input_file_is_refused() {
