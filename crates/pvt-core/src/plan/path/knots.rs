@@ -485,15 +485,8 @@ impl Knots {
             return way;
         }
         let (curve, from, to) = self.piece_span(curves, k);
-        let feed = curve.feed;
-        let bounded = |n: f64| (feed * feed * n).is_finite();
-        if bounds.free && curve.normal_bound().is_some_and(bounded) {
-            // What `speed_cap` and `tangential_accel` give without a limit, asked here.
-            way.cap = feed;
-        } else {
-            way.cap = speed_cap(curve, from, to, bounds);
-            way.accel = tangential_accel(curve, from, to, bounds, way.cap);
-        }
+        way.cap = speed_cap(curve, from, to, bounds);
+        way.accel = tangential_accel(curve, from, to, bounds, way.cap);
         way.length = curve.length(from, to);
         if self.jerk_mode {
             way.jerk = path_jerk(curve, from, to, bounds);
@@ -654,8 +647,7 @@ impl Knots {
     /// Lowers the speed caps at both ends of every piece whose closed-form velocity or
     /// acceleration peak exceeds a limit. Returns whether any did.
     pub fn slow_over(&mut self, pieces: &[Piece], bounds: &AxisBounds) -> bool {
-        let limits = [&bounds.velocity, &bounds.acceleration, &bounds.jerk];
-        if limits.iter().all(|l| l.iter().all(|&x| x == f64::INFINITY)) {
+        if bounds.free && bounds.jerk.iter().all(|&j| j == f64::INFINITY) {
             // No limit on any axis: every piece's factor is 1 (see `Piece::limit_factor`).
             return false;
         }
@@ -1137,6 +1129,7 @@ fn reachable(v: f64, a: f64, d: f64) -> f64 {
 
 /// The highest path speed on `[from, to]` of `curve`: the feed, each axis' velocity
 /// limit and each axis' share of its acceleration limit for the centripetal part.
+#[inline]
 pub(super) fn speed_cap(curve: &Curve, from: f64, to: f64, bounds: &AxisBounds) -> f64 {
     let mut cap = curve.feed;
     if bounds.free {
@@ -1159,6 +1152,7 @@ pub(super) fn speed_cap(curve: &Curve, from: f64, to: f64, bounds: &AxisBounds) 
 }
 
 /// The tangential acceleration left on `[from, to]` at speed `speed` on the worst axis.
+#[inline]
 fn tangential_accel(curve: &Curve, from: f64, to: f64, bounds: &AxisBounds, speed: f64) -> f64 {
     let mut accel = f64::INFINITY;
     // Where `speed²·normal` is finite on every axis, an axis with no acceleration limit

@@ -778,11 +778,7 @@ impl PathStream {
                 }
             }
         };
-        let worst = pieces
-            .iter()
-            .take_while(|p| p.knot < count)
-            .map(|p| p.error)
-            .fold(0.0, f64::max);
+        let worst = worst_before(pieces.iter().map(|p| (p.knot, p.error)), count);
         self.report.error_bound = self.report.error_bound.max(worst);
         knots.emit(curves, &pieces, count, emit);
         if !last && !bounds.jerk_mode() && self.options.quantum.is_none() {
@@ -874,11 +870,9 @@ impl PathStream {
         self.report.speed_change = self.report.speed_change.max(change);
         let count = knots.knots.len() - 1;
         let worst = match &chosen {
-            OnQuantumGrid::Stretched(pieces) => pieces
-                .iter()
-                .take_while(|p| p.knot < count)
-                .map(|p| p.error)
-                .fold(0.0, f64::max),
+            OnQuantumGrid::Stretched(pieces) => {
+                worst_before(pieces.iter().map(|p| (p.knot, p.error)), count)
+            }
             OnQuantumGrid::Resampled(pieces) => pieces.worst_before(count),
         };
         self.report.error_bound = self.report.error_bound.max(worst);
@@ -1043,6 +1037,15 @@ fn settle_into(
         return true;
     }
     false
+}
+
+/// The largest error bound of the pieces, each given as its knot and error bound in
+/// order, before the first from knot `count` on: what a window emits up to its cut.
+fn worst_before(pieces: impl Iterator<Item = (usize, f64)>, count: usize) -> f64 {
+    pieces
+        .take_while(|&(knot, _)| knot < count)
+        .map(|(_, error)| error)
+        .fold(0.0, f64::max)
 }
 
 /// A whole contour on the grid: its pieces stretched to whole quanta, or resampled.

@@ -278,11 +278,7 @@ impl GridPieces {
 
     /// The largest error bound of the pieces before the first from knot `count` on.
     pub fn worst_before(&self, count: usize) -> f64 {
-        self.ends
-            .iter()
-            .take_while(|e| e.knot < count)
-            .map(|e| e.error)
-            .fold(0.0, f64::max)
+        super::worst_before(self.ends.iter().map(|e| (e.knot, e.error)), count)
     }
 
     /// Piece `i`'s end position and velocity.
