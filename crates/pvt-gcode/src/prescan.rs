@@ -56,10 +56,14 @@ fn keep_line_start(begun: &mut Vec<u8>, piece: &[u8]) {
     begun.extend_from_slice(&piece[..piece.len().min(room)]);
 }
 
-/// Notes the axis words of `lines` (complete lines, each ending in `\n`). When none of
-/// them needs the full scan, their letters are their words' letters, gathered in one
-/// pass over all their bytes; otherwise each line is scanned alone.
+/// Notes the axis words of `lines` (complete lines, each ending in `\n`). Where none of
+/// the letters that could still add to `found` appears in them, they add nothing. When
+/// none of them needs the full scan, their letters are their words' letters, gathered in
+/// one pass over all their bytes; otherwise each line is scanned alone.
 fn scan_lines(lines: &[u8], found: &mut Prescan) {
+    if !may_add(lines, found) {
+        return;
+    }
     let letters = letters_of(lines);
     let units_wanted = found.units.is_none() && letters & G_BIT != 0;
     if letters & SPECIAL == 0 && !units_wanted {
@@ -71,6 +75,17 @@ fn scan_lines(lines: &[u8], found: &mut Prescan) {
         scan_line(&lines[start..end], found);
         start = end + 1;
     }
+}
+
+/// Whether `bytes` hold, in either case, the letter of an axis not yet found or, while
+/// the units are unknown, a G: the only letters whose words can add to `found`. A
+/// program's axes are mostly all found in its first lines, so that most buffers are
+/// looked at by a few vector searches for the letters left (A, B and C on a mill) instead
+/// of byte by byte.
+fn may_add(bytes: &[u8], found: &Prescan) -> bool {
+    let has = |letter: u8| memchr::memchr2(letter, letter.to_ascii_lowercase(), bytes).is_some();
+    let axis_left = |(axis, &letter): (usize, &u8)| !found.axis_words[axis] && has(letter);
+    b"XYZABC".iter().enumerate().any(axis_left) || (found.units.is_none() && has(b'G'))
 }
 
 /// The [`CLASS`] bits of every byte of `bytes`, or-ed together (eight accumulators, so
@@ -288,6 +303,48 @@ mod tests {
                 "buffers of {capacity}"
             );
         }
+    }
+
+    /// Lines without a letter that could add to what was found add nothing, whatever
+    /// else they hold; a line with one is scanned.
+    #[test]
+    fn lines_without_a_letter_left_are_passed_over() {
+        let xy = Prescan {
+            axis_words: [true, true, false, false, false, false],
+            units: Some(Units::Millimetre),
+        };
+        let passed = [
+            "X1 Y2\nG1 X3 F100 (feed)\n",
+            "M3 S1000\n; end\n",
+            "#<x> = [SIN[1]]\n",
+        ];
+        for lines in passed {
+            assert!(!may_add(lines.as_bytes(), &xy), "{lines:?}");
+            let mut after = xy;
+            scan_lines(lines.as_bytes(), &mut after);
+            assert_eq!(after, xy, "{lines:?}");
+        }
+        for (lines, axis) in [
+            ("G1 z-1\n", 2),
+            ("X1 A90\n", 3),
+            ("b2\n", 4),
+            ("(c) C1\n", 5),
+        ] {
+            assert!(may_add(lines.as_bytes(), &xy), "{lines:?}");
+            let mut after = xy;
+            scan_lines(lines.as_bytes(), &mut after);
+            assert!(after.axis_words[axis], "{lines:?}");
+        }
+        // A word in a comment only: looked at, and still not a word.
+        let mut after = xy;
+        scan_lines(b"(Z is up)\n", &mut after);
+        assert_eq!(after, xy);
+        // Units unknown: a G is looked at.
+        let unknown = Prescan { units: None, ..xy };
+        assert!(may_add(b"g20\n", &unknown));
+        let mut after = unknown;
+        scan_lines(b"g20\n", &mut after);
+        assert_eq!(after.units, Some(Units::Inch));
     }
 
     #[test]
