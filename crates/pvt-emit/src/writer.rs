@@ -282,6 +282,36 @@ impl<W: ProgramWriter> Checked<W> {
     }
 }
 
+/// A back end's caps and the interpolations it takes, without its text: behind
+/// [`Checked`], which makes every refusal a program can meet (no back end refuses
+/// anything but a failed write), a pass that checks a program as that back end would
+/// and makes no text.
+pub struct Unwritten<W>(pub W);
+
+impl<W: ProgramWriter> ProgramWriter for Unwritten<W> {
+    fn begin(&mut self, _: &Header<'_>) -> io::Result<()> {
+        Ok(())
+    }
+    fn contour(&mut self, _: Motion, _: &[f64]) -> io::Result<()> {
+        Ok(())
+    }
+    fn segment(&mut self, _: &SegmentRef<'_>) -> io::Result<()> {
+        Ok(())
+    }
+    fn event(&mut self, _: &ProgramEvent) -> io::Result<()> {
+        Ok(())
+    }
+    fn finish(&mut self) -> io::Result<()> {
+        Ok(())
+    }
+    fn supports(&self, interpolation: Interpolation) -> bool {
+        self.0.supports(interpolation)
+    }
+    fn caps(&self) -> Caps {
+        self.0.caps()
+    }
+}
+
 /// The error of every call after a refused header ([`Checked::begin`]).
 #[cold]
 fn refused_header() -> StreamError {

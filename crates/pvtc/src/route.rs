@@ -376,7 +376,8 @@ pub fn compile_to(
 /// [`pvt_gcode::prescan`] guesses them and one pass plans and writes; when the compile
 /// finds otherwise, the file is cut back and a second pass writes again. The null device
 /// is such a file. Into a stream (a pipe, a terminal), which cannot start over, a first
-/// pass plans into nothing, checking the program and finding them, and a second writes.
+/// pass plans and checks the program as the back end would without making its text,
+/// finding them, and a second writes.
 pub fn compile_streaming(
     path: &std::path::Path,
     name: &str,
@@ -394,20 +395,19 @@ pub fn compile_streaming(
     let prescan = pvt_gcode::prescan(&mut open(path)?).map_err(|e| read_failure(path, e))?;
     let mut layout = Layout::guess(&prescan, &gcode);
     if !out.can_restart() {
-        // A stream cannot start over: a first pass plans the whole program into nothing,
-        // so that a pipe never receives a program that an error, or a warning under
-        // --deny-warnings, would cut short. It finds the axes and units too (checking
-        // again under them when the prescan guessed otherwise).
-        let mut nothing = std::io::sink();
-        let mut null = Target::Stream(&mut nothing);
-        let mut check = write_pass(path, name, options, &gcode, &layout, &mut null)?;
+        // A stream cannot start over: a first pass plans and checks the whole program
+        // (every refusal of the back end's, without its text), so that a pipe never
+        // receives a program that an error, or a warning under --deny-warnings, would
+        // cut short. It finds the axes and units too (checking again under them when the
+        // prescan guessed otherwise).
+        let mut check = write_pass(path, name, options, &gcode, &layout, None)?;
         if check.layout != layout {
             layout = check.layout.clone();
-            check = write_pass(path, name, options, &gcode, &layout, &mut null)?;
+            check = write_pass(path, name, options, &gcode, &layout, None)?;
         }
         crate::report::deny(outcome_warnings(path, name, options, check)?, deny_warnings)?;
     }
-    let mut pass = write_pass(path, name, options, &gcode, &layout, out)?;
+    let mut pass = write_pass(path, name, options, &gcode, &layout, Some(out))?;
     if pass.layout != layout {
         let restart = |error| Failure::Io {
             path: "<output>".into(),
@@ -415,7 +415,7 @@ pub fn compile_streaming(
             error,
         };
         out.restart().map_err(restart)?;
-        pass = write_pass(path, name, options, &gcode, &pass.layout.clone(), out)?;
+        pass = write_pass(path, name, options, &gcode, &pass.layout.clone(), Some(out))?;
     }
     crate::report::deny(outcome_warnings(path, name, options, pass)?, deny_warnings)
 }
@@ -441,15 +441,17 @@ fn outcome_warnings(
     Ok(warnings)
 }
 
-/// Plans and writes the program under `layout`; G-code errors fail the pass, a planning
-/// or writing failure is returned in [`Pass::outcome`] with the layout found.
+/// Plans and writes the program under `layout` into `out`, or (`None`) checks it as the
+/// back end would without making its text ([`pvt_emit::Unwritten`]); G-code errors fail
+/// the pass, a planning or writing failure is returned in [`Pass::outcome`] with the
+/// layout found.
 fn write_pass(
     path: &std::path::Path,
     name: &str,
     options: &CompileOptions,
     gcode: &pvt_gcode::GcodeOptions,
     layout: &Layout,
-    out: &mut Target<'_>,
+    out: Option<&mut Target<'_>>,
 ) -> Result<Pass, Failure> {
     let plan_options = plan_options(options, layout.units, &layout.axes)?;
     check_pmac_axes(options, &layout.axes)?;
@@ -460,8 +462,13 @@ fn write_pass(
         header_lines(options, layout.units),
         layout.units,
     );
-    let buffered = std::io::BufWriter::with_capacity(1 << 16, out);
-    let mut writer = Checked::new(options.format.writer(buffered));
+    let back_end = match out {
+        Some(out) => options
+            .format
+            .writer(std::io::BufWriter::with_capacity(1 << 16, out)),
+        None => Box::new(pvt_emit::Unwritten(options.format.writer(std::io::sink()))),
+    };
+    let mut writer = Checked::new(back_end);
     let header = pvt_emit::Header {
         axes: &layout.axes,
         units: layout.units,

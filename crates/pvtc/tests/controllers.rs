@@ -286,3 +286,68 @@ fn check_reads_a_csv_table_with_its_trigger_column() {
         stderr(&o)
     );
 }
+
+/// Into a pipe, the first pass checks the program as the back end would without making
+/// its text: every format's refusals (travel, counts, triggers, piece times) and
+/// warnings are those of the same compile into a file, and a program it keeps is piped
+/// whole, byte for byte the file's.
+#[test]
+fn a_pipe_is_refused_and_warned_as_a_file_is_in_every_format() {
+    let dir = tempfile::tempdir().unwrap();
+    let travel = machine(dir.path(), "max_position = 8\ncounts_per_unit = 1000");
+    let roomy_dir = dir.path().join("roomy");
+    std::fs::create_dir(&roomy_dir).unwrap();
+    let roomy = machine(&roomy_dir, "max_position = 50\ncounts_per_unit = 1000");
+    // Long enough that the text written before the move past the travel fills the
+    // output's buffers many times over.
+    let mut program = String::from("G21 G90 F600\n");
+    for i in 0..1500 {
+        program += &format!("G1 X{} Y{:.3}\n", 5 * (i % 2), 0.001 * f64::from(i));
+    }
+    program += "G1 X10 Y2\nM2\n";
+    let input = dir.path().join("p.ngc");
+    std::fs::write(&input, program).unwrap();
+    let input = input.display().to_string();
+    let out = dir.path().join("out").display().to_string();
+    let counts = ["--counts-per-unit", "X=1000", "--counts-per-unit", "Y=1000"];
+    let formats = [
+        "pmac",
+        "movepvt",
+        "json",
+        "xps",
+        "galil",
+        "zaber",
+        "powerpmac",
+        "csv",
+    ];
+    let mut refused = 0;
+    for format in formats {
+        for extra in [
+            vec!["--machine", travel.as_str()],
+            vec!["--machine", roomy.as_str(), "--trigger-every", "5ms"],
+            vec!["--quantize", "off"],
+        ] {
+            let mut args = vec!["compile", input.as_str(), "--format", format];
+            args.extend(&extra);
+            if matches!(format, "galil" | "zaber") {
+                args.extend(counts);
+            }
+            let piped = pvtc(&args, None);
+            args.extend(["-o", out.as_str()]);
+            let _ = std::fs::remove_file(&out);
+            let filed = pvtc(&args, None);
+            let what = format!("{format} {extra:?}");
+            assert_eq!(piped.status.code(), filed.status.code(), "{what}");
+            assert_eq!(stderr(&piped), stderr(&filed), "{what}");
+            if filed.status.success() {
+                assert_eq!(piped.stdout, std::fs::read(&out).unwrap(), "{what}");
+            } else {
+                refused += 1;
+                assert!(piped.stdout.is_empty(), "{what}");
+                assert!(std::fs::metadata(&out).is_err(), "{what}");
+            }
+        }
+    }
+    // Travel in every format, triggers where the controller has none, piece times.
+    assert!(refused >= 8 + 3, "{refused} refused");
+}
