@@ -159,10 +159,14 @@ impl Knots {
     /// True when the piece after knot `k` (not a corner blend) starts in the state the
     /// piece before it ends in: both are made by [`Knots::fill_piece`] (neither is a
     /// corner blend) and knot `k` lies inside one element, where both ask the position
-    /// and the velocity of knot `k` at the same place on the same curve.
+    /// and the velocity of knot `k` at the same place on the same curve (the same
+    /// parameter bit for bit: −0 and +0 are equal, not the same).
     fn shares_its_start(&self, k: usize) -> bool {
-        let knot = &self.knots[k];
-        k > 0 && self.knots[k - 1].blend.is_none() && knot.before == knot.after
+        let (before, after) = (self.knots[k].before, self.knots[k].after);
+        k > 0
+            && self.knots[k - 1].blend.is_none()
+            && before.element == after.element
+            && before.param.to_bits() == after.param.to_bits()
     }
 
     fn piece(&self, curves: &[Curve], bounds: &AxisBounds, k: usize) -> Piece {
