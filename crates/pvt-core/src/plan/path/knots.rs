@@ -151,7 +151,9 @@ pub(super) struct Knots {
 #[derive(Debug, Clone, Default)]
 pub(super) struct Scratch {
     ways: Vec<PieceWay>,
-    errors: Vec<f64>,
+    /// Each piece's largest error bound, by its knot ([`Knots::split_over`]; where the
+    /// tolerance is the only repair, the last round's, see [`Knots::errors_again`]).
+    pub(super) errors: Vec<f64>,
     /// Each knot's known path ahead ([`Knots::known_ahead`]).
     ahead: Vec<f64>,
     /// The speeds of the knots the last round's pieces were made from (empty: none to
@@ -603,6 +605,21 @@ impl Knots {
         split
     }
 
+    /// [`Knots::split_over`] on the error bounds [`Knots::errors_again`] left.
+    pub fn split_over_errors(&mut self, curves: &[Curve], tolerance: f64) -> bool {
+        let errors = std::mem::take(&mut self.scratch.errors);
+        let split = self.split_errors(curves, &errors, tolerance);
+        self.scratch.errors = errors;
+        split
+    }
+
+    /// True when the tolerance is the only repair that can change these knots: no
+    /// limit for [`Knots::slow_over`] and no jerk limit for [`Knots::step_over`], so a
+    /// round needs each piece's error bound and nothing else of it.
+    pub fn tolerance_alone_repairs(&self, bounds: &AxisBounds) -> bool {
+        !self.jerk_mode && no_limit(bounds)
+    }
+
     /// [`Knots::split_over`] with each piece's largest error given: the knots are built
     /// again only where some piece is split.
     fn split_errors(&mut self, curves: &[Curve], errors: &[f64], tolerance: f64) -> bool {
@@ -626,10 +643,12 @@ impl Knots {
         if !errors.iter().enumerate().any(over) {
             return split;
         }
-        let mut out = self.take_spare();
+        // The knots between two splits are copied as one run.
+        let (mut out, mut run) = (self.take_spare(), 0);
         for (k, &error) in errors.iter().enumerate() {
-            out.push(self.knots[k]);
             if error > tolerance && self.knots[k].blend.is_none() {
+                out.extend_from_slice(&self.knots[run..=k]);
+                run = k + 1;
                 let (_, from, to) = self.piece_span(curves, k);
                 let place = Place {
                     element: self.knots[k].after.element,
@@ -639,7 +658,7 @@ impl Knots {
                 split = true;
             }
         }
-        out.push(self.knots[self.knots.len() - 1]);
+        out.extend_from_slice(&self.knots[run..]);
         self.spare = std::mem::replace(&mut self.knots, out);
         split
     }
@@ -647,8 +666,8 @@ impl Knots {
     /// Lowers the speed caps at both ends of every piece whose closed-form velocity or
     /// acceleration peak exceeds a limit. Returns whether any did.
     pub fn slow_over(&mut self, pieces: &[Piece], bounds: &AxisBounds) -> bool {
-        if bounds.free && bounds.jerk.iter().all(|&j| j == f64::INFINITY) {
-            // No limit on any axis: every piece's factor is 1 (see `Piece::limit_factor`).
+        if no_limit(bounds) {
+            // Every piece's factor is 1 (see `Piece::limit_factor`).
             return false;
         }
         let mut slowed = false;
@@ -1099,6 +1118,11 @@ impl Knots {
             }
         }
     }
+}
+
+/// True when no axis has a velocity, acceleration or jerk limit.
+fn no_limit(bounds: &AxisBounds) -> bool {
+    bounds.free && bounds.jerk.iter().all(|&j| j == f64::INFINITY)
 }
 
 /// The knot `u` seconds into the piece from knot `a` to knot `b` of time `t` (see

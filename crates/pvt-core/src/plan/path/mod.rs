@@ -1045,7 +1045,8 @@ pub fn plan_path(
 /// Plans speeds, splits pieces over the tolerance and slows pieces over a limit until
 /// none is, into `pieces`, whose storage every round reuses (and the next window, where
 /// the stream keeps it); false after [`MAX_ROUNDS`]. (The pieces follow from the
-/// knots alone: `pieces` may hold anything before.)
+/// knots alone: `pieces` may hold anything before.) Where the tolerance is the only
+/// repair, the rounds make the pieces' error bounds alone ([`settle_by_errors`]).
 fn settle_into(
     knots: &mut Knots,
     curves: &[Curve],
@@ -1054,6 +1055,20 @@ fn settle_into(
     pieces: &mut Vec<piece::Piece>,
 ) -> bool {
     knots.forget_pieces();
+    if knots.tolerance_alone_repairs(bounds) {
+        return settle_by_errors(knots, curves, bounds, tolerance, pieces);
+    }
+    settle_by_pieces(knots, curves, bounds, tolerance, pieces)
+}
+
+/// [`settle_into`]'s rounds on whole pieces: every repair reads them.
+fn settle_by_pieces(
+    knots: &mut Knots,
+    curves: &[Curve],
+    bounds: &AxisBounds,
+    tolerance: f64,
+    pieces: &mut Vec<piece::Piece>,
+) -> bool {
     for _ in 0..MAX_ROUNDS {
         knots.plan_speeds(curves, bounds);
         knots.pieces_again(curves, bounds, pieces);
@@ -1064,6 +1079,30 @@ fn settle_into(
             continue;
         }
         return true;
+    }
+    false
+}
+
+/// [`settle_into`]'s rounds where the tolerance is the only repair
+/// ([`Knots::tolerance_alone_repairs`]): a round splits by the pieces' error bounds
+/// alone ([`Knots::errors_again`]), and the pieces are made once, from the settled
+/// knots. A piece follows from its knots alone, so they are those of
+/// [`settle_by_pieces`], whose rounds split the same knots (its other repairs change
+/// nothing here), without a piece made and then split.
+fn settle_by_errors(
+    knots: &mut Knots,
+    curves: &[Curve],
+    bounds: &AxisBounds,
+    tolerance: f64,
+    pieces: &mut Vec<piece::Piece>,
+) -> bool {
+    for _ in 0..MAX_ROUNDS {
+        knots.plan_speeds(curves, bounds);
+        knots.errors_again(curves, bounds);
+        if !knots.split_over_errors(curves, tolerance) {
+            knots.pieces_into(curves, bounds, pieces);
+            return true;
+        }
     }
     false
 }
@@ -1802,6 +1841,117 @@ mod tests {
         knots.pieces_again(&curves, &bounds, &mut pieces);
         knots.pieces_into(&curves, &bounds, &mut fresh);
         assert_eq!(format!("{pieces:?}"), format!("{fresh:?}"));
+    }
+
+    /// Programs for the settling's tests, each with its corner tolerance: a pocket's
+    /// circles with an exact stop at every step-over (whose pieces are split), and a
+    /// polyline whose corners are corner blends under a corner tolerance.
+    pub(super) fn rings_and_corners() -> Vec<(Vec<crate::toolpath::Element>, Option<f64>)> {
+        use crate::toolpath::{Arc, ArcDirection, Element, ElementKind, Plane, Span};
+        let at = |x: f64, y: f64| {
+            let mut p = [0.0; crate::axis::AXIS_COUNT];
+            (p[0], p[1]) = (x, y);
+            p
+        };
+        let element = |kind, start, end| Element {
+            kind,
+            start,
+            end,
+            feed: 150.0,
+            span: Span::default(),
+        };
+        let half_circle = |r: f64, from: f64| {
+            let kind = ElementKind::Arc(Arc {
+                plane: Plane::XY,
+                center: [0.0, 0.0],
+                direction: ArcDirection::CounterClockwise,
+                extra_turns: 0,
+            });
+            element(kind, at(from * r, 0.0), at(-from * r, 0.0))
+        };
+        let mut pocket = Vec::new();
+        for ring in 1..5 {
+            let r = ring as f64;
+            if ring > 1 {
+                pocket.push(element(ElementKind::Line, at(r - 1.0, 0.0), at(r, 0.0)));
+            }
+            pocket.push(half_circle(r, 1.0));
+            pocket.push(half_circle(r, -1.0));
+        }
+        let corners = [(0.0, 0.0), (10.0, 0.0), (10.0, 5.0), (2.0, 6.0), (9.0, 9.0)];
+        let polyline = corners
+            .windows(2)
+            .map(|w| element(ElementKind::Line, at(w[0].0, w[0].1), at(w[1].0, w[1].1)))
+            .collect();
+        vec![(pocket, None), (polyline, Some(0.01))]
+    }
+
+    /// The path options of [`rings_and_corners`]' tests: a tolerance of 0.1 µm, no grid,
+    /// each axis limited by `limit` where one is given.
+    pub(super) fn test_options(
+        corner: Option<f64>,
+        axes: &[crate::axis::Axis],
+        limit: Option<crate::limits::AxisLimits>,
+    ) -> super::PathOptions {
+        super::PathOptions {
+            tolerance: 1e-4,
+            corner_tolerance: corner,
+            limits: limit.map_or_else(Default::default, |l| axes.iter().map(|a| (*a, l)).collect()),
+            quantum: None,
+            servo_period: crate::defaults::SERVO_PERIOD_S,
+            position_resolution: 0.0,
+        }
+    }
+
+    /// Where the tolerance is the only repair, the rounds that split by the pieces'
+    /// error bounds alone (`settle_by_errors`) settle the same knots and make the same
+    /// pieces as the rounds on whole pieces (`settle_by_pieces`), bit for bit.
+    #[test]
+    fn settling_by_error_bounds_is_settling_by_pieces() {
+        use super::knots::{KnotStorage, Knots, Start};
+        use crate::axis::Axis;
+        let axes = [Axis::X, Axis::Y, Axis::Z];
+        let start = Start {
+            param: 0.0,
+            speed: 0.0,
+            junction: None,
+        };
+        for (elements, corner) in rings_and_corners() {
+            let options = test_options(corner, &axes, None);
+            let mut curves = Vec::new();
+            for e in &elements {
+                super::Curve::push_new(e, &axes, &mut curves);
+            }
+            let bounds = super::AxisBounds::new(&axes, &options);
+            let storage = KnotStorage::default;
+            let knots = || Knots::new(&curves, &bounds, 1e-4, corner, &start, false, storage());
+            let (mut by_errors, mut by_pieces) = (knots(), knots());
+            assert!(by_errors.tolerance_alone_repairs(&bounds));
+            let first = by_errors.knots.len();
+            let (mut settled, mut made) = (Vec::new(), Vec::new());
+            assert!(super::settle_by_errors(
+                &mut by_errors,
+                &curves,
+                &bounds,
+                1e-4,
+                &mut settled
+            ));
+            assert!(super::settle_by_pieces(
+                &mut by_pieces,
+                &curves,
+                &bounds,
+                1e-4,
+                &mut made
+            ));
+            if corner.is_some() {
+                assert!(by_errors.knots.iter().any(|k| k.blend.is_some()));
+            } else {
+                assert!(by_errors.knots.len() > first, "no round split a piece");
+            }
+            assert_eq!(format!("{settled:?}"), format!("{made:?}"));
+            let knots = |k: &Knots| format!("{:?}", k.knots);
+            assert_eq!(knots(&by_errors), knots(&by_pieces));
+        }
     }
 
     #[test]

@@ -34,38 +34,88 @@ impl Knots {
     /// from its end. Under a jerk limit, where a piece may be several parts, every piece
     /// is made again.
     pub fn pieces_again(&mut self, curves: &[Curve], bounds: &AxisBounds, out: &mut Vec<Piece>) {
-        let mut made_at = std::mem::take(&mut self.scratch.made_at);
+        let made_at = std::mem::take(&mut self.scratch.made_at);
         let n = self.knots.len();
         if self.jerk_mode || made_at.is_empty() || out.len() + 1 != made_at.len() {
             self.pieces_into(curves, bounds, out);
         } else {
             let dim = curves[0].start.len();
             out.resize(n - 1, Piece::zeroed(dim, 0));
-            let same = |knot: &Knot, i: usize| made_at[i].to_bits() == knot.speed.to_bits();
             for k in (0..n - 1).rev() {
-                let (a, b) = (&self.knots[k], &self.knots[k + 1]);
-                let i = a.last_round as usize;
                 // `out[..=k]` still holds the last round's pieces: those after it are
                 // this round's.
-                let kept = i <= k
-                    && i + 1 < made_at.len()
-                    && b.last_round as usize == i + 1
-                    && same(a, i)
-                    && same(b, i + 1);
-                if kept {
-                    out[k] = out[i].clone();
-                    out[k].knot = k;
-                } else {
-                    self.make_piece(curves, bounds, k, &mut out[k]);
+                match self.made_last_round(k, &made_at) {
+                    Some(i) => {
+                        out[k] = out[i].clone();
+                        out[k].knot = k;
+                    }
+                    None => self.make_piece(curves, bounds, k, &mut out[k]),
                 }
             }
         }
+        self.round_made(made_at);
+    }
+
+    /// Where the piece after knot `k` is one the last round made, with `made_at` the
+    /// speeds of that round's knots: its index then, when knots `k` and `k + 1` were
+    /// consecutive then ([`Knot::last_round`]) and have the same speeds, bit for bit.
+    fn made_last_round(&self, k: usize, made_at: &[f64]) -> Option<usize> {
+        let (a, b) = (&self.knots[k], &self.knots[k + 1]);
+        let i = a.last_round as usize;
+        let same = |knot: &Knot, i: usize| made_at[i].to_bits() == knot.speed.to_bits();
+        let kept = i <= k
+            && i + 1 < made_at.len()
+            && b.last_round as usize == i + 1
+            && same(a, i)
+            && same(b, i + 1);
+        kept.then_some(i)
+    }
+
+    /// Notes this round's knots as the ones its pieces (or error bounds) were made from:
+    /// their speeds into `made_at` (its storage reused) and each one's index.
+    fn round_made(&mut self, mut made_at: Vec<f64>) {
         made_at.clear();
         made_at.extend(self.knots.iter().map(|k| k.speed));
         for (k, knot) in self.knots.iter_mut().enumerate() {
             knot.last_round = k as u32;
         }
         self.scratch.made_at = made_at;
+    }
+
+    /// As [`Knots::pieces_again`] for the pieces' error bounds alone, one for the piece
+    /// after every knot but the last, into the knots' scratch (where
+    /// [`Knots::split_over_errors`] reads them): what a round needs where the tolerance
+    /// is the only repair ([`Knots::tolerance_alone_repairs`]). A bound is made again
+    /// only where the piece would be: the rest are the last round's, moved back.
+    /// Without a jerk limit only (a piece is one cubic).
+    pub fn errors_again(&mut self, curves: &[Curve], bounds: &AxisBounds) {
+        debug_assert!(!self.jerk_mode, "a piece under a jerk limit has parts");
+        let made_at = std::mem::take(&mut self.scratch.made_at);
+        let mut errors = std::mem::take(&mut self.scratch.errors);
+        let n = self.knots.len();
+        if made_at.is_empty() || errors.len() + 1 != made_at.len() {
+            errors.clear();
+            errors.extend((0..n - 1).map(|k| self.piece_error(curves, bounds, k)));
+        } else {
+            errors.resize(n - 1, 0.0);
+            for k in (0..n - 1).rev() {
+                errors[k] = match self.made_last_round(k, &made_at) {
+                    Some(i) => errors[i],
+                    None => self.piece_error(curves, bounds, k),
+                };
+            }
+        }
+        self.scratch.errors = errors;
+        self.round_made(made_at);
+    }
+
+    /// The error bound of the piece after knot `k` (without a jerk limit): that of
+    /// [`Knots::piece`], without its end states where it is no corner blend.
+    fn piece_error(&self, curves: &[Curve], bounds: &AxisBounds, k: usize) -> f64 {
+        match self.knots[k].blend {
+            Some(j) => self.blend_piece(curves, k, j).error,
+            None => self.time_and_error(curves, bounds, k).1,
+        }
     }
 
     /// Forgets the last round's pieces: the next [`Knots::pieces_again`] makes all.
@@ -86,6 +136,7 @@ impl Knots {
         out: &mut Vec<Piece>,
     ) {
         out.truncate(out.partition_point(|p| p.knot < knots.start));
+        let first = knots.start;
         for k in knots {
             if let Some(j) = self.knots[k].blend {
                 if self.junctions[j].transition.is_some() {
@@ -97,9 +148,25 @@ impl Knots {
                 let piece = self.piece(curves, bounds, k);
                 self.scurve(curves, bounds, k, piece, out);
             } else {
-                self.push_piece(curves, bounds, k, out);
+                // Without a jerk limit this loop pushed the piece of knot `k − 1` last.
+                let before = out.last().filter(|_| k > first && self.shares_its_start(k));
+                let start = before.map(|p| (p.end, p.end_velocity));
+                self.push_piece(curves, bounds, k, start, out);
             }
         }
+    }
+
+    /// True when the piece after knot `k` (not a corner blend) starts in the state the
+    /// piece before it ends in: both are made by [`Knots::fill_piece`] (neither is a
+    /// corner blend) and knot `k` lies inside one element, where both ask the position
+    /// and the velocity of knot `k` at the same place on the same curve (the same
+    /// parameter bit for bit: −0 and +0 are equal, not the same).
+    fn shares_its_start(&self, k: usize) -> bool {
+        let (before, after) = (self.knots[k].before, self.knots[k].after);
+        k > 0
+            && self.knots[k - 1].blend.is_none()
+            && before.element == after.element
+            && before.param.to_bits() == after.param.to_bits()
     }
 
     fn piece(&self, curves: &[Curve], bounds: &AxisBounds, k: usize) -> Piece {
@@ -107,19 +174,27 @@ impl Knots {
             return self.blend_piece(curves, k, j);
         }
         let mut piece = Piece::zeroed(curves[0].start.len(), k);
-        self.fill_piece(curves, bounds, k, &mut piece);
+        self.fill_piece(curves, bounds, k, None, &mut piece);
         piece
     }
 
-    /// [`Knots::piece`] pushed onto `out`, built where it lies (a piece is large).
-    fn push_piece(&self, curves: &[Curve], bounds: &AxisBounds, k: usize, out: &mut Vec<Piece>) {
+    /// [`Knots::piece`] pushed onto `out`, built where it lies (a piece is large); `start`
+    /// as [`Knots::fill_piece`] takes it.
+    fn push_piece(
+        &self,
+        curves: &[Curve],
+        bounds: &AxisBounds,
+        k: usize,
+        start: Option<(Vector, Vector)>,
+        out: &mut Vec<Piece>,
+    ) {
         if let Some(j) = self.knots[k].blend {
             out.push(self.blend_piece(curves, k, j));
             return;
         }
         out.push(Piece::zeroed(curves[0].start.len(), k));
         let last = out.len() - 1;
-        self.fill_piece(curves, bounds, k, &mut out[last]);
+        self.fill_piece(curves, bounds, k, start, &mut out[last]);
     }
 
     /// [`Knots::piece`] written over `piece`.
@@ -129,24 +204,47 @@ impl Knots {
             return;
         }
         *piece = Piece::zeroed(curves[0].start.len(), k);
-        self.fill_piece(curves, bounds, k, piece);
+        self.fill_piece(curves, bounds, k, None, piece);
     }
 
     /// The piece after knot `k`, not a corner blend, written into `piece` (zeroed, of
-    /// the curves' axes, after knot `k`).
-    fn fill_piece(&self, curves: &[Curve], bounds: &AxisBounds, k: usize, piece: &mut Piece) {
+    /// the curves' axes, after knot `k`). `start` is its start position and velocity
+    /// where the piece before ends in them ([`Knots::shares_its_start`]): the values it
+    /// would compute, taken over.
+    fn fill_piece(
+        &self,
+        curves: &[Curve],
+        bounds: &AxisBounds,
+        k: usize,
+        start: Option<(Vector, Vector)>,
+        piece: &mut Piece,
+    ) {
+        let (curve, from, to) = self.piece_span(curves, k);
+        (piece.start, piece.start_velocity) = match start {
+            Some(state) => state,
+            None => (curve.point(from), self.velocity_at(k, curve, from)),
+        };
+        piece.end = curve.point(to);
+        piece.end_velocity = self.velocity_at(k + 1, curve, to);
+        let at_rest;
+        (piece.duration, piece.error, at_rest) = self.time_and_error(curves, bounds, k);
+        if at_rest && self.jerk_mode {
+            piece.duration = piece.duration.max(rest_time(piece, bounds));
+        }
+    }
+
+    /// The time and error bound of the piece after knot `k`, not a corner blend, from
+    /// its knots' speeds alone, and whether it is at rest at both ends (then under a jerk
+    /// limit its time may be longer: [`Knots::fill_piece`]).
+    fn time_and_error(&self, curves: &[Curve], bounds: &AxisBounds, k: usize) -> (f64, f64, bool) {
         let (curve, from, to) = self.piece_span(curves, k);
         let (a, b) = (&self.knots[k], &self.knots[k + 1]);
-        piece.start = curve.point(from);
-        piece.end = curve.point(to);
-        piece.start_velocity = self.velocity_at(k, curve, from);
-        piece.end_velocity = self.velocity_at(k + 1, curve, to);
         let (wa, wb) = (a.speed / curve.rate(from), b.speed / curve.rate(to));
         let span = to - from;
         if wa + wb > 0.0 {
-            piece.duration = 2.0 * span / (wa + wb);
+            let duration = 2.0 * span / (wa + wb);
             let [d2, d3, d4] = curve.derivative_bounds();
-            let (t, w) = (piece.duration, wa.max(wb));
+            let (t, w) = (duration, wa.max(wb));
             let dw = (wb - wa).abs() / t;
             let bend =
                 t.powi(4) / 384.0 * (d4 * w.powi(4) + 6.0 * d3 * w * w * dw + 3.0 * d2 * dw * dw);
@@ -155,19 +253,16 @@ impl Knots {
             };
             let turn =
                 4.0 / 27.0 * t * (mismatch(a.speed, a.junction) + mismatch(b.speed, b.junction));
-            piece.error = bend + turn + curve.fit;
+            (duration, bend + turn + curve.fit, false)
         } else {
             // At rest at both ends: the smoothstep along the chord, peaking at the cap.
             let cap = speed_cap(curve, from, to, bounds);
-            piece.duration = 1.5 * curve.length(from, to) / cap;
-            if self.jerk_mode {
-                piece.duration = piece.duration.max(rest_time(piece, bounds));
-            }
-            piece.error = if curve.is_line() {
+            let error = if curve.is_line() {
                 curve.fit
             } else {
                 f64::INFINITY
             };
+            (1.5 * curve.length(from, to) / cap, error, true)
         }
     }
 }
@@ -1104,6 +1199,51 @@ fn mid_speeds(pieces: &[Piece]) -> Vec<f64> {
 mod tests {
     use super::{blend_error, rate_turn_points, smooth_blend_error};
     use crate::hermite::HermiteSegment;
+
+    /// A window's pieces made in one go (`Knots::pieces_into`, where a piece takes its
+    /// start from the piece before it) are, bit for bit, those made one by one
+    /// (`Knots::piece`): on settled pockets and corners, without and with limits.
+    #[test]
+    fn pieces_made_in_one_go_are_those_made_one_by_one() {
+        use super::super::knots::{KnotStorage, Knots, Start};
+        use super::super::tests::{rings_and_corners, test_options};
+        use super::super::{settle_into, AxisBounds, Curve};
+        use crate::axis::Axis;
+        use crate::limits::AxisLimits;
+        let axes = [Axis::X, Axis::Y, Axis::Z];
+        let limit = AxisLimits {
+            velocity: Some(200.0),
+            acceleration: Some(2000.0),
+            jerk: None,
+        };
+        let start = Start {
+            param: 0.0,
+            speed: 0.0,
+            junction: None,
+        };
+        for (elements, corner) in rings_and_corners() {
+            for limit in [None, Some(limit)] {
+                let options = test_options(corner, &axes, limit);
+                let mut curves = Vec::new();
+                for e in &elements {
+                    Curve::push_new(e, &axes, &mut curves);
+                }
+                let bounds = AxisBounds::new(&axes, &options);
+                let storage = KnotStorage::default();
+                let mut knots = Knots::new(&curves, &bounds, 1e-4, corner, &start, false, storage);
+                let mut pieces = Vec::new();
+                assert!(settle_into(&mut knots, &curves, &bounds, 1e-4, &mut pieces));
+                let n = knots.knots.len();
+                assert!((1..n - 1).any(|k| knots.shares_its_start(k)));
+                let mut all = Vec::new();
+                knots.pieces_into(&curves, &bounds, &mut all);
+                let one_by_one: Vec<_> = (0..n - 1)
+                    .map(|k| knots.piece(&curves, &bounds, k))
+                    .collect();
+                assert_eq!(format!("{all:?}"), format!("{one_by_one:?}"));
+            }
+        }
+    }
 
     /// The three parts of a piece whose knots carry parameter accelerations: the cubic
     /// through each part's end points and rates (the unique one) starts with the first
