@@ -700,15 +700,15 @@ impl Knots {
             return false;
         }
         let dim = pieces[0].start.len();
-        let ends: Vec<[Vector; 2]> = pieces.iter().map(Piece::end_accelerations).collect();
         let mut over = false;
+        // The acceleration at the end of the piece before the knot (rest before the
+        // first), carried from piece to piece rather than kept for all of them.
+        let mut end_before = Vector::zeros(dim);
         for i in 0..=pieces.len() {
-            let before = if i == 0 {
-                Vector::zeros(dim)
-            } else {
-                ends[i - 1][1]
-            };
-            let after = ends.get(i).map_or(Vector::zeros(dim), |e| e[0]);
+            let ends = pieces.get(i).map(Piece::end_accelerations);
+            let after = ends.map_or(Vector::zeros(dim), |e| e[0]);
+            let end = ends.map_or(Vector::zeros(dim), |e| e[1]);
+            let before = std::mem::replace(&mut end_before, end);
             // Against rest, half: a contour that follows another straight on (no dwell
             // between) steps from that one's end to its own start, within the whole.
             let share = if i == 0 || i == pieces.len() {

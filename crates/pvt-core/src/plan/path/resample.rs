@@ -168,8 +168,6 @@ pub(super) struct Scratch {
     next: GridPieces,
     /// Parts of a grid interval still to resample, latest first.
     todo: Vec<(u64, u64)>,
-    /// Each resampled piece's speed at mid-time and the plan's at the same point.
-    speeds: Vec<(f64, f64)>,
 }
 
 impl Scratch {
@@ -605,7 +603,6 @@ pub(super) fn resample_once(
         done,
         next,
         todo,
-        speeds,
         ..
     } = scratch;
     let total: f64 = planned.iter().map(|p| p.duration).sum();
@@ -687,7 +684,7 @@ pub(super) fn resample_once(
         }
     }
     debug_assert!(done.is_whole(grid), "the pieces cover the grid");
-    let speed_change = speed_change(&motion, done, speeds);
+    let speed_change = speed_change(&motion, done);
     Ok(Resampled {
         pieces: std::mem::take(done),
         speed_change,
@@ -740,26 +737,34 @@ fn resample_grid(
 }
 
 /// Each piece's speed at mid-time against the plan's at the same point of the path: the
-/// largest relative change where the plan moves at 1 % of its fastest or more. `speeds`
-/// is storage for both speeds of every piece.
-fn speed_change(motion: &Motion<'_>, pieces: &GridPieces, speeds: &mut Vec<(f64, f64)>) -> f64 {
-    let mut start = 0.0;
-    speeds.clear();
-    speeds.extend((0..pieces.len()).map(|i| {
-        let p = pieces.piece(i);
-        let mid = start + 0.5 * p.duration;
-        start += p.duration;
-        let (i, u) = motion.locate(mid);
-        let dim = p.start.len();
-        let plan = Vector::from_fn(dim, |a| motion.axis_state(i, a, u).velocity * motion.scale);
-        let now = Vector::from_fn(dim, |a| p.cubic(a).at(0.5 * p.duration).velocity);
-        (crate::vector::norm(&plan), crate::vector::norm(&now))
-    }));
-    let fastest = speeds.iter().fold(0.0_f64, |m, s| m.max(s.0));
-    speeds
-        .iter()
-        .filter(|(before, _)| *before > 0.01 * fastest)
-        .map(|(before, now)| (now - before).abs() / before)
+/// largest relative change where the plan moves at 1 % of its fastest or more. Two passes
+/// over the pieces, the plan's fastest and then the changes, so that no speed is kept
+/// per piece (the plan's speed at a piece is made in both).
+fn speed_change(motion: &Motion<'_>, pieces: &GridPieces) -> f64 {
+    // Each piece's index and the plan's speed at its mid-time.
+    let plan_speeds = || {
+        let mut start = 0.0;
+        (0..pieces.len()).map(move |i| {
+            let duration = pieces.ends[i].duration;
+            let mid = start + 0.5 * duration;
+            start += duration;
+            let (k, u) = motion.locate(mid);
+            let plan = Vector::from_fn(pieces.dim, |a| {
+                motion.axis_state(k, a, u).velocity * motion.scale
+            });
+            (i, crate::vector::norm(&plan))
+        })
+    };
+    let fastest = plan_speeds().fold(0.0_f64, |m, (_, s)| m.max(s));
+    plan_speeds()
+        .filter(|&(_, before)| before > 0.01 * fastest)
+        .map(|(i, before)| {
+            let p = pieces.piece(i);
+            let now = Vector::from_fn(p.start.len(), |a| {
+                p.cubic(a).at(0.5 * p.duration).velocity
+            });
+            (crate::vector::norm(&now) - before).abs() / before
+        })
         .fold(0.0, f64::max)
 }
 
