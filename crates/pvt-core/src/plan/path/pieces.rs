@@ -87,7 +87,7 @@ impl Knots {
     ) {
         out.truncate(out.partition_point(|p| p.knot < knots.start));
         for k in knots {
-            if let Some(j) = self.knots[k].blend {
+            if let Some(j) = self.knots[k].blend_index() {
                 if self.junctions[j].transition.is_some() {
                     self.transition_parts(curves, k, j, out);
                     continue;
@@ -103,7 +103,7 @@ impl Knots {
     }
 
     fn piece(&self, curves: &[Curve], bounds: &AxisBounds, k: usize) -> Piece {
-        if let Some(j) = self.knots[k].blend {
+        if let Some(j) = self.knots[k].blend_index() {
             return self.blend_piece(curves, k, j);
         }
         let mut piece = Piece::zeroed(curves[0].start.len(), k);
@@ -113,7 +113,7 @@ impl Knots {
 
     /// [`Knots::piece`] pushed onto `out`, built where it lies (a piece is large).
     fn push_piece(&self, curves: &[Curve], bounds: &AxisBounds, k: usize, out: &mut Vec<Piece>) {
-        if let Some(j) = self.knots[k].blend {
+        if let Some(j) = self.knots[k].blend_index() {
             out.push(self.blend_piece(curves, k, j));
             return;
         }
@@ -124,7 +124,7 @@ impl Knots {
 
     /// [`Knots::piece`] written over `piece`.
     fn make_piece(&self, curves: &[Curve], bounds: &AxisBounds, k: usize, piece: &mut Piece) {
-        if let Some(j) = self.knots[k].blend {
+        if let Some(j) = self.knots[k].blend_index() {
             *piece = self.blend_piece(curves, k, j);
             return;
         }
@@ -153,8 +153,9 @@ impl Knots {
             let mismatch = |speed: f64, junction: Option<usize>| {
                 junction.map_or(0.0, |j| speed * self.junctions[j].deviation)
             };
-            let turn =
-                4.0 / 27.0 * t * (mismatch(a.speed, a.junction) + mismatch(b.speed, b.junction));
+            let turn = 4.0 / 27.0
+                * t
+                * (mismatch(a.speed, a.junction_index()) + mismatch(b.speed, b.junction_index()));
             piece.error = bend + turn + curve.fit;
         } else {
             // At rest at both ends: the smoothstep along the chord, peaking at the cap.
@@ -190,7 +191,7 @@ impl Knots {
         whole: Piece,
         out: &mut Vec<Piece>,
     ) {
-        if let Some(j) = self.knots[k].blend {
+        if let Some(j) = self.knots[k].blend_index() {
             self.smooth_blend(curves, k, j, whole, out);
             return;
         }
@@ -343,10 +344,11 @@ impl Knots {
     /// The error term `4/27·t·(|Δv_a| + |Δv_b|)/K` of a piece's knot ends (`(knot, is
     /// a knot, K)`): a junction passed at speed, whose velocity is not the element's.
     fn turn(&self, t: f64, ends: [(&Knot, bool, f64); 2]) -> f64 {
-        let mismatch = |(knot, at_knot, scale): (&Knot, bool, f64)| match (at_knot, knot.junction) {
-            (true, Some(j)) => knot.speed * self.junctions[j].deviation / scale,
-            _ => 0.0,
-        };
+        let mismatch =
+            |(knot, at_knot, scale): (&Knot, bool, f64)| match (at_knot, knot.junction_index()) {
+                (true, Some(j)) => knot.speed * self.junctions[j].deviation / scale,
+                _ => 0.0,
+            };
         4.0 / 27.0 * t * (mismatch(ends[0]) + mismatch(ends[1]))
     }
 }
@@ -789,7 +791,7 @@ impl Knots {
             knot: p.knot,
             part: p.part,
         };
-        if let Some(j) = self.knots[k].blend {
+        if let Some(j) = self.knots[k].blend_index() {
             // The inner control points move towards the ends (scale ≥ stretch): within
             // the triangle bound, which sizes blends on a grid.
             let l = self.junctions[j].blend.unwrap_or(0.0);

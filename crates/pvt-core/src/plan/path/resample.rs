@@ -1016,7 +1016,7 @@ fn interval(
             if over {
                 return Err(Over::Tolerance);
             }
-            let limit = match knot.blend {
+            let limit = match knot.blend_index() {
                 Some(j) if knots.junctions[j].transition.is_none() => tolerances.corner,
                 _ => tolerances.path,
             };
