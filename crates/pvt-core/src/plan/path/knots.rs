@@ -1777,7 +1777,9 @@ mod shortcut_tests {
                 &mut pieces
             ));
             for knot in &knots.knots {
-                let Some(j) = knot.junction_index() else { continue };
+                let Some(j) = knot.junction_index() else {
+                    continue;
+                };
                 let (a, b) = (&curves[knot.before.element], &curves[knot.after.element]);
                 let (t_in, t_out) = (fresh_tangent(a, a.span), fresh_tangent(b, 0.0));
                 let sum = Vector::from_fn(3, |i| t_in[i] + t_out[i]);
