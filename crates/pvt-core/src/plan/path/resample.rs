@@ -169,6 +169,8 @@ pub(super) struct Scratch {
     displaced: std::collections::VecDeque<Displaced>,
     /// Parts of a grid interval still to resample, latest first.
     todo: Vec<(u64, u64)>,
+    /// The plan's speed at each resampled piece's mid-time.
+    speeds: Vec<f64>,
 }
 
 impl Scratch {
@@ -723,6 +725,7 @@ pub(super) fn resample_once(
         done,
         displaced,
         todo,
+        speeds,
         ..
     } = scratch;
     let total: f64 = planned.iter().map(|p| p.duration).sum();
@@ -780,7 +783,7 @@ pub(super) fn resample_once(
         }
     }
     debug_assert!(done.is_whole(grid), "the pieces cover the grid");
-    let speed_change = speed_change(&motion, done);
+    let speed_change = speed_change(&motion, done, speeds);
     Ok(Resampled {
         pieces: std::mem::take(done),
         speed_change,
@@ -830,28 +833,26 @@ fn resample_grid(
 }
 
 /// Each piece's speed at mid-time against the plan's at the same point of the path: the
-/// largest relative change where the plan moves at 1 % of its fastest or more. Two passes
-/// over the pieces, the plan's fastest and then the changes, so that no speed is kept
-/// per piece (the plan's speed at a piece is made in both).
-fn speed_change(motion: &Motion<'_>, pieces: &GridPieces) -> f64 {
-    // Each piece's index and the plan's speed at its mid-time.
-    let plan_speeds = || {
-        let mut start = 0.0;
-        (0..pieces.len()).map(move |i| {
-            let duration = pieces.ends[i].duration;
-            let mid = start + 0.5 * duration;
-            start += duration;
-            let (k, u) = motion.locate(mid);
-            let plan = Vector::from_fn(pieces.dim, |a| {
-                motion.axis_state(k, a, u).velocity * motion.scale
-            });
-            (i, crate::vector::norm(&plan))
-        })
-    };
-    let fastest = plan_speeds().fold(0.0_f64, |m, (_, s)| m.max(s));
-    plan_speeds()
-        .filter(|&(_, before)| before > 0.01 * fastest)
-        .map(|(i, before)| {
+/// largest relative change where the plan moves at 1 % of its fastest or more. `plan` is
+/// storage for the plan's speed at every piece (a piece's own speed is made where it
+/// counts, once the fastest is known).
+fn speed_change(motion: &Motion<'_>, pieces: &GridPieces, plan: &mut Vec<f64>) -> f64 {
+    let mut start = 0.0;
+    plan.clear();
+    plan.extend(pieces.durations().map(|duration| {
+        let mid = start + 0.5 * duration;
+        start += duration;
+        let (k, u) = motion.locate(mid);
+        let velocity = Vector::from_fn(pieces.dim, |a| {
+            motion.axis_state(k, a, u).velocity * motion.scale
+        });
+        crate::vector::norm(&velocity)
+    }));
+    let fastest = plan.iter().fold(0.0_f64, |m, &s| m.max(s));
+    plan.iter()
+        .enumerate()
+        .filter(|&(_, &before)| before > 0.01 * fastest)
+        .map(|(i, &before)| {
             let p = pieces.piece(i);
             let now = Vector::from_fn(p.start.len(), |a| p.cubic(a).at(0.5 * p.duration).velocity);
             (crate::vector::norm(&now) - before).abs() / before
