@@ -214,9 +214,12 @@ impl ToolpathSink for MovedAxes {
     fn event(&mut self, _: &EventKind, _: u32) {}
 }
 
+/// Opens `path` for reading through a buffer of 64 KiB: a read of that size takes a
+/// negligible share of a line's parsing, and a larger buffer is resident for the whole
+/// compile.
 fn open(path: &std::path::Path) -> Result<std::io::BufReader<std::fs::File>, Failure> {
     std::fs::File::open(path)
-        .map(|f| std::io::BufReader::with_capacity(1 << 18, f))
+        .map(|f| std::io::BufReader::with_capacity(1 << 16, f))
         .map_err(|error| read_failure(path, error))
 }
 

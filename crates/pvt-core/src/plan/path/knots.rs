@@ -37,10 +37,12 @@ pub(super) struct Knot {
     pub before: Place,
     /// Where the piece after starts (another element's start at a junction).
     pub after: Place,
-    /// Index into [`Knots::junctions`] when the knot joins two elements.
-    pub junction: Option<usize>,
+    /// Index into [`Knots::junctions`] when the knot joins two elements (32 bits, as
+    /// [`Knot::blend`]: a window's knots are kept in two vectors, and these two fields
+    /// were a fifth of each).
+    pub junction: Option<u32>,
     /// Index into [`Knots::junctions`] when the piece after this knot is a corner blend.
-    pub blend: Option<usize>,
+    pub blend: Option<u32>,
     /// The knot's own speed cap (junction, limit repairs), before the caps of its pieces.
     cap: f64,
     /// Planned path speed, units/s.
@@ -227,6 +229,16 @@ impl Knots {
 }
 
 impl Knot {
+    /// [`Knot::junction`] as an index into [`Knots::junctions`].
+    pub fn junction_index(&self) -> Option<usize> {
+        self.junction.map(|j| j as usize)
+    }
+
+    /// [`Knot::blend`] as an index into [`Knots::junctions`].
+    pub fn blend_index(&self) -> Option<usize> {
+        self.blend.map(|j| j as usize)
+    }
+
     fn at(place: Place, cap: f64) -> Knot {
         Knot {
             before: place,
@@ -387,7 +399,7 @@ impl Knots {
                 },
                 j.cap,
             );
-            knot.blend = Some(index);
+            knot.blend = Some(index as u32);
             self.knots.push(knot);
         } else {
             let mut knot = Knot::at(end, j.cap);
@@ -395,7 +407,7 @@ impl Knots {
                 element: e + 1,
                 param: 0.0,
             };
-            knot.junction = Some(index);
+            knot.junction = Some(index as u32);
             self.knots.push(knot);
         }
     }
@@ -463,7 +475,7 @@ impl Knots {
             jerk: f64::INFINITY,
             ratio: f64::INFINITY,
         };
-        if let Some(j) = self.knots[k].blend {
+        if let Some(j) = self.knots[k].blend_index() {
             let j = &self.junctions[j];
             way.cap = j.cap;
             way.length = j.cut_length();
@@ -625,7 +637,7 @@ impl Knots {
     fn split_errors(&mut self, curves: &[Curve], errors: &[f64], tolerance: f64) -> bool {
         let mut split = false;
         for (k, &error) in errors.iter().enumerate() {
-            if let Some(j) = self.knots[k].blend {
+            if let Some(j) = self.knots[k].blend_index() {
                 // Speeds do not change here: capping every blend first caps the same.
                 if error > self.junctions[j].tolerance {
                     let slower = self.knots[k].speed.min(self.knots[k + 1].speed);
@@ -719,15 +731,15 @@ impl Knots {
             return false;
         }
         let dim = pieces[0].start.len();
-        let ends: Vec<[Vector; 2]> = pieces.iter().map(Piece::end_accelerations).collect();
         let mut over = false;
+        // The acceleration at the end of the piece before the knot (rest before the
+        // first), carried from piece to piece rather than kept for all of them.
+        let mut end_before = Vector::zeros(dim);
         for i in 0..=pieces.len() {
-            let before = if i == 0 {
-                Vector::zeros(dim)
-            } else {
-                ends[i - 1][1]
-            };
-            let after = ends.get(i).map_or(Vector::zeros(dim), |e| e[0]);
+            let ends = pieces.get(i).map(Piece::end_accelerations);
+            let after = ends.map_or(Vector::zeros(dim), |e| e[0]);
+            let end = ends.map_or(Vector::zeros(dim), |e| e[1]);
+            let before = std::mem::replace(&mut end_before, end);
             // Against rest, half: a contour that follows another straight on (no dwell
             // between) steps from that one's end to its own start, within the whole.
             let share = if i == 0 || i == pieces.len() {
@@ -1045,7 +1057,7 @@ impl Knots {
 
     /// Path length of piece `k`.
     fn piece_length(&self, curves: &[Curve], k: usize) -> f64 {
-        match self.knots[k].blend {
+        match self.knots[k].blend_index() {
             Some(j) => self.junctions[j].cut_length(),
             None => {
                 let (curve, from, to) = self.piece_span(curves, k);
@@ -1060,7 +1072,7 @@ impl Knots {
         let start = Start {
             param: knot.after.param,
             speed: knot.speed,
-            junction: knot.junction.map(|j| self.junctions[j].clone()),
+            junction: knot.junction_index().map(|j| self.junctions[j].clone()),
         };
         (knot.after.element, start)
     }
@@ -1088,7 +1100,7 @@ impl Knots {
     #[inline(always)]
     pub fn velocity_at(&self, k: usize, curve: &Curve, param: f64) -> Vector {
         let knot = &self.knots[k];
-        match knot.junction {
+        match knot.junction_index() {
             Some(j) if knot.speed > 0.0 => {
                 let direction = &self.junctions[j].direction;
                 Vector::from_fn(direction.len(), |i| knot.speed * direction.values[i])
@@ -1105,7 +1117,7 @@ impl Knots {
     /// The velocity of knot `k` leaving along (or arriving on) `curve` at `param`.
     pub fn velocity(&self, k: usize, curve: &Curve, param: f64, out: &mut [f64]) {
         let knot = &self.knots[k];
-        match knot.junction {
+        match knot.junction_index() {
             Some(j) if knot.speed > 0.0 => {
                 for (o, d) in out.iter_mut().zip(&self.junctions[j].direction) {
                     *o = knot.speed * d;
@@ -1574,6 +1586,14 @@ fn scurve_peak(va: f64, vb: f64, cap: f64, a: f64, j: f64, d: f64) -> (f64, f64,
 mod tests {
     use super::{scurve_distance, scurve_reachable, turns_beyond_tangent, TANGENT_ANGLE};
 
+    /// A window keeps its knots in two vectors (the knots and the spare a split or the
+    /// trapezoids rebuild them into): a knot is two places, two 32-bit junction indices,
+    /// its cap, speed, last round and fixed flag, no more.
+    #[test]
+    fn a_knot_is_72_bytes() {
+        assert_eq!(std::mem::size_of::<super::Knot>(), 72);
+    }
+
     /// The quick answer is the `atan2` comparison's on tangent pairs turning by every
     /// angle, most of them within a few ulps of the bound, and on zeros, infinities, NaN.
     #[test]
@@ -1781,7 +1801,9 @@ mod shortcut_tests {
                 &mut pieces
             ));
             for knot in &knots.knots {
-                let Some(j) = knot.junction else { continue };
+                let Some(j) = knot.junction_index() else {
+                    continue;
+                };
                 let (a, b) = (&curves[knot.before.element], &curves[knot.after.element]);
                 let (t_in, t_out) = (fresh_tangent(a, a.span), fresh_tangent(b, 0.0));
                 let sum = Vector::from_fn(3, |i| t_in[i] + t_out[i]);

@@ -112,7 +112,7 @@ impl Knots {
     /// The error bound of the piece after knot `k` (without a jerk limit): that of
     /// [`Knots::piece`], without its end states where it is no corner blend.
     fn piece_error(&self, curves: &[Curve], bounds: &AxisBounds, k: usize) -> f64 {
-        match self.knots[k].blend {
+        match self.knots[k].blend_index() {
             Some(j) => self.blend_piece(curves, k, j).error,
             None => self.time_and_error(curves, bounds, k).1,
         }
@@ -138,7 +138,7 @@ impl Knots {
         out.truncate(out.partition_point(|p| p.knot < knots.start));
         let first = knots.start;
         for k in knots {
-            if let Some(j) = self.knots[k].blend {
+            if let Some(j) = self.knots[k].blend_index() {
                 if self.junctions[j].transition.is_some() {
                     self.transition_parts(curves, k, j, out);
                     continue;
@@ -170,7 +170,7 @@ impl Knots {
     }
 
     fn piece(&self, curves: &[Curve], bounds: &AxisBounds, k: usize) -> Piece {
-        if let Some(j) = self.knots[k].blend {
+        if let Some(j) = self.knots[k].blend_index() {
             return self.blend_piece(curves, k, j);
         }
         let mut piece = Piece::zeroed(curves[0].start.len(), k);
@@ -188,7 +188,7 @@ impl Knots {
         start: Option<(Vector, Vector)>,
         out: &mut Vec<Piece>,
     ) {
-        if let Some(j) = self.knots[k].blend {
+        if let Some(j) = self.knots[k].blend_index() {
             out.push(self.blend_piece(curves, k, j));
             return;
         }
@@ -199,7 +199,7 @@ impl Knots {
 
     /// [`Knots::piece`] written over `piece`.
     fn make_piece(&self, curves: &[Curve], bounds: &AxisBounds, k: usize, piece: &mut Piece) {
-        if let Some(j) = self.knots[k].blend {
+        if let Some(j) = self.knots[k].blend_index() {
             *piece = self.blend_piece(curves, k, j);
             return;
         }
@@ -251,8 +251,9 @@ impl Knots {
             let mismatch = |speed: f64, junction: Option<usize>| {
                 junction.map_or(0.0, |j| speed * self.junctions[j].deviation)
             };
-            let turn =
-                4.0 / 27.0 * t * (mismatch(a.speed, a.junction) + mismatch(b.speed, b.junction));
+            let turn = 4.0 / 27.0
+                * t
+                * (mismatch(a.speed, a.junction_index()) + mismatch(b.speed, b.junction_index()));
             (duration, bend + turn + curve.fit, false)
         } else {
             // At rest at both ends: the smoothstep along the chord, peaking at the cap.
@@ -285,7 +286,7 @@ impl Knots {
         whole: Piece,
         out: &mut Vec<Piece>,
     ) {
-        if let Some(j) = self.knots[k].blend {
+        if let Some(j) = self.knots[k].blend_index() {
             self.smooth_blend(curves, k, j, whole, out);
             return;
         }
@@ -438,10 +439,11 @@ impl Knots {
     /// The error term `4/27·t·(|Δv_a| + |Δv_b|)/K` of a piece's knot ends (`(knot, is
     /// a knot, K)`): a junction passed at speed, whose velocity is not the element's.
     fn turn(&self, t: f64, ends: [(&Knot, bool, f64); 2]) -> f64 {
-        let mismatch = |(knot, at_knot, scale): (&Knot, bool, f64)| match (at_knot, knot.junction) {
-            (true, Some(j)) => knot.speed * self.junctions[j].deviation / scale,
-            _ => 0.0,
-        };
+        let mismatch =
+            |(knot, at_knot, scale): (&Knot, bool, f64)| match (at_knot, knot.junction_index()) {
+                (true, Some(j)) => knot.speed * self.junctions[j].deviation / scale,
+                _ => 0.0,
+            };
         4.0 / 27.0 * t * (mismatch(ends[0]) + mismatch(ends[1]))
     }
 }
@@ -884,7 +886,7 @@ impl Knots {
             knot: p.knot,
             part: p.part,
         };
-        if let Some(j) = self.knots[k].blend {
+        if let Some(j) = self.knots[k].blend_index() {
             // The inner control points move towards the ends (scale ≥ stretch): within
             // the triangle bound, which sizes blends on a grid.
             let l = self.junctions[j].blend.unwrap_or(0.0);

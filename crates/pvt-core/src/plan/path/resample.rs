@@ -162,14 +162,15 @@ pub(super) struct Scratch {
     starts: Vec<f64>,
     /// The grid knots, in quanta.
     grid: Vec<u64>,
-    /// The last round's pieces (the resampled pieces' storage), and, under a jerk limit,
-    /// the next round's, which reuses the last's on the same intervals.
+    /// The resampled pieces' storage: under a jerk limit each round writes its pieces
+    /// over the last round's, taking the last's on the same intervals (see [`Rewrite`]).
     done: GridPieces,
-    next: GridPieces,
+    /// The last round's pieces that a round's own have overtaken before it passed them.
+    displaced: std::collections::VecDeque<Displaced>,
     /// Parts of a grid interval still to resample, latest first.
     todo: Vec<(u64, u64)>,
-    /// Each resampled piece's speed at mid-time and the plan's at the same point.
-    speeds: Vec<(f64, f64)>,
+    /// The plan's speed at each resampled piece's mid-time.
+    speeds: Vec<f64>,
 }
 
 impl Scratch {
@@ -204,48 +205,167 @@ struct GridEnd {
     knot: usize,
 }
 
+/// A piece of the last round that a round's own overtook (see [`Rewrite`]): its end
+/// position and velocity.
+#[derive(Debug)]
+struct Displaced {
+    end: GridEnd,
+    position: Vector,
+    velocity: Vector,
+}
+
+/// A round's pieces written over the last round's in one vector, front to back, each of
+/// the last round's taken over where a piece is on the same interval: the last round's
+/// pieces are passed in order, and one that the round's own reach before it is passed
+/// moves aside (`displaced`, in order), so that two rounds take the room of one and the
+/// few pieces a round adds.
+struct Rewrite<'a> {
+    pieces: &'a mut GridPieces,
+    displaced: &'a mut std::collections::VecDeque<Displaced>,
+    /// The last round's pieces, how many of them are passed, and the round's own written.
+    old: usize,
+    read: usize,
+    write: usize,
+}
+
+impl<'a> Rewrite<'a> {
+    fn new(
+        pieces: &'a mut GridPieces,
+        displaced: &'a mut std::collections::VecDeque<Displaced>,
+    ) -> Rewrite<'a> {
+        displaced.clear();
+        let old = pieces.len();
+        Rewrite {
+            pieces,
+            displaced,
+            old,
+            read: 0,
+            write: 0,
+        }
+    }
+
+    /// The interval of the last round's first piece not passed yet.
+    fn next_old(&self) -> Option<(u64, u64)> {
+        if self.read >= self.old {
+            None
+        } else if self.read < self.write {
+            self.displaced.front().map(|p| p.end.interval)
+        } else {
+            Some(self.pieces.ends[self.read].interval)
+        }
+    }
+
+    /// Passes the last round's pieces that start before `a`; where the next is on
+    /// `[a, b]`, takes it over and returns true.
+    fn take_over(&mut self, (a, b): (u64, u64)) -> bool {
+        while self.next_old().is_some_and(|i| i.0 < a) {
+            if self.read < self.write {
+                self.displaced.pop_front();
+            }
+            self.read += 1;
+        }
+        if self.next_old() != Some((a, b)) {
+            return false;
+        }
+        if self.read == self.write {
+            // Already where it is written.
+            self.read += 1;
+            self.write += 1;
+            return true;
+        }
+        let p = if self.read < self.write {
+            self.displaced.pop_front().expect("displaced in order")
+        } else {
+            self.old_piece(self.read)
+        };
+        self.read += 1;
+        self.write(p.end, [&p.position, &p.velocity], None);
+        true
+    }
+
+    /// The last round's piece `i`, still in place.
+    fn old_piece(&self, i: usize) -> Displaced {
+        let (position, velocity) = self.pieces.end_state(i);
+        let dim = position.len();
+        Displaced {
+            end: self.pieces.ends[i],
+            position: Vector::from_fn(dim, |a| position[a]),
+            velocity: Vector::from_fn(dim, |a| velocity[a]),
+        }
+    }
+
+    /// Writes the round's next piece (moving the last round's piece there aside when it
+    /// is not passed yet).
+    fn write(&mut self, end: GridEnd, state: [&[f64]; 2], start: Option<[&[f64]; 2]>) {
+        let w = self.write;
+        if w < self.old && w >= self.read {
+            let p = self.old_piece(w);
+            self.displaced.push_back(p);
+        }
+        self.pieces.write_at(w, end, state, start);
+        self.write += 1;
+    }
+
+    /// Writes `piece` on grid interval `interval` as the round's next.
+    fn push(&mut self, interval: (u64, u64), piece: &Piece) {
+        // A piece that follows the last one on the grid starts in its end state (a
+        // round with a piece left out fails as a whole: its pieces are not used).
+        debug_assert!(
+            self.write == 0 || self.pieces.ends[self.write - 1].interval.1 != interval.0 || {
+                let (end, velocity) = self.pieces.end_state(self.write - 1);
+                (end, velocity) == (&piece.start[..], &piece.start_velocity[..])
+            }
+        );
+        let end = GridEnd {
+            interval,
+            duration: piece.duration,
+            error: piece.error,
+            knot: piece.knot,
+        };
+        let start = (self.write == 0).then_some([&piece.start[..], &piece.start_velocity[..]]);
+        self.write(end, [&piece.end, &piece.end_velocity], start);
+    }
+
+    /// Drops what is left of the last round's pieces.
+    fn finish(self) {
+        self.pieces.truncate(self.write);
+    }
+}
+
 impl GridPieces {
     fn clear(&mut self) {
         self.states.clear();
         self.ends.clear();
     }
 
-    /// Adds `piece` on grid interval `interval` after the last one.
-    fn push(&mut self, interval: (u64, u64), piece: &Piece) {
+    /// Makes piece `i` (at most one past the last) `end` with end position `position` and
+    /// velocity `velocity`, and the first piece's start `start` where given.
+    fn write_at(&mut self, i: usize, end: GridEnd, state: [&[f64]; 2], start: Option<[&[f64]; 2]>) {
         if self.states.is_empty() {
-            self.dim = piece.start.len();
-            self.states.extend_from_slice(&piece.start);
-            self.states.extend_from_slice(&piece.start_velocity);
+            self.dim = state[0].len();
+            self.states.resize(2 * self.dim, 0.0);
         }
-        // A piece that follows the last one on the grid starts in its end state (a
-        // round with a piece left out fails as a whole: its pieces are not used).
-        debug_assert!(
-            self.ends.last().is_none_or(|e| e.interval.1 != interval.0) || {
-                let (end, velocity) = self.end_state(self.ends.len() - 1);
-                (end, velocity) == (&piece.start[..], &piece.start_velocity[..])
-            }
-        );
-        self.states.extend_from_slice(&piece.end);
-        self.states.extend_from_slice(&piece.end_velocity);
-        self.ends.push(GridEnd {
-            interval,
-            duration: piece.duration,
-            error: piece.error,
-            knot: piece.knot,
-        });
+        let d = self.dim;
+        if let Some([position, velocity]) = start {
+            self.states[..d].copy_from_slice(position);
+            self.states[d..2 * d].copy_from_slice(velocity);
+        }
+        if i == self.ends.len() {
+            self.states.extend_from_slice(state[0]);
+            self.states.extend_from_slice(state[1]);
+            self.ends.push(end);
+        } else {
+            let at = 2 * d * (i + 1);
+            self.states[at..at + d].copy_from_slice(state[0]);
+            self.states[at + d..at + 2 * d].copy_from_slice(state[1]);
+            self.ends[i] = end;
+        }
     }
 
-    /// Adds piece `i` of `other` after the last one.
-    fn push_from(&mut self, other: &GridPieces, i: usize) {
-        let d = 2 * other.dim;
-        if self.states.is_empty() {
-            self.dim = other.dim;
-            self.states
-                .extend_from_slice(&other.states[d * i..d * (i + 1)]);
-        }
-        self.states
-            .extend_from_slice(&other.states[d * (i + 1)..d * (i + 2)]);
-        self.ends.push(other.ends[i]);
+    /// Keeps the first `len` pieces.
+    fn truncate(&mut self, len: usize) {
+        self.ends.truncate(len);
+        self.states.truncate(2 * self.dim * (len + 1));
     }
 
     /// Whether the pieces run over every interval of `grid` in turn (each starting where
@@ -603,7 +723,7 @@ pub(super) fn resample_once(
         starts,
         grid,
         done,
-        next,
+        displaced,
         todo,
         speeds,
         ..
@@ -630,36 +750,12 @@ pub(super) fn resample_once(
     grid.push(last);
     // Under a jerk limit, rounds of placing grid knots next to a knot whose acceleration
     // steps too far (each round at least one more; see [`steps_over`]). The first round
-    // fills `done`, a later one `next` from it, which then takes its place: without a
-    // jerk limit there is one round and one vector of pieces.
-    for round in 0..=MAX_ROUNDS {
-        let slow = if round == 0 {
-            done.clear();
-            let none = GridPieces::default();
-            resample_grid(
-                knots,
-                bounds,
-                tolerances,
-                q,
-                &motion,
-                (grid, &none),
-                done,
-                todo,
-            )
-        } else {
-            let slow = resample_grid(
-                knots,
-                bounds,
-                tolerances,
-                q,
-                &motion,
-                (grid, done),
-                next,
-                todo,
-            );
-            std::mem::swap(done, next);
-            slow
-        };
+    // fills `done`, a later one writes over it, taking over its pieces on the same
+    // intervals: without a jerk limit there is one round.
+    done.clear();
+    for _ in 0..=MAX_ROUNDS {
+        let rewrite = Rewrite::new(done, displaced);
+        let slow = resample_grid(knots, bounds, tolerances, q, &motion, grid, rewrite, todo);
         if !slow.is_empty() {
             return Err(slow);
         }
@@ -694,8 +790,8 @@ pub(super) fn resample_once(
     })
 }
 
-/// Into `pieces`, the pieces of every interval of `grid` (reusing those of `done` on the
-/// same interval), each over the tolerance split at its middle, with their intervals; the
+/// Into `pieces`, the pieces of every interval of `grid` (taking over the last round's on
+/// the same interval), each over the tolerance split at its middle, with their intervals; the
 /// planned knot ranges to slow and by what factor (none when every piece is in).
 /// `todo` is storage for the parts of one grid interval still to resample.
 #[allow(clippy::too_many_arguments, clippy::type_complexity)]
@@ -705,23 +801,19 @@ fn resample_grid(
     tolerances: Tolerances,
     q: f64,
     motion: &Motion<'_>,
-    (grid, done): (&[u64], &GridPieces),
-    pieces: &mut GridPieces,
+    grid: &[u64],
+    mut pieces: Rewrite<'_>,
     todo: &mut Vec<(u64, u64)>,
 ) -> Vec<(std::ops::Range<usize>, f64)> {
     let last = *grid.last().unwrap_or(&0);
-    pieces.clear();
     let mut slow = Vec::new();
-    let mut reuse = done.ends.iter().map(|e| e.interval).enumerate().peekable();
     for w in grid.windows(2) {
         // The parts of this interval still to resample, latest first: a part over the
         // tolerance is split in two, each resampled before the next interval.
         todo.clear();
         todo.push((w[0], w[1]));
         while let Some((a, b)) = todo.pop() {
-            while reuse.next_if(|d| d.1 .0 < a).is_some() {}
-            if let Some(&(i, _)) = reuse.peek().filter(|d| d.1 == (a, b)) {
-                pieces.push_from(done, i);
+            if pieces.take_over((a, b)) {
                 continue;
             }
             match interval(knots, bounds, tolerances, q, motion, (a, b), last) {
@@ -736,30 +828,35 @@ fn resample_grid(
             }
         }
     }
+    pieces.finish();
     slow
 }
 
 /// Each piece's speed at mid-time against the plan's at the same point of the path: the
-/// largest relative change where the plan moves at 1 % of its fastest or more. `speeds`
-/// is storage for both speeds of every piece.
-fn speed_change(motion: &Motion<'_>, pieces: &GridPieces, speeds: &mut Vec<(f64, f64)>) -> f64 {
+/// largest relative change where the plan moves at 1 % of its fastest or more. `plan` is
+/// storage for the plan's speed at every piece (a piece's own speed is made where it
+/// counts, once the fastest is known).
+fn speed_change(motion: &Motion<'_>, pieces: &GridPieces, plan: &mut Vec<f64>) -> f64 {
     let mut start = 0.0;
-    speeds.clear();
-    speeds.extend((0..pieces.len()).map(|i| {
-        let p = pieces.piece(i);
-        let mid = start + 0.5 * p.duration;
-        start += p.duration;
-        let (i, u) = motion.locate(mid);
-        let dim = p.start.len();
-        let plan = Vector::from_fn(dim, |a| motion.axis_state(i, a, u).velocity * motion.scale);
-        let now = Vector::from_fn(dim, |a| p.cubic(a).at(0.5 * p.duration).velocity);
-        (crate::vector::norm(&plan), crate::vector::norm(&now))
+    plan.clear();
+    plan.extend(pieces.durations().map(|duration| {
+        let mid = start + 0.5 * duration;
+        start += duration;
+        let (k, u) = motion.locate(mid);
+        let velocity = Vector::from_fn(pieces.dim, |a| {
+            motion.axis_state(k, a, u).velocity * motion.scale
+        });
+        crate::vector::norm(&velocity)
     }));
-    let fastest = speeds.iter().fold(0.0_f64, |m, s| m.max(s.0));
-    speeds
-        .iter()
-        .filter(|(before, _)| *before > 0.01 * fastest)
-        .map(|(before, now)| (now - before).abs() / before)
+    let fastest = plan.iter().fold(0.0_f64, |m, &s| m.max(s));
+    plan.iter()
+        .enumerate()
+        .filter(|&(_, &before)| before > 0.01 * fastest)
+        .map(|(i, &before)| {
+            let p = pieces.piece(i);
+            let now = Vector::from_fn(p.start.len(), |a| p.cubic(a).at(0.5 * p.duration).velocity);
+            (crate::vector::norm(&now) - before).abs() / before
+        })
         .fold(0.0, f64::max)
 }
 
@@ -920,7 +1017,7 @@ fn interval(
             if over {
                 return Err(Over::Tolerance);
             }
-            let limit = match knot.blend {
+            let limit = match knot.blend_index() {
                 Some(j) if knots.junctions[j].transition.is_none() => tolerances.corner,
                 _ => tolerances.path,
             };
