@@ -12,7 +12,7 @@
 //! its length and curve shape. The calling thread makes the batches (and the
 //! caller opens the input, its read buffer included) before the front end's thread
 //! starts, so that thread allocates no batch in steady state; about
-//! `BATCHES_IN_FLIGHT + 2` batches of 56 KB exist at once. The receiving sink sees
+//! `BATCHES_IN_FLIGHT + 2` batches of 113 KB exist at once. The receiving sink sees
 //! exactly the calls, in exactly the order, that it would see on one thread, so the
 //! planned pieces, the written bytes and every diagnostic are the same; a planning
 //! failure stops nothing on the front end's side, which goes on collecting every
@@ -30,12 +30,11 @@ use pvt_core::{Axis, Element, EventKind, MadeElement, Motion, ToolpathSink};
 use std::sync::mpsc::{sync_channel, Receiver, SyncSender};
 use std::sync::Mutex;
 
-/// Calls in one batch (440 bytes each, an element made ahead being the largest): a
-/// batch's hand-over wakes the other thread (some microseconds), about 8,000 times for
-/// 10⁶ lines at 128 and 4,000 at 256 (about 12,000 and 5,000 voluntary context switches
-/// on 10⁶ surfacing lines), while the batches in flight stay at about 0.25 MB at 128
-/// (about 0.35 MB more peak RSS at 256, which takes the compile past 8 MiB).
-pub const BATCH_CALLS: usize = 128;
+/// Calls in one batch (440 bytes each): a batch's hand-over wakes the other thread
+/// (some microseconds), about 4,000 times for 10⁶ lines at 256 (25,000 context
+/// switches at 128, 5,000 at 512), while the batches in flight stay at about 0.5 MB
+/// (about 0.6 MB more peak RSS at 512).
+pub const BATCH_CALLS: usize = 256;
 
 /// Full batches the channel holds while the planner is busy: two, so that the front end
 /// keeps reading while the planner replays one batch and the next waits.
