@@ -44,8 +44,8 @@ pub use discretize::{flatten_contour, ChordTolerance};
 pub use hermite::{HermiteSegment, State};
 pub use limits::{AxisLimits, MachineLimits};
 pub use plan::{
-    plan_contour, plan_path, MadeElement, PathOptions, PathReport, PathStream, PlanOptions,
-    PlanReport, Planner, Quantum, Rounding, TimedPoints, Timing,
+    plan_contour, plan_path, PathOptions, PathReport, PathStream, PlanOptions, PlanReport, Planner,
+    Quantum, Rounding, TimedPoints, Timing,
 };
 pub use polyline::Polyline;
 pub use program::{Interpolation, PvtContour, PvtProgram, SegmentRef};

@@ -19,8 +19,8 @@
 use crate::axis::{Axis, Units};
 use crate::discretize::{arc_positions, project};
 use crate::plan::{
-    plan_buffered, plan_run, ContourStream, MadeElement, PathStream, PlanError, PlanOptions,
-    PlanReport, Planner, TimedPoints, Timing,
+    plan_buffered, plan_run, ContourStream, PathStream, PlanError, PlanOptions, PlanReport,
+    Planner, TimedPoints, Timing,
 };
 use crate::program::{PvtContour, PvtProgram, SegmentRef};
 use crate::toolpath::{Contour, Element, ElementKind, EventKind, Motion, ProgramEvent, Toolpath};
@@ -39,17 +39,6 @@ pub trait ToolpathSink {
     fn event(&mut self, event: &EventKind, line: u32);
     /// The path tolerance (G-code's G64 P), program units, from the next contour on.
     fn path_tolerance(&mut self, _tolerance: f64) {}
-    /// [`ToolpathSink::element`] with what the path planner makes of the element alone
-    /// made ahead ([`MadeElement`]): a sink that plans takes it rather than making it
-    /// again; any other takes the element.
-    fn made_element(&mut self, motion: Motion, made: &MadeElement) {
-        self.element(motion, &made.element);
-    }
-    /// The axes this sink's path planner plans on, where it plans with it: a front end
-    /// on another thread makes each element ahead on them ([`MadeElement::new`]).
-    fn path_axes(&self) -> Option<Vec<Axis>> {
-        None
-    }
 }
 
 /// Receives planned motion: contours of pieces, and events between them.
@@ -215,36 +204,15 @@ impl<S: PieceSink> PlanStage<S> {
         plan_run(run, &self.options, Motion::Feed, &mut self.report)
     }
 
-    /// The next element, `length` long, into the open contour (or a new one).
-    fn add(&mut self, motion: Motion, element: &Element, length: f64, made: Option<&MadeElement>) {
-        if self.error.is_some() {
-            return;
-        }
-        if matches!(self.open, Some((Open::Timed(_), _))) {
-            self.close();
-        }
-        if self.open.is_none() {
-            self.begin(motion, element);
-        }
-        self.report.feed_time += length / element.feed;
-        if let Err(e) = self.push(element, made) {
-            self.error = Some(e);
-        }
-    }
-
-    /// Pushes one element into the open contour's planner (the path planner takes what
-    /// `made` made ahead of it).
-    fn push(&mut self, element: &Element, made: Option<&MadeElement>) -> Result<(), PlanError> {
+    /// Pushes one element into the open contour's planner.
+    fn push(&mut self, element: &Element) -> Result<(), PlanError> {
         let Some((open, pending)) = self.open.as_mut() else {
             return Ok(());
         };
         let (sink, contours) = (&mut self.sink, &mut self.contours);
         let mut emit = |seg: &SegmentRef<'_>| hand_on(sink, contours, pending, seg);
         match open {
-            Open::Path(stream) => match made {
-                Some(made) => stream.push_made(made, &mut emit),
-                None => stream.push(element, &mut emit),
-            },
+            Open::Path(stream) => stream.push(element, &mut emit),
             Open::Buffered(contour) => {
                 contour.elements.push(*element);
                 Ok(())
@@ -343,15 +311,19 @@ fn hand_on<S: PieceSink>(
 
 impl<S: PieceSink> ToolpathSink for PlanStage<S> {
     fn element(&mut self, motion: Motion, element: &Element) {
-        self.add(motion, element, element.length(), None);
-    }
-
-    fn made_element(&mut self, motion: Motion, made: &MadeElement) {
-        self.add(motion, &made.element, made.length, Some(made));
-    }
-
-    fn path_axes(&self) -> Option<Vec<Axis>> {
-        (self.options.planner == Planner::Path).then(|| self.axes.clone())
+        if self.error.is_some() {
+            return;
+        }
+        if matches!(self.open, Some((Open::Timed(_), _))) {
+            self.close();
+        }
+        if self.open.is_none() {
+            self.begin(motion, element);
+        }
+        self.report.feed_time += element.length() / element.feed;
+        if let Err(e) = self.push(element) {
+            self.error = Some(e);
+        }
     }
 
     fn end_contour(&mut self) {

@@ -6,13 +6,10 @@
 //! tolerances) are recorded in batches of [`BATCH_CALLS`] and handed over a bounded
 //! channel holding at most [`BATCHES_IN_FLIGHT`] full batches; the calling thread
 //! replays each batch, in order, into its own sink and sends the emptied vector back
-//! for the front end to fill again. Where the receiving sink plans with the path planner
-//! ([`ToolpathSink::path_axes`]), an element is recorded made ahead on its axes
-//! ([`MadeElement`]), so that the front end's thread, not the calling thread, computes
-//! its length and curve shape. The calling thread makes the batches (and the
+//! for the front end to fill again. The calling thread makes the batches (and the
 //! caller opens the input, its read buffer included) before the front end's thread
 //! starts, so that thread allocates no batch in steady state; about
-//! `BATCHES_IN_FLIGHT + 2` batches of 113 KB exist at once. The receiving sink sees
+//! `BATCHES_IN_FLIGHT + 2` batches of 47 KB exist at once. The receiving sink sees
 //! exactly the calls, in exactly the order, that it would see on one thread, so the
 //! planned pieces, the written bytes and every diagnostic are the same; a planning
 //! failure stops nothing on the front end's side, which goes on collecting every
@@ -26,28 +23,24 @@
 //! Owns the batching and the threads. It must not parse, plan or write: the front end
 //! and the receiving sink do, each on its thread.
 
-use pvt_core::{Axis, Element, EventKind, MadeElement, Motion, ToolpathSink};
+use pvt_core::{Element, EventKind, Motion, ToolpathSink};
 use std::sync::mpsc::{sync_channel, Receiver, SyncSender};
 use std::sync::Mutex;
 
-/// Calls in one batch (440 bytes each): a batch's hand-over wakes the other thread
+/// Calls in one batch (184 bytes each): a batch's hand-over wakes the other thread
 /// (some microseconds), about 4,000 times for 10⁶ lines at 256 (25,000 context
-/// switches at 128, 5,000 at 512), while the batches in flight stay at about 0.5 MB
-/// (about 0.6 MB more peak RSS at 512).
+/// switches at 128, 5,000 at 512), while the batches in flight stay at about 0.25 MB
+/// (0.5 MB more peak RSS at 512).
 pub const BATCH_CALLS: usize = 256;
 
 /// Full batches the channel holds while the planner is busy: two, so that the front end
 /// keeps reading while the planner replays one batch and the next waits.
 pub const BATCHES_IN_FLIGHT: usize = 2;
 
-/// One [`ToolpathSink`] call, recorded. An element made ahead is the common call, one per
-/// element, and lies in a batch vector that is reused: boxing it would allocate per
-/// element on the front end's thread and free it on the other.
+/// One [`ToolpathSink`] call, recorded.
 #[derive(Debug, Clone)]
-#[allow(clippy::large_enum_variant)]
 enum Call {
     Element(Motion, Element),
-    Made(Motion, MadeElement),
     EndContour,
     Event(EventKind, u32),
     PathTolerance(f64),
@@ -59,7 +52,6 @@ impl Call {
     fn replay(&self, sink: &mut dyn ToolpathSink) {
         match self {
             Call::Element(motion, element) => sink.element(*motion, element),
-            Call::Made(motion, made) => sink.made_element(*motion, made),
             Call::EndContour => sink.end_contour(),
             Call::Event(event, line) => sink.event(event, *line),
             Call::PathTolerance(tolerance) => sink.path_tolerance(*tolerance),
@@ -74,9 +66,6 @@ struct Batcher {
     emptied: Receiver<Vec<Call>>,
     /// False once the receiving side has gone (it panicked): later calls are dropped.
     open: bool,
-    /// The receiving sink's path planner's axes, where it has one: each element is made
-    /// ahead on them here ([`MadeElement`]), on the front end's thread.
-    path_axes: Option<Vec<Axis>>,
 }
 
 impl Batcher {
@@ -111,11 +100,7 @@ impl Batcher {
 
 impl ToolpathSink for Batcher {
     fn element(&mut self, motion: Motion, element: &Element) {
-        let call = match &self.path_axes {
-            Some(axes) => Call::Made(motion, MadeElement::new(element, axes)),
-            None => Call::Element(motion, *element),
-        };
-        self.record(call);
+        self.record(Call::Element(motion, *element));
     }
     fn end_contour(&mut self) {
         self.record(Call::EndContour);
@@ -170,7 +155,6 @@ where
             full,
             emptied,
             open: true,
-            path_axes: sink.path_axes(),
         };
         let waiting = &waiting;
         let spawned = std::thread::Builder::new()

@@ -17,9 +17,9 @@ use crate::output::Target;
 use crate::settings::{emit_options, header_lines, plan_options, split_grid};
 use miette::{Report, Severity};
 use pvt_core::{
-    plan::PlanError, plan_timed, plan_toolpath_report, Axis, Element, EventKind, MadeElement,
-    Motion, PieceSink, PieceSplitter, PlanOptions, PlanReport, PlanStage, Planned, Planner,
-    ProgramEvent, PvtContour, PvtProgram, SegmentRef, Timing, Toolpath, ToolpathSink, Units,
+    plan::PlanError, plan_timed, plan_toolpath_report, Axis, Element, EventKind, Motion, PieceSink,
+    PieceSplitter, PlanOptions, PlanReport, PlanStage, Planned, Planner, ProgramEvent, PvtContour,
+    PvtProgram, SegmentRef, Timing, Toolpath, ToolpathSink, Units,
 };
 use pvt_emit::writer::Totals;
 use pvt_emit::{Checked, Format, ProgramWriter, StreamError};
@@ -166,13 +166,6 @@ impl<W: ProgramWriter> ToolpathSink for PlanningSink<W> {
     fn element(&mut self, motion: Motion, element: &Element) {
         self.moved.note(element);
         self.stage.element(motion, element);
-    }
-    fn made_element(&mut self, motion: Motion, made: &MadeElement) {
-        self.moved.note(&made.element);
-        self.stage.made_element(motion, made);
-    }
-    fn path_axes(&self) -> Option<Vec<Axis>> {
-        self.stage.path_axes()
     }
     fn end_contour(&mut self) {
         self.stage.end_contour();

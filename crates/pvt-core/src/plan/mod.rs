@@ -30,9 +30,7 @@ pub(crate) use driver::{plan_buffered, plan_run};
 pub use error::PlanError;
 pub use lspb::{blend_corner_deviation, plan_lspb, LspbPlan};
 pub use options::{PlanOptions, Planner, Timing, UnknownPlanner};
-pub use path::{
-    plan_path, MadeElement, PathOptions, PathReport, PathStream, TANGENT_ANGLE, WINDOW_ELEMENTS,
-};
+pub use path::{plan_path, PathOptions, PathReport, PathStream, TANGENT_ANGLE, WINDOW_ELEMENTS};
 pub use pt::plan_pt;
 pub use quantize::{Quantum, Rounding, MIN_PIECE_SECONDS};
 pub use spline::spline_velocities;

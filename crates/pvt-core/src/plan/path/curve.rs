@@ -37,7 +37,7 @@ pub(super) struct Curve {
 }
 
 #[derive(Debug, Clone)]
-pub(super) enum Shape {
+enum Shape {
     /// φ is the distance from the start along `unit`; `tangent` is `unit` divided by its
     /// own norm, the line's unit tangent as [`Curve::unit_tangent`] gives it (made once,
     /// with the curve: every junction asks for it).
@@ -52,7 +52,7 @@ pub(super) enum Shape {
 /// With `D = 1/scale`, `|dⁿc/dφⁿ| = |Bⁿ(u)|·Dⁿ` in the plane, where by the convex hull
 /// property `|B''| ≤ 6·max|ΔP²|`, `|B'''| = 6·|ΔP³|` and `B'''' = 0`.
 #[derive(Debug, Clone)]
-pub(super) struct BezierShape {
+struct BezierShape {
     /// Indices of the plane's first and second axes among the projected axes.
     first: usize,
     second: usize,
@@ -67,7 +67,7 @@ pub(super) struct BezierShape {
 }
 
 #[derive(Debug, Clone)]
-pub(super) struct ArcShape {
+struct ArcShape {
     /// Indices of the plane's first and second axes among the projected axes.
     first: usize,
     second: usize,
@@ -111,36 +111,20 @@ impl Curve {
     fn push_whole(element: &Element, axes: &[Axis], out: &mut Vec<Curve>) {
         let start = Vector::from_fn(axes.len(), |i| element.start[axes[i].index()]);
         let end = Vector::from_fn(axes.len(), |i| element.end[axes[i].index()]);
-        let (shape, span) = whole_shape(element, axes, &start, &end);
-        Curve::push_shaped(element, start, end, shape, span, out);
-    }
-
-    /// Appends the curve of a line or arc whose shape and span [`whole_shape`] made
-    /// (perhaps on another thread: see [`super::MadeElement`]), none when it does not
-    /// move.
-    pub(super) fn push_made(
-        element: &Element,
-        axes: &[Axis],
-        shape: &Shape,
-        span: f64,
-        out: &mut Vec<Curve>,
-    ) {
-        let start = Vector::from_fn(axes.len(), |i| element.start[axes[i].index()]);
-        let end = Vector::from_fn(axes.len(), |i| element.end[axes[i].index()]);
-        Curve::push_shaped(element, start, end, shape.clone(), span, out);
-    }
-
-    /// Appends the curve of `element` from its projected ends, shape and span, none when
-    /// it does not move.
-    #[inline(always)]
-    fn push_shaped(
-        element: &Element,
-        start: Vector,
-        end: Vector,
-        shape: Shape,
-        span: f64,
-        out: &mut Vec<Curve>,
-    ) {
+        let shape = match element.kind {
+            ElementKind::Arc(arc) => arc_shape(element, &arc, axes),
+            ElementKind::Line | ElementKind::Bezier(_) => None,
+        };
+        let (shape, span) = match shape {
+            Some((arc, span)) => (Shape::Arc(arc), span),
+            None => {
+                let length = distance(&start, &end);
+                let unit = Vector::from_fn(start.len(), |i| (end[i] - start[i]) / length);
+                let n = norm(&unit);
+                let tangent = Vector::from_fn(unit.len(), |i| unit[i] / n);
+                (Shape::Line { unit, tangent }, length)
+            }
+        };
         if span.is_finite() && span > 0.0 {
             out.push(Curve {
                 start,
@@ -606,32 +590,6 @@ fn max_abs_sin(lo: f64, hi: f64) -> f64 {
         return 1.0;
     }
     libm::sin(lo).abs().max(libm::sin(hi).abs())
-}
-
-/// The shape and span of a line or arc on `axes` (a Bézier's, or an arc's off the
-/// projected plane: its chord), given its projected ends: what [`Curve::push_whole`]
-/// builds its curve of. The span is not checked: a curve that does not move is left out
-/// where it is pushed.
-pub(super) fn whole_shape(
-    element: &Element,
-    axes: &[Axis],
-    start: &Vector,
-    end: &Vector,
-) -> (Shape, f64) {
-    let shape = match element.kind {
-        ElementKind::Arc(arc) => arc_shape(element, &arc, axes),
-        ElementKind::Line | ElementKind::Bezier(_) => None,
-    };
-    match shape {
-        Some((arc, span)) => (Shape::Arc(arc), span),
-        None => {
-            let length = distance(start, end);
-            let unit = Vector::from_fn(start.len(), |i| (end[i] - start[i]) / length);
-            let n = norm(&unit);
-            let tangent = Vector::from_fn(unit.len(), |i| unit[i] / n);
-            (Shape::Line { unit, tangent }, length)
-        }
-    }
 }
 
 fn arc_shape(

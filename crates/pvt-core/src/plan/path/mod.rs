@@ -670,35 +670,6 @@ impl PathStream {
         element: &Element,
         emit: &mut dyn FnMut(&SegmentRef<'_>),
     ) -> Result<(), PlanError> {
-        self.add(
-            element,
-            |axes, curves| Curve::push_new(element, axes, curves),
-            emit,
-        )
-    }
-
-    /// [`PathStream::push`] for an element whose shape was made ahead: taken as made
-    /// when made on this stream's axes, else made here.
-    pub fn push_made(
-        &mut self,
-        made: &MadeElement,
-        emit: &mut dyn FnMut(&SegmentRef<'_>),
-    ) -> Result<(), PlanError> {
-        self.add(
-            &made.element,
-            |axes, curves| made.push_curve(axes, curves),
-            emit,
-        )
-    }
-
-    /// Adds `element`, whose curves `push_curves` appends to the window; emits pieces
-    /// when the window is full.
-    fn add(
-        &mut self,
-        element: &Element,
-        push_curves: impl FnOnce(&[Axis], &mut Vec<Curve>),
-        emit: &mut dyn FnMut(&SegmentRef<'_>),
-    ) -> Result<(), PlanError> {
         if self.axes.len() > crate::axis::AXIS_COUNT {
             // An axis given twice: a curve holds at most one value per axis.
             return Err(PlanError::UnsupportedOption {
@@ -707,7 +678,7 @@ impl PathStream {
             });
         }
         check_element(element)?;
-        push_curves(&self.axes, &mut self.curves);
+        Curve::push_new(element, &self.axes, &mut self.curves);
         let whole = self.hold;
         let full = self.curves.len() >= self.window.max(self.retry_at);
         let filled = |s: &Self| s.curves.len() >= s.fill.max(s.retry_at);
@@ -1601,77 +1572,6 @@ fn stopping_distance(curves: &[Curve], least: f64) -> f64 {
     }
 }
 
-/// An element with what the path planner makes of it alone made ahead, where it is read:
-/// its length ([`Element::length`], for the feed time) and, for a line or an arc, its
-/// shape and span on the planner's axes. A front end on a thread of its own makes them
-/// there ([`crate::ToolpathSink::made_element`]), so that the planner's thread takes
-/// them rather than making them: the same values, by the same operations. The planner
-/// takes the shape only when it plans on the axes it was made on; it makes a Bézier's
-/// parts itself.
-#[derive(Debug, Clone)]
-pub struct MadeElement {
-    /// The element.
-    pub element: Element,
-    /// [`Element::length`].
-    pub length: f64,
-    shape: Option<MadeShape>,
-}
-
-/// A line's or arc's shape and span, and the axes it was made on.
-#[derive(Debug, Clone)]
-struct MadeShape {
-    axes: [Axis; crate::axis::AXIS_COUNT],
-    count: usize,
-    shape: curve::Shape,
-    span: f64,
-}
-
-impl MadeElement {
-    /// `element` with its length, and its shape on `axes` where it is a line or an arc
-    /// (`axes`: a path planner's, each axis once).
-    pub fn new(element: &Element, axes: &[Axis]) -> MadeElement {
-        let mut made = MadeElement::plain(element);
-        let whole = matches!(
-            element.kind,
-            crate::toolpath::ElementKind::Line | crate::toolpath::ElementKind::Arc(_)
-        );
-        if whole && axes.len() <= crate::axis::AXIS_COUNT {
-            let start = Vector::from_fn(axes.len(), |i| element.start[axes[i].index()]);
-            let end = Vector::from_fn(axes.len(), |i| element.end[axes[i].index()]);
-            let (shape, span) = curve::whole_shape(element, axes, &start, &end);
-            let mut on = [Axis::X; crate::axis::AXIS_COUNT];
-            on[..axes.len()].copy_from_slice(axes);
-            made.shape = Some(MadeShape {
-                axes: on,
-                count: axes.len(),
-                shape,
-                span,
-            });
-        }
-        made
-    }
-
-    /// `element` with its length alone: the planner makes its curve.
-    pub fn plain(element: &Element) -> MadeElement {
-        MadeElement {
-            element: *element,
-            length: element.length(),
-            shape: None,
-        }
-    }
-
-    /// Appends the element's curves on `axes` to `curves`: from the shape made ahead
-    /// where it was made on `axes`, else made here.
-    fn push_curve(&self, axes: &[Axis], curves: &mut Vec<Curve>) {
-        match &self.shape {
-            Some(made) if made.axes[..made.count] == *axes => {
-                Curve::push_made(&self.element, axes, &made.shape, made.span, curves)
-            }
-            _ => Curve::push_new(&self.element, axes, curves),
-        }
-    }
-}
-
 /// Refuses an element with a feed that is not positive or a coordinate that is not finite.
 fn check_element(element: &Element) -> Result<(), PlanError> {
     let line = element.span.line;
@@ -1965,121 +1865,5 @@ mod tests {
         assert_eq!(w, v);
         assert_ne!(Vector::zeros(2), Vector::zeros(3));
         assert_eq!(v.into_iter().sum::<f64>(), 4.5);
-    }
-
-    /// The pieces of a contour whose elements come made ahead ([`super::MadeElement`])
-    /// are those of the same elements made by the stream, bit for bit: lines, arcs in
-    /// each plane, a helix, a Bézier and an element that does not move, on a grid and
-    /// off it; made on other axes than the stream's, an element is made again.
-    #[test]
-    fn elements_made_ahead_plan_as_elements_made_by_the_stream() {
-        use super::{MadeElement, Quantum, SegmentRef};
-        use crate::axis::{Axis, Plane};
-        use crate::bezier::Bezier;
-        use crate::toolpath::{Arc, ArcDirection, Element, ElementKind, Span};
-        let at = |x: f64, y: f64, z: f64| {
-            let mut p = [0.0; crate::axis::AXIS_COUNT];
-            (p[0], p[1], p[2]) = (x, y, z);
-            p
-        };
-        let element = |kind, start, end, line| Element {
-            kind,
-            start,
-            end,
-            feed: 40.0,
-            span: Span {
-                line,
-                ..Span::default()
-            },
-        };
-        let arc = |plane, center, direction| {
-            ElementKind::Arc(Arc {
-                plane,
-                center,
-                direction,
-                extra_turns: 0,
-            })
-        };
-        let bezier = ElementKind::Bezier(Bezier {
-            plane: Plane::XY,
-            controls: [[4.0, 3.0], [6.0, 3.0]],
-            fit: 0.0,
-        });
-        use ArcDirection::{Clockwise as Cw, CounterClockwise as Ccw};
-        let elements = [
-            element(ElementKind::Line, at(0.0, 0.0, 0.0), at(2.0, 0.5, -0.3), 1),
-            element(
-                arc(Plane::XY, [2.0, 1.5], Ccw),
-                at(2.0, 0.5, -0.3),
-                at(3.0, 1.5, -0.3),
-                2,
-            ),
-            element(
-                arc(Plane::XY, [4.0, 1.5], Cw),
-                at(3.0, 1.5, -0.3),
-                at(4.0, 2.5, 0.2),
-                3,
-            ),
-            element(ElementKind::Line, at(4.0, 2.5, 0.2), at(4.0, 2.5, 0.2), 4),
-            element(bezier, at(4.0, 2.5, 0.2), at(7.0, 2.0, 0.2), 5),
-            element(
-                arc(Plane::ZX, [0.2, 8.0], Ccw),
-                at(7.0, 2.0, 0.2),
-                at(8.0, 2.0, 1.2),
-                6,
-            ),
-            element(
-                arc(Plane::YZ, [2.0, 2.2], Cw),
-                at(8.0, 2.0, 1.2),
-                at(8.0, 3.0, 2.2),
-                7,
-            ),
-            element(ElementKind::Line, at(8.0, 3.0, 2.2), at(9.0, 3.0, 2.2), 8),
-        ];
-        let xyz = [Axis::X, Axis::Y, Axis::Z];
-        let plan = |axes: &[Axis], quantum, made_on: Option<&[Axis]>| {
-            let options = super::PathOptions {
-                tolerance: 1e-3,
-                corner_tolerance: Some(0.01),
-                limits: Default::default(),
-                quantum,
-                servo_period: crate::defaults::SERVO_PERIOD_S,
-                position_resolution: 0.0,
-            };
-            // A window of three elements: the made curves cross windows too.
-            let mut stream = super::PathStream::with_window(axes, &options, 3);
-            let mut bits = Vec::new();
-            let mut emit = |seg: &SegmentRef<'_>| {
-                let values = seg.end.iter().chain(seg.velocity).chain([&seg.duration]);
-                bits.extend(values.map(|v| v.to_bits()));
-            };
-            for e in &elements {
-                let pushed = match made_on {
-                    Some(on) => stream.push_made(&MadeElement::new(e, on), &mut emit),
-                    None => stream.push(e, &mut emit),
-                };
-                pushed.unwrap();
-            }
-            stream.finish(&mut emit).unwrap();
-            bits
-        };
-        let grid = Quantum {
-            seconds: 0.001,
-            rounding: crate::plan::Rounding::Up,
-        };
-        for quantum in [None, Some(grid)] {
-            for axes in [&xyz[..], &[Axis::X, Axis::Y], &[Axis::Z, Axis::X, Axis::Y]] {
-                let own = plan(axes, quantum, None);
-                assert!(own.len() > 8 * 7, "{} values", own.len());
-                assert_eq!(plan(axes, quantum, Some(axes)), own, "made on {axes:?}");
-                assert_eq!(plan(axes, quantum, Some(&xyz[..1])), own, "made on X");
-            }
-        }
-        // Made ahead, an element's length is the one it has.
-        for e in &elements {
-            let made = MadeElement::new(e, &xyz);
-            assert_eq!(made.length.to_bits(), e.length().to_bits());
-            assert_eq!(MadeElement::plain(e).length.to_bits(), e.length().to_bits());
-        }
     }
 }
