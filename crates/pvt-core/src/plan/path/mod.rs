@@ -1644,33 +1644,14 @@ mod tests {
         use super::knots::{KnotStorage, Knots, Start};
         use crate::axis::Axis;
         use crate::limits::AxisLimits;
-        use crate::toolpath::{Arc, ArcDirection, Element, ElementKind, Plane, Span};
+        use crate::toolpath::{Arc, ArcDirection, ElementKind, Plane};
         let axes = [Axis::X, Axis::Y, Axis::Z];
         let limit = AxisLimits {
             velocity: Some(200.0),
             acceleration: Some(2000.0),
             jerk: None,
         };
-        let options = super::PathOptions {
-            tolerance: 1e-4,
-            corner_tolerance: None,
-            limits: axes.iter().map(|a| (*a, limit)).collect(),
-            quantum: None,
-            servo_period: crate::defaults::SERVO_PERIOD_S,
-            position_resolution: 0.0,
-        };
-        let at = |x: f64, y: f64| {
-            let mut p = [0.0; crate::axis::AXIS_COUNT];
-            (p[0], p[1]) = (x, y);
-            p
-        };
-        let element = |kind, start, end| Element {
-            kind,
-            start,
-            end,
-            feed: 150.0,
-            span: Span::default(),
-        };
+        let options = test_options(None, &axes, Some(limit));
         let arc = |center: [f64; 2], direction| {
             ElementKind::Arc(Arc {
                 plane: Plane::XY,
@@ -1743,23 +1724,33 @@ mod tests {
         assert_eq!(format!("{pieces:?}"), format!("{fresh:?}"));
     }
 
-    /// Programs for the settling's tests, each with its corner tolerance: a pocket's
-    /// circles with an exact stop at every step-over (whose pieces are split), and a
-    /// polyline whose corners are corner blends under a corner tolerance.
-    pub(super) fn rings_and_corners() -> Vec<(Vec<crate::toolpath::Element>, Option<f64>)> {
-        use crate::toolpath::{Arc, ArcDirection, Element, ElementKind, Plane, Span};
-        let at = |x: f64, y: f64| {
-            let mut p = [0.0; crate::axis::AXIS_COUNT];
-            (p[0], p[1]) = (x, y);
-            p
-        };
-        let element = |kind, start, end| Element {
+    /// A point in the XY plane, the other axes at 0.
+    fn at(x: f64, y: f64) -> crate::axis::Position {
+        let mut p = [0.0; crate::axis::AXIS_COUNT];
+        (p[0], p[1]) = (x, y);
+        p
+    }
+
+    /// An element of the settling's tests, at a feed of 150 units/s.
+    fn element(
+        kind: crate::toolpath::ElementKind,
+        start: crate::axis::Position,
+        end: crate::axis::Position,
+    ) -> crate::toolpath::Element {
+        crate::toolpath::Element {
             kind,
             start,
             end,
             feed: 150.0,
-            span: Span::default(),
-        };
+            span: crate::toolpath::Span::default(),
+        }
+    }
+
+    /// Programs for the settling's tests, each with its corner tolerance: a pocket's
+    /// circles with an exact stop at every step-over (whose pieces are split), and a
+    /// polyline whose corners are corner blends under a corner tolerance.
+    pub(super) fn rings_and_corners() -> Vec<(Vec<crate::toolpath::Element>, Option<f64>)> {
+        use crate::toolpath::{Arc, ArcDirection, ElementKind, Plane};
         let half_circle = |r: f64, from: f64| {
             let kind = ElementKind::Arc(Arc {
                 plane: Plane::XY,
