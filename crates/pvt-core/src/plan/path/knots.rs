@@ -156,6 +156,10 @@ pub(super) struct Scratch {
     /// Each piece's largest error bound, by its knot ([`Knots::split_over`]; where the
     /// tolerance is the only repair, the last round's, see [`Knots::errors_again`]).
     pub(super) errors: Vec<f64>,
+    /// Beside [`Scratch::errors`] where [`Knots::errors_again`] made them: each piece's
+    /// time, made with its bound, so that the settled pieces take both over
+    /// ([`Knots::pieces_from_bounds`]) instead of making them again.
+    pub(super) durations: Vec<f64>,
     /// Each knot's known path ahead ([`Knots::known_ahead`]).
     ahead: Vec<f64>,
     /// The speeds of the knots the last round's pieces were made from (empty: none to

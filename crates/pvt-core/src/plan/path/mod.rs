@@ -1057,7 +1057,8 @@ fn settle_by_pieces(
 /// [`settle_into`]'s rounds where the tolerance is the only repair
 /// ([`Knots::tolerance_alone_repairs`]): a round splits by the pieces' error bounds
 /// alone ([`Knots::errors_again`]), and the pieces are made once, from the settled
-/// knots. A piece follows from its knots alone, so they are those of
+/// knots, each taking the time and bound its last round made
+/// ([`Knots::pieces_from_bounds`]). A piece follows from its knots alone, so they are those of
 /// [`settle_by_pieces`], whose rounds split the same knots (its other repairs change
 /// nothing here), without a piece made and then split.
 fn settle_by_errors(
@@ -1071,7 +1072,7 @@ fn settle_by_errors(
         knots.plan_speeds(curves, bounds);
         knots.errors_again(curves, bounds);
         if !knots.split_over_errors(curves, tolerance) {
-            knots.pieces_into(curves, bounds, pieces);
+            knots.pieces_from_bounds(curves, bounds, pieces);
             return true;
         }
     }

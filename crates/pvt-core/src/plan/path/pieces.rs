@@ -92,29 +92,69 @@ impl Knots {
         debug_assert!(!self.jerk_mode, "a piece under a jerk limit has parts");
         let made_at = std::mem::take(&mut self.scratch.made_at);
         let mut errors = std::mem::take(&mut self.scratch.errors);
+        let mut durations = std::mem::take(&mut self.scratch.durations);
         let n = self.knots.len();
-        if made_at.is_empty() || errors.len() + 1 != made_at.len() {
+        if made_at.is_empty()
+            || errors.len() + 1 != made_at.len()
+            || durations.len() != errors.len()
+        {
             errors.clear();
-            errors.extend((0..n - 1).map(|k| self.piece_error(curves, bounds, k)));
+            durations.clear();
+            for k in 0..n - 1 {
+                let (duration, error) = self.piece_time_and_error(curves, bounds, k);
+                durations.push(duration);
+                errors.push(error);
+            }
         } else {
             errors.resize(n - 1, 0.0);
+            durations.resize(n - 1, 0.0);
             for k in (0..n - 1).rev() {
-                errors[k] = match self.made_last_round(k, &made_at) {
-                    Some(i) => errors[i],
-                    None => self.piece_error(curves, bounds, k),
+                (durations[k], errors[k]) = match self.made_last_round(k, &made_at) {
+                    Some(i) => (durations[i], errors[i]),
+                    None => self.piece_time_and_error(curves, bounds, k),
                 };
             }
         }
         self.scratch.errors = errors;
+        self.scratch.durations = durations;
         self.round_made(made_at);
     }
 
-    /// The error bound of the piece after knot `k` (without a jerk limit): that of
-    /// [`Knots::piece`], without its end states where it is no corner blend.
-    fn piece_error(&self, curves: &[Curve], bounds: &AxisBounds, k: usize) -> f64 {
+    /// The time and error bound of the piece after knot `k` (without a jerk limit): those
+    /// of [`Knots::piece`], without its end states where it is no corner blend.
+    fn piece_time_and_error(&self, curves: &[Curve], bounds: &AxisBounds, k: usize) -> (f64, f64) {
         match self.knots[k].blend_index() {
-            Some(j) => self.blend_piece(curves, k, j).error,
-            None => self.time_and_error(curves, bounds, k).1,
+            Some(j) => {
+                let blend = self.blend_piece(curves, k, j);
+                (blend.duration, blend.error)
+            }
+            None => {
+                let (duration, error, _) = self.time_and_error(curves, bounds, k);
+                (duration, error)
+            }
+        }
+    }
+
+    /// [`Knots::pieces_into`] on the knots of the last [`Knots::errors_again`], which no
+    /// repair has changed since: each piece that is no corner blend takes the time and
+    /// error bound that round made ([`Scratch::durations`] and
+    /// [`Scratch::errors`](super::knots::Scratch)), the same numbers
+    /// [`Knots::time_and_error`] would make again, and only its end states are made.
+    pub fn pieces_from_bounds(&self, curves: &[Curve], bounds: &AxisBounds, out: &mut Vec<Piece>) {
+        let (durations, errors) = (&self.scratch.durations, &self.scratch.errors);
+        debug_assert!(!self.jerk_mode && durations.len() + 1 == self.knots.len());
+        out.clear();
+        for k in 0..self.knots.len() - 1 {
+            let before = out.last().filter(|_| self.shares_its_start(k));
+            let start = before.map(|p| (p.end, p.end_velocity));
+            self.push_piece(
+                curves,
+                bounds,
+                k,
+                start,
+                Some((durations[k], errors[k])),
+                out,
+            );
         }
     }
 
@@ -151,7 +191,7 @@ impl Knots {
                 // Without a jerk limit this loop pushed the piece of knot `k − 1` last.
                 let before = out.last().filter(|_| k > first && self.shares_its_start(k));
                 let start = before.map(|p| (p.end, p.end_velocity));
-                self.push_piece(curves, bounds, k, start, out);
+                self.push_piece(curves, bounds, k, start, None, out);
             }
         }
     }
@@ -174,18 +214,19 @@ impl Knots {
             return self.blend_piece(curves, k, j);
         }
         let mut piece = Piece::zeroed(curves[0].start.len(), k);
-        self.fill_piece(curves, bounds, k, None, &mut piece);
+        self.fill_piece(curves, bounds, k, None, None, &mut piece);
         piece
     }
 
     /// [`Knots::piece`] pushed onto `out`, built where it lies (a piece is large); `start`
-    /// as [`Knots::fill_piece`] takes it.
+    /// and `timed` as [`Knots::fill_piece`] takes them.
     fn push_piece(
         &self,
         curves: &[Curve],
         bounds: &AxisBounds,
         k: usize,
         start: Option<(Vector, Vector)>,
+        timed: Option<(f64, f64)>,
         out: &mut Vec<Piece>,
     ) {
         if let Some(j) = self.knots[k].blend_index() {
@@ -194,7 +235,7 @@ impl Knots {
         }
         out.push(Piece::zeroed(curves[0].start.len(), k));
         let last = out.len() - 1;
-        self.fill_piece(curves, bounds, k, start, &mut out[last]);
+        self.fill_piece(curves, bounds, k, start, timed, &mut out[last]);
     }
 
     /// [`Knots::piece`] written over `piece`.
@@ -204,19 +245,21 @@ impl Knots {
             return;
         }
         *piece = Piece::zeroed(curves[0].start.len(), k);
-        self.fill_piece(curves, bounds, k, None, piece);
+        self.fill_piece(curves, bounds, k, None, None, piece);
     }
 
     /// The piece after knot `k`, not a corner blend, written into `piece` (zeroed, of
     /// the curves' axes, after knot `k`). `start` is its start position and velocity
     /// where the piece before ends in them ([`Knots::shares_its_start`]): the values it
-    /// would compute, taken over.
+    /// would compute, taken over; `timed` its time and error bound where
+    /// [`Knots::errors_again`] made them on these knots (without a jerk limit).
     fn fill_piece(
         &self,
         curves: &[Curve],
         bounds: &AxisBounds,
         k: usize,
         start: Option<(Vector, Vector)>,
+        timed: Option<(f64, f64)>,
         piece: &mut Piece,
     ) {
         let (curve, from, to) = self.piece_span(curves, k);
@@ -226,6 +269,10 @@ impl Knots {
         };
         piece.end = curve.point(to);
         piece.end_velocity = self.velocity_at(k + 1, curve, to);
+        if let Some((duration, error)) = timed {
+            (piece.duration, piece.error) = (duration, error);
+            return;
+        }
         let at_rest;
         (piece.duration, piece.error, at_rest) = self.time_and_error(curves, bounds, k);
         if at_rest && self.jerk_mode {
