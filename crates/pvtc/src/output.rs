@@ -5,8 +5,10 @@
 //! target. A failed compile drops the temporary file; an interrupt (Ctrl-C, SIGTERM)
 //! removes every temporary file being written before the process exits, so no partial
 //! file is left. Standard output redirected to a regular file is written in place from
-//! its end, and cut back there by a failure or an interrupt. It must not decide what to
-//! write.
+//! its end, and cut back there by a failure or an interrupt. A stream (a pipe, a
+//! terminal) gets the output whole or not at all: it is written to an unnamed temporary
+//! file and copied to the stream once complete ([`write_stream`]). It must not decide
+//! what to write.
 //!
 //! The rename is atomic but the data is not flushed to the disk first (compilers do not
 //! either): what survives a power loss just after a compile is the file system's choice.
@@ -89,7 +91,8 @@ pub enum Target<'a> {
     /// The null device (`-o /dev/null`, `> /dev/null`): it keeps nothing, so starting
     /// over costs nothing and a compile writes into it in one pass, as into a file.
     Discard(&'a mut std::fs::File),
-    /// A stream: what is written stays written.
+    /// A stream written directly, where no temporary file could be made for it (see
+    /// [`write_stream`]): what is written stays written.
     Stream(&'a mut dyn Write),
 }
 
@@ -207,7 +210,7 @@ pub fn write_file_with<T>(
         if is_null_device(&device) {
             return write(&mut Target::Discard(&mut device));
         }
-        return write(&mut Target::Stream(&mut device));
+        return write_stream(&mut device, path, write);
     }
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
@@ -259,11 +262,40 @@ pub fn write_with<T>(
             if let Some(mut null) = null_device(&out) {
                 return write(&mut Target::Discard(&mut null));
             }
-            let value = write(&mut Target::Stream(&mut out))?;
+            let value = write_stream(&mut out, Path::new("<stdout>"), write)?;
             out.flush().map_err(stdout_failure)?;
             Ok(value)
         }
     }
+}
+
+/// Lets `write` fill an unnamed temporary file (in the temporary directory, gone with
+/// the process whatever ends it), then copies it to `stream` (named `name` in a
+/// failure): a stream keeps what it is given, so it receives the output only once the
+/// whole is written, and nothing when `write` fails, after the one pass a file takes.
+/// Where no temporary file can be made, `write` writes into the stream itself, as a
+/// [`Target::Stream`] (a compile then checks the whole program before writing).
+pub fn write_stream<T>(
+    stream: &mut dyn Write,
+    name: &Path,
+    write: impl FnOnce(&mut Target<'_>) -> Result<T, Failure>,
+) -> Result<T, Failure> {
+    let Ok(mut spool) = tempfile::tempfile() else {
+        return write(&mut Target::Stream(stream));
+    };
+    let value = write(&mut Target::File {
+        file: &mut spool,
+        start: 0,
+    })?;
+    spool
+        .seek(std::io::SeekFrom::Start(0))
+        .and_then(|_| std::io::copy(&mut spool, stream))
+        .map_err(|error| Failure::Io {
+            path: name.to_path_buf(),
+            action: "write",
+            error,
+        })?;
+    Ok(value)
 }
 
 #[cfg(unix)]
@@ -411,5 +443,47 @@ pub fn write_stdout_status(
             std::process::ExitCode::SUCCESS
         }
         Err(failure) => reporter.fail(&failure),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A stream is written once, whole, after a pass that could start over.
+    #[test]
+    fn a_stream_gets_the_output_whole_after_one_restartable_pass() {
+        let mut stream = Vec::new();
+        let value = write_stream(&mut stream, Path::new("<test>"), |out| {
+            assert!(out.can_restart(), "the pass writes a file, not the stream");
+            let io = |error| Failure::Io {
+                path: "<test>".into(),
+                action: "write",
+                error,
+            };
+            out.write_all(b"first guess\n").map_err(io)?;
+            out.restart().map_err(io)?;
+            out.write_all(b"G1 X1\n").map_err(io)?;
+            Ok(7)
+        })
+        .unwrap();
+        assert_eq!(value, 7);
+        assert_eq!(stream, b"G1 X1\n");
+    }
+
+    /// A failure sends the stream nothing, whatever was written before it.
+    #[test]
+    fn a_failed_pass_sends_the_stream_nothing() {
+        let mut stream = Vec::new();
+        let result: Result<(), Failure> = write_stream(&mut stream, Path::new("<test>"), |out| {
+            out.write_all(&[b'x'; 100_000]).unwrap();
+            Err(Failure::Usage("refused late".into()))
+        });
+        assert!(matches!(result, Err(Failure::Usage(_))));
+        assert!(
+            stream.is_empty(),
+            "{} bytes reached the stream",
+            stream.len()
+        );
     }
 }

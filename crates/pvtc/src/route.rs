@@ -371,9 +371,11 @@ pub fn compile_to(
 /// (an output file, or standard output redirected to one), a lexical
 /// [`pvt_gcode::prescan`] guesses them and one pass plans and writes; when the compile
 /// finds otherwise, the file is cut back and a second pass writes again. The null device
-/// is such a file. Into a stream (a pipe, a terminal), which cannot start over, a first
-/// pass plans and checks the program as the back end would without making its text,
-/// finding them, and a second writes.
+/// is such a file. The command line gives a stream (a pipe, a terminal) a temporary file
+/// to fill in its place ([`crate::output::write_stream`]); into a stream itself
+/// ([`Target::Stream`], where no temporary file can be made), which cannot start over,
+/// a first pass plans and checks the program as the back end would without making its
+/// text, finding them, and a second writes.
 pub fn compile_streaming(
     path: &std::path::Path,
     name: &str,

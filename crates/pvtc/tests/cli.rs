@@ -1757,11 +1757,12 @@ fn drawing_options_on_a_program_are_usage_errors() {
 }
 
 /// The passes a compile takes over its G-code input, counted on this thread: one into a
-/// file or the null device (`-o /dev/null` is no slower than a file), two into a pipe
-/// (a checking pass first), and the same bytes either way.
+/// file, the null device (`-o /dev/null` is no slower than a file) or a pipe (through a
+/// temporary file), two into a stream written directly (a checking pass first), and
+/// the same bytes every way.
 #[cfg(unix)]
 #[test]
-fn null_device_and_files_take_one_pass_and_a_stream_two() {
+fn files_null_device_and_pipes_take_one_pass_and_a_direct_stream_two() {
     use clap::Parser;
     let dir = tempfile::tempdir().unwrap();
     let program = common::root().join("samples/gcode/an208_zigzag.ngc");
@@ -1775,6 +1776,15 @@ fn null_device_and_files_take_one_pass_and_a_stream_two() {
     let file = dir.path().join("out.pmac");
     assert_eq!(passes("/dev/null"), 1);
     assert_eq!(passes(file.to_str().unwrap()), 1);
+    let fifo = dir.path().join("fifo");
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+    assert!(made.unwrap().success(), "mkfifo");
+    let reader = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || std::fs::read(fifo).unwrap())
+    };
+    assert_eq!(passes(fifo.to_str().unwrap()), 1);
+    assert_eq!(reader.join().unwrap(), std::fs::read(&file).unwrap());
 
     let args = pvtc::Cli::parse_from(["pvtc", "compile", program]);
     let pvtc::Command::Compile(args) = args.command else {

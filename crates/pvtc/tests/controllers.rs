@@ -287,10 +287,22 @@ fn check_reads_a_csv_table_with_its_trigger_column() {
     );
 }
 
-/// Into a pipe, the first pass checks the program as the back end would without making
-/// its text: every format's refusals (travel, counts, triggers, piece times) and
-/// warnings are those of the same compile into a file, and a program it keeps is piped
-/// whole, byte for byte the file's.
+/// Runs `pvtc ARGS` into a pipe with no temporary directory to write in: the pipe is
+/// written directly, after a first pass that checks the program.
+fn piped_without_temporary_files(args: &[&str], dir: &std::path::Path) -> Output {
+    common::command(args)
+        .env("TMPDIR", dir.join("no such directory"))
+        .stdin(std::process::Stdio::null())
+        .output()
+        .expect("pvtc runs")
+}
+
+/// Into a pipe, the output is written to a temporary file and piped once whole; where no
+/// temporary file can be made, a first pass checks the program as the back end would
+/// without making its text. Either way every format's refusals (travel, counts,
+/// triggers, piece times) and warnings are those of the same compile into a file, a
+/// refused program sends the pipe nothing, and a program it keeps is piped whole, byte
+/// for byte the file's.
 #[test]
 fn a_pipe_is_refused_and_warned_as_a_file_is_in_every_format() {
     let dir = tempfile::tempdir().unwrap();
@@ -332,19 +344,26 @@ fn a_pipe_is_refused_and_warned_as_a_file_is_in_every_format() {
             if matches!(format, "galil" | "zaber") {
                 args.extend(counts);
             }
-            let piped = pvtc(&args, None);
+            let piped = [
+                pvtc(&args, None),
+                piped_without_temporary_files(&args, dir.path()),
+            ];
             args.extend(["-o", out.as_str()]);
             let _ = std::fs::remove_file(&out);
             let filed = pvtc(&args, None);
-            let what = format!("{format} {extra:?}");
-            assert_eq!(piped.status.code(), filed.status.code(), "{what}");
-            assert_eq!(stderr(&piped), stderr(&filed), "{what}");
-            if filed.status.success() {
-                assert_eq!(piped.stdout, std::fs::read(&out).unwrap(), "{what}");
-            } else {
+            for (piped, how) in piped.iter().zip(["spooled", "checked first"]) {
+                let what = format!("{format} {extra:?} {how}");
+                assert_eq!(piped.status.code(), filed.status.code(), "{what}");
+                assert_eq!(stderr(piped), stderr(&filed), "{what}");
+                if filed.status.success() {
+                    assert_eq!(piped.stdout, std::fs::read(&out).unwrap(), "{what}");
+                } else {
+                    assert!(piped.stdout.is_empty(), "{what}");
+                    assert!(std::fs::metadata(&out).is_err(), "{what}");
+                }
+            }
+            if !filed.status.success() {
                 refused += 1;
-                assert!(piped.stdout.is_empty(), "{what}");
-                assert!(std::fs::metadata(&out).is_err(), "{what}");
             }
         }
     }
