@@ -185,6 +185,15 @@ struct PieceWay {
 }
 
 impl PieceWay {
+    /// A way not made yet: what [`Knots::ways_kept`] sizes a fresh vector with.
+    const UNKNOWN: PieceWay = PieceWay {
+        length: f64::NAN,
+        cap: f64::NAN,
+        accel: f64::NAN,
+        jerk: f64::NAN,
+        ratio: f64::NAN,
+    };
+
     /// The fastest speed at one end from which the other end's speed `v` is reached.
     fn reach(&self, v: f64) -> f64 {
         let reach = if self.jerk.is_finite() {
@@ -418,26 +427,20 @@ impl Knots {
 
     /// Speed at every knot: caps, then the backward and forward passes, then trapezoid
     /// knots on lines where the speed can rise between two knots.
+    ///
+    /// The pieces' ways ([`Knots::way_again`]), the knots' caps and the backward pass
+    /// are one sweep from the end: once piece `k`'s way is made, knot `k + 1` has both
+    /// its pieces' ways and the backward speed of the knot after it, so it is capped and
+    /// limited there, in the order three sweeps would take.
     pub fn plan_speeds(&mut self, curves: &[Curve], bounds: &AxisBounds) {
         let n = self.knots.len();
         let mut ways = std::mem::take(&mut self.scratch.ways);
-        self.ways_again(curves, bounds, &mut ways);
-        for (k, knot) in self.knots.iter_mut().enumerate() {
-            let mut cap = knot.cap;
-            if k > 0 {
-                cap = cap.min(ways[k - 1].cap);
-            }
-            if k < n - 1 {
-                cap = cap.min(ways[k].cap);
-            }
-            knot.speed = if knot.fixed { knot.cap } else { cap };
-        }
+        let keep = self.ways_kept(&mut ways);
         for k in (0..n - 1).rev() {
-            if !self.knots[k].fixed {
-                let speed = ways[k].limit(self.knots[k].speed, self.knots[k + 1].speed);
-                self.knots[k].speed = speed;
-            }
+            ways[k] = self.way_again(curves, bounds, k, keep, &ways);
+            self.cap_and_limit(k + 1, &ways);
         }
+        self.cap_and_limit(0, &ways);
         for (k, way) in ways.iter().enumerate() {
             let speed = way.limit(self.knots[k + 1].speed, self.knots[k].speed);
             self.knots[k + 1].speed = speed;
@@ -445,28 +448,66 @@ impl Knots {
         self.scratch.ways = ways;
     }
 
-    /// Every piece's [`PieceWay`] into `ways`, which holds the last round's where one of
-    /// this settling was made ([`Knots::pieces_again`]): a piece between two knots that
-    /// were consecutive then keeps its way, which follows from their places and the
-    /// window's curves, junctions and bounds alone (never from their speeds or caps).
-    /// The ways kept move back (or stay), so `ways` is rewritten from its end.
-    fn ways_again(&self, curves: &[Curve], bounds: &AxisBounds, ways: &mut Vec<PieceWay>) {
+    /// Knot `j`'s speed before the forward pass: its cap, lowered to those of its
+    /// pieces (whose ways are made), then the backward pass's limit from the knot after
+    /// it (already set); a fixed knot keeps its cap.
+    #[inline(always)]
+    fn cap_and_limit(&mut self, j: usize, ways: &[PieceWay]) {
+        let n = self.knots.len();
+        let knot = &self.knots[j];
+        let mut cap = knot.cap;
+        if j > 0 {
+            cap = cap.min(ways[j - 1].cap);
+        }
+        if j < n - 1 {
+            cap = cap.min(ways[j].cap);
+        }
+        let speed = if knot.fixed {
+            knot.cap
+        } else if j < n - 1 {
+            ways[j].limit(cap, self.knots[j + 1].speed)
+        } else {
+            cap
+        };
+        self.knots[j].speed = speed;
+    }
+
+    /// Sizes `ways` for these knots' pieces, made again from the end by
+    /// [`Knots::way_again`]; returns how many knots the last round's ways were made from
+    /// when they can be taken over ([`Knots::way_again`]), else 0.
+    fn ways_kept(&self, ways: &mut Vec<PieceWay>) -> usize {
         let n = self.knots.len();
         let last = self.scratch.made_at.len();
         if last < 2 || ways.len() + 1 != last {
             ways.clear();
-            ways.extend((0..n - 1).map(|k| self.piece_way(curves, bounds, k)));
-            return;
+            ways.resize(n - 1, PieceWay::UNKNOWN);
+            return 0;
         }
         ways.resize(n - 1, ways[0]);
-        for k in (0..n - 1).rev() {
-            let i = self.knots[k].last_round as usize;
-            let kept = i <= k && i + 1 < last && self.knots[k + 1].last_round as usize == i + 1;
-            ways[k] = if kept {
-                ways[i]
-            } else {
-                self.piece_way(curves, bounds, k)
-            };
+        last
+    }
+
+    /// Piece `k`'s [`PieceWay`], with `ways` made from the end down to `k + 1` and
+    /// holding, below, the last round's (`last` knots; 0: none to take over). A piece
+    /// between two knots that were consecutive then keeps its way, which follows from
+    /// their places and the window's curves, junctions and bounds alone (never from
+    /// their speeds or caps). A way kept moves back (or stays): `ways[i]`, `i ≤ k`, is
+    /// still the last round's.
+    #[inline(always)]
+    fn way_again(
+        &self,
+        curves: &[Curve],
+        bounds: &AxisBounds,
+        k: usize,
+        last: usize,
+        ways: &[PieceWay],
+    ) -> PieceWay {
+        let i = self.knots[k].last_round as usize;
+        let kept = i <= k && i + 1 < last && self.knots[k + 1].last_round as usize == i + 1;
+        if kept {
+            ways[i]
+        } else {
+            self.piece_way(curves, bounds, k)
         }
     }
 

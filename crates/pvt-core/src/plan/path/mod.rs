@@ -1638,7 +1638,7 @@ mod tests {
 
     /// A settling whose rounds split pieces and slow knots keeps the pieces and speed-pass
     /// values of the knots a round did not change (`Knots::pieces_again`,
-    /// `Knots::ways_again`): its pieces are, bit for bit, those made afresh from its
+    /// `Knots::way_again`): its pieces are, bit for bit, those made afresh from its
     /// final knots, and it made fewer than it kept.
     #[test]
     fn a_settling_keeps_only_what_its_rounds_left_unchanged() {
