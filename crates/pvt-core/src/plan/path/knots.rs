@@ -9,7 +9,7 @@
 //! ([`super::piece`]) but never builds them, so `pieces.rs` depends on it and not back.
 
 use super::curve::Curve;
-use super::piece::Piece;
+use super::piece::Pieces;
 use super::transition::Transition;
 use super::{AxisBounds, Vector, NORMAL_SHARE, TANGENT_ANGLE};
 use crate::program::SegmentRef;
@@ -604,7 +604,7 @@ impl Knots {
     /// Splits every piece whose error bound exceeds `tolerance` at its middle parameter;
     /// a corner blend over its tolerance instead gets both end speeds capped at the
     /// slower one (at equal speeds it meets it). Returns whether any changed.
-    pub fn split_over(&mut self, curves: &[Curve], pieces: &[Piece], tolerance: f64) -> bool {
+    pub fn split_over(&mut self, curves: &[Curve], pieces: &Pieces, tolerance: f64) -> bool {
         // The largest error of each knot's piece (of its S-curve parts in jerk mode).
         let mut errors = std::mem::take(&mut self.scratch.errors);
         errors.clear();
@@ -677,7 +677,7 @@ impl Knots {
 
     /// Lowers the speed caps at both ends of every piece whose closed-form velocity or
     /// acceleration peak exceeds a limit. Returns whether any did.
-    pub fn slow_over(&mut self, pieces: &[Piece], bounds: &AxisBounds) -> bool {
+    pub fn slow_over(&mut self, pieces: &Pieces, bounds: &AxisBounds) -> bool {
         if no_limit(bounds) {
             // Every piece's factor is 1 (see `Piece::limit_factor`).
             return false;
@@ -726,17 +726,17 @@ impl Knots {
     /// goes down by the square root of the excess; a blend beside the knot, whose
     /// acceleration depends on both its speeds, has its other knot lowered too, and an
     /// S-curve's inner step both of its knots. Returns whether any step was over.
-    pub fn step_over(&mut self, pieces: &[Piece], bounds: &AxisBounds) -> bool {
+    pub fn step_over(&mut self, pieces: &Pieces, bounds: &AxisBounds) -> bool {
         if !self.jerk_mode || pieces.is_empty() {
             return false;
         }
-        let dim = pieces[0].start.len();
+        let dim = pieces.at(0).start.len();
         let mut over = false;
         // The acceleration at the end of the piece before the knot (rest before the
         // first), carried from piece to piece rather than kept for all of them.
         let mut end_before = Vector::zeros(dim);
         for i in 0..=pieces.len() {
-            let ends = pieces.get(i).map(Piece::end_accelerations);
+            let ends = pieces.get(i).map(|p| p.end_accelerations());
             let after = ends.map_or(Vector::zeros(dim), |e| e[0]);
             let end = ends.map_or(Vector::zeros(dim), |e| e[1]);
             let before = std::mem::replace(&mut end_before, end);
@@ -753,7 +753,7 @@ impl Knots {
                 .flatten()
                 .map(|p| {
                     // A planned piece shorter than a quantum is one on the grid.
-                    let t = pieces[p].duration.max(bounds.quantum);
+                    let t = pieces.duration(p).max(bounds.quantum);
                     6.0 * bounds.resolution / (t * t)
                 })
                 .sum();
@@ -774,11 +774,11 @@ impl Knots {
             over = true;
             let mut lower = Vec::with_capacity(2);
             if i == 0 {
-                lower.push(pieces[0].knot + 1);
+                lower.push(pieces.knot(0) + 1);
             } else if i == pieces.len() {
-                lower.push(pieces[i - 1].knot);
+                lower.push(pieces.knot(i - 1));
             } else {
-                let (prev, next) = (pieces[i - 1].knot, pieces[i].knot);
+                let (prev, next) = (pieces.knot(i - 1), pieces.knot(i));
                 if prev == next {
                     lower.extend([next, next + 1]);
                 } else {
@@ -1081,7 +1081,7 @@ impl Knots {
     pub fn emit(
         &self,
         curves: &[Curve],
-        pieces: &[Piece],
+        pieces: &Pieces,
         count: usize,
         emit: &mut dyn FnMut(&SegmentRef<'_>),
     ) {
@@ -1792,7 +1792,7 @@ mod shortcut_tests {
             };
             let storage = KnotStorage::default();
             let mut knots = Knots::new(&curves, &bounds, 1e-3, None, &start, false, storage);
-            let mut pieces = Vec::new();
+            let mut pieces = crate::plan::path::piece::Pieces::default();
             assert!(crate::plan::path::settle_into(
                 &mut knots,
                 &curves,

@@ -10,7 +10,7 @@
 
 use super::curve::Curve;
 use super::knots::{path_jerk, speed_cap, Knot, Knots};
-use super::piece::{Part, Piece};
+use super::piece::{Part, Piece, PieceRef, Pieces};
 use super::{AxisBounds, Vector};
 use crate::hermite::HermiteSegment;
 use crate::plan::quantize::{quanta_time, Quantum};
@@ -19,7 +19,7 @@ impl Knots {
     /// The piece between every two consecutive knots, in order, into `out` (emptied
     /// first: its storage is reused); in jerk mode a piece that changes speed is its
     /// S-curve's two or three parts.
-    pub fn pieces_into(&self, curves: &[Curve], bounds: &AxisBounds, out: &mut Vec<Piece>) {
+    pub fn pieces_into(&self, curves: &[Curve], bounds: &AxisBounds, out: &mut Pieces) {
         out.clear();
         self.pieces_up_to(curves, bounds, 0..self.knots.len() - 1, out);
     }
@@ -33,23 +33,20 @@ impl Knots {
     /// again. Each piece kept moves back in `out` (or stays), and `out` is rewritten
     /// from its end. Under a jerk limit, where a piece may be several parts, every piece
     /// is made again.
-    pub fn pieces_again(&mut self, curves: &[Curve], bounds: &AxisBounds, out: &mut Vec<Piece>) {
+    pub fn pieces_again(&mut self, curves: &[Curve], bounds: &AxisBounds, out: &mut Pieces) {
         let made_at = std::mem::take(&mut self.scratch.made_at);
         let n = self.knots.len();
         if self.jerk_mode || made_at.is_empty() || out.len() + 1 != made_at.len() {
             self.pieces_into(curves, bounds, out);
         } else {
             let dim = curves[0].start.len();
-            out.resize(n - 1, Piece::zeroed(dim, 0));
+            out.resize(n - 1, dim);
             for k in (0..n - 1).rev() {
                 // `out[..=k]` still holds the last round's pieces: those after it are
                 // this round's.
                 match self.made_last_round(k, &made_at) {
-                    Some(i) => {
-                        out[k] = out[i].clone();
-                        out[k].knot = k;
-                    }
-                    None => self.make_piece(curves, bounds, k, &mut out[k]),
+                    Some(i) => out.copy_to(i, k, k),
+                    None => out.set(k, &self.piece(curves, bounds, k)),
                 }
             }
         }
@@ -133,9 +130,9 @@ impl Knots {
         curves: &[Curve],
         bounds: &AxisBounds,
         knots: std::ops::Range<usize>,
-        out: &mut Vec<Piece>,
+        out: &mut Pieces,
     ) {
-        out.truncate(out.partition_point(|p| p.knot < knots.start));
+        out.truncate(out.before_knot(knots.start));
         let first = knots.start;
         for k in knots {
             if let Some(j) = self.knots[k].blend_index() {
@@ -150,7 +147,12 @@ impl Knots {
             } else {
                 // Without a jerk limit this loop pushed the piece of knot `k − 1` last.
                 let before = out.last().filter(|_| k > first && self.shares_its_start(k));
-                let start = before.map(|p| (p.end, p.end_velocity));
+                let start = before.map(|p| {
+                    (
+                        Vector::from_slice(p.end),
+                        Vector::from_slice(p.end_velocity),
+                    )
+                });
                 self.push_piece(curves, bounds, k, start, out);
             }
         }
@@ -178,33 +180,22 @@ impl Knots {
         piece
     }
 
-    /// [`Knots::piece`] pushed onto `out`, built where it lies (a piece is large); `start`
-    /// as [`Knots::fill_piece`] takes it.
+    /// [`Knots::piece`] pushed onto `out`; `start` as [`Knots::fill_piece`] takes it.
     fn push_piece(
         &self,
         curves: &[Curve],
         bounds: &AxisBounds,
         k: usize,
         start: Option<(Vector, Vector)>,
-        out: &mut Vec<Piece>,
+        out: &mut Pieces,
     ) {
         if let Some(j) = self.knots[k].blend_index() {
             out.push(self.blend_piece(curves, k, j));
             return;
         }
-        out.push(Piece::zeroed(curves[0].start.len(), k));
-        let last = out.len() - 1;
-        self.fill_piece(curves, bounds, k, start, &mut out[last]);
-    }
-
-    /// [`Knots::piece`] written over `piece`.
-    fn make_piece(&self, curves: &[Curve], bounds: &AxisBounds, k: usize, piece: &mut Piece) {
-        if let Some(j) = self.knots[k].blend_index() {
-            *piece = self.blend_piece(curves, k, j);
-            return;
-        }
-        *piece = Piece::zeroed(curves[0].start.len(), k);
-        self.fill_piece(curves, bounds, k, None, piece);
+        let mut piece = Piece::zeroed(curves[0].start.len(), k);
+        self.fill_piece(curves, bounds, k, start, &mut piece);
+        out.push(piece);
     }
 
     /// The piece after knot `k`, not a corner blend, written into `piece` (zeroed, of
@@ -284,7 +275,7 @@ impl Knots {
         bounds: &AxisBounds,
         k: usize,
         whole: Piece,
-        out: &mut Vec<Piece>,
+        out: &mut Pieces,
     ) {
         if let Some(j) = self.knots[k].blend_index() {
             self.smooth_blend(curves, k, j, whole, out);
@@ -395,14 +386,7 @@ impl Knots {
     /// linear), so it is exact; the error is [`smooth_blend_error`]. Speeds more than a
     /// factor of two apart (`θ` outside `(0, 1)`; the passes keep them within 1.5) keep
     /// the one-cubic blend `whole`.
-    fn smooth_blend(
-        &self,
-        curves: &[Curve],
-        k: usize,
-        j: usize,
-        whole: Piece,
-        out: &mut Vec<Piece>,
-    ) {
+    fn smooth_blend(&self, curves: &[Curve], k: usize, j: usize, whole: Piece, out: &mut Pieces) {
         let junction = &self.junctions[j];
         let l = junction.blend.unwrap_or(0.0);
         let (va, vb) = (self.knots[k].speed, self.knots[k + 1].speed);
@@ -453,7 +437,7 @@ impl Knots {
     /// [`super::transition`]): its two parts at the speed of its knots, the path of its
     /// shape, times divided by the speed, velocities multiplied by it. Both knots have
     /// the same speed (the passes keep it so); at rest it is one piece along its chord.
-    fn transition_parts(&self, curves: &[Curve], k: usize, j: usize, out: &mut Vec<Piece>) {
+    fn transition_parts(&self, curves: &[Curve], k: usize, j: usize, out: &mut Pieces) {
         let Some(transition) = self.junctions[j].transition.as_deref().copied() else {
             return;
         };
@@ -793,14 +777,14 @@ const GRID_ROUNDS: usize = 64;
 /// The grid times of `pieces` with `counts[i]` quanta of `q` each, and every knot's
 /// divisor: the larger stretch `time/duration` of the pieces beside it (the first knot,
 /// whose velocity is already written, 1; the last, its one piece's).
-fn grid_scales(pieces: &[Piece], counts: &[f64], q: f64) -> (Vec<f64>, Vec<f64>) {
-    let n = pieces.len();
+fn grid_scales(
+    durations: impl Iterator<Item = f64>,
+    counts: &[f64],
+    q: f64,
+) -> (Vec<f64>, Vec<f64>) {
+    let n = counts.len();
     let times: Vec<f64> = counts.iter().map(|&k| quanta_time(k, q)).collect();
-    let stretch: Vec<f64> = times
-        .iter()
-        .zip(pieces)
-        .map(|(t, p)| t / p.duration)
-        .collect();
+    let stretch: Vec<f64> = times.iter().zip(durations).map(|(t, d)| t / d).collect();
     let mut scale = vec![1.0; n + 1];
     for j in 1..=n {
         scale[j] = if j == n {
@@ -815,7 +799,7 @@ fn grid_scales(pieces: &[Piece], counts: &[f64], q: f64) -> (Vec<f64>, Vec<f64>)
 /// Pieces on a time grid.
 #[derive(Debug, Clone)]
 pub(super) struct Grid {
-    pub pieces: Vec<Piece>,
+    pub pieces: Pieces,
 }
 
 impl Knots {
@@ -829,7 +813,7 @@ impl Knots {
         &self,
         curves: &[Curve],
         bounds: &AxisBounds,
-        pieces: &[Piece],
+        pieces: &Pieces,
         quantum: Quantum,
     ) -> Grid {
         if self.jerk_mode {
@@ -859,28 +843,26 @@ impl Knots {
 
     /// The pieces with `counts[i]` quanta each and the knot velocities divided by the
     /// larger stretch beside them.
-    fn grid_pieces(&self, curves: &[Curve], pieces: &[Piece], counts: &[f64], q: f64) -> Grid {
-        let (times, scale) = grid_scales(pieces, counts, q);
-
-        let pieces = pieces
-            .iter()
-            .enumerate()
-            .map(|(i, p)| self.grid_piece(curves, p, times[i], [scale[i], scale[i + 1]]))
-            .collect();
-        Grid { pieces }
+    fn grid_pieces(&self, curves: &[Curve], pieces: &Pieces, counts: &[f64], q: f64) -> Grid {
+        let (times, scale) = grid_scales(pieces.durations(), counts, q);
+        let mut grid = Pieces::with_capacity(curves[0].start.len(), pieces.len());
+        for (i, p) in pieces.iter().enumerate() {
+            grid.push(self.grid_piece(curves, p, times[i], [scale[i], scale[i + 1]]));
+        }
+        Grid { pieces: grid }
     }
 
     /// Piece `p` in time `t` with its end velocities divided by `scale`, and its error
     /// bound for the reference motion φ(t) that is the cubic in the parameter from the
     /// knots' (or S-curve points') new parameter rates (see "Quantization" in [`super`]).
-    fn grid_piece(&self, curves: &[Curve], p: &Piece, t: f64, scale: [f64; 2]) -> Piece {
+    fn grid_piece(&self, curves: &[Curve], p: PieceRef<'_>, t: f64, scale: [f64; 2]) -> Piece {
         let k = p.knot;
         let divide = |v: &[f64], s: f64| Vector::from_fn(v.len(), |i| v[i] / s);
         let mut piece = Piece {
-            start: p.start,
-            end: p.end,
-            start_velocity: divide(&p.start_velocity, scale[0]),
-            end_velocity: divide(&p.end_velocity, scale[1]),
+            start: Vector::from_slice(p.start),
+            end: Vector::from_slice(p.end),
+            start_velocity: divide(p.start_velocity, scale[0]),
+            end_velocity: divide(p.end_velocity, scale[1]),
             duration: t,
             error: p.error,
             knot: p.knot,
@@ -950,7 +932,7 @@ impl Knots {
         &self,
         curves: &[Curve],
         bounds: &AxisBounds,
-        planned: &[Piece],
+        planned: &Pieces,
         quantum: Quantum,
     ) -> Grid {
         let mut whole: Vec<Piece> = Vec::with_capacity(self.knots.len());
@@ -958,13 +940,13 @@ impl Knots {
         for p in planned {
             match whole.last_mut() {
                 Some(last) if last.knot == p.knot => {
-                    last.end = p.end;
-                    last.end_velocity = p.end_velocity;
+                    last.end = Vector::from_slice(p.end);
+                    last.end_velocity = Vector::from_slice(p.end_velocity);
                     last.duration += p.duration;
                     last.error = last.error.max(p.error);
                 }
                 _ => {
-                    let mut piece = p.clone();
+                    let mut piece = p.to_piece();
                     piece.part = None;
                     whole.push(piece);
                     ramps.push(if p.part.is_some() { p.duration } else { 0.0 });
@@ -1027,8 +1009,8 @@ impl Knots {
     ) -> Grid {
         let q = quantum.seconds;
         let n = whole.len();
-        let (times, scale) = grid_scales(whole, counts, q);
-        let mut pieces = Vec::with_capacity(3 * n);
+        let (times, scale) = grid_scales(whole.iter().map(|p| p.duration), counts, q);
+        let mut pieces = Pieces::with_capacity(curves[0].start.len(), 3 * n);
         for (k, p) in whole.iter().enumerate() {
             let ends = [scale[k], scale[k + 1]];
             if smooth[k] {
@@ -1047,7 +1029,7 @@ impl Knots {
                     &mut pieces,
                 );
             } else {
-                pieces.push(self.grid_piece(curves, p, times[k], ends));
+                pieces.push(self.grid_piece(curves, p.as_ref(), times[k], ends));
             }
         }
         Grid { pieces }
@@ -1061,7 +1043,7 @@ impl Knots {
         p: &Piece,
         times: [f64; 3],
         scale: [f64; 2],
-        out: &mut Vec<Piece>,
+        out: &mut Pieces,
     ) {
         let k = p.knot;
         let (curve, from, to) = self.piece_span(curves, k);
@@ -1157,7 +1139,7 @@ fn parameter_peaks(phi: &HermiteSegment) -> (f64, f64, f64) {
 
 /// Largest relative change of the vector speed at mid-piece from `before` to `after`
 /// (pieces that stand still at mid-piece left out).
-pub(super) fn mid_speed_change(before: &[Piece], after: &[Piece]) -> f64 {
+pub(super) fn mid_speed_change(before: &Pieces, after: &Pieces) -> f64 {
     mid_speeds(before)
         .into_iter()
         .zip(mid_speeds(after))
@@ -1167,23 +1149,22 @@ pub(super) fn mid_speed_change(before: &[Piece], after: &[Piece]) -> f64 {
 }
 
 /// The vector speed at the middle of each knot's piece (of the time of its parts).
-fn mid_speeds(pieces: &[Piece]) -> Vec<f64> {
-    let speed = |p: &Piece, t: f64| {
+fn mid_speeds(pieces: &Pieces) -> Vec<f64> {
+    let speed = |p: PieceRef<'_>, t: f64| {
         let v = Vector::from_fn(p.start.len(), |i| p.cubic(i).at(t).velocity);
         crate::vector::norm(&v)
     };
     let mut out = Vec::new();
     let mut first = 0;
     while first < pieces.len() {
-        let knot = pieces[first].knot;
-        let count = pieces[first..]
-            .iter()
-            .take_while(|p| p.knot == knot)
+        let knot = pieces.knot(first);
+        let count = (first..pieces.len())
+            .take_while(|&i| pieces.knot(i) == knot)
             .count();
-        let parts = &pieces[first..first + count];
-        let half = parts.iter().map(|p| p.duration).sum::<f64>() / 2.0;
+        let parts = || (first..first + count).map(|i| pieces.at(i));
+        let half = parts().map(|p| p.duration).sum::<f64>() / 2.0;
         let mut start = 0.0;
-        for (i, p) in parts.iter().enumerate() {
+        for (i, p) in parts().enumerate() {
             if half < start + p.duration || i + 1 == count {
                 out.push(speed(p, half - start));
                 break;
@@ -1233,11 +1214,11 @@ mod tests {
                 let bounds = AxisBounds::new(&axes, &options);
                 let storage = KnotStorage::default();
                 let mut knots = Knots::new(&curves, &bounds, 1e-4, corner, &start, false, storage);
-                let mut pieces = Vec::new();
+                let mut pieces = crate::plan::path::piece::Pieces::default();
                 assert!(settle_into(&mut knots, &curves, &bounds, 1e-4, &mut pieces));
                 let n = knots.knots.len();
                 assert!((1..n - 1).any(|k| knots.shares_its_start(k)));
-                let mut all = Vec::new();
+                let mut all = crate::plan::path::piece::Pieces::default();
                 knots.pieces_into(&curves, &bounds, &mut all);
                 let one_by_one: Vec<_> = (0..n - 1)
                     .map(|k| knots.piece(&curves, &bounds, k))
