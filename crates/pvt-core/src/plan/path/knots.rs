@@ -655,24 +655,33 @@ impl Knots {
         if !errors.iter().enumerate().any(over) {
             return split;
         }
-        // The knots between two splits are copied as one run.
-        let (mut out, mut run) = (self.take_spare(), 0);
-        for (k, &error) in errors.iter().enumerate() {
+        // In place, from the end: the vector grows by the knots added, and each knot
+        // moves up by the splits before it (the knots between two splits as one run).
+        // Knot `k + 1` is still in its place when piece `k` is split (every knot moved
+        // so far went at least one place above `k + 1`), so the new knot's place is
+        // read from the knots as they were; no second knot vector is held.
+        let splits = errors.iter().enumerate().filter(|&e| over(e)).count();
+        let n = self.knots.len();
+        let filler = self.knots[n - 1];
+        self.knots.resize(n + splits, filler);
+        let mut end = n + splits;
+        let mut run_end = n;
+        for (k, &error) in errors.iter().enumerate().rev() {
             if error > tolerance && self.knots[k].blend.is_none() {
-                out.extend_from_slice(&self.knots[run..=k]);
-                run = k + 1;
                 let (_, from, to) = self.piece_span(curves, k);
                 let place = Place {
                     element: self.knots[k].after.element,
                     param: 0.5 * (from + to),
                 };
-                out.push(Knot::at(place, f64::INFINITY));
-                split = true;
+                let run = run_end - (k + 1);
+                self.knots.copy_within(k + 1..run_end, end - run);
+                end -= run + 1;
+                self.knots[end] = Knot::at(place, f64::INFINITY);
+                run_end = k + 1;
             }
         }
-        out.extend_from_slice(&self.knots[run..]);
-        self.spare = std::mem::replace(&mut self.knots, out);
-        split
+        debug_assert_eq!(end, run_end, "every split placed");
+        true
     }
 
     /// Lowers the speed caps at both ends of every piece whose closed-form velocity or
@@ -1586,8 +1595,8 @@ fn scurve_peak(va: f64, vb: f64, cap: f64, a: f64, j: f64, d: f64) -> (f64, f64,
 mod tests {
     use super::{scurve_distance, scurve_reachable, turns_beyond_tangent, TANGENT_ANGLE};
 
-    /// A window keeps its knots in two vectors (the knots and the spare a split or the
-    /// trapezoids rebuild them into): a knot is two places, two 32-bit junction indices,
+    /// A window keeps its knots in two vectors (the knots and the spare the trapezoids
+    /// rebuild them into; a split inserts in place): a knot is two places, two 32-bit junction indices,
     /// its cap, speed, last round and fixed flag, no more.
     #[test]
     fn a_knot_is_72_bytes() {
@@ -1755,6 +1764,69 @@ mod shortcut_tests {
             knot.blend.is_none() && knot.after.element < last && (ahead[k] >= 0.0 || k <= n / 2)
         });
         assert_eq!(knots.cut(curves, 0.0), cut);
+    }
+
+    /// A split in place is the rebuild it replaced: every knot copied in order into a
+    /// new vector, a knot at the middle parameter of each piece over the tolerance (not
+    /// a corner blend) after its first knot; on random programs with random errors,
+    /// none, some and all of them over.
+    #[test]
+    fn knots_split_in_place_are_those_rebuilt() {
+        let axes = [Axis::X, Axis::Y, Axis::Z];
+        let options = PathOptions {
+            tolerance: 1e-3,
+            corner_tolerance: None,
+            limits: Default::default(),
+            quantum: None,
+            servo_period: crate::defaults::SERVO_PERIOD_S,
+            position_resolution: 0.0,
+        };
+        let bounds = AxisBounds::new(&axes, &options);
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        for seed in 1..30 {
+            let mut curves = Vec::new();
+            for e in &program(seed, 40) {
+                Curve::push_new(e, &axes, &mut curves);
+            }
+            let start = Start {
+                param: 0.0,
+                speed: 0.0,
+                junction: None,
+            };
+            let storage = KnotStorage::default();
+            let mut knots = Knots::new(&curves, &bounds, 1e-3, None, &start, false, storage);
+            for share in [0.0, 0.3, 1.0] {
+                let errors: Vec<f64> = (0..knots.knots.len() - 1)
+                    .map(|_| {
+                        state ^= state << 13;
+                        state ^= state >> 7;
+                        state ^= state << 17;
+                        let unit = (state >> 11) as f64 / (1u64 << 53) as f64;
+                        if unit < share {
+                            2.0
+                        } else {
+                            0.5
+                        }
+                    })
+                    .collect();
+                let mut rebuilt = Vec::new();
+                for (k, knot) in knots.knots.iter().enumerate() {
+                    rebuilt.push(*knot);
+                    if k < errors.len() && errors[k] > 1.0 && knot.blend.is_none() {
+                        let (a, b) = (knot.after, knots.knots[k + 1].before);
+                        assert_eq!(a.element, b.element);
+                        let place = super::Place {
+                            element: a.element,
+                            param: 0.5 * (a.param + b.param),
+                        };
+                        rebuilt.push(super::Knot::at(place, f64::INFINITY));
+                    }
+                }
+                let added = rebuilt.len() > knots.knots.len();
+                assert_eq!(knots.split_errors(&curves, &errors, 1.0), added);
+                assert_eq!(format!("{:?}", knots.knots), format!("{rebuilt:?}"));
+            }
+        }
     }
 
     #[test]
