@@ -141,8 +141,6 @@ pub(super) struct Knots {
     /// a time grid, else 0): a shorter one would be stretched to whole quanta, and the
     /// velocities beside it divided by that stretch.
     pub min_cruise: f64,
-    /// The knots before the last rebuild, whose storage the next rebuild reuses.
-    spare: Vec<Knot>,
     /// The passes' and repairs' per-piece values, whose storage every round reuses
     /// (boxed: a window on the grid carries its knots by value).
     pub(super) scratch: Box<Scratch>,
@@ -161,6 +159,17 @@ pub(super) struct Scratch {
     /// The speeds of the knots the last round's pieces were made from (empty: none to
     /// take over), for [`Knots::pieces_again`].
     pub(super) made_at: Vec<f64>,
+    /// The trapezoid knots [`Knots::add_trapezoids`] inserts, each after its knot.
+    added: Vec<Added>,
+}
+
+/// A trapezoid knot to insert after knot `after`: at `param` on that knot's element, its
+/// cap and speed `speed` (a third of a knot's room: the knots are moved up in place).
+#[derive(Debug, Clone, Copy)]
+struct Added {
+    after: usize,
+    param: f64,
+    speed: f64,
 }
 
 /// What the speed passes know of one piece: how fast it may run and how its speed may
@@ -212,7 +221,6 @@ impl PieceWay {
 pub(super) struct KnotStorage {
     knots: Vec<Knot>,
     junctions: Vec<Junction>,
-    spare: Vec<Knot>,
     pub(super) scratch: Box<Scratch>,
 }
 
@@ -222,7 +230,6 @@ impl Knots {
         KnotStorage {
             knots: self.knots,
             junctions: self.junctions,
-            spare: self.spare,
             scratch: self.scratch,
         }
     }
@@ -278,7 +285,6 @@ impl Knots {
         let KnotStorage {
             mut knots,
             mut junctions,
-            spare,
             scratch,
         } = storage;
         knots.clear();
@@ -295,7 +301,6 @@ impl Knots {
             accelerates: bounds.accelerates() || bounds.jerk_mode(),
             jerk_mode: bounds.jerk_mode(),
             min_cruise: 0.0,
-            spare,
             scratch,
         };
         if let Some(j) = &start.junction {
@@ -515,13 +520,9 @@ impl Knots {
         if !self.accelerates {
             return false;
         }
-        let before = self.knots.len();
-        let mut out = self.take_spare();
-        for k in 0..self.knots.len() {
-            out.push(self.knots[k]);
-            if k + 1 == self.knots.len() {
-                break;
-            }
+        let mut added = std::mem::take(&mut self.scratch.added);
+        added.clear();
+        for k in 0..self.knots.len() - 1 {
             if self.knots[k].blend.is_some() {
                 continue;
             }
@@ -556,18 +557,13 @@ impl Knots {
                 let fall = (peak * peak - vb * vb) / (2.0 * a);
                 (peak, rise, fall)
             };
-            let element = self.knots[k].after.element;
             let mut add = |at: f64| {
                 if at > 1e-9 * d && at < d * (1.0 - 1e-9) {
-                    let mut knot = Knot::at(
-                        Place {
-                            element,
-                            param: from + at,
-                        },
-                        peak,
-                    );
-                    knot.speed = peak;
-                    out.push(knot);
+                    added.push(Added {
+                        after: k,
+                        param: from + at,
+                        speed: peak,
+                    });
                 }
             };
             add(rise);
@@ -580,16 +576,28 @@ impl Knots {
                 add(d - fall);
             }
         }
-        self.spare = std::mem::replace(&mut self.knots, out);
-        self.knots.len() > before
-    }
-
-    /// An empty knot vector with the storage of the last rebuild's old knots.
-    fn take_spare(&mut self) -> Vec<Knot> {
-        let mut out = std::mem::take(&mut self.spare);
-        out.clear();
-        out.reserve(self.knots.len());
-        out
+        // In place, from the end: each knot moves up by the knots added before it.
+        let n = self.knots.len();
+        let filler = self.knots[n - 1];
+        self.knots.resize(n + added.len(), filler);
+        let (mut end, mut run_end) = (n + added.len(), n);
+        for a in added.iter().rev() {
+            let run = run_end - (a.after + 1);
+            self.knots.copy_within(a.after + 1..run_end, end - run);
+            end -= run + 1;
+            let place = Place {
+                element: self.knots[a.after].after.element,
+                param: a.param,
+            };
+            let mut knot = Knot::at(place, a.speed);
+            knot.speed = a.speed;
+            self.knots[end] = knot;
+            run_end = a.after + 1;
+        }
+        debug_assert_eq!(end, run_end, "every trapezoid knot placed");
+        let any = !added.is_empty();
+        self.scratch.added = added;
+        any
     }
 
     /// The element and parameter range of piece `k` (from knot `k` to knot `k + 1`).
@@ -1595,8 +1603,8 @@ fn scurve_peak(va: f64, vb: f64, cap: f64, a: f64, j: f64, d: f64) -> (f64, f64,
 mod tests {
     use super::{scurve_distance, scurve_reachable, turns_beyond_tangent, TANGENT_ANGLE};
 
-    /// A window keeps its knots in two vectors (the knots and the spare the trapezoids
-    /// rebuild them into; a split inserts in place): a knot is two places, two 32-bit junction indices,
+    /// A window keeps its knots in one vector (a split and the trapezoids insert in
+    /// place), and the junction and blend indices are 32 bits: a knot is two places, two 32-bit junction indices,
     /// its cap, speed, last round and fixed flag, no more.
     #[test]
     fn a_knot_is_72_bytes() {
@@ -1827,6 +1835,70 @@ mod shortcut_tests {
                 assert_eq!(format!("{:?}", knots.knots), format!("{rebuilt:?}"));
             }
         }
+    }
+
+    /// Trapezoid knots inserted in place: the knots before, bit for bit and in order,
+    /// with knots between them only inside a line piece, each on the element of the
+    /// knot before, past the one before it, short of the next knot, and at its peak (its
+    /// cap and speed); with and without a jerk limit, on random programs planned once.
+    #[test]
+    fn trapezoid_knots_are_inserted_between_the_knots() {
+        let axes = [Axis::X, Axis::Y, Axis::Z];
+        let mut added = 0;
+        for jerk in [None, Some(5e4)] {
+            let limit = crate::limits::AxisLimits {
+                velocity: Some(80.0),
+                acceleration: Some(800.0),
+                jerk,
+            };
+            let options = PathOptions {
+                tolerance: 1e-3,
+                corner_tolerance: None,
+                limits: axes.iter().map(|&a| (a, limit)).collect(),
+                quantum: None,
+                servo_period: crate::defaults::SERVO_PERIOD_S,
+                position_resolution: 0.0,
+            };
+            let bounds = AxisBounds::new(&axes, &options);
+            for seed in 1..20 {
+                let mut curves = Vec::new();
+                for e in &program(seed, 40) {
+                    Curve::push_new(e, &axes, &mut curves);
+                }
+                let start = Start {
+                    param: 0.0,
+                    speed: 0.0,
+                    junction: None,
+                };
+                let storage = KnotStorage::default();
+                let mut knots = Knots::new(&curves, &bounds, 1e-3, None, &start, false, storage);
+                knots.plan_speeds(&curves, &bounds);
+                let before = knots.knots.clone();
+                let any = knots.add_trapezoids(&curves, &bounds);
+                assert_eq!(any, knots.knots.len() > before.len());
+                added += knots.knots.len() - before.len();
+                let mut i = 0;
+                let mut last_param = f64::NEG_INFINITY;
+                for knot in &knots.knots {
+                    if i < before.len() && format!("{knot:?}") == format!("{:?}", before[i]) {
+                        last_param = knot.after.param;
+                        i += 1;
+                        continue;
+                    }
+                    let (prev, next) = (&before[i - 1], &before[i]);
+                    assert!(curves[prev.after.element].is_line());
+                    assert_eq!(knot.after.element, prev.after.element);
+                    assert_eq!(knot.before.element, prev.after.element);
+                    assert!(knot.after.param > last_param, "{knot:?}");
+                    assert!(knot.after.param < next.before.param, "{knot:?}");
+                    assert_eq!(next.before.element, prev.after.element);
+                    assert_eq!(knot.speed.to_bits(), knot.cap.to_bits());
+                    last_param = knot.after.param;
+                }
+                assert_eq!(i, before.len(), "every knot kept, in order");
+            }
+        }
+        assert!(added > 100, "{added} trapezoid knots");
     }
 
     #[test]
