@@ -617,8 +617,8 @@ impl Knots {
         let mut errors = std::mem::take(&mut self.scratch.errors);
         errors.clear();
         errors.resize(self.knots.len() - 1, 0.0);
-        for p in pieces {
-            errors[p.knot] = errors[p.knot].max(p.error);
+        for (knot, error) in pieces.knots_and_errors() {
+            errors[knot] = errors[knot].max(error);
         }
         let split = self.split_errors(curves, &errors, tolerance);
         self.scratch.errors = errors;
@@ -747,7 +747,7 @@ impl Knots {
         if !self.jerk_mode || pieces.is_empty() {
             return false;
         }
-        let dim = pieces.at(0).start.len();
+        let dim = pieces.dim();
         let mut over = false;
         // The acceleration at the end of the piece before the knot (rest before the
         // first), carried from piece to piece rather than kept for all of them.

@@ -222,6 +222,12 @@ impl Pieces {
         self.scalars.len()
     }
 
+    /// The pieces' axes (those of the first pushed since the store was empty).
+    #[inline]
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+
     #[inline]
     pub fn is_empty(&self) -> bool {
         self.scalars.is_empty()
@@ -239,14 +245,6 @@ impl Pieces {
         self.parts.truncate(n);
     }
 
-    /// Room for `n` more pieces of `dim` axes, exactly where the store must grow (a
-    /// plan's size is known before its pieces are made: no doubling past it).
-    pub fn reserve_exact(&mut self, dim: usize, n: usize) {
-        let d = if self.is_empty() { dim } else { self.dim };
-        self.states.reserve_exact(4 * d * n);
-        self.scalars.reserve_exact(n);
-    }
-
     /// Adds `piece` after the last.
     #[inline]
     pub fn push(&mut self, piece: Piece) {
@@ -254,14 +252,16 @@ impl Pieces {
             self.dim = piece.start.len();
         }
         debug_assert_eq!(piece.start.len(), self.dim);
-        for state in [
-            &piece.start,
-            &piece.end,
-            &piece.start_velocity,
-            &piece.end_velocity,
-        ] {
-            self.states.extend_from_slice(state);
-        }
+        // One extend of a known length: no copy call per state.
+        self.states.extend(
+            piece
+                .start
+                .iter()
+                .chain(piece.end.iter())
+                .chain(piece.start_velocity.iter())
+                .chain(piece.end_velocity.iter())
+                .copied(),
+        );
         self.scalars.push(Scalars {
             duration: piece.duration,
             error: piece.error,
@@ -330,7 +330,7 @@ impl Pieces {
     }
 
     /// Piece `i`.
-    #[inline]
+    #[inline(always)]
     pub fn at(&self, i: usize) -> PieceRef<'_> {
         let d = self.dim;
         let states = &self.states[4 * d * i..4 * d * (i + 1)];
@@ -372,6 +372,12 @@ impl Pieces {
     #[inline]
     pub fn duration(&self, i: usize) -> f64 {
         self.scalars[i].duration
+    }
+
+    /// Piece `i`'s error bound.
+    #[inline]
+    pub fn error(&self, i: usize) -> f64 {
+        self.scalars[i].error
     }
 
     /// Every piece's time, in order.

@@ -44,8 +44,8 @@ impl<'a> Motion<'a> {
         starts.clear();
         let mut t = 0.0;
         starts.push(t);
-        for p in pieces {
-            t += p.duration;
+        for duration in pieces.durations() {
+            t += duration;
             starts.push(t);
         }
         Motion {
@@ -92,7 +92,7 @@ impl<'a> Motion<'a> {
 
     /// Position and (scaled) velocity at grid time `t`; the contour's ends exactly.
     fn at(&self, t: f64, last: bool) -> (Vector, Vector) {
-        let dim = self.pieces.at(0).start.len();
+        let dim = self.pieces.dim();
         if t <= 0.0 {
             let p = self.pieces.at(0);
             return (
@@ -699,7 +699,7 @@ pub(super) fn resample(
 
 /// Whole quanta of the planned total time, rounded up (at least one).
 fn grid_count(planned: &Pieces, q: f64) -> f64 {
-    let total: f64 = planned.iter().map(|p| p.duration).sum();
+    let total: f64 = planned.durations().sum();
     (total / q - 1e-9).ceil().max(1.0)
 }
 
@@ -728,7 +728,7 @@ pub(super) fn resample_once(
         speeds,
         ..
     } = scratch;
-    let total: f64 = planned.iter().map(|p| p.duration).sum();
+    let total: f64 = planned.durations().sum();
     let count = grid_count(planned, q);
     let scale = if scaled {
         quanta_time(count, q) / total
@@ -1008,11 +1008,11 @@ fn interval(
                 let peak = cubic_peak(c, (to - from).max(0.0));
                 squares += peak * peak;
             }
-            let planned = motion.pieces.at(i);
-            let knot = &knots.knots[planned.knot];
-            let mut over = elements.add(knot.after.element, planned.knot);
+            let planned_knot = motion.pieces.knot(i);
+            let knot = &knots.knots[planned_knot];
+            let mut over = elements.add(knot.after.element, planned_knot);
             if knot.blend.is_some() {
-                over |= elements.add(knot.after.element + 1, planned.knot + 1);
+                over |= elements.add(knot.after.element + 1, planned_knot + 1);
             }
             if over {
                 return Err(Over::Tolerance);
@@ -1021,7 +1021,7 @@ fn interval(
                 Some(j) if knots.junctions[j].transition.is_none() => tolerances.corner,
                 _ => tolerances.path,
             };
-            let sum = planned.error + squares.sqrt();
+            let sum = motion.pieces.error(i) + squares.sqrt();
             if sum > limit {
                 return Err(Over::Tolerance);
             }
