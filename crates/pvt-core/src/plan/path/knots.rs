@@ -1102,12 +1102,13 @@ impl Knots {
         count: usize,
         emit: &mut dyn FnMut(&SegmentRef<'_>),
     ) {
-        for piece in pieces.iter().take_while(|p| p.knot < count) {
+        for i in (0..pieces.len()).take_while(|&i| pieces.knot(i) < count) {
+            let (end, velocity) = pieces.end_state(i);
             emit(&SegmentRef {
-                end: &piece.end,
-                velocity: &piece.end_velocity,
-                duration: piece.duration,
-                line: curves[self.knots[piece.knot].after.element].line,
+                end,
+                velocity,
+                duration: pieces.duration(i),
+                line: curves[self.knots[pieces.knot(i)].after.element].line,
             });
         }
     }

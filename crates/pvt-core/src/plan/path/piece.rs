@@ -247,7 +247,7 @@ impl Pieces {
 
     /// Adds `piece` after the last.
     #[inline]
-    pub fn push(&mut self, piece: Piece) {
+    pub fn push(&mut self, piece: &Piece) {
         if self.scalars.is_empty() {
             self.dim = piece.start.len();
         }
@@ -378,6 +378,17 @@ impl Pieces {
     #[inline]
     pub fn error(&self, i: usize) -> f64 {
         self.scalars[i].error
+    }
+
+    /// Piece `i`'s end position and velocity.
+    #[inline]
+    pub fn end_state(&self, i: usize) -> (&[f64], &[f64]) {
+        let d = self.dim;
+        let at = 4 * d * i;
+        (
+            &self.states[at + d..at + 2 * d],
+            &self.states[at + 3 * d..at + 4 * d],
+        )
     }
 
     /// Every piece's time, in order.
@@ -551,7 +562,7 @@ mod tests {
                 let n = 1 + (seed >> 40) as usize % 30;
                 for _ in 0..n {
                     let p = piece(dim, &mut seed);
-                    flat.push(p.clone());
+                    flat.push(&p);
                     model.push(p);
                 }
                 let len = model.len();
@@ -607,7 +618,7 @@ mod tests {
             for _ in 0..100 {
                 let mut p = piece(dim, &mut seed);
                 p.part = None;
-                flat.push(p);
+                flat.push(&p);
             }
             assert_eq!(flat.states.len(), 4 * dim * 100);
             assert!(flat.parts.is_empty(), "no piece has a part");

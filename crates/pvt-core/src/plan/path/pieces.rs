@@ -190,12 +190,12 @@ impl Knots {
         out: &mut Pieces,
     ) {
         if let Some(j) = self.knots[k].blend_index() {
-            out.push(self.blend_piece(curves, k, j));
+            out.push(&self.blend_piece(curves, k, j));
             return;
         }
         let mut piece = Piece::zeroed(curves[0].start.len(), k);
         self.fill_piece(curves, bounds, k, start, &mut piece);
-        out.push(piece);
+        out.push(&piece);
     }
 
     /// The piece after knot `k`, not a corner blend, written into `piece` (zeroed, of
@@ -282,7 +282,7 @@ impl Knots {
             return;
         }
         if whole.at_rest() {
-            out.push(whole);
+            out.push(&whole);
             return;
         }
         let (curve, from, to) = self.piece_span(curves, k);
@@ -293,7 +293,7 @@ impl Knots {
         let rate = curve.rate(from).max(curve.rate(to));
         let jerk = path_jerk(curve, from, to, bounds);
         if !jerk.is_finite() {
-            out.push(whole);
+            out.push(&whole);
             return;
         }
         // The parameter acceleration at each knot that keeps the tangential
@@ -306,7 +306,7 @@ impl Knots {
         let tangential = ends[0].abs() * curve.rate(from) + ends[1].abs() * curve.rate(to);
         let turned = tangential > RATE_ACCEL_SHARE * jerk * bounds.servo_period;
         if !turned && dw * rate / t <= 0.25 * jerk * bounds.servo_period {
-            out.push(whole);
+            out.push(&whole);
             return;
         }
         let jp = jerk / rate;
@@ -373,7 +373,7 @@ impl Knots {
             let phi = HermiteSegment::new(p0, r0, p1, r1, dt);
             let ends = [(a, i == 0, 1.0), (b, i == last, 1.0)];
             part.error = bend(curve, &phi) + self.turn(dt, ends);
-            out.push(part);
+            out.push(&part);
         }
     }
 
@@ -392,7 +392,7 @@ impl Knots {
         let (va, vb) = (self.knots[k].speed, self.knots[k + 1].speed);
         let theta = (2.0 * vb - va) / (va + vb);
         if !(va > 0.0 && vb > 0.0 && theta > 1e-3 && theta < 1.0 - 1e-3 && l > 0.0) {
-            out.push(whole);
+            out.push(&whole);
             return;
         }
         let t = l / va + l / vb;
@@ -404,14 +404,14 @@ impl Knots {
         });
         let mid_velocity = Vector::from_fn(dim, |i| va * t1[i] + theta * dv[i]);
         let error = smooth_blend_error(l, va, vb, junction.half_turn_sin);
-        out.push(Piece {
+        out.push(&Piece {
             end: mid,
             end_velocity: mid_velocity,
             duration: theta * t,
             error,
             ..whole.clone()
         });
-        out.push(Piece {
+        out.push(&Piece {
             start: mid,
             start_velocity: mid_velocity,
             duration: (1.0 - theta) * t,
@@ -458,7 +458,7 @@ impl Knots {
             // At rest: the smoothstep along the chord, at the transition's own cap.
             piece.duration = 1.5 * transition.length / self.junctions[j].cap;
             piece.error = transition.chord_error;
-            out.push(piece);
+            out.push(&piece);
             return;
         }
         if (va - vb).abs() > 1e-12 * v {
@@ -466,17 +466,17 @@ impl Knots {
             // are evened out (see `Knots::split_over`).
             piece.duration = transition.length / v;
             piece.error = f64::INFINITY;
-            out.push(piece);
+            out.push(&piece);
             return;
         }
         let middle_velocity = Vector::from_fn(dim, |i| v * transition.middle_velocity[i]);
-        out.push(Piece {
+        out.push(&Piece {
             end: transition.middle,
             end_velocity: middle_velocity,
             duration: transition.times[0] / v,
             ..piece
         });
-        out.push(Piece {
+        out.push(&Piece {
             start: transition.middle,
             start_velocity: middle_velocity,
             duration: transition.times[1] / v,
@@ -847,7 +847,7 @@ impl Knots {
         let (times, scale) = grid_scales(pieces.durations(), counts, q);
         let mut grid = Pieces::with_capacity(curves[0].start.len(), pieces.len());
         for (i, p) in pieces.iter().enumerate() {
-            grid.push(self.grid_piece(curves, p, times[i], [scale[i], scale[i + 1]]));
+            grid.push(&self.grid_piece(curves, p, times[i], [scale[i], scale[i + 1]]));
         }
         Grid { pieces: grid }
     }
@@ -1029,7 +1029,7 @@ impl Knots {
                     &mut pieces,
                 );
             } else {
-                pieces.push(self.grid_piece(curves, p.as_ref(), times[k], ends));
+                pieces.push(&self.grid_piece(curves, p.as_ref(), times[k], ends));
             }
         }
         Grid { pieces }
@@ -1113,7 +1113,7 @@ impl Knots {
                 let ends = [(a, i == 0, scale[0]), (b, i == 2, scale[1])];
                 bend(curve, &cubic) + self.turn(h, ends)
             };
-            out.push(part);
+            out.push(&part);
         }
     }
 }
