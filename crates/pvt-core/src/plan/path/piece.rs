@@ -110,7 +110,7 @@ pub(super) struct PieceRef<'a> {
 
 impl PieceRef<'_> {
     /// The piece as a value.
-    pub fn to_piece(&self) -> Piece {
+    pub fn to_piece(self) -> Piece {
         Piece {
             start: Vector::from_slice(self.start),
             end: Vector::from_slice(self.end),
