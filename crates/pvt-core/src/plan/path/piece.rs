@@ -252,16 +252,15 @@ impl Pieces {
             self.dim = piece.start.len();
         }
         debug_assert_eq!(piece.start.len(), self.dim);
-        // One extend of a known length: no copy call per state.
-        self.states.extend(
-            piece
-                .start
-                .iter()
-                .chain(piece.end.iter())
-                .chain(piece.start_velocity.iter())
-                .chain(piece.end_velocity.iter())
-                .copied(),
-        );
+        // One copy of a size known where it is compiled, for each number of axes.
+        match self.dim {
+            1 => extend_states::<1>(&mut self.states, piece),
+            2 => extend_states::<2>(&mut self.states, piece),
+            3 => extend_states::<3>(&mut self.states, piece),
+            4 => extend_states::<4>(&mut self.states, piece),
+            5 => extend_states::<5>(&mut self.states, piece),
+            _ => extend_states::<{ crate::axis::AXIS_COUNT }>(&mut self.states, piece),
+        }
         self.scalars.push(Scalars {
             duration: piece.duration,
             error: piece.error,
@@ -428,6 +427,19 @@ impl Pieces {
             range: 0..self.len(),
         }
     }
+}
+
+/// Appends the four states of `piece`, of `D` axes, to `states`.
+#[inline(always)]
+fn extend_states<const D: usize>(states: &mut Vec<f64>, piece: &Piece) {
+    let row = |v: &Vector| -> [f64; D] { std::array::from_fn(|i| v.values[i]) };
+    let rows = [
+        row(&piece.start),
+        row(&piece.end),
+        row(&piece.start_velocity),
+        row(&piece.end_velocity),
+    ];
+    states.extend_from_slice(rows.as_flattened());
 }
 
 /// The pieces of a [`Pieces`] in order.
