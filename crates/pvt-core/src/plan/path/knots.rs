@@ -9,7 +9,7 @@
 //! ([`super::piece`]) but never builds them, so `pieces.rs` depends on it and not back.
 
 use super::curve::Curve;
-use super::piece::Piece;
+use super::piece::Pieces;
 use super::transition::Transition;
 use super::{AxisBounds, Vector, NORMAL_SHARE, TANGENT_ANGLE};
 use crate::program::SegmentRef;
@@ -141,8 +141,6 @@ pub(super) struct Knots {
     /// a time grid, else 0): a shorter one would be stretched to whole quanta, and the
     /// velocities beside it divided by that stretch.
     pub min_cruise: f64,
-    /// The knots before the last rebuild, whose storage the next rebuild reuses.
-    spare: Vec<Knot>,
     /// The passes' and repairs' per-piece values, whose storage every round reuses
     /// (boxed: a window on the grid carries its knots by value).
     pub(super) scratch: Box<Scratch>,
@@ -165,6 +163,17 @@ pub(super) struct Scratch {
     /// The speeds of the knots the last round's pieces were made from (empty: none to
     /// take over), for [`Knots::pieces_again`].
     pub(super) made_at: Vec<f64>,
+    /// The trapezoid knots [`Knots::add_trapezoids`] inserts, each after its knot.
+    added: Vec<Added>,
+}
+
+/// A trapezoid knot to insert after knot `after`: at `param` on that knot's element, its
+/// cap and speed `speed` (a third of a knot's room: the knots are moved up in place).
+#[derive(Debug, Clone, Copy)]
+struct Added {
+    after: usize,
+    param: f64,
+    speed: f64,
 }
 
 /// What the speed passes know of one piece: how fast it may run and how its speed may
@@ -225,7 +234,6 @@ impl PieceWay {
 pub(super) struct KnotStorage {
     knots: Vec<Knot>,
     junctions: Vec<Junction>,
-    spare: Vec<Knot>,
     pub(super) scratch: Box<Scratch>,
 }
 
@@ -235,7 +243,6 @@ impl Knots {
         KnotStorage {
             knots: self.knots,
             junctions: self.junctions,
-            spare: self.spare,
             scratch: self.scratch,
         }
     }
@@ -291,7 +298,6 @@ impl Knots {
         let KnotStorage {
             mut knots,
             mut junctions,
-            spare,
             scratch,
         } = storage;
         knots.clear();
@@ -308,7 +314,6 @@ impl Knots {
             accelerates: bounds.accelerates() || bounds.jerk_mode(),
             jerk_mode: bounds.jerk_mode(),
             min_cruise: 0.0,
-            spare,
             scratch,
         };
         if let Some(j) = &start.junction {
@@ -560,13 +565,9 @@ impl Knots {
         if !self.accelerates {
             return false;
         }
-        let before = self.knots.len();
-        let mut out = self.take_spare();
-        for k in 0..self.knots.len() {
-            out.push(self.knots[k]);
-            if k + 1 == self.knots.len() {
-                break;
-            }
+        let mut added = std::mem::take(&mut self.scratch.added);
+        added.clear();
+        for k in 0..self.knots.len() - 1 {
             if self.knots[k].blend.is_some() {
                 continue;
             }
@@ -601,18 +602,13 @@ impl Knots {
                 let fall = (peak * peak - vb * vb) / (2.0 * a);
                 (peak, rise, fall)
             };
-            let element = self.knots[k].after.element;
             let mut add = |at: f64| {
                 if at > 1e-9 * d && at < d * (1.0 - 1e-9) {
-                    let mut knot = Knot::at(
-                        Place {
-                            element,
-                            param: from + at,
-                        },
-                        peak,
-                    );
-                    knot.speed = peak;
-                    out.push(knot);
+                    added.push(Added {
+                        after: k,
+                        param: from + at,
+                        speed: peak,
+                    });
                 }
             };
             add(rise);
@@ -625,16 +621,28 @@ impl Knots {
                 add(d - fall);
             }
         }
-        self.spare = std::mem::replace(&mut self.knots, out);
-        self.knots.len() > before
-    }
-
-    /// An empty knot vector with the storage of the last rebuild's old knots.
-    fn take_spare(&mut self) -> Vec<Knot> {
-        let mut out = std::mem::take(&mut self.spare);
-        out.clear();
-        out.reserve(self.knots.len());
-        out
+        // In place, from the end: each knot moves up by the knots added before it.
+        let n = self.knots.len();
+        let filler = self.knots[n - 1];
+        self.knots.resize(n + added.len(), filler);
+        let (mut end, mut run_end) = (n + added.len(), n);
+        for a in added.iter().rev() {
+            let run = run_end - (a.after + 1);
+            self.knots.copy_within(a.after + 1..run_end, end - run);
+            end -= run + 1;
+            let place = Place {
+                element: self.knots[a.after].after.element,
+                param: a.param,
+            };
+            let mut knot = Knot::at(place, a.speed);
+            knot.speed = a.speed;
+            self.knots[end] = knot;
+            run_end = a.after + 1;
+        }
+        debug_assert_eq!(end, run_end, "every trapezoid knot placed");
+        let any = !added.is_empty();
+        self.scratch.added = added;
+        any
     }
 
     /// The element and parameter range of piece `k` (from knot `k` to knot `k + 1`).
@@ -649,13 +657,13 @@ impl Knots {
     /// Splits every piece whose error bound exceeds `tolerance` at its middle parameter;
     /// a corner blend over its tolerance instead gets both end speeds capped at the
     /// slower one (at equal speeds it meets it). Returns whether any changed.
-    pub fn split_over(&mut self, curves: &[Curve], pieces: &[Piece], tolerance: f64) -> bool {
+    pub fn split_over(&mut self, curves: &[Curve], pieces: &Pieces, tolerance: f64) -> bool {
         // The largest error of each knot's piece (of its S-curve parts in jerk mode).
         let mut errors = std::mem::take(&mut self.scratch.errors);
         errors.clear();
         errors.resize(self.knots.len() - 1, 0.0);
-        for p in pieces {
-            errors[p.knot] = errors[p.knot].max(p.error);
+        for (knot, error) in pieces.knots_and_errors() {
+            errors[knot] = errors[knot].max(error);
         }
         let split = self.split_errors(curves, &errors, tolerance);
         self.scratch.errors = errors;
@@ -700,29 +708,38 @@ impl Knots {
         if !errors.iter().enumerate().any(over) {
             return split;
         }
-        // The knots between two splits are copied as one run.
-        let (mut out, mut run) = (self.take_spare(), 0);
-        for (k, &error) in errors.iter().enumerate() {
+        // In place, from the end: the vector grows by the knots added, and each knot
+        // moves up by the splits before it (the knots between two splits as one run).
+        // Knot `k + 1` is still in its place when piece `k` is split (every knot moved
+        // so far went at least one place above `k + 1`), so the new knot's place is
+        // read from the knots as they were; no second knot vector is held.
+        let splits = errors.iter().enumerate().filter(|&e| over(e)).count();
+        let n = self.knots.len();
+        let filler = self.knots[n - 1];
+        self.knots.resize(n + splits, filler);
+        let mut end = n + splits;
+        let mut run_end = n;
+        for (k, &error) in errors.iter().enumerate().rev() {
             if error > tolerance && self.knots[k].blend.is_none() {
-                out.extend_from_slice(&self.knots[run..=k]);
-                run = k + 1;
                 let (_, from, to) = self.piece_span(curves, k);
                 let place = Place {
                     element: self.knots[k].after.element,
                     param: 0.5 * (from + to),
                 };
-                out.push(Knot::at(place, f64::INFINITY));
-                split = true;
+                let run = run_end - (k + 1);
+                self.knots.copy_within(k + 1..run_end, end - run);
+                end -= run + 1;
+                self.knots[end] = Knot::at(place, f64::INFINITY);
+                run_end = k + 1;
             }
         }
-        out.extend_from_slice(&self.knots[run..]);
-        self.spare = std::mem::replace(&mut self.knots, out);
-        split
+        debug_assert_eq!(end, run_end, "every split placed");
+        true
     }
 
     /// Lowers the speed caps at both ends of every piece whose closed-form velocity or
     /// acceleration peak exceeds a limit. Returns whether any did.
-    pub fn slow_over(&mut self, pieces: &[Piece], bounds: &AxisBounds) -> bool {
+    pub fn slow_over(&mut self, pieces: &Pieces, bounds: &AxisBounds) -> bool {
         if no_limit(bounds) {
             // Every piece's factor is 1 (see `Piece::limit_factor`).
             return false;
@@ -771,17 +788,17 @@ impl Knots {
     /// goes down by the square root of the excess; a blend beside the knot, whose
     /// acceleration depends on both its speeds, has its other knot lowered too, and an
     /// S-curve's inner step both of its knots. Returns whether any step was over.
-    pub fn step_over(&mut self, pieces: &[Piece], bounds: &AxisBounds) -> bool {
+    pub fn step_over(&mut self, pieces: &Pieces, bounds: &AxisBounds) -> bool {
         if !self.jerk_mode || pieces.is_empty() {
             return false;
         }
-        let dim = pieces[0].start.len();
+        let dim = pieces.dim();
         let mut over = false;
         // The acceleration at the end of the piece before the knot (rest before the
         // first), carried from piece to piece rather than kept for all of them.
         let mut end_before = Vector::zeros(dim);
         for i in 0..=pieces.len() {
-            let ends = pieces.get(i).map(Piece::end_accelerations);
+            let ends = pieces.get(i).map(|p| p.end_accelerations());
             let after = ends.map_or(Vector::zeros(dim), |e| e[0]);
             let end = ends.map_or(Vector::zeros(dim), |e| e[1]);
             let before = std::mem::replace(&mut end_before, end);
@@ -798,7 +815,7 @@ impl Knots {
                 .flatten()
                 .map(|p| {
                     // A planned piece shorter than a quantum is one on the grid.
-                    let t = pieces[p].duration.max(bounds.quantum);
+                    let t = pieces.duration(p).max(bounds.quantum);
                     6.0 * bounds.resolution / (t * t)
                 })
                 .sum();
@@ -819,11 +836,11 @@ impl Knots {
             over = true;
             let mut lower = Vec::with_capacity(2);
             if i == 0 {
-                lower.push(pieces[0].knot + 1);
+                lower.push(pieces.knot(0) + 1);
             } else if i == pieces.len() {
-                lower.push(pieces[i - 1].knot);
+                lower.push(pieces.knot(i - 1));
             } else {
-                let (prev, next) = (pieces[i - 1].knot, pieces[i].knot);
+                let (prev, next) = (pieces.knot(i - 1), pieces.knot(i));
                 if prev == next {
                     lower.extend([next, next + 1]);
                 } else {
@@ -1126,16 +1143,17 @@ impl Knots {
     pub fn emit(
         &self,
         curves: &[Curve],
-        pieces: &[Piece],
+        pieces: &Pieces,
         count: usize,
         emit: &mut dyn FnMut(&SegmentRef<'_>),
     ) {
-        for piece in pieces.iter().take_while(|p| p.knot < count) {
+        for i in (0..pieces.len()).take_while(|&i| pieces.knot(i) < count) {
+            let (end, velocity) = pieces.end_state(i);
             emit(&SegmentRef {
-                end: &piece.end,
-                velocity: &piece.end_velocity,
-                duration: piece.duration,
-                line: curves[self.knots[piece.knot].after.element].line,
+                end,
+                velocity,
+                duration: pieces.duration(i),
+                line: curves[self.knots[pieces.knot(i)].after.element].line,
             });
         }
     }
@@ -1631,8 +1649,8 @@ fn scurve_peak(va: f64, vb: f64, cap: f64, a: f64, j: f64, d: f64) -> (f64, f64,
 mod tests {
     use super::{scurve_distance, scurve_reachable, turns_beyond_tangent, TANGENT_ANGLE};
 
-    /// A window keeps its knots in two vectors (the knots and the spare a split or the
-    /// trapezoids rebuild them into): a knot is two places, two 32-bit junction indices,
+    /// A window keeps its knots in one vector (a split and the trapezoids insert in
+    /// place), and the junction and blend indices are 32 bits: a knot is two places, two 32-bit junction indices,
     /// its cap, speed, last round and fixed flag, no more.
     #[test]
     fn a_knot_is_72_bytes() {
@@ -1802,6 +1820,133 @@ mod shortcut_tests {
         assert_eq!(knots.cut(curves, 0.0), cut);
     }
 
+    /// A split in place is the rebuild it replaced: every knot copied in order into a
+    /// new vector, a knot at the middle parameter of each piece over the tolerance (not
+    /// a corner blend) after its first knot; on random programs with random errors,
+    /// none, some and all of them over.
+    #[test]
+    fn knots_split_in_place_are_those_rebuilt() {
+        let axes = [Axis::X, Axis::Y, Axis::Z];
+        let options = PathOptions {
+            tolerance: 1e-3,
+            corner_tolerance: None,
+            limits: Default::default(),
+            quantum: None,
+            servo_period: crate::defaults::SERVO_PERIOD_S,
+            position_resolution: 0.0,
+        };
+        let bounds = AxisBounds::new(&axes, &options);
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        for seed in 1..30 {
+            let mut curves = Vec::new();
+            for e in &program(seed, 40) {
+                Curve::push_new(e, &axes, &mut curves);
+            }
+            let start = Start {
+                param: 0.0,
+                speed: 0.0,
+                junction: None,
+            };
+            let storage = KnotStorage::default();
+            let mut knots = Knots::new(&curves, &bounds, 1e-3, None, &start, false, storage);
+            for share in [0.0, 0.3, 1.0] {
+                let errors: Vec<f64> = (0..knots.knots.len() - 1)
+                    .map(|_| {
+                        state ^= state << 13;
+                        state ^= state >> 7;
+                        state ^= state << 17;
+                        let unit = (state >> 11) as f64 / (1u64 << 53) as f64;
+                        if unit < share {
+                            2.0
+                        } else {
+                            0.5
+                        }
+                    })
+                    .collect();
+                let mut rebuilt = Vec::new();
+                for (k, knot) in knots.knots.iter().enumerate() {
+                    rebuilt.push(*knot);
+                    if k < errors.len() && errors[k] > 1.0 && knot.blend.is_none() {
+                        let (a, b) = (knot.after, knots.knots[k + 1].before);
+                        assert_eq!(a.element, b.element);
+                        let place = super::Place {
+                            element: a.element,
+                            param: 0.5 * (a.param + b.param),
+                        };
+                        rebuilt.push(super::Knot::at(place, f64::INFINITY));
+                    }
+                }
+                let added = rebuilt.len() > knots.knots.len();
+                assert_eq!(knots.split_errors(&curves, &errors, 1.0), added);
+                assert_eq!(format!("{:?}", knots.knots), format!("{rebuilt:?}"));
+            }
+        }
+    }
+
+    /// Trapezoid knots inserted in place: the knots before, bit for bit and in order,
+    /// with knots between them only inside a line piece, each on the element of the
+    /// knot before, past the one before it, short of the next knot, and at its peak (its
+    /// cap and speed); with and without a jerk limit, on random programs planned once.
+    #[test]
+    fn trapezoid_knots_are_inserted_between_the_knots() {
+        let axes = [Axis::X, Axis::Y, Axis::Z];
+        let mut added = 0;
+        for jerk in [None, Some(5e4)] {
+            let limit = crate::limits::AxisLimits {
+                velocity: Some(80.0),
+                acceleration: Some(800.0),
+                jerk,
+            };
+            let options = PathOptions {
+                tolerance: 1e-3,
+                corner_tolerance: None,
+                limits: axes.iter().map(|&a| (a, limit)).collect(),
+                quantum: None,
+                servo_period: crate::defaults::SERVO_PERIOD_S,
+                position_resolution: 0.0,
+            };
+            let bounds = AxisBounds::new(&axes, &options);
+            for seed in 1..20 {
+                let mut curves = Vec::new();
+                for e in &program(seed, 40) {
+                    Curve::push_new(e, &axes, &mut curves);
+                }
+                let start = Start {
+                    param: 0.0,
+                    speed: 0.0,
+                    junction: None,
+                };
+                let storage = KnotStorage::default();
+                let mut knots = Knots::new(&curves, &bounds, 1e-3, None, &start, false, storage);
+                knots.plan_speeds(&curves, &bounds);
+                let before = knots.knots.clone();
+                let any = knots.add_trapezoids(&curves, &bounds);
+                assert_eq!(any, knots.knots.len() > before.len());
+                added += knots.knots.len() - before.len();
+                let mut i = 0;
+                let mut last_param = f64::NEG_INFINITY;
+                for knot in &knots.knots {
+                    if i < before.len() && format!("{knot:?}") == format!("{:?}", before[i]) {
+                        last_param = knot.after.param;
+                        i += 1;
+                        continue;
+                    }
+                    let (prev, next) = (&before[i - 1], &before[i]);
+                    assert!(curves[prev.after.element].is_line());
+                    assert_eq!(knot.after.element, prev.after.element);
+                    assert_eq!(knot.before.element, prev.after.element);
+                    assert!(knot.after.param > last_param, "{knot:?}");
+                    assert!(knot.after.param < next.before.param, "{knot:?}");
+                    assert_eq!(next.before.element, prev.after.element);
+                    assert_eq!(knot.speed.to_bits(), knot.cap.to_bits());
+                    last_param = knot.after.param;
+                }
+                assert_eq!(i, before.len(), "every knot kept, in order");
+            }
+        }
+        assert!(added > 100, "{added} trapezoid knots");
+    }
+
     #[test]
     fn without_limits_the_shortcuts_are_the_full_computation() {
         let axes = [Axis::X, Axis::Y, Axis::Z];
@@ -1837,7 +1982,7 @@ mod shortcut_tests {
             };
             let storage = KnotStorage::default();
             let mut knots = Knots::new(&curves, &bounds, 1e-3, None, &start, false, storage);
-            let mut pieces = Vec::new();
+            let mut pieces = crate::plan::path::piece::Pieces::default();
             assert!(crate::plan::path::settle_into(
                 &mut knots,
                 &curves,

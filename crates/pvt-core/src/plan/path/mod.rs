@@ -448,6 +448,12 @@ impl Vector {
             len,
         }
     }
+
+    /// The values of `values` (at most [`AXIS_COUNT`](crate::axis::AXIS_COUNT)).
+    #[inline]
+    pub fn from_slice(values: &[f64]) -> Vector {
+        Vector::from_fn(values.len(), |i| values[i])
+    }
 }
 
 impl Deref for Vector {
@@ -601,7 +607,7 @@ pub struct PathStream {
     curves: Vec<Curve>,
     /// The pieces of the window's last round and its knots' vectors, kept so that the
     /// next window's rounds reuse their storage rather than allocate it again.
-    pieces: Vec<piece::Piece>,
+    pieces: piece::Pieces,
     knot_storage: KnotStorage,
     /// The same for the windows on a grid, with the resampling's own vectors.
     grid_scratch: resample::Scratch,
@@ -648,7 +654,7 @@ impl PathStream {
             bounds,
             options: options.clone(),
             curves: Vec::new(),
-            pieces: Vec::new(),
+            pieces: piece::Pieces::default(),
             knot_storage: KnotStorage::default(),
             grid_scratch: resample::Scratch::default(),
             start: Start {
@@ -778,7 +784,7 @@ impl PathStream {
                 }
             }
         };
-        let worst = worst_before(pieces.iter().map(|p| (p.knot, p.error)), count);
+        let worst = worst_before(pieces.knots_and_errors(), count);
         self.report.error_bound = self.report.error_bound.max(worst);
         knots.emit(curves, &pieces, count, emit);
         if !last && !bounds.jerk_mode() && self.options.quantum.is_none() {
@@ -862,7 +868,7 @@ impl PathStream {
     fn emit_on_grid(
         &mut self,
         mut knots: Knots,
-        pieces: Vec<piece::Piece>,
+        pieces: piece::Pieces,
         quantum: Quantum,
         emit: &mut dyn FnMut(&SegmentRef<'_>),
     ) -> Result<(), PlanError> {
@@ -870,9 +876,7 @@ impl PathStream {
         self.report.speed_change = self.report.speed_change.max(change);
         let count = knots.knots.len() - 1;
         let worst = match &chosen {
-            OnQuantumGrid::Stretched(pieces) => {
-                worst_before(pieces.iter().map(|p| (p.knot, p.error)), count)
-            }
+            OnQuantumGrid::Stretched(pieces) => worst_before(pieces.knots_and_errors(), count),
             OnQuantumGrid::Resampled(pieces) => pieces.worst_before(count),
         };
         self.report.error_bound = self.report.error_bound.max(worst);
@@ -899,7 +903,7 @@ impl PathStream {
     fn on_quantum_grid(
         &mut self,
         knots: &mut Knots,
-        pieces: Vec<piece::Piece>,
+        pieces: piece::Pieces,
         quantum: Quantum,
     ) -> Result<(f64, OnQuantumGrid), PlanError> {
         let (curves, bounds, tolerance) = (&self.curves, &self.bounds, self.options.tolerance);
@@ -1023,7 +1027,7 @@ fn settle_into(
     curves: &[Curve],
     bounds: &AxisBounds,
     tolerance: f64,
-    pieces: &mut Vec<piece::Piece>,
+    pieces: &mut piece::Pieces,
 ) -> bool {
     knots.forget_pieces();
     if knots.tolerance_alone_repairs(bounds) {
@@ -1038,7 +1042,7 @@ fn settle_by_pieces(
     curves: &[Curve],
     bounds: &AxisBounds,
     tolerance: f64,
-    pieces: &mut Vec<piece::Piece>,
+    pieces: &mut piece::Pieces,
 ) -> bool {
     for _ in 0..MAX_ROUNDS {
         knots.plan_speeds(curves, bounds);
@@ -1066,7 +1070,7 @@ fn settle_by_errors(
     curves: &[Curve],
     bounds: &AxisBounds,
     tolerance: f64,
-    pieces: &mut Vec<piece::Piece>,
+    pieces: &mut piece::Pieces,
 ) -> bool {
     for _ in 0..MAX_ROUNDS {
         knots.plan_speeds(curves, bounds);
@@ -1090,13 +1094,13 @@ fn worst_before(pieces: impl Iterator<Item = (usize, f64)>, count: usize) -> f64
 
 /// A whole contour on the grid: its pieces stretched to whole quanta, or resampled.
 enum OnQuantumGrid {
-    Stretched(Vec<piece::Piece>),
+    Stretched(piece::Pieces),
     Resampled(resample::GridPieces),
 }
 
 /// The planned pieces and the same on the grid.
 struct OnGrid {
-    planned: Vec<piece::Piece>,
+    planned: piece::Pieces,
     grid: pieces::Grid,
 }
 
@@ -1109,7 +1113,7 @@ fn on_grid(
     bounds: &AxisBounds,
     tolerance: f64,
     quantum: Quantum,
-    mut planned: Vec<piece::Piece>,
+    mut planned: piece::Pieces,
 ) -> Option<OnGrid> {
     for _ in 0..MAX_ROUNDS {
         let grid = knots.on_grid(curves, bounds, &planned, quantum);
@@ -1327,8 +1331,10 @@ fn grid_window(
                     }
                 }
             };
-            let prefix = &planned[..planned.partition_point(|p| p.knot < count)];
-            match resample::resample_once(&knots, bounds, tolerances, q, prefix, false, scratch) {
+            // The pieces up to the cut, those resampled: any after it are made again
+            // before the plan is read again (`settle_into` takes pieces holding anything).
+            planned.truncate(planned.before_knot(count));
+            match resample::resample_once(&knots, bounds, tolerances, q, &planned, false, scratch) {
                 Ok(r) => {
                     scratch.planned = planned;
                     return Window::Planned(GridWindow {
@@ -1373,17 +1379,17 @@ fn grid_cut(
     knots: &mut Knots,
     curves: &[Curve],
     planning: &AxisBounds,
-    planned: &mut Vec<piece::Piece>,
+    planned: &mut piece::Pieces,
     (k, room): (usize, &RoomAfterCut<'_>),
     q: f64,
 ) -> Option<(usize, bool)> {
     // The pieces before knot `k` (under a jerk limit an S-curve is several parts).
-    let before = planned.partition_point(|p| p.knot < k);
+    let before = planned.before_knot(k);
     let mut starts = Vec::with_capacity(before + 1);
     let mut t = 0.0;
-    for p in &planned[..before] {
+    for duration in planned.durations().take(before) {
         starts.push(t);
-        t += p.duration;
+        t += duration;
     }
     let slack = 1e-9 * q;
     let mut g = quanta_count(t, q);
@@ -1395,7 +1401,7 @@ fn grid_cut(
         let tau = crate::plan::quantize::quanta_time(g, q);
         g -= 1.0;
         let piece_index = starts.partition_point(|&s| s <= tau + slack) - 1;
-        let (piece, u) = (&planned[piece_index], tau - starts[piece_index]);
+        let (piece, u) = (planned.at(piece_index), tau - starts[piece_index]);
         // A corner blend's or curvature transition's two parts meet inside it.
         let same_knot = |i: Option<usize>| {
             i.and_then(|i| planned.get(i))
@@ -1500,17 +1506,17 @@ fn jerk_horizon(
 fn jerk_cut(
     knots: &mut Knots,
     curves: &[Curve],
-    pieces: &[piece::Piece],
+    pieces: &piece::Pieces,
     bounds: &AxisBounds,
     grow: bool,
 ) -> Option<usize> {
     let k = jerk_horizon(knots, curves, bounds, grow)?;
     (1..=k).rev().find(|&at| {
-        let before = pieces.partition_point(|p| p.knot < at);
+        let before = pieces.before_knot(at);
         if before == 0 || !knots.cuttable(curves, at) {
             return false;
         }
-        let before = &pieces[before - 1];
+        let before = pieces.at(before - 1);
         let end = before.end_accelerations()[1];
         let within = end.iter().zip(&bounds.step).all(|(a, s)| {
             a.abs() <= 0.5 * s - 6.0 * bounds.resolution / (before.duration * before.duration)
@@ -1694,7 +1700,7 @@ mod tests {
         let storage = KnotStorage::default();
         let mut knots = Knots::new(&curves, &bounds, 1e-4, None, &start, false, storage);
         let first = knots.knots.len();
-        let mut pieces = Vec::new();
+        let mut pieces = super::piece::Pieces::default();
         assert!(super::settle_into(
             &mut knots,
             &curves,
@@ -1703,7 +1709,7 @@ mod tests {
             &mut pieces
         ));
         assert!(knots.knots.len() > first, "no round split a piece");
-        let mut fresh = Vec::new();
+        let mut fresh = super::piece::Pieces::default();
         knots.pieces_into(&curves, &bounds, &mut fresh);
         assert_eq!(format!("{pieces:?}"), format!("{fresh:?}"));
         // One more round by hand: the worse half of the pieces split.
@@ -1820,7 +1826,10 @@ mod tests {
             let (mut by_errors, mut by_pieces) = (knots(), knots());
             assert!(by_errors.tolerance_alone_repairs(&bounds));
             let first = by_errors.knots.len();
-            let (mut settled, mut made) = (Vec::new(), Vec::new());
+            let (mut settled, mut made) = (
+                super::piece::Pieces::default(),
+                super::piece::Pieces::default(),
+            );
             assert!(super::settle_by_errors(
                 &mut by_errors,
                 &curves,

@@ -10,7 +10,7 @@
 
 use super::curve::Curve;
 use super::knots::{path_jerk, speed_cap, Knot, Knots};
-use super::piece::{Part, Piece};
+use super::piece::{Part, Piece, PieceRef, Pieces};
 use super::{AxisBounds, Vector};
 use crate::hermite::HermiteSegment;
 use crate::plan::quantize::{quanta_time, Quantum};
@@ -19,7 +19,7 @@ impl Knots {
     /// The piece between every two consecutive knots, in order, into `out` (emptied
     /// first: its storage is reused); in jerk mode a piece that changes speed is its
     /// S-curve's two or three parts.
-    pub fn pieces_into(&self, curves: &[Curve], bounds: &AxisBounds, out: &mut Vec<Piece>) {
+    pub fn pieces_into(&self, curves: &[Curve], bounds: &AxisBounds, out: &mut Pieces) {
         out.clear();
         self.pieces_up_to(curves, bounds, 0..self.knots.len() - 1, out);
     }
@@ -33,23 +33,20 @@ impl Knots {
     /// again. Each piece kept moves back in `out` (or stays), and `out` is rewritten
     /// from its end. Under a jerk limit, where a piece may be several parts, every piece
     /// is made again.
-    pub fn pieces_again(&mut self, curves: &[Curve], bounds: &AxisBounds, out: &mut Vec<Piece>) {
+    pub fn pieces_again(&mut self, curves: &[Curve], bounds: &AxisBounds, out: &mut Pieces) {
         let made_at = std::mem::take(&mut self.scratch.made_at);
         let n = self.knots.len();
         if self.jerk_mode || made_at.is_empty() || out.len() + 1 != made_at.len() {
             self.pieces_into(curves, bounds, out);
         } else {
             let dim = curves[0].start.len();
-            out.resize(n - 1, Piece::zeroed(dim, 0));
+            out.resize(n - 1, dim);
             for k in (0..n - 1).rev() {
                 // `out[..=k]` still holds the last round's pieces: those after it are
                 // this round's.
                 match self.made_last_round(k, &made_at) {
-                    Some(i) => {
-                        out[k] = out[i].clone();
-                        out[k].knot = k;
-                    }
-                    None => self.make_piece(curves, bounds, k, &mut out[k]),
+                    Some(i) => out.copy_to(i, k, k),
+                    None => out.set(k, &self.piece(curves, bounds, k)),
                 }
             }
         }
@@ -140,13 +137,18 @@ impl Knots {
     /// error bound that round made ([`Scratch::durations`] and
     /// [`Scratch::errors`](super::knots::Scratch)), the same numbers
     /// [`Knots::time_and_error`] would make again, and only its end states are made.
-    pub fn pieces_from_bounds(&self, curves: &[Curve], bounds: &AxisBounds, out: &mut Vec<Piece>) {
+    pub fn pieces_from_bounds(&self, curves: &[Curve], bounds: &AxisBounds, out: &mut Pieces) {
         let (durations, errors) = (&self.scratch.durations, &self.scratch.errors);
         debug_assert!(!self.jerk_mode && durations.len() + 1 == self.knots.len());
         out.clear();
         for k in 0..self.knots.len() - 1 {
             let before = out.last().filter(|_| self.shares_its_start(k));
-            let start = before.map(|p| (p.end, p.end_velocity));
+            let start = before.map(|p| {
+                (
+                    Vector::from_slice(p.end),
+                    Vector::from_slice(p.end_velocity),
+                )
+            });
             self.push_piece(
                 curves,
                 bounds,
@@ -173,9 +175,9 @@ impl Knots {
         curves: &[Curve],
         bounds: &AxisBounds,
         knots: std::ops::Range<usize>,
-        out: &mut Vec<Piece>,
+        out: &mut Pieces,
     ) {
-        out.truncate(out.partition_point(|p| p.knot < knots.start));
+        out.truncate(out.before_knot(knots.start));
         let first = knots.start;
         for k in knots {
             if let Some(j) = self.knots[k].blend_index() {
@@ -190,7 +192,12 @@ impl Knots {
             } else {
                 // Without a jerk limit this loop pushed the piece of knot `k − 1` last.
                 let before = out.last().filter(|_| k > first && self.shares_its_start(k));
-                let start = before.map(|p| (p.end, p.end_velocity));
+                let start = before.map(|p| {
+                    (
+                        Vector::from_slice(p.end),
+                        Vector::from_slice(p.end_velocity),
+                    )
+                });
                 self.push_piece(curves, bounds, k, start, None, out);
             }
         }
@@ -218,8 +225,8 @@ impl Knots {
         piece
     }
 
-    /// [`Knots::piece`] pushed onto `out`, built where it lies (a piece is large); `start`
-    /// and `timed` as [`Knots::fill_piece`] takes them.
+    /// [`Knots::piece`] pushed onto `out`; `start` and `timed` as [`Knots::fill_piece`]
+    /// takes them.
     fn push_piece(
         &self,
         curves: &[Curve],
@@ -227,25 +234,15 @@ impl Knots {
         k: usize,
         start: Option<(Vector, Vector)>,
         timed: Option<(f64, f64)>,
-        out: &mut Vec<Piece>,
+        out: &mut Pieces,
     ) {
         if let Some(j) = self.knots[k].blend_index() {
-            out.push(self.blend_piece(curves, k, j));
+            out.push(&self.blend_piece(curves, k, j));
             return;
         }
-        out.push(Piece::zeroed(curves[0].start.len(), k));
-        let last = out.len() - 1;
-        self.fill_piece(curves, bounds, k, start, timed, &mut out[last]);
-    }
-
-    /// [`Knots::piece`] written over `piece`.
-    fn make_piece(&self, curves: &[Curve], bounds: &AxisBounds, k: usize, piece: &mut Piece) {
-        if let Some(j) = self.knots[k].blend_index() {
-            *piece = self.blend_piece(curves, k, j);
-            return;
-        }
-        *piece = Piece::zeroed(curves[0].start.len(), k);
-        self.fill_piece(curves, bounds, k, None, None, piece);
+        let mut piece = Piece::zeroed(curves[0].start.len(), k);
+        self.fill_piece(curves, bounds, k, start, timed, &mut piece);
+        out.push(&piece);
     }
 
     /// The piece after knot `k`, not a corner blend, written into `piece` (zeroed, of
@@ -331,14 +328,14 @@ impl Knots {
         bounds: &AxisBounds,
         k: usize,
         whole: Piece,
-        out: &mut Vec<Piece>,
+        out: &mut Pieces,
     ) {
         if let Some(j) = self.knots[k].blend_index() {
             self.smooth_blend(curves, k, j, whole, out);
             return;
         }
         if whole.at_rest() {
-            out.push(whole);
+            out.push(&whole);
             return;
         }
         let (curve, from, to) = self.piece_span(curves, k);
@@ -349,7 +346,7 @@ impl Knots {
         let rate = curve.rate(from).max(curve.rate(to));
         let jerk = path_jerk(curve, from, to, bounds);
         if !jerk.is_finite() {
-            out.push(whole);
+            out.push(&whole);
             return;
         }
         // The parameter acceleration at each knot that keeps the tangential
@@ -362,7 +359,7 @@ impl Knots {
         let tangential = ends[0].abs() * curve.rate(from) + ends[1].abs() * curve.rate(to);
         let turned = tangential > RATE_ACCEL_SHARE * jerk * bounds.servo_period;
         if !turned && dw * rate / t <= 0.25 * jerk * bounds.servo_period {
-            out.push(whole);
+            out.push(&whole);
             return;
         }
         let jp = jerk / rate;
@@ -429,7 +426,7 @@ impl Knots {
             let phi = HermiteSegment::new(p0, r0, p1, r1, dt);
             let ends = [(a, i == 0, 1.0), (b, i == last, 1.0)];
             part.error = bend(curve, &phi) + self.turn(dt, ends);
-            out.push(part);
+            out.push(&part);
         }
     }
 
@@ -442,20 +439,13 @@ impl Knots {
     /// linear), so it is exact; the error is [`smooth_blend_error`]. Speeds more than a
     /// factor of two apart (`θ` outside `(0, 1)`; the passes keep them within 1.5) keep
     /// the one-cubic blend `whole`.
-    fn smooth_blend(
-        &self,
-        curves: &[Curve],
-        k: usize,
-        j: usize,
-        whole: Piece,
-        out: &mut Vec<Piece>,
-    ) {
+    fn smooth_blend(&self, curves: &[Curve], k: usize, j: usize, whole: Piece, out: &mut Pieces) {
         let junction = &self.junctions[j];
         let l = junction.blend.unwrap_or(0.0);
         let (va, vb) = (self.knots[k].speed, self.knots[k + 1].speed);
         let theta = (2.0 * vb - va) / (va + vb);
         if !(va > 0.0 && vb > 0.0 && theta > 1e-3 && theta < 1.0 - 1e-3 && l > 0.0) {
-            out.push(whole);
+            out.push(&whole);
             return;
         }
         let t = l / va + l / vb;
@@ -467,14 +457,14 @@ impl Knots {
         });
         let mid_velocity = Vector::from_fn(dim, |i| va * t1[i] + theta * dv[i]);
         let error = smooth_blend_error(l, va, vb, junction.half_turn_sin);
-        out.push(Piece {
+        out.push(&Piece {
             end: mid,
             end_velocity: mid_velocity,
             duration: theta * t,
             error,
             ..whole.clone()
         });
-        out.push(Piece {
+        out.push(&Piece {
             start: mid,
             start_velocity: mid_velocity,
             duration: (1.0 - theta) * t,
@@ -500,7 +490,7 @@ impl Knots {
     /// [`super::transition`]): its two parts at the speed of its knots, the path of its
     /// shape, times divided by the speed, velocities multiplied by it. Both knots have
     /// the same speed (the passes keep it so); at rest it is one piece along its chord.
-    fn transition_parts(&self, curves: &[Curve], k: usize, j: usize, out: &mut Vec<Piece>) {
+    fn transition_parts(&self, curves: &[Curve], k: usize, j: usize, out: &mut Pieces) {
         let Some(transition) = self.junctions[j].transition.as_deref().copied() else {
             return;
         };
@@ -521,7 +511,7 @@ impl Knots {
             // At rest: the smoothstep along the chord, at the transition's own cap.
             piece.duration = 1.5 * transition.length / self.junctions[j].cap;
             piece.error = transition.chord_error;
-            out.push(piece);
+            out.push(&piece);
             return;
         }
         if (va - vb).abs() > 1e-12 * v {
@@ -529,17 +519,17 @@ impl Knots {
             // are evened out (see `Knots::split_over`).
             piece.duration = transition.length / v;
             piece.error = f64::INFINITY;
-            out.push(piece);
+            out.push(&piece);
             return;
         }
         let middle_velocity = Vector::from_fn(dim, |i| v * transition.middle_velocity[i]);
-        out.push(Piece {
+        out.push(&Piece {
             end: transition.middle,
             end_velocity: middle_velocity,
             duration: transition.times[0] / v,
             ..piece
         });
-        out.push(Piece {
+        out.push(&Piece {
             start: transition.middle,
             start_velocity: middle_velocity,
             duration: transition.times[1] / v,
@@ -840,14 +830,14 @@ const GRID_ROUNDS: usize = 64;
 /// The grid times of `pieces` with `counts[i]` quanta of `q` each, and every knot's
 /// divisor: the larger stretch `time/duration` of the pieces beside it (the first knot,
 /// whose velocity is already written, 1; the last, its one piece's).
-fn grid_scales(pieces: &[Piece], counts: &[f64], q: f64) -> (Vec<f64>, Vec<f64>) {
-    let n = pieces.len();
+fn grid_scales(
+    durations: impl Iterator<Item = f64>,
+    counts: &[f64],
+    q: f64,
+) -> (Vec<f64>, Vec<f64>) {
+    let n = counts.len();
     let times: Vec<f64> = counts.iter().map(|&k| quanta_time(k, q)).collect();
-    let stretch: Vec<f64> = times
-        .iter()
-        .zip(pieces)
-        .map(|(t, p)| t / p.duration)
-        .collect();
+    let stretch: Vec<f64> = times.iter().zip(durations).map(|(t, d)| t / d).collect();
     let mut scale = vec![1.0; n + 1];
     for j in 1..=n {
         scale[j] = if j == n {
@@ -862,7 +852,7 @@ fn grid_scales(pieces: &[Piece], counts: &[f64], q: f64) -> (Vec<f64>, Vec<f64>)
 /// Pieces on a time grid.
 #[derive(Debug, Clone)]
 pub(super) struct Grid {
-    pub pieces: Vec<Piece>,
+    pub pieces: Pieces,
 }
 
 impl Knots {
@@ -876,7 +866,7 @@ impl Knots {
         &self,
         curves: &[Curve],
         bounds: &AxisBounds,
-        pieces: &[Piece],
+        pieces: &Pieces,
         quantum: Quantum,
     ) -> Grid {
         if self.jerk_mode {
@@ -906,28 +896,26 @@ impl Knots {
 
     /// The pieces with `counts[i]` quanta each and the knot velocities divided by the
     /// larger stretch beside them.
-    fn grid_pieces(&self, curves: &[Curve], pieces: &[Piece], counts: &[f64], q: f64) -> Grid {
-        let (times, scale) = grid_scales(pieces, counts, q);
-
-        let pieces = pieces
-            .iter()
-            .enumerate()
-            .map(|(i, p)| self.grid_piece(curves, p, times[i], [scale[i], scale[i + 1]]))
-            .collect();
-        Grid { pieces }
+    fn grid_pieces(&self, curves: &[Curve], pieces: &Pieces, counts: &[f64], q: f64) -> Grid {
+        let (times, scale) = grid_scales(pieces.durations(), counts, q);
+        let mut grid = Pieces::with_capacity(curves[0].start.len(), pieces.len());
+        for (i, p) in pieces.iter().enumerate() {
+            grid.push(&self.grid_piece(curves, p, times[i], [scale[i], scale[i + 1]]));
+        }
+        Grid { pieces: grid }
     }
 
     /// Piece `p` in time `t` with its end velocities divided by `scale`, and its error
     /// bound for the reference motion φ(t) that is the cubic in the parameter from the
     /// knots' (or S-curve points') new parameter rates (see "Quantization" in [`super`]).
-    fn grid_piece(&self, curves: &[Curve], p: &Piece, t: f64, scale: [f64; 2]) -> Piece {
+    fn grid_piece(&self, curves: &[Curve], p: PieceRef<'_>, t: f64, scale: [f64; 2]) -> Piece {
         let k = p.knot;
         let divide = |v: &[f64], s: f64| Vector::from_fn(v.len(), |i| v[i] / s);
         let mut piece = Piece {
-            start: p.start,
-            end: p.end,
-            start_velocity: divide(&p.start_velocity, scale[0]),
-            end_velocity: divide(&p.end_velocity, scale[1]),
+            start: Vector::from_slice(p.start),
+            end: Vector::from_slice(p.end),
+            start_velocity: divide(p.start_velocity, scale[0]),
+            end_velocity: divide(p.end_velocity, scale[1]),
             duration: t,
             error: p.error,
             knot: p.knot,
@@ -997,7 +985,7 @@ impl Knots {
         &self,
         curves: &[Curve],
         bounds: &AxisBounds,
-        planned: &[Piece],
+        planned: &Pieces,
         quantum: Quantum,
     ) -> Grid {
         let mut whole: Vec<Piece> = Vec::with_capacity(self.knots.len());
@@ -1005,13 +993,13 @@ impl Knots {
         for p in planned {
             match whole.last_mut() {
                 Some(last) if last.knot == p.knot => {
-                    last.end = p.end;
-                    last.end_velocity = p.end_velocity;
+                    last.end = Vector::from_slice(p.end);
+                    last.end_velocity = Vector::from_slice(p.end_velocity);
                     last.duration += p.duration;
                     last.error = last.error.max(p.error);
                 }
                 _ => {
-                    let mut piece = p.clone();
+                    let mut piece = p.to_piece();
                     piece.part = None;
                     whole.push(piece);
                     ramps.push(if p.part.is_some() { p.duration } else { 0.0 });
@@ -1074,8 +1062,8 @@ impl Knots {
     ) -> Grid {
         let q = quantum.seconds;
         let n = whole.len();
-        let (times, scale) = grid_scales(whole, counts, q);
-        let mut pieces = Vec::with_capacity(3 * n);
+        let (times, scale) = grid_scales(whole.iter().map(|p| p.duration), counts, q);
+        let mut pieces = Pieces::with_capacity(curves[0].start.len(), 3 * n);
         for (k, p) in whole.iter().enumerate() {
             let ends = [scale[k], scale[k + 1]];
             if smooth[k] {
@@ -1094,7 +1082,7 @@ impl Knots {
                     &mut pieces,
                 );
             } else {
-                pieces.push(self.grid_piece(curves, p, times[k], ends));
+                pieces.push(&self.grid_piece(curves, p.as_ref(), times[k], ends));
             }
         }
         Grid { pieces }
@@ -1108,7 +1096,7 @@ impl Knots {
         p: &Piece,
         times: [f64; 3],
         scale: [f64; 2],
-        out: &mut Vec<Piece>,
+        out: &mut Pieces,
     ) {
         let k = p.knot;
         let (curve, from, to) = self.piece_span(curves, k);
@@ -1178,7 +1166,7 @@ impl Knots {
                 let ends = [(a, i == 0, scale[0]), (b, i == 2, scale[1])];
                 bend(curve, &cubic) + self.turn(h, ends)
             };
-            out.push(part);
+            out.push(&part);
         }
     }
 }
@@ -1204,7 +1192,7 @@ fn parameter_peaks(phi: &HermiteSegment) -> (f64, f64, f64) {
 
 /// Largest relative change of the vector speed at mid-piece from `before` to `after`
 /// (pieces that stand still at mid-piece left out).
-pub(super) fn mid_speed_change(before: &[Piece], after: &[Piece]) -> f64 {
+pub(super) fn mid_speed_change(before: &Pieces, after: &Pieces) -> f64 {
     mid_speeds(before)
         .into_iter()
         .zip(mid_speeds(after))
@@ -1214,23 +1202,22 @@ pub(super) fn mid_speed_change(before: &[Piece], after: &[Piece]) -> f64 {
 }
 
 /// The vector speed at the middle of each knot's piece (of the time of its parts).
-fn mid_speeds(pieces: &[Piece]) -> Vec<f64> {
-    let speed = |p: &Piece, t: f64| {
+fn mid_speeds(pieces: &Pieces) -> Vec<f64> {
+    let speed = |p: PieceRef<'_>, t: f64| {
         let v = Vector::from_fn(p.start.len(), |i| p.cubic(i).at(t).velocity);
         crate::vector::norm(&v)
     };
     let mut out = Vec::new();
     let mut first = 0;
     while first < pieces.len() {
-        let knot = pieces[first].knot;
-        let count = pieces[first..]
-            .iter()
-            .take_while(|p| p.knot == knot)
+        let knot = pieces.knot(first);
+        let count = (first..pieces.len())
+            .take_while(|&i| pieces.knot(i) == knot)
             .count();
-        let parts = &pieces[first..first + count];
-        let half = parts.iter().map(|p| p.duration).sum::<f64>() / 2.0;
+        let parts = || (first..first + count).map(|i| pieces.at(i));
+        let half = parts().map(|p| p.duration).sum::<f64>() / 2.0;
         let mut start = 0.0;
-        for (i, p) in parts.iter().enumerate() {
+        for (i, p) in parts().enumerate() {
             if half < start + p.duration || i + 1 == count {
                 out.push(speed(p, half - start));
                 break;
@@ -1280,11 +1267,11 @@ mod tests {
                 let bounds = AxisBounds::new(&axes, &options);
                 let storage = KnotStorage::default();
                 let mut knots = Knots::new(&curves, &bounds, 1e-4, corner, &start, false, storage);
-                let mut pieces = Vec::new();
+                let mut pieces = crate::plan::path::piece::Pieces::default();
                 assert!(settle_into(&mut knots, &curves, &bounds, 1e-4, &mut pieces));
                 let n = knots.knots.len();
                 assert!((1..n - 1).any(|k| knots.shares_its_start(k)));
-                let mut all = Vec::new();
+                let mut all = crate::plan::path::piece::Pieces::default();
                 knots.pieces_into(&curves, &bounds, &mut all);
                 let one_by_one: Vec<_> = (0..n - 1)
                     .map(|k| knots.piece(&curves, &bounds, k))

@@ -12,7 +12,7 @@
 
 use super::curve::Curve;
 use super::knots::{KnotStorage, Knots};
-use super::piece::Piece;
+use super::piece::{Piece, Pieces};
 use super::{settle_into, AxisBounds, Vector, MAX_ROUNDS};
 use crate::hermite::{HermiteSegment, State};
 use crate::plan::quantize::{quanta_time, Quantum};
@@ -29,7 +29,7 @@ pub(super) const RESAMPLE_SHARE: f64 = 0.8;
 /// The planned motion scaled uniformly in time by `scale`: the same path, velocities
 /// divided by `scale`, accelerations by `scale²`.
 struct Motion<'a> {
-    pieces: &'a [Piece],
+    pieces: &'a Pieces,
     /// Planned (unscaled) start time of every piece, and the total at the end.
     starts: &'a [f64],
     scale: f64,
@@ -40,12 +40,12 @@ struct Motion<'a> {
 
 impl<'a> Motion<'a> {
     /// The motion of `pieces` scaled by `scale`, its start times kept in `starts`.
-    fn new(pieces: &'a [Piece], scale: f64, starts: &'a mut Vec<f64>) -> Motion<'a> {
+    fn new(pieces: &'a Pieces, scale: f64, starts: &'a mut Vec<f64>) -> Motion<'a> {
         starts.clear();
         let mut t = 0.0;
         starts.push(t);
-        for p in pieces {
-            t += p.duration;
+        for duration in pieces.durations() {
+            t += duration;
             starts.push(t);
         }
         Motion {
@@ -75,12 +75,12 @@ impl<'a> Motion<'a> {
             self.starts[1..n].partition_point(|&s| s <= u)
         };
         self.hint.set(i);
-        (i, (u - self.starts[i]).clamp(0.0, self.pieces[i].duration))
+        (i, (u - self.starts[i]).clamp(0.0, self.pieces.duration(i)))
     }
 
     /// Axis `axis` of piece `i` at planned time `u` into it, in scaled time.
     fn axis_state(&self, i: usize, axis: usize, u: f64) -> State {
-        let s = self.pieces[i].cubic(axis).at(u);
+        let s = self.pieces.cubic(i, axis).at(u);
         let k = self.scale;
         State {
             position: s.position,
@@ -92,18 +92,18 @@ impl<'a> Motion<'a> {
 
     /// Position and (scaled) velocity at grid time `t`; the contour's ends exactly.
     fn at(&self, t: f64, last: bool) -> (Vector, Vector) {
-        let dim = self.pieces[0].start.len();
+        let dim = self.pieces.dim();
         if t <= 0.0 {
-            let p = &self.pieces[0];
+            let p = self.pieces.at(0);
             return (
-                p.start,
+                Vector::from_slice(p.start),
                 Vector::from_fn(dim, |a| p.start_velocity[a] / self.scale),
             );
         }
         if last {
-            let p = &self.pieces[self.pieces.len() - 1];
+            let p = self.pieces.at(self.pieces.len() - 1);
             return (
-                p.end,
+                Vector::from_slice(p.end),
                 Vector::from_fn(dim, |a| p.end_velocity[a] / self.scale),
             );
         }
@@ -157,7 +157,7 @@ pub(super) struct Scratch {
     /// The knots' vectors of the plan that is resampled.
     pub knots: KnotStorage,
     /// The pieces of the plan that is resampled.
-    pub planned: Vec<Piece>,
+    pub planned: Pieces,
     /// Planned start time of every piece (see [`Motion`]).
     starts: Vec<f64>,
     /// The grid knots, in quanta.
@@ -673,7 +673,7 @@ pub(super) fn resample(
     limits: &Limits<'_>,
     quantum: Quantum,
     bar: f64,
-    planned: &mut Vec<Piece>,
+    planned: &mut Pieces,
     scratch: &mut Scratch,
 ) -> Option<Resampled> {
     let q = quantum.seconds;
@@ -698,8 +698,8 @@ pub(super) fn resample(
 }
 
 /// Whole quanta of the planned total time, rounded up (at least one).
-fn grid_count(planned: &[Piece], q: f64) -> f64 {
-    let total: f64 = planned.iter().map(|p| p.duration).sum();
+fn grid_count(planned: &Pieces, q: f64) -> f64 {
+    let total: f64 = planned.durations().sum();
     (total / q - 1e-9).ceil().max(1.0)
 }
 
@@ -715,7 +715,7 @@ pub(super) fn resample_once(
     bounds: &AxisBounds,
     tolerances: Tolerances,
     q: f64,
-    planned: &[Piece],
+    planned: &Pieces,
     scaled: bool,
     scratch: &mut Scratch,
 ) -> Result<Resampled, Vec<(std::ops::Range<usize>, f64)>> {
@@ -728,7 +728,7 @@ pub(super) fn resample_once(
         speeds,
         ..
     } = scratch;
-    let total: f64 = planned.iter().map(|p| p.duration).sum();
+    let total: f64 = planned.durations().sum();
     let count = grid_count(planned, q);
     let scale = if scaled {
         quanta_time(count, q) / total
@@ -943,7 +943,7 @@ fn covered(motion: &Motion<'_>, a: u64, b: u64, q: f64) -> std::ops::Range<usize
     if end > first && motion.start(end) >= quanta_time(b as f64, q) {
         end -= 1;
     }
-    motion.pieces[first].knot..motion.pieces[end].knot + 2
+    motion.pieces.knot(first)..motion.pieces.knot(end) + 2
 }
 
 /// The resampled piece on grid interval `[a, b]` (quanta), and whether it keeps the
@@ -970,7 +970,7 @@ fn interval(
         end_velocity,
         duration,
         error: 0.0,
-        knot: motion.pieces[first].knot,
+        knot: motion.pieces.knot(first),
         part: None,
     };
     let factor = piece.limit_factor(bounds);
@@ -1008,11 +1008,11 @@ fn interval(
                 let peak = cubic_peak(c, (to - from).max(0.0));
                 squares += peak * peak;
             }
-            let planned = &motion.pieces[i];
-            let knot = &knots.knots[planned.knot];
-            let mut over = elements.add(knot.after.element, planned.knot);
+            let planned_knot = motion.pieces.knot(i);
+            let knot = &knots.knots[planned_knot];
+            let mut over = elements.add(knot.after.element, planned_knot);
             if knot.blend.is_some() {
-                over |= elements.add(knot.after.element + 1, planned.knot + 1);
+                over |= elements.add(knot.after.element + 1, planned_knot + 1);
             }
             if over {
                 return Err(Over::Tolerance);
@@ -1021,7 +1021,7 @@ fn interval(
                 Some(j) if knots.junctions[j].transition.is_none() => tolerances.corner,
                 _ => tolerances.path,
             };
-            let sum = planned.error + squares.sqrt();
+            let sum = motion.pieces.error(i) + squares.sqrt();
             if sum > limit {
                 return Err(Over::Tolerance);
             }
@@ -1036,7 +1036,7 @@ fn interval(
     // holds the end point, at rest.
     let end = motion.start(motion.pieces.len());
     if tb > end && i + 1 == motion.pieces.len() {
-        let last = &motion.pieces[i];
+        let last = motion.pieces.at(i);
         let from = ta.max(end);
         let mut squares = 0.0;
         for (ax, hx) in h.iter().enumerate() {
