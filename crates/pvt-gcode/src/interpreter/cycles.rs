@@ -422,7 +422,7 @@ impl Interpreter<'_> {
         };
         let Some(feed) = feed else { return false };
         self.position = end;
-        if end != start {
+        if !super::motion::no_move(&start, &end) {
             self.straight(motion, start, end, feed, block);
         }
         self.end_contour();

@@ -320,7 +320,7 @@ impl Interpreter<'_> {
         };
         self.position = end;
         let Some(feed) = feed else { return };
-        if end == start {
+        if no_move(&start, &end) {
             let span = span(block.span());
             return self.warn(match motion {
                 Motion::Rapid => GcodeDiagnostic::RapidToCurrentPoint { span },
@@ -330,7 +330,8 @@ impl Interpreter<'_> {
         self.straight(motion, start, end, feed, block);
     }
 
-    /// A straight move from `start` to `end` (not equal) at `feed` units per second.
+    /// A straight move from `start` to `end` (apart: not [`no_move`]) at `feed` units per
+    /// second.
     pub(super) fn straight(
         &mut self,
         motion: Motion,
@@ -462,7 +463,7 @@ impl Interpreter<'_> {
             true => program[i] / scale,
             false => program[i],
         }));
-        if let Some(feed) = feed.filter(|_| end != start) {
+        if let Some(feed) = feed.filter(|_| !no_move(&start, &end)) {
             self.straight(Motion::Feed, start, end, feed, block);
         }
     }
@@ -783,6 +784,18 @@ fn plane_name(plane: Plane) -> &'static str {
     }
 }
 
+/// True when a straight move from `start` to `end` moves no axis by more than the
+/// rounding of the arithmetic that made its end: each axis within four units in the last
+/// place of its larger coordinate, or of 1 (`G91 G1 Z-2.9` from Z3 ends at
+/// 0.10000000000000009, and `G90 Z0.1` after it is no move). Such a move is dropped as
+/// zero-length, as rs274's is where its printed end is its start.
+pub(super) fn no_move(start: &Position, end: &Position) -> bool {
+    start.iter().zip(end).all(|(a, b)| {
+        let unit = a.abs().max(b.abs()).max(1.0);
+        (a - b).abs() <= 4.0 * f64::EPSILON * unit
+    })
+}
+
 /// Length of a straight move as the planner measures path length: Euclidean over every
 /// axis, rotary degrees included, so a G93 move takes its 1/F minutes.
 fn line_length(start: &Position, end: &Position) -> f64 {
@@ -811,4 +824,23 @@ fn arc_length(arc: &Arc, start: &Position, end: &Position) -> f64 {
 /// (`pvtc::gcode::zero_feed`).
 pub(super) fn feed_per_second(per_minute: f64) -> Option<f64> {
     (per_minute > 0.0 && per_minute.is_finite()).then(|| per_minute / 60.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::no_move;
+
+    /// A move of the arithmetic's rounding alone is no move; a move of a program's
+    /// smallest written step (or far less) is one.
+    #[test]
+    fn a_move_of_rounding_alone_is_no_move() {
+        let at = |x: f64, z: f64| [x, 0.0, z, 0.0, 0.0, 0.0];
+        // Z3 then G91 Z-2.9 ends 9e-17 past Z0.1.
+        assert_ne!(3.0 + -2.9, 0.1);
+        assert!(no_move(&at(0.0, 3.0 + -2.9), &at(0.0, 0.1)));
+        assert!(no_move(&at(1e6, 0.0), &at(1e6 + 2.0 * f64::EPSILON * 1e6, 0.0)));
+        assert!(!no_move(&at(0.0, 0.1), &at(0.0, 0.1001)));
+        assert!(!no_move(&at(0.0, 0.0), &at(1e-12, 0.0)));
+        assert!(!no_move(&at(1e6, 0.0), &at(1e6 + 1e-6, 0.0)));
+    }
 }

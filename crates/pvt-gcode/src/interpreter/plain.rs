@@ -93,6 +93,6 @@ impl Interpreter<'_> {
             ),
         };
         let start = self.tool_start();
-        (end != start).then_some((motion, start, end, rate))
+        (!super::motion::no_move(&start, &end)).then_some((motion, start, end, rate))
     }
 }
