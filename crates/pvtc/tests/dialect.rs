@@ -9,7 +9,9 @@
 //! rs274 prints program coordinates with the offsets as separate calls; this file turns
 //! them into machine coordinates as LinuxCNC's canonical layer does (G92 offset, XY
 //! rotation, work offset, tool length offset), in millimetres. It drops rs274's
-//! zero-length straight moves, which pvtc drops with a warning.
+//! zero-length straight moves, which pvtc drops with a warning, and passes over a move
+//! of pvtc's shorter than what rs274 prints (under `G20`, a move of 0.001 mm prints as
+//! none).
 //!
 //! Sidecar files next to `NAME.ngc`: `NAME.tbl`, a tool table (rs274 `-t`, pvtc
 //! `--tool-table`); `NAME.ini`, an ini file for rs274 (`-i`, rs274 then runs in the
@@ -583,18 +585,44 @@ fn same(ours: &Move, theirs: &Move) -> bool {
 }
 
 /// The first difference between the two readings, described, or `None`.
+///
+/// rs274's reading drops a straight move whose printed end is the end before it (see
+/// [`Move::Straight`]'s parse), so a move of pvtc's that rs274 prints as none, one whose
+/// every axis is within what rs274 prints of pvtc's end before it (its [`TOLERANCE`] of
+/// the units of rs274's next move), is passed over: `G20 G91 X-0.0394` from X1 mm ends
+/// 0.00076 mm before X0, and a `G90 X0` after it moves 0.00076 mm, printed as no move.
 fn difference(ours: &[Move], theirs: &[Move]) -> Option<String> {
-    for (i, (o, t)) in ours.iter().zip(theirs).enumerate() {
-        if !same(o, t) {
-            return Some(format!("move {i}:\n  pvtc:  {o:?}\n  rs274: {t:?}"));
+    let (mut i, mut j) = (0, 0);
+    let mut at: Option<[f64; 6]> = None;
+    let end = |m: &Move| match m {
+        Move::Straight { end, .. } | Move::Arc { end, .. } => Some(*end),
+        Move::Dwell(_) => None,
+    };
+    while i < ours.len() {
+        let theirs_next = theirs.get(j).or(theirs.last());
+        let unit = match theirs_next {
+            Some(Move::Straight { unit, .. } | Move::Arc { unit, .. }) => *unit,
+            _ => 1.0,
+        };
+        let unprinted = match (&ours[i], at) {
+            (Move::Straight { end, .. }, Some(at)) => close(end, &at, unit),
+            _ => false,
+        };
+        match theirs.get(j) {
+            Some(t) if same(&ours[i], t) => j += 1,
+            _ if unprinted => {}
+            Some(t) => return Some(format!("move {i}:\n  pvtc:  {:?}\n  rs274: {t:?}", ours[i])),
+            None => break,
         }
+        at = end(&ours[i]).or(at);
+        i += 1;
     }
-    (ours.len() != theirs.len()).then(|| {
+    (i != ours.len() || j != theirs.len()).then(|| {
         format!(
             "pvtc has {} moves, rs274 {}; the first extra: {:?}",
             ours.len(),
             theirs.len(),
-            ours.get(theirs.len()).or(theirs.get(ours.len()))
+            ours.get(i).or(theirs.get(j))
         )
     })
 }
@@ -769,6 +797,26 @@ fn the_comparison_sees_a_moved_end_point_a_turn_and_a_feed() {
     };
     assert!(difference(&[arc(1)], &[arc(-1)]).is_some());
     assert!(difference(&[arc(2)], &[arc(2)]).is_none());
+    // A move of pvtc's that rs274 prints as none (within its tolerance of the end
+    // before it) is passed over, in inches at 25.4 times the reach; one beyond is seen.
+    let nudged = |by: f64, unit: f64| match &rapid {
+        Move::Straight { end, feed, .. } => Move::Straight {
+            rapid: false,
+            end: [end[0] + by, end[1], end[2], 0.0, 0.0, 0.0],
+            feed: *feed,
+            unit,
+            spread: 1.0,
+        },
+        _ => unreachable!(),
+    };
+    let after = |unit: f64| [rapid.clone(), nudged(0.0, unit)];
+    let ours = [rapid.clone(), nudged(0.002, 0.0), nudged(0.0, 0.0)];
+    assert!(difference(&ours, &after(25.4)).is_none());
+    assert!(difference(&ours, &after(1.0)).is_some());
+    let far = [rapid.clone(), nudged(0.003, 0.0), nudged(0.0, 0.0)];
+    assert!(difference(&far, &after(25.4)).is_some());
+    let last = [nudged(0.0, 0.0), nudged(0.002, 0.0)];
+    assert!(difference(&last, &[nudged(0.0, 25.4)]).is_none());
 }
 
 #[test]

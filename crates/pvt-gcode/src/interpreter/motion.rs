@@ -838,7 +838,10 @@ mod tests {
         // Z3 then G91 Z-2.9 ends 9e-17 past Z0.1.
         assert_ne!(3.0 + -2.9, 0.1);
         assert!(no_move(&at(0.0, 3.0 + -2.9), &at(0.0, 0.1)));
-        assert!(no_move(&at(1e6, 0.0), &at(1e6 + 2.0 * f64::EPSILON * 1e6, 0.0)));
+        assert!(no_move(
+            &at(1e6, 0.0),
+            &at(1e6 + 2.0 * f64::EPSILON * 1e6, 0.0)
+        ));
         assert!(!no_move(&at(0.0, 0.1), &at(0.0, 0.1001)));
         assert!(!no_move(&at(0.0, 0.0), &at(1e-12, 0.0)));
         assert!(!no_move(&at(1e6, 0.0), &at(1e6 + 1e-6, 0.0)));
