@@ -1820,13 +1820,8 @@ mod shortcut_tests {
         assert_eq!(knots.cut(curves, 0.0), cut);
     }
 
-    /// A split in place is the rebuild it replaced: every knot copied in order into a
-    /// new vector, a knot at the middle parameter of each piece over the tolerance (not
-    /// a corner blend) after its first knot; on random programs with random errors,
-    /// none, some and all of them over.
-    #[test]
-    fn knots_split_in_place_are_those_rebuilt() {
-        let axes = [Axis::X, Axis::Y, Axis::Z];
+    /// X, Y and Z with no limit, at a path tolerance of 1e-3.
+    fn xyz_without_limits() -> ([Axis; 3], PathOptions) {
         let options = PathOptions {
             tolerance: 1e-3,
             corner_tolerance: None,
@@ -1835,20 +1830,37 @@ mod shortcut_tests {
             servo_period: crate::defaults::SERVO_PERIOD_S,
             position_resolution: 0.0,
         };
+        ([Axis::X, Axis::Y, Axis::Z], options)
+    }
+
+    /// The curves of random program `seed` (40 elements) on `axes` and their knots,
+    /// starting at rest, at a path tolerance of 1e-3.
+    fn random_knots_at_rest(seed: u64, axes: &[Axis], bounds: &AxisBounds) -> (Vec<Curve>, Knots) {
+        let mut curves = Vec::new();
+        for e in &program(seed, 40) {
+            Curve::push_new(e, axes, &mut curves);
+        }
+        let start = Start {
+            param: 0.0,
+            speed: 0.0,
+            junction: None,
+        };
+        let storage = KnotStorage::default();
+        let knots = Knots::new(&curves, bounds, 1e-3, None, &start, false, storage);
+        (curves, knots)
+    }
+
+    /// A split in place is the rebuild it replaced: every knot copied in order into a
+    /// new vector, a knot at the middle parameter of each piece over the tolerance (not
+    /// a corner blend) after its first knot; on random programs with random errors,
+    /// none, some and all of them over.
+    #[test]
+    fn knots_split_in_place_are_those_rebuilt() {
+        let (axes, options) = xyz_without_limits();
         let bounds = AxisBounds::new(&axes, &options);
         let mut state = 0x9e37_79b9_7f4a_7c15u64;
         for seed in 1..30 {
-            let mut curves = Vec::new();
-            for e in &program(seed, 40) {
-                Curve::push_new(e, &axes, &mut curves);
-            }
-            let start = Start {
-                param: 0.0,
-                speed: 0.0,
-                junction: None,
-            };
-            let storage = KnotStorage::default();
-            let mut knots = Knots::new(&curves, &bounds, 1e-3, None, &start, false, storage);
+            let (curves, mut knots) = random_knots_at_rest(seed, &axes, &bounds);
             for share in [0.0, 0.3, 1.0] {
                 let errors: Vec<f64> = (0..knots.knots.len() - 1)
                     .map(|_| {
@@ -1907,17 +1919,7 @@ mod shortcut_tests {
             };
             let bounds = AxisBounds::new(&axes, &options);
             for seed in 1..20 {
-                let mut curves = Vec::new();
-                for e in &program(seed, 40) {
-                    Curve::push_new(e, &axes, &mut curves);
-                }
-                let start = Start {
-                    param: 0.0,
-                    speed: 0.0,
-                    junction: None,
-                };
-                let storage = KnotStorage::default();
-                let mut knots = Knots::new(&curves, &bounds, 1e-3, None, &start, false, storage);
+                let (curves, mut knots) = random_knots_at_rest(seed, &axes, &bounds);
                 knots.plan_speeds(&curves, &bounds);
                 let before = knots.knots.clone();
                 let any = knots.add_trapezoids(&curves, &bounds);
@@ -1949,15 +1951,7 @@ mod shortcut_tests {
 
     #[test]
     fn without_limits_the_shortcuts_are_the_full_computation() {
-        let axes = [Axis::X, Axis::Y, Axis::Z];
-        let options = PathOptions {
-            tolerance: 1e-3,
-            corner_tolerance: None,
-            limits: Default::default(),
-            quantum: None,
-            servo_period: crate::defaults::SERVO_PERIOD_S,
-            position_resolution: 0.0,
-        };
+        let (axes, options) = xyz_without_limits();
         let bounds = AxisBounds::new(&axes, &options);
         assert!(bounds.free);
         let full = AxisBounds {
