@@ -142,21 +142,8 @@ impl Knots {
         debug_assert!(!self.jerk_mode && durations.len() + 1 == self.knots.len());
         out.clear();
         for k in 0..self.knots.len() - 1 {
-            let before = out.last().filter(|_| self.shares_its_start(k));
-            let start = before.map(|p| {
-                (
-                    Vector::from_slice(p.end),
-                    Vector::from_slice(p.end_velocity),
-                )
-            });
-            self.push_piece(
-                curves,
-                bounds,
-                k,
-                start,
-                Some((durations[k], errors[k])),
-                out,
-            );
+            let timed = Some((durations[k], errors[k]));
+            self.push_piece(curves, bounds, k, true, timed, out);
         }
     }
 
@@ -191,14 +178,7 @@ impl Knots {
                 self.scurve(curves, bounds, k, piece, out);
             } else {
                 // Without a jerk limit this loop pushed the piece of knot `k − 1` last.
-                let before = out.last().filter(|_| k > first && self.shares_its_start(k));
-                let start = before.map(|p| {
-                    (
-                        Vector::from_slice(p.end),
-                        Vector::from_slice(p.end_velocity),
-                    )
-                });
-                self.push_piece(curves, bounds, k, start, None, out);
+                self.push_piece(curves, bounds, k, k > first, None, out);
             }
         }
     }
@@ -225,14 +205,15 @@ impl Knots {
         piece
     }
 
-    /// [`Knots::piece`] pushed onto `out`; `start` and `timed` as [`Knots::fill_piece`]
-    /// takes them.
+    /// [`Knots::piece`] pushed onto `out`. Where `after_last` (the last piece in `out` is
+    /// that of knot `k − 1`) and the piece shares its start ([`Knots::shares_its_start`]),
+    /// it starts in that piece's end state; `timed` as [`Knots::fill_piece`] takes it.
     fn push_piece(
         &self,
         curves: &[Curve],
         bounds: &AxisBounds,
         k: usize,
-        start: Option<(Vector, Vector)>,
+        after_last: bool,
         timed: Option<(f64, f64)>,
         out: &mut Pieces,
     ) {
@@ -240,6 +221,15 @@ impl Knots {
             out.push(&self.blend_piece(curves, k, j));
             return;
         }
+        let before = out
+            .last()
+            .filter(|_| after_last && self.shares_its_start(k));
+        let start = before.map(|p| {
+            (
+                Vector::from_slice(p.end),
+                Vector::from_slice(p.end_velocity),
+            )
+        });
         let mut piece = Piece::zeroed(curves[0].start.len(), k);
         self.fill_piece(curves, bounds, k, start, timed, &mut piece);
         out.push(&piece);
