@@ -1,8 +1,10 @@
 //! The one compile route of pvtc: every input kind goes into the same planning sink
-//! ([`PlanningSink`]: pvt-core's [`PlanStage`], the PMAC splitter and pvt-emit's
-//! [`Checked`] writer). G-code streams from its file in bounded memory, whatever the
-//! program's length ([`compile_streaming`]); a drawing, a series, or any source held in
-//! memory is read whole by its front end and pushed into the same sink ([`compile`]).
+//! ([`PlanningSink`]: pvt-core's [`PlanStage`]) and its pieces into the same writer
+//! ([`WriterSink`]: the PMAC splitter and pvt-emit's [`Checked`] writer). G-code streams
+//! from its file in bounded memory, whatever the program's length
+//! ([`compile_streaming`]; the front end, the planner and the writer each on a thread
+//! where [`crate::pipeline::threaded`] says so); a drawing, a series, or any source held
+//! in memory is read whole by its front end and pushed into the same sink ([`compile`]).
 //! [`compile_to`] is `pvtc compile`'s entry, single or batch; [`plan`] plans without
 //! writing, for `check` and `plot`. Plan and emit errors become reports here, once.
 //!
@@ -91,78 +93,94 @@ impl<W: ProgramWriter> PieceSink for WriterSink<W> {
     }
 }
 
-/// A G-code sink that plans and writes as elements arrive: pvt-core's [`PlanStage`] into
-/// a [`WriterSink`], noting the axes the elements move.
-pub struct PlanningSink<W: ProgramWriter> {
-    stage: PlanStage<WriterSink<W>>,
-    /// The axes the elements moved, to check the header's axes against.
-    moved: MovedAxes,
-}
-
-impl<W: ProgramWriter> PlanningSink<W> {
-    /// A sink planning with `options` on `axes` into `writer` (already begun), cutting
-    /// pieces longer than `max_piece` seconds along their cubic (on `grid` where their
-    /// time is on it).
-    pub fn new(
+impl<W: ProgramWriter> WriterSink<W> {
+    /// A sink writing into `writer` (already begun), cutting pieces longer than
+    /// `max_piece` seconds along their cubic (on `grid` where their time is on it), and
+    /// keeping the program written into `kept` when it is given.
+    fn new(
         writer: Checked<W>,
-        axes: Vec<Axis>,
-        options: PlanOptions,
-        max_piece: Option<f64>,
-        grid: Option<f64>,
-    ) -> Result<PlanningSink<W>, PlanError> {
-        PlanningSink::keeping(writer, axes, options, max_piece, grid, None)
-    }
-
-    /// [`PlanningSink::new`], also keeping the program it writes (after the splitter)
-    /// when `kept` is given: its axes, units and interpolation, contours and events
-    /// empty.
-    fn keeping(
-        writer: Checked<W>,
-        axes: Vec<Axis>,
-        options: PlanOptions,
         max_piece: Option<f64>,
         grid: Option<f64>,
         kept: Option<PvtProgram>,
-    ) -> Result<PlanningSink<W>, PlanError> {
-        let sink = WriterSink {
+    ) -> WriterSink<W> {
+        WriterSink {
             writer,
             totals: Totals::default(),
             splitter: max_piece.map(|max| PieceSplitter::new(max, grid)),
             error: None,
             kept,
-        };
-        Ok(PlanningSink {
-            stage: PlanStage::new(axes, options, sink)?,
-            moved: MovedAxes::default(),
-        })
+        }
     }
 
-    /// Ends the program: the back end, the totals and the plan report, or the first
-    /// failure.
-    pub fn finish(self) -> Result<(W, Totals, PlanReport), StreamFailure> {
-        self.finish_kept()
-            .map(|(writer, totals, report, _)| (writer, totals, report))
-    }
-
-    /// [`PlanningSink::finish`], with the program kept (empty when none is kept).
-    fn finish_kept(self) -> Result<(W, Totals, PlanReport, PvtProgram), StreamFailure> {
-        let (sink, report) = self.stage.finish().map_err(StreamFailure::Plan)?;
-        if let Some(e) = sink.error {
+    /// Ends the program the planner ended with `planned` (its report, or its first
+    /// error): the back end, the totals, the report and the program kept (empty when
+    /// none is), or the first failure, the planner's before the writer's.
+    fn end(
+        self,
+        planned: Result<PlanReport, PlanError>,
+    ) -> Result<(W, Totals, PlanReport, PvtProgram), StreamFailure> {
+        let report = planned.map_err(StreamFailure::Plan)?;
+        if let Some(e) = self.error {
             return Err(StreamFailure::Emit(e));
         }
-        let writer = sink.writer.finish().map_err(StreamFailure::Emit)?;
-        let kept = sink.kept.unwrap_or_else(|| PvtProgram {
+        let writer = self.writer.finish().map_err(StreamFailure::Emit)?;
+        let kept = self.kept.unwrap_or_else(|| PvtProgram {
             axes: Vec::new(),
             units: Units::default(),
             interpolation: pvt_core::Interpolation::Pvt,
             contours: Vec::new(),
             events: Vec::new(),
         });
-        Ok((writer, sink.totals, report, kept))
+        Ok((writer, self.totals, report, kept))
     }
 }
 
-impl<W: ProgramWriter> ToolpathSink for PlanningSink<W> {
+/// The sink the planner hands its pieces to: a [`WriterSink`] on the planner's thread,
+/// or the hand-over to the writer's ([`crate::pipeline::planner_aside`]). Every route
+/// plans into this one type, so that the planner's code exists once in the program.
+pub struct Outlet<'a>(pub &'a mut dyn PieceSink);
+
+impl PieceSink for Outlet<'_> {
+    fn contour(&mut self, motion: Motion, start: &[f64], line: u32) {
+        self.0.contour(motion, start, line);
+    }
+    fn piece(&mut self, piece: &SegmentRef<'_>) {
+        self.0.piece(piece);
+    }
+    fn event(&mut self, event: &ProgramEvent) {
+        self.0.event(event);
+    }
+}
+
+/// A G-code sink that plans as elements arrive: pvt-core's [`PlanStage`] into an
+/// [`Outlet`], noting the axes the elements move.
+pub struct PlanningSink<'a> {
+    stage: PlanStage<Outlet<'a>>,
+    /// The axes the elements moved, to check the header's axes against.
+    moved: MovedAxes,
+}
+
+impl<'a> PlanningSink<'a> {
+    /// A sink planning with `options` on `axes` into `sink`.
+    pub fn new(
+        sink: &'a mut dyn PieceSink,
+        axes: Vec<Axis>,
+        options: PlanOptions,
+    ) -> Result<PlanningSink<'a>, PlanError> {
+        Ok(PlanningSink {
+            stage: PlanStage::new(axes, options, Outlet(sink))?,
+            moved: MovedAxes::default(),
+        })
+    }
+
+    /// Ends the plan (the open contour's pieces go to the sink): the axes moved, and the
+    /// plan's report or its first error.
+    pub fn end(self) -> (MovedAxes, Result<PlanReport, PlanError>) {
+        (self.moved, self.stage.finish().map(|(_, report)| report))
+    }
+}
+
+impl ToolpathSink for PlanningSink<'_> {
     fn element(&mut self, motion: Motion, element: &Element) {
         self.moved.note(element);
         self.stage.element(motion, element);
@@ -245,17 +263,95 @@ pub(crate) fn compile_read(
     gcode: &pvt_gcode::GcodeOptions,
     sink: &mut dyn pvt_gcode::ToolpathSink,
 ) -> Result<pvt_gcode::StreamSummary, Failure> {
-    PASSES.with(|passes| passes.set(passes.get() + 1));
-    let mut input = open(path)?;
-    let mut read = move |sink: &mut dyn pvt_gcode::ToolpathSink| {
-        pvt_gcode::compile_read(&mut input, gcode, sink)
-    };
+    let read = front_end(path, gcode)?;
     let read = match crate::pipeline::threaded() {
         true => crate::pipeline::in_two_threads(read, sink),
         false => read(sink),
     };
+    read_summary(path, name, read)
+}
+
+/// What the G-code front end returns from a pass.
+type FrontEnd = std::io::Result<Result<pvt_gcode::StreamSummary, pvt_gcode::GcodeErrors>>;
+
+/// One pass of the G-code front end over the file, opened and counted, ready to run
+/// into the sink it is given, on whichever thread.
+fn front_end<'a>(
+    path: &std::path::Path,
+    gcode: &'a pvt_gcode::GcodeOptions,
+) -> Result<impl FnOnce(&mut dyn pvt_gcode::ToolpathSink) -> FrontEnd + Send + 'a, Failure> {
+    PASSES.with(|passes| passes.set(passes.get() + 1));
+    let mut input = open(path)?;
+    Ok(move |sink: &mut dyn pvt_gcode::ToolpathSink| {
+        pvt_gcode::compile_read(&mut input, gcode, sink)
+    })
+}
+
+/// A front end's pass: its summary, or its read failure or G-code errors as reports.
+fn read_summary(
+    path: &std::path::Path,
+    name: &str,
+    read: FrontEnd,
+) -> Result<pvt_gcode::StreamSummary, Failure> {
     read.map_err(|error| read_failure(path, error))?
         .map_err(|errors| Failure::Input(reports(path, name, errors.diagnostics)))
+}
+
+/// What a pass planned: the front end's summary, the axes the elements moved, and the
+/// planner's report or first error.
+type Streamed = (
+    pvt_gcode::StreamSummary,
+    MovedAxes,
+    Result<PlanReport, PlanError>,
+);
+
+/// One pass over the file: the front end into the planner with `options` on `axes`, its
+/// pieces into `writer`; what it planned, or (inner) the planner's refusal of `options`,
+/// before the file is read. Where [`crate::pipeline::threaded`] says so, the planner
+/// runs on a thread of its own, the front end and `writer` on this one
+/// ([`crate::pipeline::planner_aside`]), with the calls, pieces and failures of one
+/// thread.
+fn stream_pass(
+    path: &std::path::Path,
+    name: &str,
+    gcode: &pvt_gcode::GcodeOptions,
+    writer: &mut dyn PieceSink,
+    axes: &[Axis],
+    options: PlanOptions,
+) -> Result<Result<Streamed, PlanError>, Failure> {
+    if let Err(e) = pvt_core::plan::check_options(&options) {
+        return Ok(Err(e));
+    }
+    let read = front_end(path, gcode)?;
+    let read = match crate::pipeline::threaded() {
+        false => read,
+        true => {
+            let plan = |pieces: &mut dyn PieceSink, calls: crate::pipeline::Calls<'_>| {
+                match PlanningSink::new(pieces, axes.to_vec(), options.clone()) {
+                    Ok(mut planning) => {
+                        calls(&mut planning);
+                        planning.end()
+                    }
+                    Err(e) => (MovedAxes::default(), Err(e)),
+                }
+            };
+            match crate::pipeline::planner_aside(read, plan, axes.len(), writer) {
+                Ok((read, (moved, planned))) => {
+                    let summary = read_summary(path, name, read)?;
+                    return Ok(Ok((summary, moved, planned)));
+                }
+                // No thread started and nothing ran: all of it runs here.
+                Err(read) => read,
+            }
+        }
+    };
+    let mut planning = match PlanningSink::new(writer, axes.to_vec(), options) {
+        Ok(planning) => planning,
+        Err(e) => return Ok(Err(e)),
+    };
+    let summary = read_summary(path, name, read(&mut planning))?;
+    let (moved, planned) = planning.end();
+    Ok(Ok((summary, moved, planned)))
 }
 
 /// Diagnostics as reports, each with the lines of the file around it (read again, a
@@ -482,21 +578,22 @@ fn write_pass(
         return Ok(failed(StreamFailure::Emit(e)));
     }
     let max_piece = options.format.max_piece_seconds();
-    let grid = split_grid(options);
-    let mut sink =
-        match PlanningSink::new(writer, layout.axes.clone(), plan_options, max_piece, grid) {
-            Ok(sink) => sink,
-            Err(e) => return Ok(failed(StreamFailure::Plan(e))),
-        };
-    let summary = compile_read(path, name, gcode, &mut sink)?;
+    let mut writer = WriterSink::new(writer, max_piece, split_grid(options), None);
+    let streamed = stream_pass(path, name, gcode, &mut writer, &layout.axes, plan_options)?;
+    let (summary, moved, planned) = match streamed {
+        Ok(streamed) => streamed,
+        Err(e) => return Ok(failed(StreamFailure::Plan(e))),
+    };
     let found = Layout {
-        axes: sink.moved.axes(),
+        axes: moved.axes(),
         units: summary.units,
     };
     Ok(Pass {
         layout: found,
         warnings: summary.warnings,
-        outcome: sink.finish().map(|(_, totals, report)| (totals, report)),
+        outcome: writer
+            .end(planned)
+            .map(|(_, totals, report, _)| (totals, report)),
     })
 }
 
@@ -691,12 +788,14 @@ fn compile_whole(
         contours: Vec::new(),
         events: Vec::new(),
     });
-    let mut sink = PlanningSink::keeping(writer, axes.clone(), plan_options, max_piece, grid, kept)
+    let mut sink = WriterSink::new(writer, max_piece, grid, kept);
+    let mut planning = PlanningSink::new(&mut sink, axes.clone(), plan_options)
         .map_err(|e| plan_failure_in(source, &e))?;
-    push_whole(&input, &mut sink);
+    push_whole(&input, &mut planning);
+    let (_, planned) = planning.end();
     // The writer (which borrows `bytes`) is dropped here.
     let finished = sink
-        .finish_kept()
+        .end(planned)
         .map(|(_, totals, report, program)| (totals, report, program));
     let (totals, report, program) = match finished {
         Err(StreamFailure::Plan(e)) => return Err(plan_failure_in(source, &e)),
@@ -743,7 +842,7 @@ fn whole_plan_options(
 
 /// Pushes an input read whole into the planning sink: a toolpath by the one traversal,
 /// a series point by point.
-fn push_whole<W: ProgramWriter>(input: &Input, sink: &mut PlanningSink<W>) {
+fn push_whole(input: &Input, sink: &mut PlanningSink<'_>) {
     match input {
         Input::Toolpath(toolpath) => pvt_core::traverse::replay(toolpath, sink),
         Input::Series(series) => sink.stage.timed_points(&series.points),

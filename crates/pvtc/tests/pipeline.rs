@@ -1,14 +1,17 @@
-//! The streaming G-code compile with its front end on a thread of its own writes the
+//! The streaming G-code compile with its planner on a thread of its own writes the
 //! bytes, and reports the diagnostics in the order, of the same compile on one thread
 //! (the route `pvtc compile` takes inside a rayon worker): on a program with events,
-//! G64 P changes, several contours and rapids, into a file and into a pipe; on the same
-//! program with errors on many lines; and through a planner failure part way, after
-//! which every later G-code diagnostic is still collected.
+//! G64 P changes, several contours and rapids, into a file and into a pipe, in every
+//! format; on the same program with errors on many lines; through a planner failure
+//! part way, after which every later G-code diagnostic is still collected; on a late
+//! travel refusal and into a pipe that fills part way.
 
 use clap::Parser;
+use pvt_core::PieceSink;
 use pvt_core::{Element, EventKind, Motion, ToolpathSink};
 use pvtc::output::Target;
-use pvtc::pipeline::{front_end_threads, in_two_threads};
+use pvtc::pipeline::{front_end_threads, planner_aside, planner_threads, Calls};
+use pvtc::route::Outlet;
 
 mod common;
 
@@ -51,15 +54,42 @@ fn rendered(reports: &[miette::Report]) -> Vec<String> {
 /// Where a compile writes: a file, or a pipe (a [`Target::Stream`]).
 enum Out<'a> {
     File(&'a mut std::fs::File),
-    Pipe(&'a mut Vec<u8>),
+    Pipe(&'a mut (dyn std::io::Write + Send)),
 }
 
-/// `pvtc compile` of `file` into `out`, in a one-thread rayon pool when `alone`: its
-/// warnings or its failure's reports, rendered, and whether it ran the front end on a
-/// thread of its own.
-fn compile(file: &std::path::Path, alone: bool, out: Out<'_>) -> (Vec<String>, bool) {
+/// A pipe that takes `room` bytes and then refuses every write.
+struct Filling {
+    taken: Vec<u8>,
+    room: usize,
+}
+
+impl std::io::Write for Filling {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let n = buf.len().min(self.room - self.taken.len());
+        if n == 0 && !buf.is_empty() {
+            return Err(std::io::Error::other("the pipe is full"));
+        }
+        self.taken.extend_from_slice(&buf[..n]);
+        Ok(n)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+/// `pvtc compile` of `file` with the options `args` into `out`, in a one-thread rayon
+/// pool when `alone`: its warnings or its failure's reports (any failure), rendered, and
+/// whether it ran the front end and the planner on threads of their own.
+fn compile_with(
+    file: &std::path::Path,
+    args: &[&str],
+    alone: bool,
+    out: Out<'_>,
+) -> (Vec<String>, bool) {
     let path = file.to_str().unwrap();
-    let cli = pvtc::Cli::parse_from(["pvtc", "compile", path]);
+    let mut words = vec!["pvtc", "compile", path];
+    words.extend(args);
+    let cli = pvtc::Cli::parse_from(words);
     let pvtc::Command::Compile(args) = cli.command else {
         unreachable!("a compile command")
     };
@@ -69,13 +99,18 @@ fn compile(file: &std::path::Path, alone: bool, out: Out<'_>) -> (Vec<String>, b
             Out::File(file) => Target::File { file, start: 0 },
             Out::Pipe(bytes) => Target::Stream(bytes),
         };
-        let before = front_end_threads();
+        let before = (front_end_threads(), planner_threads());
         let result = pvtc::route::compile_to(file, &options, false, &mut target);
-        let threaded = front_end_threads() > before;
+        let fronts = front_end_threads() - before.0;
+        let planners = planner_threads() - before.1;
+        // The planner on a thread of its own (or, where nothing is planned, the front
+        // end), or neither.
+        assert!(fronts == 0 || planners == 0, "threads started");
+        let threaded = planners + fronts > 0;
         match result {
             Ok(warnings) => (rendered(&warnings), threaded),
             Err(pvtc::Failure::Input(reports)) => (rendered(&reports), threaded),
-            Err(other) => panic!("{other:?}"),
+            Err(other) => (vec![format!("{other:?}")], threaded),
         }
     };
     match alone {
@@ -91,6 +126,11 @@ fn compile(file: &std::path::Path, alone: bool, out: Out<'_>) -> (Vec<String>, b
 /// Compiles `text` both ways into a file and into a pipe; the bytes and diagnostics of
 /// the threaded compile, after checking them against the one-thread compile's.
 fn both_ways(text: &str) -> (Vec<u8>, Vec<String>) {
+    both_ways_with(text, &[])
+}
+
+/// [`both_ways`] with the options `args`.
+fn both_ways_with(text: &str, args: &[&str]) -> (Vec<u8>, Vec<String>) {
     use std::io::{Read, Seek};
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("p.ngc");
@@ -98,13 +138,13 @@ fn both_ways(text: &str) -> (Vec<u8>, Vec<String>) {
     let mut outputs = Vec::new();
     for alone in [false, true] {
         let mut file = tempfile::tempfile().unwrap();
-        let (said, threaded) = compile(&input, alone, Out::File(&mut file));
+        let (said, threaded) = compile_with(&input, args, alone, Out::File(&mut file));
         assert_eq!(threaded, !alone, "the route taken");
         let mut bytes = Vec::new();
         file.rewind().unwrap();
         file.read_to_end(&mut bytes).unwrap();
         let mut piped = Vec::new();
-        let (said_piped, _) = compile(&input, alone, Out::Pipe(&mut piped));
+        let (said_piped, _) = compile_with(&input, args, alone, Out::Pipe(&mut piped));
         outputs.push((bytes, said, piped, said_piped));
     }
     let (threaded, alone) = (&outputs[0], &outputs[1]);
@@ -185,8 +225,9 @@ impl pvt_core::PieceSink for Pieces<'_> {
     }
 }
 
-/// Plans `text` with the feed on line `bad` zeroed, the front end on its own thread or
-/// not: what the planner handed on, its failure and the front end's diagnostics.
+/// Plans `text` with the feed on line `bad` zeroed, the planner on its own thread (the
+/// front end and the pieces' sink on this one) or not: what the planner handed on, its
+/// failure and the front end's diagnostics.
 fn with_planner_failure(
     text: &str,
     bad: u32,
@@ -194,18 +235,30 @@ fn with_planner_failure(
 ) -> (Vec<String>, String, Vec<String>) {
     let axes = vec![pvt_core::Axis::X, pvt_core::Axis::Y, pvt_core::Axis::Z];
     let mut planned = Vec::new();
-    let options = pvt_core::PlanOptions::default();
-    let mut stage = pvt_core::PlanStage::new(axes, options, Pieces(&mut planned)).unwrap();
     let gcode = pvt_gcode::GcodeOptions::default();
     let front = |sink: &mut dyn ToolpathSink| {
         let mut zeroed = ZeroFeedAt { next: sink, bad };
         pvt_gcode::compile_read(&mut text.as_bytes(), &gcode, &mut zeroed).unwrap()
     };
-    let read = match threaded {
-        true => in_two_threads(front, &mut stage),
-        false => front(&mut stage),
+    let plan = |pieces: &mut dyn PieceSink, calls: Calls<'_>| {
+        let options = pvt_core::PlanOptions::default();
+        let mut stage = pvt_core::PlanStage::new(axes.clone(), options, Outlet(pieces)).unwrap();
+        calls(&mut stage);
+        stage.finish().map(|_| ())
     };
-    let failure = match stage.finish() {
+    let mut sink = Pieces(&mut planned);
+    let (read, finished) = match threaded {
+        true => match planner_aside(front, plan, axes.len(), &mut sink) {
+            Ok((read, finished)) => (read, finished),
+            Err(_) => panic!("no thread started"),
+        },
+        false => {
+            let mut read = None;
+            let finished = plan(&mut sink, &mut |stage| read = Some(front(stage)));
+            (read.unwrap(), finished)
+        }
+    };
+    let failure = match finished {
         Err(e) => format!("{} {e}", e.code()),
         Ok(_) => panic!("not a planner failure"),
     };
@@ -244,4 +297,88 @@ fn a_planner_failure_part_way_stops_the_plan_not_the_front_end_on_either_route()
     let pieces = two.0.iter().filter(|p| p.starts_with("piece")).count();
     assert!(pieces > 1_000, "{pieces} pieces: {}", one.1);
     assert!(two.0.iter().any(|p| p.starts_with("event")));
+}
+
+#[test]
+fn the_planner_aside_writes_the_bytes_of_one_thread_in_every_format() {
+    let text = program(1_500 + 33, &|_| false);
+    let counts = ["--counts-per-unit", "X=1000", "--counts-per-unit", "Y=1000"];
+    let counts = [counts.as_slice(), &["--counts-per-unit", "Z=1000"]].concat();
+    for format in [
+        "pmac",
+        "movepvt",
+        "json",
+        "xps",
+        "galil",
+        "zaber",
+        "powerpmac",
+        "csv",
+    ] {
+        let mut args = vec!["--format", format];
+        if matches!(format, "galil" | "zaber") {
+            args.extend(&counts);
+        }
+        let (bytes, warnings) = both_ways_with(&text, &args);
+        // Independently of the compile: a line or more per move.
+        assert!(bytes.split(|b| *b == b'\n').count() > 1_500, "{format}");
+        assert!(
+            warnings.iter().any(|w| w.contains("pvtc::plan::summary")),
+            "{format}"
+        );
+    }
+    // On the quantum grid, and past the PMAC splitter's longest piece (slow feeds).
+    let slow = program(800, &|_| false)
+        .replace("F900", "F9")
+        .replace("F300", "F3");
+    for args in [&["--quantize", "1ms"][..], &["--quantize", "off"]] {
+        both_ways_with(&slow, args);
+    }
+}
+
+/// The same program with its last move past the travel a machine file allows: a
+/// refusal the writer's checks make after every other piece is written.
+#[test]
+fn a_late_refusal_fails_the_planner_aside_as_it_fails_one_thread() {
+    let dir = tempfile::tempdir().unwrap();
+    let machine = dir.path().join("m.toml");
+    let axis = "max_velocity = 100.0\nmax_acceleration = 1000.0\nmax_position = 60\n";
+    std::fs::write(
+        &machine,
+        format!("units = \"mm\"\n[axes.X]\n{axis}[axes.Y]\n{axis}[axes.Z]\n{axis}"),
+    )
+    .unwrap();
+    let text = program(2_000, &|_| false).replace("M5\nM30", "G1 X70 Y1\nM5\nM30");
+    let machine = machine.to_str().unwrap();
+    for format in ["pmac", "json"] {
+        let (bytes, errors) = both_ways_with(&text, &["--machine", machine, "--format", format]);
+        let all = errors.join("\n");
+        assert_eq!(errors.len(), 1, "{all}");
+        assert!(all.contains("pvtc::emit::travel_limit"), "{all}");
+        // The refusal is late: most of the program went into the file before it.
+        assert!(bytes.len() > 50_000, "{} bytes", bytes.len());
+    }
+}
+
+/// A pipe that fills part way: the write fails on both routes after the same bytes.
+#[test]
+fn a_writer_failing_part_way_fails_the_planner_aside_as_it_fails_one_thread() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("p.ngc");
+    std::fs::write(&input, program(3_000, &|_| false)).unwrap();
+    let mut seen = Vec::new();
+    for alone in [false, true] {
+        let mut pipe = Filling {
+            taken: Vec::new(),
+            room: 150_000,
+        };
+        let (said, threaded) = compile_with(&input, &[], alone, Out::Pipe(&mut pipe));
+        assert_eq!(threaded, !alone, "the route taken");
+        seen.push((said, pipe.taken));
+    }
+    assert_eq!(seen[0].0, seen[1].0);
+    assert!(seen[0].1 == seen[1].1, "the bytes taken differ");
+    // Independently: a write failure, after the pipe took all it had room for.
+    assert_eq!(seen[0].0.len(), 1);
+    assert!(seen[0].0[0].contains("the pipe is full"), "{:?}", seen[0].0);
+    assert_eq!(seen[0].1.len(), 150_000);
 }
