@@ -79,46 +79,32 @@ impl Call {
     }
 }
 
-/// The front end's sink: records calls into the open batch and sends it when full.
-struct Batcher {
-    batch: Vec<Call>,
-    full: SyncSender<Vec<Call>>,
-    emptied: Receiver<Vec<Call>>,
-    /// False once the receiving side has gone (it panicked): later calls are dropped.
-    open: bool,
+/// What holds the front end's calls in batches for another thread: [`Batcher`] and
+/// [`FrontDesk`], each the front end's sink through [`Recorder`].
+trait CallBatches {
+    /// The open batch, or none once the receiving side has gone (it panicked): later
+    /// calls are dropped.
+    fn open_batch(&mut self) -> Option<&mut Vec<Call>>;
+    /// Hands the open batch (full, or the last) over and opens another.
+    fn hand_over(&mut self);
 }
 
-impl Batcher {
+/// The front end's sink: records each call into the open batch, handed over when full.
+struct Recorder<B>(B);
+
+impl<B: CallBatches> Recorder<B> {
     fn record(&mut self, call: Call) {
-        if !self.open {
+        let Some(batch) = self.0.open_batch() else {
             return;
-        }
-        self.batch.push(call);
-        if self.batch.len() == BATCH_CALLS {
-            self.send();
-        }
-    }
-
-    /// Sends the open batch and opens an emptied one (a new one while none has come
-    /// back yet).
-    fn send(&mut self) {
-        let batch = std::mem::take(&mut self.batch);
-        self.open = self.full.send(batch).is_ok();
-        self.batch = self
-            .emptied
-            .try_recv()
-            .unwrap_or_else(|_| Vec::with_capacity(BATCH_CALLS));
-    }
-
-    /// Sends what is left.
-    fn flush(&mut self) {
-        if self.open && !self.batch.is_empty() {
-            self.send();
+        };
+        batch.push(call);
+        if batch.len() == BATCH_CALLS {
+            self.0.hand_over();
         }
     }
 }
 
-impl ToolpathSink for Batcher {
+impl<B: CallBatches> ToolpathSink for Recorder<B> {
     fn element(&mut self, motion: Motion, element: &Element) {
         self.record(Call::Element(motion, *element));
     }
@@ -130,6 +116,40 @@ impl ToolpathSink for Batcher {
     }
     fn path_tolerance(&mut self, tolerance: f64) {
         self.record(Call::PathTolerance(tolerance));
+    }
+}
+
+/// [`in_two_threads`]' batches: sent over a bounded channel, the emptied ones coming back.
+struct Batcher {
+    batch: Vec<Call>,
+    full: SyncSender<Vec<Call>>,
+    emptied: Receiver<Vec<Call>>,
+    open: bool,
+}
+
+impl CallBatches for Batcher {
+    fn open_batch(&mut self) -> Option<&mut Vec<Call>> {
+        self.open.then_some(&mut self.batch)
+    }
+
+    /// Sends the open batch and opens an emptied one (a new one while none has come
+    /// back yet).
+    fn hand_over(&mut self) {
+        let batch = std::mem::take(&mut self.batch);
+        self.open = self.full.send(batch).is_ok();
+        self.batch = self
+            .emptied
+            .try_recv()
+            .unwrap_or_else(|_| Vec::with_capacity(BATCH_CALLS));
+    }
+}
+
+impl Batcher {
+    /// Sends what is left.
+    fn flush(&mut self) {
+        if self.open && !self.batch.is_empty() {
+            self.hand_over();
+        }
     }
 }
 
@@ -170,19 +190,19 @@ where
         for _ in 0..BATCHES_IN_FLIGHT + 1 {
             let _ = give_back.try_send(Vec::with_capacity(BATCH_CALLS));
         }
-        let mut batcher = Batcher {
+        let mut batcher = Recorder(Batcher {
             batch: Vec::with_capacity(BATCH_CALLS),
             full,
             emptied,
             open: true,
-        };
+        });
         let waiting = &waiting;
         let spawned = std::thread::Builder::new()
             .name("pvtc front end".into())
             .spawn_scoped(scope, move || {
                 let front = take(waiting).expect("the front end runs once");
                 let result = front(&mut batcher);
-                batcher.flush();
+                batcher.0.flush();
                 result
             });
         let Ok(thread) = spawned else {
@@ -357,10 +377,10 @@ impl Mailbox {
     }
 }
 
-/// The calling thread's side of [`planner_aside`]: the front end's sink, which records
-/// its calls into batches for the planner and, whenever it hands one over, writes the
-/// planner's pieces that have arrived into the writer (waiting for them only while the
-/// planner has calls enough queued).
+/// The calling thread's side of [`planner_aside`]: the front end's call batches (its
+/// sink through [`Recorder`]), queued for the planner; whenever it queues one, it
+/// writes the planner's pieces that have arrived into the writer (waiting for them only
+/// while the planner has calls enough queued).
 struct FrontDesk<'a> {
     batch: Vec<Call>,
     mailbox: &'a Mailbox,
@@ -370,20 +390,20 @@ struct FrontDesk<'a> {
     open: bool,
 }
 
-impl FrontDesk<'_> {
-    fn record(&mut self, call: Call) {
-        if !self.open {
-            return;
-        }
-        self.batch.push(call);
-        if self.batch.len() == BATCH_CALLS {
-            self.hand_over();
-        }
+impl CallBatches for FrontDesk<'_> {
+    fn open_batch(&mut self) -> Option<&mut Vec<Call>> {
+        self.open.then_some(&mut self.batch)
     }
 
+    fn hand_over(&mut self) {
+        self.queue_calls();
+    }
+}
+
+impl FrontDesk<'_> {
     /// Queues the open batch for the planner, writing arrived pieces while the queue is
     /// full, then writes whatever pieces have arrived.
-    fn hand_over(&mut self) {
+    fn queue_calls(&mut self) {
         let mut full = std::mem::take(&mut self.batch);
         let mut desk = self.mailbox.desk();
         loop {
@@ -434,7 +454,7 @@ impl FrontDesk<'_> {
     /// Sends the last calls and writes every piece until the planner has ended.
     fn finish(&mut self) {
         if self.open && !self.batch.is_empty() {
-            self.hand_over();
+            self.queue_calls();
         }
         let mut desk = self.mailbox.desk();
         desk.calls_end = true;
@@ -450,21 +470,6 @@ impl FrontDesk<'_> {
                 None => self.mailbox.wait(desk),
             };
         }
-    }
-}
-
-impl ToolpathSink for FrontDesk<'_> {
-    fn element(&mut self, motion: Motion, element: &Element) {
-        self.record(Call::Element(motion, *element));
-    }
-    fn end_contour(&mut self) {
-        self.record(Call::EndContour);
-    }
-    fn event(&mut self, event: &EventKind, line: u32) {
-        self.record(Call::Event(event.clone(), line));
-    }
-    fn path_tolerance(&mut self, tolerance: f64) {
-        self.record(Call::PathTolerance(tolerance));
     }
 }
 
@@ -634,14 +639,14 @@ where
         };
         let leaving = LeavingDesk(mailbox);
         PLANNER_THREADS.with(|threads| threads.set(threads.get() + 1));
-        let mut desk = FrontDesk {
+        let mut desk = Recorder(FrontDesk {
             batch: Vec::with_capacity(BATCH_CALLS),
             mailbox,
             writer,
             open: true,
-        };
+        });
         let read = front(&mut desk);
-        desk.finish();
+        desk.0.finish();
         drop(leaving);
         match planning.join() {
             Ok(planned) => Ok((read, planned)),
@@ -801,17 +806,23 @@ mod tests {
         std::thread::current().id()
     }
 
+    /// What the stand-in planner writes of `front(n)` on this thread alone.
+    fn written_alone(n: usize) -> Written {
+        let mut alone = Written::default();
+        front(n)(&mut Fake {
+            out: &mut alone,
+            open: false,
+            contours: 0,
+        });
+        alone
+    }
+
     #[test]
     fn the_writer_gets_every_piece_in_order_on_this_thread_from_the_planners() {
         // Piece batches either side of a boundary: none, one short, exact, and many.
         let here = std::thread::current().id();
         for n in [0, 1, BATCH_PIECES - 2, BATCH_PIECES, 7 * BATCH_PIECES + 13] {
-            let mut alone = Written::default();
-            front(n)(&mut Fake {
-                out: &mut alone,
-                open: false,
-                contours: 0,
-            });
+            let alone = written_alone(n);
             let mut written = Written::default();
             let Ok((read_on, planned_on)) = planner_aside(front(n), plan, DIM, &mut written) else {
                 panic!("no thread started");
@@ -865,12 +876,7 @@ mod tests {
     #[test]
     fn a_slow_planner_and_a_slow_writer_get_every_call_in_order() {
         let n = 9 * BATCH_CALLS + 5;
-        let mut alone = Written::default();
-        front(n)(&mut Fake {
-            out: &mut alone,
-            open: false,
-            contours: 0,
-        });
+        let alone = written_alone(n);
         // The planner slower than this thread.
         let mut written = Written::default();
         let Ok((_, planned)) = planner_aside(front(n), slow_plan, DIM, &mut written) else {
@@ -897,12 +903,7 @@ mod tests {
         }
         let mut slow = Slow(Written::default(), 0);
         let n = 6 * BATCH_PIECES + 5;
-        let mut alone = Written::default();
-        front(n)(&mut Fake {
-            out: &mut alone,
-            open: false,
-            contours: 0,
-        });
+        let alone = written_alone(n);
         assert!(planner_aside(front(n), plan, DIM, &mut slow).is_ok());
         assert!(slow.0 .0 == alone.0);
     }

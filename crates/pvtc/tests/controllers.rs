@@ -322,16 +322,7 @@ fn a_pipe_is_refused_and_warned_as_a_file_is_in_every_format() {
     let input = input.display().to_string();
     let out = dir.path().join("out").display().to_string();
     let counts = ["--counts-per-unit", "X=1000", "--counts-per-unit", "Y=1000"];
-    let formats = [
-        "pmac",
-        "movepvt",
-        "json",
-        "xps",
-        "galil",
-        "zaber",
-        "powerpmac",
-        "csv",
-    ];
+    let formats = pvt_emit::Format::ALL.map(pvt_emit::Format::name);
     let mut refused = 0;
     for format in formats {
         for extra in [

@@ -304,16 +304,7 @@ fn the_planner_aside_writes_the_bytes_of_one_thread_in_every_format() {
     let text = program(1_500 + 33, &|_| false);
     let counts = ["--counts-per-unit", "X=1000", "--counts-per-unit", "Y=1000"];
     let counts = [counts.as_slice(), &["--counts-per-unit", "Z=1000"]].concat();
-    for format in [
-        "pmac",
-        "movepvt",
-        "json",
-        "xps",
-        "galil",
-        "zaber",
-        "powerpmac",
-        "csv",
-    ] {
+    for format in pvt_emit::Format::ALL.map(pvt_emit::Format::name) {
         let mut args = vec!["--format", format];
         if matches!(format, "galil" | "zaber") {
             args.extend(&counts);
