@@ -19,7 +19,7 @@
 //! program's axis count, the events aside), in batches of [`BATCH_PIECES`] records; a
 //! pool of [`PIECE_BATCHES`] batches, made on the calling thread before the planner's
 //! starts, goes round, the planner waiting for an emptied one rather than making one, so
-//! the hand-over's memory is fixed (256 KB on three axes). The calling thread writes the
+//! the hand-over's memory is fixed (128 KB on three axes). The calling thread writes the
 //! pieces that have arrived each time it hands the planner a batch of calls, and writes
 //! them as they come while the planner has [`CALLS_AHEAD`] batches queued, so the
 //! thread that has less to do (the planner on straight lines, the front end and writer
@@ -232,18 +232,19 @@ fn take<F>(waiting: &Mutex<Option<F>>) -> Option<F> {
 
 /// Pieces (records: pieces, contour starts and events alike) in one batch of the
 /// planner's hand-over to the writer. A piece costs a 16-byte record and two axis counts
-/// of numbers (64 bytes on three axes, 112 on six), so a batch is 32 KB on three axes
-/// and 10⁶ pieces are about 2,000 hand-overs.
-pub const BATCH_PIECES: usize = 512;
+/// of numbers (64 bytes on three axes, 112 on six), so a batch is 16 KB on three axes
+/// and 10⁶ pieces are about 4,000 hand-overs.
+pub const BATCH_PIECES: usize = 256;
 
 /// Piece batches in all, made before the planner's thread starts and passed round: the
 /// planner fills one, the writer replays one, and the others wait full on the desk (or
 /// emptied, on their way back). The planner waits for an emptied batch rather than make
-/// one, so the hand-over holds at most these (256 KB on three axes) and the planner's
-/// thread allocates none. Eight, so that where the planner has the more to do (a pocket
-/// of arcs) it runs a few milliseconds ahead of a writer waking from a wait: at four, on
-/// this virtual machine under load, the planner stopped for a waking writer 261 times
-/// in a 1.1 s compile of `generate pocket 100000`, 0.4 s in all.
+/// one, so the hand-over holds at most these (128 KB on three axes) and the planner's
+/// thread allocates none. Eight small batches rather than four large ones, so that
+/// where the planner has the more to do (a pocket of arcs) the writer hands each batch
+/// back sooner and the planner runs ahead of a writer waking from a wait: with four of
+/// 512, on this virtual machine under load, the planner stopped for a waking writer 261
+/// times in a 1.1 s compile of `generate pocket 100000`, 0.4 s in all.
 pub const PIECE_BATCHES: usize = 8;
 
 /// What one [`PieceSink`] call of the planner's was, without its numbers: a batch keeps
