@@ -164,9 +164,9 @@ pub fn front_end_threads() -> usize {
     THREADS.with(std::cell::Cell::get)
 }
 
-/// Whether a compile on this thread runs its front end on a thread of its own: not
-/// inside a rayon worker (batch compiles already fill the cores, one file each), nor on
-/// a machine with one core.
+/// Whether a compile on this thread runs on two (its planner, or where it plans nothing
+/// its front end, on a thread of its own): not inside a rayon worker (batch compiles
+/// already fill the cores, one file each), nor on a machine with one core.
 pub fn threaded() -> bool {
     rayon::current_thread_index().is_none()
         && std::thread::available_parallelism().is_ok_and(|n| n.get() > 1)
@@ -401,7 +401,7 @@ impl CallBatches for FrontDesk<'_> {
     }
 }
 
-impl FrontDesk<'_> {
+impl<'a> FrontDesk<'a> {
     /// Queues the open batch for the planner, writing arrived pieces while the queue is
     /// full, then writes whatever pieces have arrived.
     fn queue_calls(&mut self) {
@@ -424,32 +424,25 @@ impl FrontDesk<'_> {
                 break;
             }
             desk = match desk.pieces.pop_front() {
-                Some(pieces) => {
-                    drop(desk);
-                    self.write(pieces);
-                    self.mailbox.desk()
-                }
+                Some(pieces) => self.write(desk, pieces),
                 None => self.mailbox.wait(desk),
             };
         }
-        drop(desk);
-        while let Some(pieces) = self.arrived() {
-            self.write(pieces);
+        while let Some(pieces) = desk.pieces.pop_front() {
+            desk = self.write(desk, pieces);
         }
     }
 
-    /// A full piece batch that has arrived, without waiting.
-    fn arrived(&self) -> Option<Pieces> {
-        self.mailbox.desk().pieces.pop_front()
-    }
-
-    /// Writes `pieces` and hands the emptied batch back.
-    fn write(&mut self, mut pieces: Pieces) {
+    /// Writes `pieces` with the desk unlocked, and hands the emptied batch back: the
+    /// desk, locked again.
+    fn write(&mut self, desk: MutexGuard<'a, Desk>, mut pieces: Pieces) -> MutexGuard<'a, Desk> {
+        drop(desk);
         pieces.replay(self.writer);
         pieces.clear();
         let mut desk = self.mailbox.desk();
         desk.emptied_pieces.push(pieces);
         self.mailbox.changed(&desk);
+        desk
     }
 
     /// Sends the last calls and writes every piece until the planner has ended.
@@ -462,11 +455,7 @@ impl FrontDesk<'_> {
         self.mailbox.changed(&desk);
         loop {
             desk = match desk.pieces.pop_front() {
-                Some(pieces) => {
-                    drop(desk);
-                    self.write(pieces);
-                    self.mailbox.desk()
-                }
+                Some(pieces) => self.write(desk, pieces),
                 None if desk.pieces_end => return,
                 None => self.mailbox.wait(desk),
             };

@@ -323,35 +323,50 @@ fn stream_pass(
         return Ok(Err(e));
     }
     let read = front_end(path, gcode)?;
-    let read = match crate::pipeline::threaded() {
-        false => read,
-        true => {
-            let plan = |pieces: &mut dyn PieceSink, calls: crate::pipeline::Calls<'_>| {
-                match PlanningSink::new(pieces, axes.to_vec(), options.clone()) {
-                    Ok(mut planning) => {
-                        calls(&mut planning);
-                        planning.end()
-                    }
-                    Err(e) => (MovedAxes::default(), Err(e)),
+    let plan = |pieces: &mut dyn PieceSink, calls: crate::pipeline::Calls<'_>| {
+        plan_calls(pieces, calls, axes, &options)
+    };
+    let threaded = match crate::pipeline::threaded() {
+        true => crate::pipeline::planner_aside(read, plan, axes.len(), writer),
+        false => Err(read),
+    };
+    let (read, (moved, planned)) = match threaded {
+        Ok(streamed) => streamed,
+        // On this thread alone (where no thread started, nothing ran).
+        Err(read) => {
+            let (mut read, mut result) = (Some(read), None);
+            let planned = plan(writer, &mut |sink| {
+                if let Some(read) = read.take() {
+                    result = Some(read(sink));
                 }
-            };
-            match crate::pipeline::planner_aside(read, plan, axes.len(), writer) {
-                Ok((read, (moved, planned))) => {
-                    let summary = read_summary(path, name, read)?;
-                    return Ok(Ok((summary, moved, planned)));
-                }
-                // No thread started and nothing ran: all of it runs here.
-                Err(read) => read,
-            }
+            });
+            (result.expect("plan_calls makes the calls"), planned)
         }
     };
-    let mut planning = match PlanningSink::new(writer, axes.to_vec(), options) {
-        Ok(planning) => planning,
-        Err(e) => return Ok(Err(e)),
-    };
-    let summary = read_summary(path, name, read(&mut planning))?;
-    let (moved, planned) = planning.end();
-    Ok(Ok((summary, moved, planned)))
+    Ok(Ok((read_summary(path, name, read)?, moved, planned)))
+}
+
+/// Plans the front end's `calls` with `options` on `axes` into `pieces`: the axes the
+/// elements moved, and the plan's report or first error. The calls are made whatever
+/// the plan: where the options are refused (which [`pvt_core::plan::check_options`]
+/// has ruled out before), the front end still runs, its elements only noted.
+fn plan_calls(
+    pieces: &mut dyn PieceSink,
+    calls: crate::pipeline::Calls<'_>,
+    axes: &[Axis],
+    options: &PlanOptions,
+) -> (MovedAxes, Result<PlanReport, PlanError>) {
+    match PlanningSink::new(pieces, axes.to_vec(), options.clone()) {
+        Ok(mut planning) => {
+            calls(&mut planning);
+            planning.end()
+        }
+        Err(e) => {
+            let mut moved = MovedAxes::default();
+            calls(&mut moved);
+            (moved, Err(e))
+        }
+    }
 }
 
 /// Diagnostics as reports, each with the lines of the file around it (read again, a
