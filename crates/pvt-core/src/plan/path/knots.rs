@@ -8,6 +8,8 @@
 //! piece's cubic: that is [`super::pieces`] and [`super::piece`]. It reads pieces
 //! ([`super::piece`]) but never builds them, so `pieces.rs` depends on it and not back.
 
+mod local;
+
 use super::curve::Curve;
 use super::piece::Pieces;
 use super::transition::Transition;
@@ -163,8 +165,15 @@ pub(super) struct Scratch {
     /// The speeds of the knots the last round's pieces were made from (empty: none to
     /// take over), for [`Knots::pieces_again`].
     pub(super) made_at: Vec<f64>,
-    /// The trapezoid knots [`Knots::add_trapezoids`] inserts, each after its knot.
+    /// The trapezoid knots [`Knots::add_trapezoids`] inserts, each after its knot (and
+    /// the knots a local round's split inserts, [`local`]).
     added: Vec<Added>,
+    /// A local round's knots whose speed the next may change, and the knots it
+    /// inserted ([`local`]).
+    touched: Vec<usize>,
+    inserted: Vec<usize>,
+    /// The pieces whose error bounds a local round made ([`local`]).
+    changed: Vec<usize>,
 }
 
 /// A trapezoid knot to insert after knot `after`: at `param` on that knot's element, its
@@ -217,6 +226,13 @@ impl PieceWay {
         }
     }
 
+    /// True when the way bounds no change of speed: its reach is infinite from any
+    /// speed (no finite acceleration, path jerk or ratio of end speeds), so that
+    /// [`PieceWay::limit`]`(speed, v)` is `speed` whatever `v` (∞ where `speed` is NaN).
+    pub(super) fn is_free(&self) -> bool {
+        !self.accel.is_finite() && !self.jerk.is_finite() && !self.ratio.is_finite()
+    }
+
     /// `speed.min(self.reach(v))`, without the reach where `speed` is at most `v`: the
     /// reach is never below `v` (`v + Δ` with `Δ ≥ 0`, `√(v² + 2ad) ≥ v`, `ratio ≥ 1`),
     /// so the minimum is `speed` there, bit for bit.
@@ -245,6 +261,30 @@ impl Knots {
             junctions: self.junctions,
             scratch: self.scratch,
         }
+    }
+}
+
+impl Knots {
+    /// Every knot's place, junction, blend, cap, speed and whether it is fixed, bit for
+    /// bit (`{:?}` of an `f64` is its shortest round trip): what a settling decides,
+    /// without [`Knot::last_round`], which only the rounds that take over the last
+    /// round's values keep.
+    #[cfg(test)]
+    pub(super) fn settled_state(&self) -> String {
+        let knot = |k: &Knot| {
+            let Knot {
+                before,
+                after,
+                junction,
+                blend,
+                cap,
+                speed,
+                fixed,
+                last_round: _,
+            } = k;
+            format!("{before:?} {after:?} {junction:?} {blend:?} {cap:?} {speed:?} {fixed}\n")
+        };
+        self.knots.iter().map(knot).collect()
     }
 }
 
@@ -458,6 +498,12 @@ impl Knots {
     /// it (already set); a fixed knot keeps its cap.
     #[inline(always)]
     fn cap_and_limit(&mut self, j: usize, ways: &[PieceWay]) {
+        self.knots[j].speed = self.backward_speed(j, ways);
+    }
+
+    /// [`Knots::cap_and_limit`]'s speed for knot `j`, not set.
+    #[inline(always)]
+    fn backward_speed(&self, j: usize, ways: &[PieceWay]) -> f64 {
         let n = self.knots.len();
         let knot = &self.knots[j];
         let mut cap = knot.cap;
@@ -467,14 +513,13 @@ impl Knots {
         if j < n - 1 {
             cap = cap.min(ways[j].cap);
         }
-        let speed = if knot.fixed {
+        if knot.fixed {
             knot.cap
         } else if j < n - 1 {
             ways[j].limit(cap, self.knots[j + 1].speed)
         } else {
             cap
-        };
-        self.knots[j].speed = speed;
+        }
     }
 
     /// Sizes `ways` for these knots' pieces, made again from the end by
@@ -621,25 +666,20 @@ impl Knots {
                 add(d - fall);
             }
         }
-        // In place, from the end: each knot moves up by the knots added before it.
-        let n = self.knots.len();
-        let filler = self.knots[n - 1];
-        self.knots.resize(n + added.len(), filler);
-        let (mut end, mut run_end) = (n + added.len(), n);
-        for a in added.iter().rev() {
-            let run = run_end - (a.after + 1);
-            self.knots.copy_within(a.after + 1..run_end, end - run);
-            end -= run + 1;
-            let place = Place {
-                element: self.knots[a.after].after.element,
-                param: a.param,
-            };
-            let mut knot = Knot::at(place, a.speed);
-            knot.speed = a.speed;
-            self.knots[end] = knot;
-            run_end = a.after + 1;
-        }
-        debug_assert_eq!(end, run_end, "every trapezoid knot placed");
+        insert_after(
+            &mut self.knots,
+            added.len(),
+            added.iter().rev(),
+            |knots, a| {
+                let place = Place {
+                    element: knots[a.after].after.element,
+                    param: a.param,
+                };
+                let mut knot = Knot::at(place, a.speed);
+                knot.speed = a.speed;
+                (a.after, knot)
+            },
+        );
         let any = !added.is_empty();
         self.scratch.added = added;
         any
@@ -657,7 +697,7 @@ impl Knots {
     /// Splits every piece whose error bound exceeds `tolerance` at its middle parameter;
     /// a corner blend over its tolerance instead gets both end speeds capped at the
     /// slower one (at equal speeds it meets it). Returns whether any changed.
-    pub fn split_over(&mut self, curves: &[Curve], pieces: &Pieces, tolerance: f64) -> bool {
+    pub fn split_over(&mut self, pieces: &Pieces, tolerance: f64) -> bool {
         // The largest error of each knot's piece (of its S-curve parts in jerk mode).
         let mut errors = std::mem::take(&mut self.scratch.errors);
         errors.clear();
@@ -665,15 +705,15 @@ impl Knots {
         for (knot, error) in pieces.knots_and_errors() {
             errors[knot] = errors[knot].max(error);
         }
-        let split = self.split_errors(curves, &errors, tolerance);
+        let split = self.split_errors(&errors, tolerance);
         self.scratch.errors = errors;
         split
     }
 
     /// [`Knots::split_over`] on the error bounds [`Knots::errors_again`] left.
-    pub fn split_over_errors(&mut self, curves: &[Curve], tolerance: f64) -> bool {
+    pub fn split_over_errors(&mut self, tolerance: f64) -> bool {
         let errors = std::mem::take(&mut self.scratch.errors);
-        let split = self.split_errors(curves, &errors, tolerance);
+        let split = self.split_errors(&errors, tolerance);
         self.scratch.errors = errors;
         split
     }
@@ -687,54 +727,55 @@ impl Knots {
 
     /// [`Knots::split_over`] with each piece's largest error given: the knots are built
     /// again only where some piece is split.
-    fn split_errors(&mut self, curves: &[Curve], errors: &[f64], tolerance: f64) -> bool {
+    fn split_errors(&mut self, errors: &[f64], tolerance: f64) -> bool {
         let mut split = false;
         for (k, &error) in errors.iter().enumerate() {
-            if let Some(j) = self.knots[k].blend_index() {
-                // Speeds do not change here: capping every blend first caps the same.
-                if error > self.junctions[j].tolerance {
-                    let slower = self.knots[k].speed.min(self.knots[k + 1].speed);
-                    for i in [k, k + 1] {
-                        let knot = &mut self.knots[i];
-                        if !knot.fixed && knot.cap > slower {
-                            knot.cap = slower;
-                            split = true;
-                        }
-                    }
+            // Speeds do not change here: capping every blend first caps the same.
+            split |= self.cap_blend_over(k, error) != [false, false];
+        }
+        let mut splits = std::mem::take(&mut self.scratch.inserted);
+        splits.clear();
+        let over = |&(k, &error): &(usize, &f64)| self.splits_at(k, error, tolerance);
+        splits.extend(errors.iter().enumerate().filter(over).map(|(k, _)| k));
+        self.insert_splits(&splits);
+        split |= !splits.is_empty();
+        self.scratch.inserted = splits;
+        split
+    }
+
+    /// Splits each piece of `splits` (in order) at its middle parameter, in place.
+    fn insert_splits(&mut self, splits: &[usize]) {
+        let down = splits.iter().rev().copied();
+        insert_after(&mut self.knots, splits.len(), down, |knots, k| {
+            (k, split_knot(knots, k))
+        });
+    }
+
+    /// Where piece `k` is a corner blend over its tolerance with error bound `error`,
+    /// caps both its knots (but a fixed one) at the slower end speed (at equal speeds it
+    /// meets it). Returns which of the two caps it lowered.
+    fn cap_blend_over(&mut self, k: usize, error: f64) -> [bool; 2] {
+        let mut lowered = [false; 2];
+        let Some(j) = self.knots[k].blend_index() else {
+            return lowered;
+        };
+        if error > self.junctions[j].tolerance {
+            let slower = self.knots[k].speed.min(self.knots[k + 1].speed);
+            for (i, lowered) in lowered.iter_mut().enumerate() {
+                let knot = &mut self.knots[k + i];
+                if !knot.fixed && knot.cap > slower {
+                    knot.cap = slower;
+                    *lowered = true;
                 }
             }
         }
-        let over = |(k, &error): (usize, &f64)| error > tolerance && self.knots[k].blend.is_none();
-        if !errors.iter().enumerate().any(over) {
-            return split;
-        }
-        // In place, from the end: the vector grows by the knots added, and each knot
-        // moves up by the splits before it (the knots between two splits as one run).
-        // Knot `k + 1` is still in its place when piece `k` is split (every knot moved
-        // so far went at least one place above `k + 1`), so the new knot's place is
-        // read from the knots as they were; no second knot vector is held.
-        let splits = errors.iter().enumerate().filter(|&e| over(e)).count();
-        let n = self.knots.len();
-        let filler = self.knots[n - 1];
-        self.knots.resize(n + splits, filler);
-        let mut end = n + splits;
-        let mut run_end = n;
-        for (k, &error) in errors.iter().enumerate().rev() {
-            if error > tolerance && self.knots[k].blend.is_none() {
-                let (_, from, to) = self.piece_span(curves, k);
-                let place = Place {
-                    element: self.knots[k].after.element,
-                    param: 0.5 * (from + to),
-                };
-                let run = run_end - (k + 1);
-                self.knots.copy_within(k + 1..run_end, end - run);
-                end -= run + 1;
-                self.knots[end] = Knot::at(place, f64::INFINITY);
-                run_end = k + 1;
-            }
-        }
-        debug_assert_eq!(end, run_end, "every split placed");
-        true
+        lowered
+    }
+
+    /// True when piece `k`, with error bound `error`, is split at its middle: over the
+    /// tolerance and no corner blend.
+    fn splits_at(&self, k: usize, error: f64, tolerance: f64) -> bool {
+        error > tolerance && self.knots[k].blend.is_none()
     }
 
     /// Lowers the speed caps at both ends of every piece whose closed-form velocity or
@@ -1193,6 +1234,47 @@ impl Knots {
             }
         }
     }
+}
+
+/// The knot that splits piece `k` of `knots` at its middle parameter.
+fn split_knot(knots: &[Knot], k: usize) -> Knot {
+    let (from, to) = (knots[k].after, knots[k + 1].before);
+    debug_assert_eq!(from.element, to.element);
+    let place = Place {
+        element: from.element,
+        param: 0.5 * (from.param + to.param),
+    };
+    Knot::at(place, f64::INFINITY)
+}
+
+/// Inserts `count` elements into `v` in place, each after index `k` where
+/// `make(v, item)` gives `(k, element)` for each of `items`, which come by descending
+/// `k` (distinct, below `v.len()`). From the end: the vector grows once, and each element
+/// moves up by the insertions before it (the elements between two insertions as one
+/// run). `make` sees `v` with every element up to `k + 1` still in its place (every
+/// element moved so far went at least one place above `k + 1`), so it reads them as
+/// they were; no second vector is held.
+fn insert_after<T: Copy, X>(
+    v: &mut Vec<T>,
+    count: usize,
+    items: impl Iterator<Item = X>,
+    mut make: impl FnMut(&[T], X) -> (usize, T),
+) {
+    let n = v.len();
+    if count == 0 {
+        return;
+    }
+    v.resize(n + count, v[n - 1]);
+    let (mut end, mut run_end) = (n + count, n);
+    for item in items {
+        let (k, element) = make(v, item);
+        let run = run_end - (k + 1);
+        v.copy_within(k + 1..run_end, end - run);
+        end -= run + 1;
+        v[end] = element;
+        run_end = k + 1;
+    }
+    debug_assert_eq!(end, run_end, "every element placed");
 }
 
 /// True when no axis has a velocity, acceleration or jerk limit.
@@ -1733,7 +1815,7 @@ mod shortcut_tests {
 
     /// A random program of `n` elements: chords of 0.2 along a wandering heading, one in
     /// four an arc through the next point, at random feeds.
-    fn program(seed: u64, n: usize) -> Vec<Element> {
+    pub(super) fn program(seed: u64, n: usize) -> Vec<Element> {
         let mut state = seed;
         let mut next = move || {
             state = state
@@ -1821,7 +1903,7 @@ mod shortcut_tests {
     }
 
     /// X, Y and Z with no limit, at a path tolerance of 1e-3.
-    fn xyz_without_limits() -> ([Axis; 3], PathOptions) {
+    pub(super) fn xyz_without_limits() -> ([Axis; 3], PathOptions) {
         let options = PathOptions {
             tolerance: 1e-3,
             corner_tolerance: None,
@@ -1860,7 +1942,7 @@ mod shortcut_tests {
         let bounds = AxisBounds::new(&axes, &options);
         let mut state = 0x9e37_79b9_7f4a_7c15u64;
         for seed in 1..30 {
-            let (curves, mut knots) = random_knots_at_rest(seed, &axes, &bounds);
+            let (_, mut knots) = random_knots_at_rest(seed, &axes, &bounds);
             for share in [0.0, 0.3, 1.0] {
                 let errors: Vec<f64> = (0..knots.knots.len() - 1)
                     .map(|_| {
@@ -1889,7 +1971,7 @@ mod shortcut_tests {
                     }
                 }
                 let added = rebuilt.len() > knots.knots.len();
-                assert_eq!(knots.split_errors(&curves, &errors, 1.0), added);
+                assert_eq!(knots.split_errors(&errors, 1.0), added);
                 assert_eq!(format!("{:?}", knots.knots), format!("{rebuilt:?}"));
             }
         }

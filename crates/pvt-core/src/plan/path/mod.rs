@@ -1047,7 +1047,7 @@ fn settle_by_pieces(
     for _ in 0..MAX_ROUNDS {
         knots.plan_speeds(curves, bounds);
         knots.pieces_again(curves, bounds, pieces);
-        if knots.split_over(curves, pieces, tolerance)
+        if knots.split_over(pieces, tolerance)
             || knots.slow_over(pieces, bounds)
             || knots.step_over(pieces, bounds)
         {
@@ -1064,7 +1064,9 @@ fn settle_by_pieces(
 /// knots, each taking the time and bound its last round made
 /// ([`Knots::pieces_from_bounds`]). A piece follows from its knots alone, so they are those of
 /// [`settle_by_pieces`], whose rounds split the same knots (its other repairs change
-/// nothing here), without a piece made and then split.
+/// nothing here), without a piece made and then split. Where every knot's speed is
+/// local ([`Knots::speeds_are_local`]: always without limits) a round makes again
+/// only what the last changed ([`Knots::settle_locally`]), up to a way that is not.
 fn settle_by_errors(
     knots: &mut Knots,
     curves: &[Curve],
@@ -1072,10 +1074,38 @@ fn settle_by_errors(
     tolerance: f64,
     pieces: &mut piece::Pieces,
 ) -> bool {
-    for _ in 0..MAX_ROUNDS {
+    knots.plan_speeds(curves, bounds);
+    let mut first = 0;
+    if knots.speeds_are_local() {
+        match knots.settle_locally(curves, bounds, tolerance, MAX_ROUNDS) {
+            None => {
+                knots.pieces_from_bounds(curves, bounds, pieces);
+                return true;
+            }
+            Some(round) => first = round,
+        }
+        knots.forget_pieces();
         knots.plan_speeds(curves, bounds);
+    }
+    settle_from_round(knots, curves, bounds, tolerance, first, pieces)
+}
+
+/// [`settle_by_errors`]'s whole rounds from round `first` (each visits every knot), on
+/// knots whose speeds [`Knots::plan_speeds`] has just planned.
+fn settle_from_round(
+    knots: &mut Knots,
+    curves: &[Curve],
+    bounds: &AxisBounds,
+    tolerance: f64,
+    first: usize,
+    pieces: &mut piece::Pieces,
+) -> bool {
+    for round in first..MAX_ROUNDS {
+        if round > first {
+            knots.plan_speeds(curves, bounds);
+        }
         knots.errors_again(curves, bounds);
-        if !knots.split_over_errors(curves, tolerance) {
+        if !knots.split_over_errors(tolerance) {
             knots.pieces_from_bounds(curves, bounds, pieces);
             return true;
         }
@@ -1117,7 +1147,7 @@ fn on_grid(
 ) -> Option<OnGrid> {
     for _ in 0..MAX_ROUNDS {
         let grid = knots.on_grid(curves, bounds, &planned, quantum);
-        let changed = knots.split_over(curves, &grid.pieces, tolerance)
+        let changed = knots.split_over(&grid.pieces, tolerance)
             || knots.slow_over(&grid.pieces, bounds)
             || knots.step_over(&grid.pieces, bounds);
         if !changed {
@@ -1714,7 +1744,7 @@ mod tests {
         assert_eq!(format!("{pieces:?}"), format!("{fresh:?}"));
         // One more round by hand: the worse half of the pieces split.
         let worst = pieces.iter().map(|p| p.error).fold(0.0, f64::max);
-        assert!(knots.split_over(&curves, &pieces, 0.5 * worst));
+        assert!(knots.split_over(&pieces, 0.5 * worst));
         knots.plan_speeds(&curves, &bounds);
         let made_at = knots.scratch.made_at.clone();
         let unchanged = |k: usize| {
@@ -1850,8 +1880,7 @@ mod tests {
                 assert!(by_errors.knots.len() > first, "no round split a piece");
             }
             assert_eq!(format!("{settled:?}"), format!("{made:?}"));
-            let knots = |k: &Knots| format!("{:?}", k.knots);
-            assert_eq!(knots(&by_errors), knots(&by_pieces));
+            assert_eq!(by_errors.settled_state(), by_pieces.settled_state());
         }
     }
 

@@ -119,7 +119,12 @@ impl Knots {
 
     /// The time and error bound of the piece after knot `k` (without a jerk limit): those
     /// of [`Knots::piece`], without its end states where it is no corner blend.
-    fn piece_time_and_error(&self, curves: &[Curve], bounds: &AxisBounds, k: usize) -> (f64, f64) {
+    pub(super) fn piece_time_and_error(
+        &self,
+        curves: &[Curve],
+        bounds: &AxisBounds,
+        k: usize,
+    ) -> (f64, f64) {
         match self.knots[k].blend_index() {
             Some(j) => {
                 let blend = self.blend_piece(curves, k, j);
