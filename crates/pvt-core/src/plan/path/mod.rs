@@ -743,7 +743,14 @@ impl PathStream {
         }
         // The pieces' storage of the last window, reused by every round of this one.
         let mut pieces = std::mem::take(&mut self.pieces);
-        if !settle_into(&mut knots, curves, bounds, tolerance, &mut pieces) {
+        // Off a grid, where the tolerance is the only repair, the window's pieces are
+        // written from their knots and bounds, never made (see `Knots::emit_ends`).
+        let ends_only = self.options.quantum.is_none() && knots.tolerance_alone_repairs(bounds);
+        let settle = |knots: &mut Knots, pieces: &mut piece::Pieces| match ends_only {
+            true => settle_bounds(knots, curves, bounds, tolerance),
+            false => settle_into(knots, curves, bounds, tolerance, pieces),
+        };
+        if !settle(&mut knots, &mut pieces) {
             return Err(not_met);
         }
         // Without a trapezoid knot the knots and caps are those just settled: a second
@@ -752,7 +759,7 @@ impl PathStream {
             if !last && !bounds.jerk_mode() {
                 knots.cap_for_window(curves, least);
             }
-            if !settle_into(&mut knots, curves, bounds, tolerance, &mut pieces) {
+            if !settle(&mut knots, &mut pieces) {
                 return Err(not_met);
             }
         }
@@ -784,11 +791,20 @@ impl PathStream {
                 }
             }
         };
-        let worst = worst_before(pieces.knots_and_errors(), count);
+        let (worst, planned) = if ends_only {
+            knots.emit_ends(curves, count, emit);
+            let errors = knots.scratch.errors.iter().copied();
+            (
+                worst_before(errors.enumerate(), count),
+                knots.knots.len() - 1,
+            )
+        } else {
+            knots.emit(curves, &pieces, count, emit);
+            (worst_before(pieces.knots_and_errors(), count), pieces.len())
+        };
         self.report.error_bound = self.report.error_bound.max(worst);
-        knots.emit(curves, &pieces, count, emit);
         if !last && !bounds.jerk_mode() && self.options.quantum.is_none() {
-            let per_piece = self.curves.len() * WINDOW_PIECES / pieces.len().max(1);
+            let per_piece = self.curves.len() * WINDOW_PIECES / planned.max(1);
             self.fill = per_piece.clamp(least_fill(self.window), self.window);
         }
         self.pieces = pieces;
@@ -1059,14 +1075,11 @@ fn settle_by_pieces(
 }
 
 /// [`settle_into`]'s rounds where the tolerance is the only repair
-/// ([`Knots::tolerance_alone_repairs`]): a round splits by the pieces' error bounds
-/// alone ([`Knots::errors_again`]), and the pieces are made once, from the settled
-/// knots, each taking the time and bound its last round made
-/// ([`Knots::pieces_from_bounds`]). A piece follows from its knots alone, so they are those of
-/// [`settle_by_pieces`], whose rounds split the same knots (its other repairs change
-/// nothing here), without a piece made and then split. Where every knot's speed is
-/// local ([`Knots::speeds_are_local`]: always without limits) a round makes again
-/// only what the last changed ([`Knots::settle_locally`]), up to a way that is not.
+/// ([`Knots::tolerance_alone_repairs`]): [`settle_bounds`], and the pieces made once,
+/// from the settled knots, each taking the time and bound its last round made
+/// ([`Knots::pieces_from_bounds`]). A piece follows from its knots alone, so they are
+/// those of [`settle_by_pieces`], whose rounds split the same knots (its other repairs
+/// change nothing here), without a piece made and then split.
 fn settle_by_errors(
     knots: &mut Knots,
     curves: &[Curve],
@@ -1074,23 +1087,35 @@ fn settle_by_errors(
     tolerance: f64,
     pieces: &mut piece::Pieces,
 ) -> bool {
+    let settled = settle_bounds(knots, curves, bounds, tolerance);
+    if settled {
+        knots.pieces_from_bounds(curves, bounds, pieces);
+    }
+    settled
+}
+
+/// The rounds where the tolerance is the only repair, which make no piece: a round
+/// splits by the pieces' times and error bounds alone ([`Knots::errors_again`]), which
+/// it leaves in the knots' scratch for every piece of the settled knots; false after
+/// [`MAX_ROUNDS`]. Where every knot's speed is local ([`Knots::speeds_are_local`]:
+/// always without limits) a round makes again only what the last changed
+/// ([`Knots::settle_locally`]), up to a way that is not.
+fn settle_bounds(knots: &mut Knots, curves: &[Curve], bounds: &AxisBounds, tolerance: f64) -> bool {
+    knots.forget_pieces();
     knots.plan_speeds(curves, bounds);
     let mut first = 0;
     if knots.speeds_are_local() {
         match knots.settle_locally(curves, bounds, tolerance, MAX_ROUNDS) {
-            None => {
-                knots.pieces_from_bounds(curves, bounds, pieces);
-                return true;
-            }
+            None => return true,
             Some(round) => first = round,
         }
         knots.forget_pieces();
         knots.plan_speeds(curves, bounds);
     }
-    settle_from_round(knots, curves, bounds, tolerance, first, pieces)
+    settle_from_round(knots, curves, bounds, tolerance, first)
 }
 
-/// [`settle_by_errors`]'s whole rounds from round `first` (each visits every knot), on
+/// [`settle_bounds`]'s whole rounds from round `first` (each visits every knot), on
 /// knots whose speeds [`Knots::plan_speeds`] has just planned.
 fn settle_from_round(
     knots: &mut Knots,
@@ -1098,7 +1123,6 @@ fn settle_from_round(
     bounds: &AxisBounds,
     tolerance: f64,
     first: usize,
-    pieces: &mut piece::Pieces,
 ) -> bool {
     for round in first..MAX_ROUNDS {
         if round > first {
@@ -1106,7 +1130,6 @@ fn settle_from_round(
         }
         knots.errors_again(curves, bounds);
         if !knots.split_over_errors(tolerance) {
-            knots.pieces_from_bounds(curves, bounds, pieces);
             return true;
         }
     }

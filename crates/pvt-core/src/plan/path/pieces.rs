@@ -152,6 +152,41 @@ impl Knots {
         }
     }
 
+    /// Emits the pieces of the knots before knot `count` as [`Knots::emit`] emits those
+    /// [`Knots::pieces_from_bounds`] makes, without making them: each piece's end state
+    /// ([`Knots::fill_piece`]'s end, a corner blend's [`Knots::blend_piece`]), its
+    /// time from the last [`Knots::errors_again`] (the settled knots'), and its line;
+    /// the same values, bit for bit. Without a jerk limit (a piece is one cubic).
+    pub fn emit_ends(
+        &self,
+        curves: &[Curve],
+        count: usize,
+        emit: &mut dyn FnMut(&crate::program::SegmentRef<'_>),
+    ) {
+        debug_assert!(!self.jerk_mode && self.scratch.durations.len() + 1 == self.knots.len());
+        for k in 0..count {
+            let curve = &curves[self.knots[k].after.element];
+            let line = curve.line;
+            if let Some(j) = self.knots[k].blend_index() {
+                let blend = self.blend_piece(curves, k, j);
+                emit(&crate::program::SegmentRef {
+                    end: &blend.end,
+                    velocity: &blend.end_velocity,
+                    duration: blend.duration,
+                    line,
+                });
+                continue;
+            }
+            let (curve, _, to) = self.piece_span(curves, k);
+            emit(&crate::program::SegmentRef {
+                end: &curve.point(to),
+                velocity: &self.velocity_at(k + 1, curve, to),
+                duration: self.scratch.durations[k],
+                line,
+            });
+        }
+    }
+
     /// Forgets the last round's pieces: the next [`Knots::pieces_again`] makes all.
     pub fn forget_pieces(&mut self) {
         self.scratch.made_at.clear();

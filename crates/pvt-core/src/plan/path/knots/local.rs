@@ -198,8 +198,24 @@ mod tests {
         format!("{} {d:?} {e:?}", knots.settled_state())
     }
 
+    /// What the settled `knots` emit: from `pieces` ([`Knots::emit`]), or from the knots
+    /// and their bounds alone ([`Knots::emit_ends`]), every piece.
+    fn written(knots: &Knots, curves: &[Curve], pieces: Option<&Pieces>) -> String {
+        let mut text = String::new();
+        let mut emit = |s: &crate::program::SegmentRef<'_>| {
+            text += &format!("{:?} {:?} {:?} {}\n", s.end, s.velocity, s.duration, s.line);
+        };
+        let count = knots.knots.len() - 1;
+        match pieces {
+            Some(pieces) => knots.emit(curves, pieces, count, &mut emit),
+            None => knots.emit_ends(curves, count, &mut emit),
+        }
+        text
+    }
+
     /// Local rounds, all of them or the first `local` and the whole rounds after, settle
-    /// to the whole rounds' knots and pieces bit for bit, on random programs of lines
+    /// to the whole rounds' knots and pieces bit for bit, and the pieces written from
+    /// the knots and bounds alone are those made, on random programs of lines
     /// and arcs with sharp corners (stops, whose slowing pieces split round after
     /// round), with and without corner blends.
     #[test]
@@ -236,14 +252,10 @@ mod tests {
                 let mut whole_pieces = Pieces::default();
                 whole.plan_speeds(&curves, &bounds);
                 let settled = crate::plan::path::settle_from_round(
-                    &mut whole,
-                    &curves,
-                    &bounds,
-                    tolerance,
-                    0,
-                    &mut whole_pieces,
+                    &mut whole, &curves, &bounds, tolerance, 0,
                 );
                 assert!(settled);
+                whole.pieces_from_bounds(&curves, &bounds, &mut whole_pieces);
                 for local in [1, 2, 3, MAX_ROUNDS] {
                     let mut knots = fresh.clone();
                     knots.plan_speeds(&curves, &bounds);
@@ -255,23 +267,21 @@ mod tests {
                         knots.forget_pieces();
                         knots.plan_speeds(&curves, &bounds);
                         assert!(crate::plan::path::settle_from_round(
-                            &mut knots,
-                            &curves,
-                            &bounds,
-                            tolerance,
-                            round,
-                            &mut pieces,
+                            &mut knots, &curves, &bounds, tolerance, round,
                         ));
                         rounds_seen += 1;
-                    } else {
-                        knots.pieces_from_bounds(&curves, &bounds, &mut pieces);
                     }
+                    knots.pieces_from_bounds(&curves, &bounds, &mut pieces);
                     assert_eq!(
                         state(&knots),
                         state(&whole),
                         "seed {seed} {corner:?} {local}"
                     );
                     assert_eq!(format!("{pieces:?}"), format!("{whole_pieces:?}"));
+                    assert_eq!(
+                        written(&knots, &curves, None),
+                        written(&knots, &curves, Some(&pieces))
+                    );
                 }
                 inserted += whole.knots.len() - fresh.knots.len();
                 let junctions = &whole.junctions;
