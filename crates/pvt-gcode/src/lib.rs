@@ -308,6 +308,9 @@ pub struct Reader<'a> {
     /// Plain lines ([`plain`]) run without a block when the state allows; off only in
     /// tests that hold the two paths to the same output.
     plain_lines: bool,
+    /// How many lines ran as plain lines: the tests' evidence that the plain path ran.
+    #[cfg(test)]
+    plain_runs: usize,
 }
 
 impl<'a> Reader<'a> {
@@ -330,6 +333,8 @@ impl<'a> Reader<'a> {
             number: 0,
             ended: None,
             plain_lines: true,
+            #[cfg(test)]
+            plain_runs: 0,
         }
     }
 
@@ -434,7 +439,12 @@ impl<'a> Reader<'a> {
             end: line.start + line.text.len(),
             line: line.number,
         };
-        self.interpreter.run_plain(&plain, span)
+        let ran = self.interpreter.run_plain(&plain, span);
+        #[cfg(test)]
+        {
+            self.plain_runs += usize::from(ran);
+        }
+        ran
     }
 
     /// Parses and executes one line of G-code through its block and request; returns

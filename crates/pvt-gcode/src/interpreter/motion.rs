@@ -541,7 +541,8 @@ impl Interpreter<'_> {
                 arcs::center_from_radius(start, end, r.value * scale, direction, tolerance)
             }
             CenterWords::Offsets(offsets) => {
-                let offsets = self.center_offsets(plane, offsets, start);
+                let values = offsets.map(|w| w.map(|w| w.value));
+                let offsets = self.center_offsets(plane, values, start);
                 arcs::center_from_offsets(start, end, offsets, tolerance)
             }
         };
@@ -566,10 +567,15 @@ impl Interpreter<'_> {
 
     /// I/J/K as offsets from the start in the plane: G91.1 as written, G90.1 from
     /// absolute centre coordinates (work and G92 offsets applied).
-    fn center_offsets(&self, plane: Plane, words: [Option<Word>; 2], start: [f64; 2]) -> [f64; 2] {
+    pub(super) fn center_offsets(
+        &self,
+        plane: Plane,
+        words: [Option<f64>; 2],
+        start: [f64; 2],
+    ) -> [f64; 2] {
         let scale = self.scale();
         let (first, second, _) = plane.axes();
-        let values = words.map(|w| w.map_or(0.0, |w| w.value * scale));
+        let values = words.map(|w| w.map_or(0.0, |value| value * scale));
         if self.rotation() != 0.0 {
             // Only G17 arcs reach here in a rotated system (see `arc_move`).
             return match self.modal.arc_centers.0 {
@@ -592,7 +598,7 @@ impl Interpreter<'_> {
         offsets
     }
 
-    fn arc_tolerance(&self) -> ArcTolerance {
+    pub(super) fn arc_tolerance(&self) -> ArcTolerance {
         ArcTolerance {
             absolute: self.output().from_mm(self.options.arc_abs_tolerance_mm),
             relative: self.options.arc_rel_tolerance,
