@@ -439,7 +439,10 @@ impl<'a> Reader<'a> {
             end: line.start + line.text.len(),
             line: line.number,
         };
-        let ran = self.interpreter.run_plain(&plain, span);
+        let ran = match plain.has_center_words() {
+            true => self.interpreter.run_plain_arc(&plain, span),
+            false => self.interpreter.run_plain(&plain, span),
+        };
         #[cfg(test)]
         {
             self.plain_runs += usize::from(ran);

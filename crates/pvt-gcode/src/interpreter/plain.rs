@@ -19,52 +19,31 @@ use crate::arcs;
 use crate::codes::{Distance, FeedMode, MotionMode};
 use crate::plain::PlainLine;
 
-/// A plain line's move: its motion, start, end, shape and rate.
-type PlainMove = (Motion, Position, Position, ElementKind, f64);
-
 impl Interpreter<'_> {
-    /// Runs the plain line `plain` (its text at `span`) as [`Interpreter::execute`] runs
-    /// its block and returns true; or returns false, having changed nothing, when the
-    /// general path must run it.
+    /// Runs the plain line `plain` (its text at `span`) without an I or J word as
+    /// [`Interpreter::execute`] runs its block and returns true; or returns false,
+    /// having changed nothing, when the general path must run it.
     pub fn run_plain(&mut self, plain: &PlainLine, span: Span) -> bool {
-        let idle = self.nurbs.is_none()
-            && self.cutter_idle()
-            && self.modal.feed_mode == FeedMode::PerMinute
-            && self.rotation() == 0.0;
         let mode = plain.motion.or(self.modal.motion);
-        let feed = plain.feed().map(|written| Feed { written }).or(self.feed);
-        let step = match (idle, mode, plain.has_center_words()) {
-            (true, Some(mode @ (MotionMode::Rapid | MotionMode::Linear)), false) => {
-                match plain.has_axis_words() {
-                    true => match self.plain_move(plain, mode, feed) {
-                        Some(step) => Some(step),
-                        None => return false,
-                    },
-                    false => None,
-                }
-            }
-            (true, Some(MotionMode::Arc(direction)), true) => {
-                match self.plain_arc(plain, direction, feed) {
-                    Some(step) => Some(step),
-                    None => return false,
-                }
-            }
-            _ => return false,
+        let plain_mode = (self.plain_idle(), mode, plain.has_center_words());
+        let (true, Some(mode @ (MotionMode::Rapid | MotionMode::Linear)), false) = plain_mode
+        else {
+            return false;
         };
-        if let Some(motion) = plain.motion {
-            self.modal.motion = Some(motion);
-            self.cycle.code = None;
-            self.cycle.initial_level = None;
-        }
-        if let Some(written) = plain.feed() {
-            self.feed = Some(Feed { written });
-            self.feed_reported = false;
-        }
-        if let Some((motion, start, end, kind, rate)) = step {
+        let feed = plain.feed().map(|written| Feed { written }).or(self.feed);
+        let step = match plain.has_axis_words() {
+            true => match self.plain_move(plain, mode, feed) {
+                Some(step) => Some(step),
+                None => return false,
+            },
+            false => None,
+        };
+        self.plain_modes(plain);
+        if let Some((motion, start, end, rate)) = step {
             self.output_units.get_or_insert(Units::Millimetre);
             self.position = end;
             let element = Element {
-                kind,
+                kind: ElementKind::Line,
                 start,
                 end,
                 feed: rate,
@@ -75,6 +54,51 @@ impl Interpreter<'_> {
         true
     }
 
+    /// [`Interpreter::run_plain`] for a plain line with an I or J word: a G2/G3 arc.
+    /// Apart from it (the reader chooses): the plain lines of a program are mostly
+    /// straight, and that function stays as small as they need.
+    #[inline(never)]
+    pub fn run_plain_arc(&mut self, plain: &PlainLine, span: Span) -> bool {
+        let mode = plain.motion.or(self.modal.motion);
+        let (true, Some(MotionMode::Arc(direction))) = (self.plain_idle(), mode) else {
+            return false;
+        };
+        let feed = plain.feed().map(|written| Feed { written }).or(self.feed);
+        let Some(element) = self.plain_arc(plain, direction, feed, span) else {
+            return false;
+        };
+        self.plain_modes(plain);
+        self.output_units.get_or_insert(Units::Millimetre);
+        self.position = element.end;
+        self.route(Motion::Feed, element);
+        true
+    }
+
+    /// True when the state lets a plain line run here: no NURBS block, cutter
+    /// compensation, G93 or rotated system.
+    #[inline(always)]
+    fn plain_idle(&self) -> bool {
+        self.nurbs.is_none()
+            && self.cutter_idle()
+            && self.modal.feed_mode == FeedMode::PerMinute
+            && self.rotation() == 0.0
+    }
+
+    /// The modes a plain line sets: its motion mode (which ends a canned cycle) and its
+    /// feed.
+    #[inline(always)]
+    fn plain_modes(&mut self, plain: &PlainLine) {
+        if let Some(motion) = plain.motion {
+            self.modal.motion = Some(motion);
+            self.cycle.code = None;
+            self.cycle.initial_level = None;
+        }
+        if let Some(written) = plain.feed() {
+            self.feed = Some(Feed { written });
+            self.feed_reported = false;
+        }
+    }
+
     /// The move of a plain line with axis words in `mode` at `feed` (the line's or the one
     /// in force): motion, start, end and rate as `line_move` makes them; `None` when the
     /// general path would report something.
@@ -83,7 +107,7 @@ impl Interpreter<'_> {
         plain: &PlainLine,
         mode: MotionMode,
         feed: Option<Feed>,
-    ) -> Option<PlainMove> {
+    ) -> Option<(Motion, Position, Position, f64)> {
         let end = self.plain_end(plain)?;
         let (motion, rate) = match mode {
             MotionMode::Rapid => (Motion::Rapid, self.rapid_rate()),
@@ -93,8 +117,7 @@ impl Interpreter<'_> {
             ),
         };
         let start = self.tool_start();
-        let moves = !super::motion::no_move(&start, &end);
-        moves.then_some((motion, start, end, ElementKind::Line, rate))
+        (!super::motion::no_move(&start, &end)).then_some((motion, start, end, rate))
     }
 
     /// The arc of a plain G2/G3 line (`direction`) with an I or J word at `feed`: start,
@@ -106,7 +129,8 @@ impl Interpreter<'_> {
         plain: &PlainLine,
         direction: ArcDirection,
         feed: Option<Feed>,
-    ) -> Option<PlainMove> {
+        span: Span,
+    ) -> Option<Element> {
         let plane = self.modal.plane;
         if plane != Plane::XY {
             return None;
@@ -125,17 +149,19 @@ impl Interpreter<'_> {
             direction,
             extra_turns: 0,
         };
-        Some((
-            Motion::Feed,
-            self.position,
+        let element = Element {
+            kind: ElementKind::Arc(arc),
+            start: self.position,
             end,
-            ElementKind::Arc(arc),
-            rate,
-        ))
+            feed: rate,
+            span,
+        };
+        Some(element)
     }
 
     /// The end of a plain line's move, as `target` makes it without a rotation or G53;
     /// `None` where it is not finite.
+    #[inline(always)]
     fn plain_end(&self, plain: &PlainLine) -> Option<Position> {
         // The output units are those in force, or millimetres as `line_move` fixes them:
         // `output()` reads the same either way.
