@@ -120,8 +120,8 @@ impl Interpreter<'_> {
         (!super::motion::no_move(&start, &end)).then_some((motion, start, end, rate))
     }
 
-    /// The arc of a plain G2/G3 line (`direction`) with an I or J word at `feed`: start,
-    /// end, arc and rate as `arc_move` makes them in the XY plane (the centre by
+    /// The element of a plain G2/G3 line (`direction`) with an I or J word at `feed`, its
+    /// text at `span`, as `arc_move` makes it in the XY plane (the centre by
     /// `center_offsets` and `arcs::center_from_offsets`, one turn); `None` when the
     /// general path would report something or the plane is another.
     fn plain_arc(

@@ -165,12 +165,12 @@ pub(super) struct Scratch {
     /// The speeds of the knots the last round's pieces were made from (empty: none to
     /// take over), for [`Knots::pieces_again`].
     pub(super) made_at: Vec<f64>,
-    /// The trapezoid knots [`Knots::add_trapezoids`] inserts, each after its knot (and
-    /// the knots a local round's split inserts, [`local`]).
+    /// The trapezoid knots [`Knots::add_trapezoids`] inserts, each after its knot.
     added: Vec<Added>,
-    /// A local round's knots whose speed the next may change, and the knots it
-    /// inserted ([`local`]).
+    /// A local round's knots whose speed the next may change ([`local`]).
     touched: Vec<usize>,
+    /// The pieces a round splits (`split_errors`), and after a local round's split the
+    /// knots it inserted ([`local`]).
     inserted: Vec<usize>,
     /// The pieces whose error bounds a local round made ([`local`]).
     changed: Vec<usize>,

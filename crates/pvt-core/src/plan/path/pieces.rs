@@ -165,8 +165,7 @@ impl Knots {
     ) {
         debug_assert!(!self.jerk_mode && self.scratch.durations.len() + 1 == self.knots.len());
         for k in 0..count {
-            let curve = &curves[self.knots[k].after.element];
-            let line = curve.line;
+            let line = curves[self.knots[k].after.element].line;
             if let Some(j) = self.knots[k].blend_index() {
                 let blend = self.blend_piece(curves, k, j);
                 emit(&crate::program::SegmentRef {
