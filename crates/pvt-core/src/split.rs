@@ -154,6 +154,12 @@ impl PieceSplitter {
         self.velocity.set_zeros(start.len());
     }
 
+    /// Whether [`PieceSplitter::push`] passes `seg` on whole, uncut.
+    #[inline]
+    pub fn passes_whole(&self, seg: &SegmentRef<'_>) -> bool {
+        self.cuts(seg.duration).is_none() || self.position.len != seg.end.len()
+    }
+
     /// Passes `seg` (the next piece of the contour) to `emit`, cut where it is too long.
     #[inline]
     pub fn push<F: FnMut(&SegmentRef<'_>)>(&mut self, seg: &SegmentRef<'_>, emit: &mut F) {

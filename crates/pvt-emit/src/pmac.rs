@@ -64,7 +64,7 @@
 use crate::gather::Gathered;
 use crate::number::{write_usual_fixed, FIXED_SLOT};
 use crate::triggers::TriggerSupport;
-use crate::writer::{Header, ProgramWriter, Totals};
+use crate::writer::{Header, PieceLine, PieceLines, ProgramWriter, Totals};
 use pvt_core::{Axis, CoolantState, EventKind, Motion, ProgramEvent, SegmentRef, SpindleState};
 use std::io::{self, Write};
 
@@ -325,6 +325,18 @@ impl<W: Write> PmacWriter<W> {
         self.flush_line()
     }
 
+    /// Before the program's first piece, and the first after a command: `PVT` with the
+    /// piece's time (`ms`), which PMAC takes for the pieces after it.
+    #[inline]
+    fn enter_pvt(&mut self, ms: f64) {
+        if self.totals.segments == 0 || self.reenter_pvt {
+            self.reenter_pvt = false;
+            self.line.push_slice(b"PVT");
+            self.line.fixed::<TIME_DECIMALS>(ms);
+            self.line.push(b'\n');
+        }
+    }
+
     fn write_gathered(&mut self) -> io::Result<()> {
         self.out.write_all(self.line.text())?;
         self.line.clear();
@@ -417,12 +429,7 @@ impl<W: Write> ProgramWriter for PmacWriter<W> {
 
     fn segment(&mut self, seg: &SegmentRef<'_>) -> io::Result<()> {
         let ms = seg.duration * 1000.0;
-        if self.totals.segments == 0 || self.reenter_pvt {
-            self.reenter_pvt = false;
-            self.line.push_slice(b"PVT");
-            self.line.fixed::<TIME_DECIMALS>(ms);
-            self.line.push(b'\n');
-        }
+        self.enter_pvt(ms);
         let dim = self.axes.len().min(seg.end.len()).min(seg.velocity.len());
         let room = self.line.room(2 + FIXED_SLOT + dim * AXIS_WORD_ROOM + 1);
         match piece_line(room, &self.letters, ms, seg) {
@@ -436,6 +443,19 @@ impl<W: Write> ProgramWriter for PmacWriter<W> {
                 return self.wide_segment(ms, seg);
             }
         }
+        self.flush_line()
+    }
+
+    fn piece_lines(&self) -> Option<PieceLines> {
+        Some(PieceLines::Pmac(PmacLines {
+            letters: self.letters.clone(),
+        }))
+    }
+
+    fn segment_with_line(&mut self, seg: &SegmentRef<'_>, line: PieceLine<'_>) -> io::Result<()> {
+        self.enter_pvt(seg.duration * 1000.0);
+        self.totals.add_printed_segment(seg.duration, line.whole_ms);
+        self.line.push_slice(line.text);
         self.flush_line()
     }
 
@@ -506,6 +526,30 @@ impl<W: Write> ProgramWriter for PmacWriter<W> {
         t.push_slice(b"CLOSE\n");
         self.write_gathered()?;
         self.out.flush()
+    }
+}
+
+/// A PMAC piece's line written apart from the writer ([`PieceLines::Pmac`]):
+/// `piece_line` with the program's axis letters, the same bytes the writer's `segment`
+/// writes.
+#[derive(Debug, Clone)]
+pub struct PmacLines {
+    letters: Vec<u8>,
+}
+
+impl PmacLines {
+    /// [`PieceLines::write`] for PMAC text.
+    #[inline]
+    pub(crate) fn write(&self, seg: &SegmentRef<'_>, room: &mut [u8]) -> Option<(usize, bool)> {
+        match piece_line(room, &self.letters, seg.duration * 1000.0, seg) {
+            (len, Some(whole_ms)) => Some((len, whole_ms)),
+            _ => None,
+        }
+    }
+
+    /// Room [`piece_line`] takes on these axes.
+    pub(crate) fn room(&self) -> usize {
+        2 + FIXED_SLOT + self.letters.len() * AXIS_WORD_ROOM + 1
     }
 }
 
@@ -678,6 +722,70 @@ mod tests {
                 String::from_utf8_lossy(&writer.line.text()[before..]),
                 String::from_utf8_lossy(&expected)
             );
+        }
+
+        /// A line written apart from the writer ([`PmacLines`]), where it is written,
+        /// and taken with its piece is the line the writer writes, and the program's
+        /// totals are the same; pieces of times in whole and in fractional ms, usual
+        /// numbers and others (which are left to the writer).
+        #[test]
+        fn lines_written_apart_are_the_writers_own(
+            pieces in proptest::collection::vec(
+                (proptest::collection::vec((value(), value()), 3),
+                 prop_oneof![1e-4..10.0f64, (1..5000u32).prop_map(|ms| f64::from(ms) / 1000.0)]),
+                1..40,
+            )
+        ) {
+            let axes = [Axis::X, Axis::Y, Axis::Z];
+            let options = EmitOptions::default();
+            let header = Header {
+                axes: &axes,
+                units: Units::Millimetre,
+                interpolation: Interpolation::Pvt,
+                options: &options,
+            };
+            let (mut own, mut apart) = (PmacWriter::new(Vec::new()), PmacWriter::new(Vec::new()));
+            for writer in [&mut own, &mut apart] {
+                writer.begin(&header).unwrap();
+                writer.contour(Motion::Feed, &[0.0; 3]).unwrap();
+            }
+            let lines = apart.piece_lines().expect("PMAC lines are written apart");
+            let mut room = vec![0; lines.room()];
+            let mut written = 0;
+            for (i, (axis_values, seconds)) in pieces.iter().enumerate() {
+                let (end, velocity): (Vec<f64>, Vec<f64>) = axis_values.iter().copied().unzip();
+                let seg = SegmentRef { end: &end, velocity: &velocity, duration: *seconds, line: 1 };
+                if i == 2 {
+                    // A command between pieces: the next piece restates PVT either way.
+                    let event = ProgramEvent { before_contour: 1, kind: EventKind::ToolChange, line: 1 };
+                    for writer in [&mut own, &mut apart] {
+                        writer.events = PmacEvents::Commands;
+                        writer.event(&event).unwrap();
+                    }
+                }
+                own.segment(&seg).unwrap();
+                match lines.write(&seg, &mut room) {
+                    Some((len, whole_ms)) => {
+                        written += 1;
+                        let reference = reference_line(&axes, seconds * 1000.0, &end, &velocity);
+                        prop_assert_eq!(
+                            String::from_utf8_lossy(&room[..len]),
+                            String::from_utf8_lossy(&reference)
+                        );
+                        let line = PieceLine { text: &room[..len], whole_ms };
+                        apart.segment_with_line(&seg, line).unwrap();
+                    }
+                    None => apart.segment(&seg).unwrap(),
+                }
+            }
+            own.finish().unwrap();
+            apart.finish().unwrap();
+            let (own, apart) = (own.into_inner(), apart.into_inner());
+            prop_assert_eq!(String::from_utf8_lossy(&apart), String::from_utf8_lossy(&own));
+            // The usual numbers are most of them, and all of them are written apart.
+            let usual = |x: f64| x.abs() < 4.5e6;
+            let all_usual = pieces.iter().all(|(values, _)| values.iter().all(|(p, v)| usual(*p) && usual(*v)));
+            prop_assert!(!all_usual || written == pieces.len());
         }
     }
 }

@@ -59,7 +59,7 @@ impl Totals {
     /// [`Totals::add_segment`] for a segment whose time PMAC text prints as a whole
     /// number of milliseconds or not (`whole_ms`), as the caller already knows.
     #[inline]
-    pub(crate) fn add_printed_segment(&mut self, duration: f64, whole_ms: bool) {
+    pub fn add_printed_segment(&mut self, duration: f64, whole_ms: bool) {
         self.segments += 1;
         self.segments_in_contour += 1;
         self.time += duration;
@@ -93,6 +93,65 @@ pub trait ProgramWriter {
     fn caps(&self) -> Caps {
         Caps::FREE
     }
+    /// How this back end's piece lines are written apart from it (on another thread,
+    /// ahead of it), once begun: none where a piece's text depends on more than the
+    /// piece (the default).
+    fn piece_lines(&self) -> Option<PieceLines> {
+        None
+    }
+    /// Writes one segment of the current contour whose line [`Self::piece_lines`] has
+    /// written: the bytes, the totals and every state exactly as [`Self::segment`]
+    /// leaves them (the default calls it).
+    fn segment_with_line(
+        &mut self,
+        segment: &SegmentRef<'_>,
+        line: PieceLine<'_>,
+    ) -> io::Result<()> {
+        let _ = line;
+        self.segment(segment)
+    }
+}
+
+/// A back end's piece lines written apart from its writer
+/// ([`ProgramWriter::piece_lines`]): the text the writer's `segment` writes for a piece,
+/// a pure function of the piece, made where there is time for it (the planner's
+/// thread, while it waits for the front end) and handed to
+/// [`ProgramWriter::segment_with_line`] with the piece.
+#[derive(Debug, Clone)]
+pub enum PieceLines {
+    /// PMAC text: `TA<ms>` and each axis' `<letter><position>:<velocity>`
+    /// ([`crate::pmac`]).
+    Pmac(crate::pmac::PmacLines),
+}
+
+impl PieceLines {
+    /// Writes `segment`'s line at the start of `room` (at least [`PieceLines::room`]
+    /// long, the rest of it scratch): the line's length and note
+    /// ([`PieceLine::whole_ms`]), or `None` where the writer writes this piece itself (a
+    /// number beyond the usual ones), `room` then holding nothing of meaning.
+    #[inline]
+    pub fn write(&self, segment: &SegmentRef<'_>, room: &mut [u8]) -> Option<(usize, bool)> {
+        match self {
+            PieceLines::Pmac(lines) => lines.write(segment, room),
+        }
+    }
+
+    /// Bytes [`PieceLines::write`] may take for one line.
+    pub fn room(&self) -> usize {
+        match self {
+            PieceLines::Pmac(lines) => lines.room(),
+        }
+    }
+}
+
+/// A piece's line written by [`PieceLines::write`].
+#[derive(Debug, Clone, Copy)]
+pub struct PieceLine<'a> {
+    /// The line, its newline included.
+    pub text: &'a [u8],
+    /// Its piece time prints as a whole number of milliseconds (what PMAC's totals
+    /// count).
+    pub whole_ms: bool,
 }
 
 /// A writer that validates every value before its back end sees it, checks every piece
@@ -199,6 +258,35 @@ impl<W: ProgramWriter> Checked<W> {
 
     /// Writes a segment, after checking it.
     pub fn segment(&mut self, segment: &SegmentRef<'_>) -> Result<(), StreamError> {
+        self.segment_as(segment, None)
+    }
+
+    /// Writes a segment whose line [`Checked::piece_lines`] wrote, after checking it, as
+    /// [`Checked::segment`] writes it.
+    pub fn segment_with_line(
+        &mut self,
+        segment: &SegmentRef<'_>,
+        line: PieceLine<'_>,
+    ) -> Result<(), StreamError> {
+        self.segment_as(segment, Some(line))
+    }
+
+    /// The back end's piece lines written apart from it
+    /// ([`ProgramWriter::piece_lines`]), once begun: none where triggers cut the pieces.
+    pub fn piece_lines(&self) -> Option<PieceLines> {
+        match self.begun && self.triggers.is_none() {
+            true => self.inner.piece_lines(),
+            false => None,
+        }
+    }
+
+    /// [`Checked::segment`], with the line written ahead where there is one.
+    #[inline]
+    fn segment_as(
+        &mut self,
+        segment: &SegmentRef<'_>,
+        line: Option<PieceLine<'_>>,
+    ) -> Result<(), StreamError> {
         self.ready()?;
         if self.pending.is_some() {
             self.open_contour(segment.end.len())?;
@@ -214,7 +302,11 @@ impl<W: ProgramWriter> Checked<W> {
         if let Some(rules) = self.rules.as_mut() {
             rules.piece(segment, self.contour, self.segment)?;
         }
-        Ok(self.inner.segment(segment)?)
+        match line {
+            Some(line) => self.inner.segment_with_line(segment, line)?,
+            None => self.inner.segment(segment)?,
+        }
+        Ok(())
     }
 
     /// Passes the pending contour on, at its first segment (of `dim` axes).
@@ -344,5 +436,15 @@ impl<T: ProgramWriter + ?Sized> ProgramWriter for Box<T> {
     }
     fn caps(&self) -> Caps {
         (**self).caps()
+    }
+    fn piece_lines(&self) -> Option<PieceLines> {
+        (**self).piece_lines()
+    }
+    fn segment_with_line(
+        &mut self,
+        segment: &SegmentRef<'_>,
+        line: PieceLine<'_>,
+    ) -> io::Result<()> {
+        (**self).segment_with_line(segment, line)
     }
 }

@@ -29,6 +29,16 @@
 //! thread (later pieces dropped) and reported once the planner has finished, its first
 //! error before them.
 //!
+//! Where the writer's piece lines are a pure function of the piece ([`PieceWriter`]'s
+//! [`PieceLines`]: PMAC text), the planner's thread writes them ahead while it would
+//! wait, for calls or for an emptied batch (`PlannerDesk::write_ahead`): its open
+//! batch's, then the queued batches' but the first, one lent out at a time
+//! (`Desk::lend`), up to [`LINES_AHEAD`] a batch; the writer takes each piece with
+//! its line. With calls to read, the calling thread leaves queued the batches whose
+//! lines are not all written while the planner keeps up with the calls and two emptied
+//! batches are left (`FrontDesk::writes_now`), so the formatting falls to whichever
+//! thread has time for it.
+//!
 //! One thread only ([`threaded`] says no) inside a rayon worker, where `pvtc compile`
 //! with several inputs already runs one file per core, and where this process may use
 //! one core.
@@ -37,9 +47,27 @@
 //! the planner and the writer do, each on its thread.
 
 use pvt_core::{Element, EventKind, Motion, PieceSink, ProgramEvent, SegmentRef, ToolpathSink};
+use pvt_emit::{PieceLine, PieceLines};
+use std::cell::RefCell;
 use std::collections::VecDeque;
 use std::sync::mpsc::{sync_channel, Receiver, SyncSender};
 use std::sync::{Condvar, Mutex, MutexGuard};
+
+/// The writer's side of [`planner_aside`]: a [`PieceSink`] that may take a piece with its
+/// line already written, on the planner's thread while it waited for the front end.
+pub trait PieceWriter: PieceSink {
+    /// How the planner's thread writes piece lines ahead of this writer; none (the
+    /// default) where it writes none.
+    fn piece_lines(&self) -> Option<PieceLines> {
+        None
+    }
+    /// Takes `piece`, whose line `line` holds, as [`PieceSink::piece`] takes it (the
+    /// default calls that).
+    fn piece_with_line(&mut self, piece: &SegmentRef<'_>, line: PieceLine<'_>) {
+        let _ = line;
+        self.piece(piece);
+    }
+}
 
 /// Calls in one batch (184 bytes each): a batch's hand-over wakes the other thread
 /// (some microseconds), about 4,000 times for 10⁶ lines at 256 (25,000 context
@@ -247,6 +275,22 @@ pub const BATCH_PIECES: usize = 256;
 /// times in a 1.1 s compile of `generate pocket 100000`, 0.4 s in all.
 pub const PIECE_BATCHES: usize = 8;
 
+/// Emptied piece batches the calling thread keeps ready for the planner while it leaves
+/// full ones queued, for the planner's thread to write their lines ahead while it waits
+/// for calls (`FrontDesk::writes_now`).
+pub const EMPTIED_BATCHES_KEPT: usize = 2;
+
+/// Lines of the longest kind a piece batch has room for, written ahead: half its
+/// pieces' (on straight lines the two threads share the formatting about evenly), so
+/// that the room, which the batch keeps, adds at most 18 KB to each of the
+/// [`PIECE_BATCHES`] on three axes; the writer writes the other lines.
+pub const LINES_AHEAD: usize = BATCH_PIECES / 2;
+
+/// Records the planner's thread writes ahead at a time while it waits for the front
+/// end's calls, before it looks for them again: a batch of calls that arrives meanwhile
+/// waits for at most these lines (some microseconds).
+pub const WRITE_AHEAD_STEP: usize = 32;
+
 /// What one [`PieceSink`] call of the planner's was, without its numbers: a batch keeps
 /// those flat, in the order of its records.
 #[derive(Debug, Clone, Copy)]
@@ -267,16 +311,40 @@ pub struct Pieces {
     numbers: Vec<f64>,
     records: Vec<Record>,
     events: Vec<ProgramEvent>,
+    /// The lines written ahead ([`PlannerDesk::write_ahead`]), one after another, in
+    /// room made with the batch (none where no lines are written ahead): its length only
+    /// grows, [`Pieces::text_len`] says how much is text.
+    text: Vec<u8>,
+    text_len: usize,
+    /// How the first records' lines were written ahead, a [`LineAhead`] a record.
+    ahead: Vec<LineAhead>,
+    /// Where the first record not yet written ahead has its numbers.
+    ahead_numbers: usize,
+}
+
+/// How a record's line was written ahead: where its text ends in [`Pieces::text`], and
+/// its note, for a piece written; nothing for a contour start, an event, or a piece the
+/// writer writes itself.
+#[derive(Debug, Clone, Copy)]
+enum LineAhead {
+    Written { end: u32, whole_ms: bool },
+    None,
 }
 
 impl Pieces {
-    /// An empty batch with room for [`BATCH_PIECES`] pieces on `dim` axes.
-    fn with_capacity(dim: usize) -> Pieces {
+    /// An empty batch with room for [`BATCH_PIECES`] pieces on `dim` axes, and for
+    /// [`LINES_AHEAD`] of their lines written ahead by `lines` (the pages of that room
+    /// are taken only as lines are written into them).
+    fn with_capacity(dim: usize, lines: Option<&PieceLines>) -> Pieces {
         Pieces {
             dim,
             numbers: Vec::with_capacity(BATCH_PIECES * 2 * dim),
             records: Vec::with_capacity(BATCH_PIECES),
             events: Vec::new(),
+            text: Vec::with_capacity(lines.map_or(0, |lines| LINES_AHEAD * lines.room())),
+            text_len: 0,
+            ahead: Vec::with_capacity(if lines.is_some() { BATCH_PIECES } else { 0 }),
+            ahead_numbers: 0,
         }
     }
 
@@ -284,14 +352,70 @@ impl Pieces {
         self.numbers.clear();
         self.records.clear();
         self.events.clear();
+        self.text_len = 0;
+        self.ahead.clear();
+        self.ahead_numbers = 0;
     }
 
-    /// Makes the batch's calls on `sink`, in their order, from where they lie.
-    fn replay(&self, sink: &mut dyn PieceSink) {
+    /// Whether every record's line has been written ahead (or found not to be).
+    fn all_ahead(&self) -> bool {
+        self.ahead.len() == self.records.len()
+    }
+
+    /// Writes ahead the lines of up to `count` records after those written ahead, with
+    /// `lines`; false when there were none to write.
+    fn write_ahead(&mut self, lines: &PieceLines, count: usize) -> bool {
+        let (from, dim, room) = (self.ahead.len(), self.dim, lines.room());
+        let to = self.records.len().min(from.saturating_add(count));
+        for record in &self.records[from..to] {
+            let ahead = match *record {
+                Record::Contour { .. } => {
+                    self.ahead_numbers += dim;
+                    LineAhead::None
+                }
+                Record::Event => LineAhead::None,
+                Record::Piece { duration, line } => {
+                    let at = self.ahead_numbers;
+                    self.ahead_numbers += 2 * dim;
+                    let (end, velocity) = self.numbers[at..at + 2 * dim].split_at(dim);
+                    let piece = SegmentRef {
+                        end,
+                        velocity,
+                        duration,
+                        line,
+                    };
+                    let start = self.text_len;
+                    // The room made with the batch, zeroed as lines first reach it.
+                    if self.text.len() < start + room && start + room <= self.text.capacity() {
+                        self.text.resize(start + room, 0);
+                    }
+                    match self.text.get_mut(start..start + room) {
+                        Some(slot) => match lines.write(&piece, slot) {
+                            Some((len, whole_ms)) => {
+                                self.text_len += len;
+                                LineAhead::Written {
+                                    end: self.text_len as u32,
+                                    whole_ms,
+                                }
+                            }
+                            None => LineAhead::None,
+                        },
+                        None => LineAhead::None,
+                    }
+                }
+            };
+            self.ahead.push(ahead);
+        }
+        to > from
+    }
+
+    /// Makes the batch's calls on `sink`, in their order, from where they lie, each
+    /// piece with its line where it was written ahead.
+    fn replay(&self, sink: &mut dyn PieceWriter) {
         let dim = self.dim;
-        let mut at = 0;
+        let (mut at, mut text_at) = (0, 0);
         let mut events = self.events.iter();
-        for record in &self.records {
+        for (i, record) in self.records.iter().enumerate() {
             match *record {
                 Record::Contour { motion, line } => {
                     sink.contour(motion, &self.numbers[at..at + dim], line);
@@ -299,12 +423,21 @@ impl Pieces {
                 }
                 Record::Piece { duration, line } => {
                     let (end, velocity) = self.numbers[at..at + 2 * dim].split_at(dim);
-                    sink.piece(&SegmentRef {
+                    let piece = SegmentRef {
                         end,
                         velocity,
                         duration,
                         line,
-                    });
+                    };
+                    match self.ahead.get(i) {
+                        Some(&LineAhead::Written { end, whole_ms }) => {
+                            let end = end as usize;
+                            let text = &self.text[text_at..end];
+                            text_at = end;
+                            sink.piece_with_line(&piece, PieceLine { text, whole_ms });
+                        }
+                        _ => sink.piece(&piece),
+                    }
                     at += 2 * dim;
                 }
                 Record::Event => sink.event(events.next().expect("an event per record")),
@@ -330,9 +463,47 @@ struct Desk {
     pieces_end: bool,
     /// The writer takes no more pieces (this thread has gone).
     writer_gone: bool,
+    /// While the planner's thread writes lines ahead in a queued batch, taken out of
+    /// [`Desk::pieces`]: how many batches are queued before it, which alone the writer
+    /// may take meanwhile.
+    lent: Option<usize>,
     /// Threads waiting on the condition: a change wakes them, and only then (a wake-up
     /// is a system call).
     waiting: u8,
+}
+
+impl Desk {
+    /// Takes out, to write lines ahead in, the last queued piece batch with lines still
+    /// to write, any but the first (which the writer is about to take); none where there
+    /// is none (or one is lent already).
+    fn lend(&mut self) -> Option<Pieces> {
+        if self.lent.is_some() {
+            return None;
+        }
+        let queued = &self.pieces;
+        let at = (1..queued.len()).rev().find(|&i| !queued[i].all_ahead())?;
+        self.lent = Some(at);
+        self.pieces.remove(at)
+    }
+
+    /// Puts the batch [`Desk::lend`] took back in its place.
+    fn give_back(&mut self, batch: Pieces) {
+        let before = self.lent.take().unwrap_or(0);
+        self.pieces.insert(before, batch);
+    }
+
+    /// The next full piece batch for the writer, in order: none while the next one is
+    /// lent to the planner's thread.
+    fn next_pieces(&mut self) -> Option<Pieces> {
+        match &mut self.lent {
+            Some(0) => None,
+            Some(before) => {
+                *before -= 1;
+                self.pieces.pop_front()
+            }
+            None => self.pieces.pop_front(),
+        }
+    }
 }
 
 /// The [`Desk`] and its one condition.
@@ -363,8 +534,11 @@ impl Mailbox {
     }
 
     /// The front end's next full call batch, waiting for it; `None` once it has ended.
-    fn next_calls(&self) -> Option<Vec<Call>> {
+    /// While there is none, `idle` (with the desk unlocked) does some other work and
+    /// says whether it did any: it is called until it does none before this waits.
+    fn next_calls(&self, mut idle: impl FnMut() -> bool) -> Option<Vec<Call>> {
         let mut desk = self.desk();
+        let mut idle_done = false;
         loop {
             if let Some(batch) = desk.calls.pop_front() {
                 self.changed(&desk);
@@ -373,7 +547,13 @@ impl Mailbox {
             if desk.calls_end {
                 return None;
             }
-            desk = self.wait(desk);
+            if idle_done {
+                desk = self.wait(desk);
+            } else {
+                drop(desk);
+                idle_done = !idle();
+                desk = self.desk();
+            }
         }
     }
 }
@@ -385,7 +565,9 @@ impl Mailbox {
 struct FrontDesk<'a> {
     batch: Vec<Call>,
     mailbox: &'a Mailbox,
-    writer: &'a mut dyn PieceSink,
+    writer: &'a mut dyn PieceWriter,
+    /// The planner's thread writes piece lines ahead ([`PieceWriter::piece_lines`]).
+    lines_ahead: bool,
     /// False once the planner has gone before the calls ended (it panicked): later
     /// calls are dropped.
     open: bool,
@@ -423,13 +605,34 @@ impl<'a> FrontDesk<'a> {
                 self.mailbox.changed(&desk);
                 break;
             }
-            desk = match desk.pieces.pop_front() {
+            desk = match desk.next_pieces() {
                 Some(pieces) => self.write(desk, pieces),
                 None => self.mailbox.wait(desk),
             };
         }
-        while let Some(pieces) = desk.pieces.pop_front() {
+        while self.writes_now(&desk) {
+            let Some(pieces) = desk.next_pieces() else {
+                break;
+            };
             desk = self.write(desk, pieces);
+        }
+    }
+
+    /// Whether this thread, with calls to read, writes the next queued piece batch now:
+    /// yes where no lines are written ahead, where the batch's lines all are, where the
+    /// planner has calls queued beyond the batch just handed over (it is the busier
+    /// thread, and will not wait), and where it would otherwise soon run out of emptied
+    /// batches; else the batch waits for the planner's thread to write its lines while
+    /// it waits for calls.
+    fn writes_now(&self, desk: &Desk) -> bool {
+        match desk.pieces.front() {
+            None => false,
+            Some(_) if !self.lines_ahead => true,
+            Some(next) => {
+                next.all_ahead()
+                    || desk.calls.len() > 1
+                    || desk.emptied_pieces.len() < EMPTIED_BATCHES_KEPT
+            }
         }
     }
 
@@ -454,7 +657,7 @@ impl<'a> FrontDesk<'a> {
         desk.calls_end = true;
         self.mailbox.changed(&desk);
         loop {
-            desk = match desk.pieces.pop_front() {
+            desk = match desk.next_pieces() {
                 Some(pieces) => self.write(desk, pieces),
                 None if desk.pieces_end => return,
                 None => self.mailbox.wait(desk),
@@ -486,9 +689,40 @@ struct PlannerDesk<'a> {
     mailbox: &'a Mailbox,
     /// False once the writer has gone (this thread panicked): later pieces are dropped.
     open: bool,
+    /// How the open batch's piece lines are written ahead, while the planner waits for
+    /// the front end's calls; none where the writer takes no lines.
+    lines: Option<PieceLines>,
 }
 
-impl PlannerDesk<'_> {
+impl<'a> PlannerDesk<'a> {
+    /// Writes ahead the lines of the next [`WRITE_AHEAD_STEP`] records of the open batch,
+    /// or where it has none, of a queued batch ([`PlannerDesk::write_ahead_queued`]);
+    /// false when there were none to write.
+    fn write_ahead(&mut self) -> bool {
+        let Some(lines) = self.lines.as_ref().filter(|_| self.open) else {
+            return false;
+        };
+        if self.batch.write_ahead(lines, WRITE_AHEAD_STEP) {
+            return true;
+        }
+        self.write_ahead_queued(self.mailbox.desk()).is_some()
+    }
+
+    /// Writes ahead the lines of the next [`WRITE_AHEAD_STEP`] records of the last queued
+    /// batch with some, any but the first (which the writer is about to take), lent out
+    /// of the `desk` meanwhile: the desk, locked again, or `None` (the desk unlocked)
+    /// when there were none to write.
+    fn write_ahead_queued(&self, mut desk: MutexGuard<'a, Desk>) -> Option<MutexGuard<'a, Desk>> {
+        let lines = self.lines.as_ref().filter(|_| self.open)?;
+        let mut batch = desk.lend()?;
+        drop(desk);
+        batch.write_ahead(lines, WRITE_AHEAD_STEP);
+        let mut desk = self.mailbox.desk();
+        desk.give_back(batch);
+        self.mailbox.changed(&desk);
+        Some(desk)
+    }
+
     /// Queues the open batch when it is full, and waits for an emptied one.
     fn recorded(&mut self) {
         if self.batch.records.len() < BATCH_PIECES {
@@ -506,8 +740,27 @@ impl PlannerDesk<'_> {
                 self.batch = emptied;
                 return;
             }
-            desk = self.mailbox.wait(desk);
+            desk = match self.write_ahead_queued(desk) {
+                Some(desk) => desk,
+                None => self.mailbox.wait(self.mailbox.desk()),
+            };
         }
+    }
+}
+
+/// The planner's sink on its thread: the [`PlannerDesk`], shared with the wait for the
+/// front end's calls, which writes lines ahead into the open batch.
+struct SharedDesk<'d, 'a>(&'d RefCell<PlannerDesk<'a>>);
+
+impl PieceSink for SharedDesk<'_, '_> {
+    fn contour(&mut self, motion: Motion, start: &[f64], line: u32) {
+        self.0.borrow_mut().contour(motion, start, line);
+    }
+    fn piece(&mut self, piece: &SegmentRef<'_>) {
+        self.0.borrow_mut().piece(piece);
+    }
+    fn event(&mut self, event: &ProgramEvent) {
+        self.0.borrow_mut().event(event);
     }
 }
 
@@ -581,7 +834,7 @@ pub fn planner_aside<R, T, F, P>(
     front: F,
     plan: P,
     dim: usize,
-    writer: &mut dyn PieceSink,
+    writer: &mut dyn PieceWriter,
 ) -> Result<(R, T), F>
 where
     T: Send,
@@ -589,29 +842,34 @@ where
     P: FnOnce(&mut dyn PieceSink, Calls<'_>) -> T + Send,
 {
     let mailbox = Mailbox::default();
+    let lines = writer.piece_lines();
     {
         // Every piece batch the planner needs is made here, so that its thread allocates
         // none for the hand-over.
         let mut desk = mailbox.desk();
         desk.emptied_pieces = (1..PIECE_BATCHES)
-            .map(|_| Pieces::with_capacity(dim))
+            .map(|_| Pieces::with_capacity(dim, lines.as_ref()))
             .collect();
         desk.emptied_calls = (0..CALLS_AHEAD)
             .map(|_| Vec::with_capacity(BATCH_CALLS))
             .collect();
     }
-    let mut planner_desk = PlannerDesk {
-        batch: Pieces::with_capacity(dim),
+    let lines_ahead = lines.is_some();
+    let planner_desk = PlannerDesk {
+        batch: Pieces::with_capacity(dim, lines.as_ref()),
         mailbox: &mailbox,
         open: true,
+        lines,
     };
     std::thread::scope(|scope| {
         let mailbox = &mailbox;
         let planning = std::thread::Builder::new()
             .name("pvtc planner".into())
             .spawn_scoped(scope, move || {
+                let planner_desk = RefCell::new(planner_desk);
                 let mut calls = |sink: &mut dyn ToolpathSink| {
-                    while let Some(mut batch) = mailbox.next_calls() {
+                    let idle = || planner_desk.borrow_mut().write_ahead();
+                    while let Some(mut batch) = mailbox.next_calls(idle) {
                         for call in &batch {
                             call.replay(sink);
                         }
@@ -620,7 +878,7 @@ where
                     }
                 };
                 // The last batch goes, and the pieces end, as the desk is dropped.
-                let planned = plan(&mut planner_desk, &mut calls);
+                let planned = plan(&mut SharedDesk(&planner_desk), &mut calls);
                 drop(planner_desk);
                 planned
             });
@@ -633,6 +891,7 @@ where
             batch: Vec::with_capacity(BATCH_CALLS),
             mailbox,
             writer,
+            lines_ahead,
             open: true,
         });
         let read = front(&mut desk);
@@ -785,6 +1044,8 @@ mod tests {
         }
     }
 
+    impl PieceWriter for Written {}
+
     /// The stand-in planner's run, returning the thread it ran on.
     fn plan(pieces: &mut dyn PieceSink, calls: Calls<'_>) -> std::thread::ThreadId {
         let mut fake = Fake {
@@ -891,6 +1152,7 @@ mod tests {
                 self.0.event(event);
             }
         }
+        impl PieceWriter for Slow {}
         let mut slow = Slow(Written::default(), 0);
         let n = 6 * BATCH_PIECES + 5;
         let alone = written_alone(n);
@@ -915,6 +1177,7 @@ mod tests {
             }
             fn event(&mut self, _: &ProgramEvent) {}
         }
+        impl PieceWriter for Refusing {}
         let caught = std::panic::catch_unwind(|| {
             let _ = planner_aside(front(20 * BATCH_PIECES), plan, DIM, &mut Refusing);
         });
@@ -928,6 +1191,218 @@ mod tests {
             let _ = planner_aside(front, plan, DIM, &mut Written::default());
         });
         assert!(caught.is_err());
+    }
+
+    #[test]
+    fn the_writer_takes_no_batch_past_one_lent() {
+        // Batches told apart by their first record's line; the last `done` ones have
+        // every line written ahead.
+        let queued = |count: u32, done: u32| -> Desk {
+            let mut desk = Desk::default();
+            for line in 0..count {
+                let mut batch = Pieces::with_capacity(DIM, None);
+                batch.records.push(Record::Event);
+                batch.records.push(Record::Piece {
+                    duration: 1.0,
+                    line,
+                });
+                if line >= count - done {
+                    batch.ahead = vec![LineAhead::None; 2];
+                }
+                desk.pieces.push_back(batch);
+            }
+            desk
+        };
+        let first_line = |batch: Option<&Pieces>| match batch.map(|b| b.records[1]) {
+            Some(Record::Piece { line, .. }) => Some(line),
+            _ => None,
+        };
+        for (count, done, lent) in [
+            (3, 0, Some(2)),
+            (3, 1, Some(1)),
+            (4, 2, Some(1)),
+            (3, 2, None),
+        ] {
+            let mut desk = queued(count, done);
+            let batch = desk.lend();
+            assert_eq!(first_line(batch.as_ref()), lent, "{count} {done}");
+            let Some(batch) = batch else {
+                continue;
+            };
+            assert!(desk.lend().is_none(), "one lent at a time");
+            // Only those before it go while it is lent, then it, then those after it.
+            let mut order = Vec::new();
+            while let Some(line) = first_line(desk.next_pieces().as_ref()) {
+                order.push(line);
+            }
+            assert_eq!(order, (0..lent.unwrap()).collect::<Vec<_>>());
+            desk.give_back(batch);
+            while let Some(line) = first_line(desk.next_pieces().as_ref()) {
+                order.push(line);
+            }
+            assert_eq!(order, (0..count).collect::<Vec<_>>());
+        }
+    }
+
+    /// A PMAC writer behind the hand-over, counting the pieces that came with their line
+    /// written ahead; slow at every `slow_every`-th piece where set.
+    struct Pmac {
+        writer: pvt_emit::pmac::PmacWriter<Vec<u8>>,
+        with_line: usize,
+        pieces: usize,
+        slow_every: Option<usize>,
+    }
+
+    impl Pmac {
+        fn new(slow_every: Option<usize>) -> Pmac {
+            let mut writer = pvt_emit::pmac::PmacWriter::new(Vec::new());
+            let options = pvt_emit::EmitOptions::default();
+            let header = pvt_emit::Header {
+                axes: &[pvt_core::Axis::X, pvt_core::Axis::Y, pvt_core::Axis::Z],
+                units: pvt_core::Units::Millimetre,
+                interpolation: pvt_core::Interpolation::Pvt,
+                options: &options,
+            };
+            pvt_emit::ProgramWriter::begin(&mut writer, &header).unwrap();
+            Pmac {
+                writer,
+                with_line: 0,
+                pieces: 0,
+                slow_every,
+            }
+        }
+
+        fn text(mut self) -> String {
+            pvt_emit::ProgramWriter::finish(&mut self.writer).unwrap();
+            String::from_utf8(self.writer.into_inner()).unwrap()
+        }
+
+        fn counted(&mut self) {
+            if self
+                .slow_every
+                .is_some_and(|k| self.pieces.is_multiple_of(k))
+            {
+                std::thread::sleep(std::time::Duration::from_micros(300));
+            }
+            self.pieces += 1;
+        }
+    }
+
+    impl PieceSink for Pmac {
+        fn contour(&mut self, motion: Motion, start: &[f64], _: u32) {
+            pvt_emit::ProgramWriter::contour(&mut self.writer, motion, start).unwrap();
+        }
+        fn piece(&mut self, p: &SegmentRef<'_>) {
+            self.counted();
+            pvt_emit::ProgramWriter::segment(&mut self.writer, p).unwrap();
+        }
+        fn event(&mut self, event: &ProgramEvent) {
+            pvt_emit::ProgramWriter::event(&mut self.writer, event).unwrap();
+        }
+    }
+
+    impl PieceWriter for Pmac {
+        fn piece_lines(&self) -> Option<PieceLines> {
+            pvt_emit::ProgramWriter::piece_lines(&self.writer)
+        }
+        fn piece_with_line(&mut self, p: &SegmentRef<'_>, line: PieceLine<'_>) {
+            self.counted();
+            self.with_line += 1;
+            pvt_emit::ProgramWriter::segment_with_line(&mut self.writer, p, line).unwrap();
+        }
+    }
+
+    /// A stand-in planner whose pieces have times of no whole millisecond, some
+    /// positions too large for a line written ahead (4.5·10⁶ units and more), contours
+    /// and events.
+    fn varied_plan(pieces: &mut dyn PieceSink, calls: Calls<'_>) {
+        struct Varied<'a>(&'a mut dyn PieceSink, bool);
+        impl ToolpathSink for Varied<'_> {
+            fn element(&mut self, _: Motion, e: &Element) {
+                let i = f64::from(e.span.line);
+                if !self.1 {
+                    self.0.contour(Motion::Feed, &[i, 0.0, 0.0], e.span.line);
+                    self.1 = true;
+                }
+                let far = if e.span.line % 97 == 5 { 5e6 } else { 0.0 };
+                self.0.piece(&SegmentRef {
+                    end: &[i * 0.123_456_789_1, -i.sqrt(), far + 1.0 / (i + 1.0)],
+                    velocity: &[e.feed, -0.5 * e.feed, 1e-7 * i],
+                    duration: 0.000_7 * (1.0 + i % 13.0) + i * 1e-9,
+                    line: e.span.line,
+                });
+            }
+            fn end_contour(&mut self) {
+                self.1 = false;
+            }
+            fn event(&mut self, event: &EventKind, line: u32) {
+                self.0.event(&ProgramEvent {
+                    before_contour: 0,
+                    kind: event.clone(),
+                    line,
+                });
+            }
+            fn path_tolerance(&mut self, _: f64) {}
+        }
+        calls(&mut Varied(pieces, false));
+    }
+
+    /// `front(n)`, sleeping at every `pause_every`-th element from the first: the
+    /// planner's thread waits for calls.
+    fn slow_front(n: usize, pause_every: usize) -> impl FnOnce(&mut dyn ToolpathSink) {
+        struct Slow<'a>(&'a mut dyn ToolpathSink, usize, usize);
+        impl ToolpathSink for Slow<'_> {
+            fn element(&mut self, motion: Motion, element: &Element) {
+                if self.1.is_multiple_of(self.2) {
+                    std::thread::sleep(std::time::Duration::from_micros(200));
+                }
+                self.1 += 1;
+                self.0.element(motion, element);
+            }
+            fn end_contour(&mut self) {
+                self.0.end_contour();
+            }
+            fn event(&mut self, event: &EventKind, line: u32) {
+                self.0.event(event, line);
+            }
+            fn path_tolerance(&mut self, tolerance: f64) {
+                self.0.path_tolerance(tolerance);
+            }
+        }
+        move |sink| {
+            front(n)(&mut Slow(sink, 0, pause_every));
+        }
+    }
+
+    #[test]
+    fn lines_written_ahead_are_the_lines_the_writer_writes() {
+        let n = 12 * BATCH_PIECES + 77;
+        let mut alone = Pmac::new(None);
+        varied_plan(&mut alone, &mut |sink| {
+            front(n)(sink);
+        });
+        assert_eq!((alone.pieces, alone.with_line), (n, 0));
+        let alone = alone.text();
+        assert!(alone.lines().filter(|l| l.starts_with("TA")).count() == n);
+        // The planner waiting for a slow front end writes the open batch's lines and the
+        // queued ones'; waiting for a slow writer, the queued batches' but the first.
+        for slow_writer in [None, Some(BATCH_PIECES)] {
+            let mut written = Pmac::new(slow_writer);
+            // A slow writer, a front end that never waits; else a slow front end.
+            let pause_every = if slow_writer.is_some() {
+                usize::MAX
+            } else {
+                64
+            };
+            let front = slow_front(n, pause_every);
+            if planner_aside(front, varied_plan, DIM, &mut written).is_err() {
+                panic!("no thread started");
+            }
+            let with_line = written.with_line;
+            assert_eq!(written.pieces, n);
+            assert!(with_line >= n / 8, "{with_line} of {n} lines written ahead");
+            assert!(written.text() == alone, "{slow_writer:?}");
+        }
     }
 
     #[test]

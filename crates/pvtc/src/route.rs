@@ -16,6 +16,7 @@
 use crate::front::{self, Input};
 use crate::options::{at_line, CompileOptions, Failure, InputKind, Source, VelocitySource};
 use crate::output::Target;
+use crate::pipeline::PieceWriter;
 use crate::settings::{emit_options, header_lines, plan_options, split_grid};
 use miette::{Report, Severity};
 use pvt_core::{
@@ -24,7 +25,7 @@ use pvt_core::{
     PvtProgram, SegmentRef, Timing, Toolpath, ToolpathSink, Units,
 };
 use pvt_emit::writer::Totals;
-use pvt_emit::{Checked, Format, ProgramWriter, StreamError};
+use pvt_emit::{Checked, Format, PieceLine, PieceLines, ProgramWriter, StreamError};
 use std::path::PathBuf;
 
 /// Why streaming stopped.
@@ -64,23 +65,7 @@ impl<W: ProgramWriter> PieceSink for WriterSink<W> {
     }
 
     fn piece(&mut self, seg: &SegmentRef<'_>) {
-        let (writer, totals, error) = (&mut self.writer, &mut self.totals, &mut self.error);
-        let mut kept = self.kept.as_mut().and_then(|p| p.contours.last_mut());
-        let mut write = |piece: &SegmentRef<'_>| {
-            totals.add_segment(piece.duration);
-            if let Some(contour) = kept.as_mut() {
-                contour.push(piece.end, piece.velocity, piece.duration, piece.line);
-            }
-            if error.is_none() {
-                if let Err(e) = writer.segment(piece) {
-                    *error = Some(e);
-                }
-            }
-        };
-        match self.splitter.as_mut() {
-            Some(splitter) => splitter.push(seg, &mut write),
-            None => write(seg),
-        }
+        self.write_piece(seg, None);
     }
 
     fn event(&mut self, event: &ProgramEvent) {
@@ -93,7 +78,50 @@ impl<W: ProgramWriter> PieceSink for WriterSink<W> {
     }
 }
 
+impl<W: ProgramWriter> PieceWriter for WriterSink<W> {
+    fn piece_lines(&self) -> Option<PieceLines> {
+        self.writer.piece_lines()
+    }
+
+    fn piece_with_line(&mut self, piece: &SegmentRef<'_>, line: PieceLine<'_>) {
+        self.write_piece(piece, Some(line));
+    }
+}
+
 impl<W: ProgramWriter> WriterSink<W> {
+    /// Writes `seg` through the splitter, with its `line` where one was written ahead
+    /// and the splitter passes the piece whole (a piece it cuts is written part by part).
+    #[inline]
+    fn write_piece(&mut self, seg: &SegmentRef<'_>, line: Option<PieceLine<'_>>) {
+        let (writer, totals, error) = (&mut self.writer, &mut self.totals, &mut self.error);
+        let mut kept = self.kept.as_mut().and_then(|p| p.contours.last_mut());
+        let mut write = |piece: &SegmentRef<'_>, line: Option<PieceLine<'_>>| {
+            match line {
+                Some(line) => totals.add_printed_segment(piece.duration, line.whole_ms),
+                None => totals.add_segment(piece.duration),
+            }
+            if let Some(contour) = kept.as_mut() {
+                contour.push(piece.end, piece.velocity, piece.duration, piece.line);
+            }
+            if error.is_none() {
+                let written = match line {
+                    Some(line) => writer.segment_with_line(piece, line),
+                    None => writer.segment(piece),
+                };
+                if let Err(e) = written {
+                    *error = Some(e);
+                }
+            }
+        };
+        match self.splitter.as_mut() {
+            Some(splitter) if line.is_some() && splitter.passes_whole(seg) => {
+                splitter.push(seg, &mut |piece| write(piece, line))
+            }
+            Some(splitter) => splitter.push(seg, &mut |piece| write(piece, None)),
+            None => write(seg, line),
+        }
+    }
+
     /// A sink writing into `writer` (already begun), cutting pieces longer than
     /// `max_piece` seconds along their cubic (on `grid` where their time is on it), and
     /// keeping the program written into `kept` when it is given.
@@ -315,7 +343,7 @@ fn stream_pass(
     path: &std::path::Path,
     name: &str,
     gcode: &pvt_gcode::GcodeOptions,
-    writer: &mut dyn PieceSink,
+    writer: &mut dyn PieceWriter,
     axes: &[Axis],
     options: PlanOptions,
 ) -> Result<Result<Streamed, PlanError>, Failure> {

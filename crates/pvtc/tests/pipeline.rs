@@ -225,6 +225,8 @@ impl pvt_core::PieceSink for Pieces<'_> {
     }
 }
 
+impl pvtc::pipeline::PieceWriter for Pieces<'_> {}
+
 /// Plans `text` with the feed on line `bad` zeroed, the planner on its own thread (the
 /// front end and the pieces' sink on this one) or not: what the planner handed on, its
 /// failure and the front end's diagnostics.
