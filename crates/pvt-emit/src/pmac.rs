@@ -666,6 +666,20 @@ mod tests {
         t
     }
 
+    /// A PMAC writer into memory, begun on `axes` in mm with the default options.
+    fn begun(axes: &[Axis]) -> PmacWriter<Vec<u8>> {
+        let options = EmitOptions::default();
+        let header = Header {
+            axes,
+            units: Units::Millimetre,
+            interpolation: Interpolation::Pvt,
+            options: &options,
+        };
+        let mut writer = PmacWriter::new(Vec::new());
+        writer.begin(&header).unwrap();
+        writer
+    }
+
     /// A value of a piece: usual coordinates, large ones past the usual range and 2^53,
     /// and (for a writer without [`crate::Checked`] in front) NaN and infinities.
     fn value() -> impl Strategy<Value = f64> {
@@ -694,15 +708,7 @@ mod tests {
             )
         ) {
             let axes = [Axis::X, Axis::Y, Axis::Z];
-            let options = EmitOptions::default();
-            let header = Header {
-                axes: &axes,
-                units: Units::Millimetre,
-                interpolation: Interpolation::Pvt,
-                options: &options,
-            };
-            let mut writer = PmacWriter::new(Vec::new());
-            writer.begin(&header).unwrap();
+            let mut writer = begun(&axes);
             writer.contour(Motion::Feed, &[0.0; 3]).unwrap();
             let before = writer.line.len();
             let mut expected = Vec::new();
@@ -737,16 +743,8 @@ mod tests {
             )
         ) {
             let axes = [Axis::X, Axis::Y, Axis::Z];
-            let options = EmitOptions::default();
-            let header = Header {
-                axes: &axes,
-                units: Units::Millimetre,
-                interpolation: Interpolation::Pvt,
-                options: &options,
-            };
-            let (mut own, mut apart) = (PmacWriter::new(Vec::new()), PmacWriter::new(Vec::new()));
+            let (mut own, mut apart) = (begun(&axes), begun(&axes));
             for writer in [&mut own, &mut apart] {
-                writer.begin(&header).unwrap();
                 writer.contour(Motion::Feed, &[0.0; 3]).unwrap();
             }
             let lines = apart.piece_lines().expect("PMAC lines are written apart");

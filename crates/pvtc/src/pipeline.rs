@@ -322,6 +322,19 @@ pub struct Pieces {
     ahead_numbers: usize,
 }
 
+/// The piece whose numbers on `dim` axes `numbers` starts with: its end, then its
+/// velocities.
+#[inline]
+fn piece_at(numbers: &[f64], dim: usize, duration: f64, line: u32) -> SegmentRef<'_> {
+    let (end, velocity) = numbers[..2 * dim].split_at(dim);
+    SegmentRef {
+        end,
+        velocity,
+        duration,
+        line,
+    }
+}
+
 /// How a record's line was written ahead: where its text ends in [`Pieces::text`], and
 /// its note, for a piece written; nothing for a contour start, an event, or a piece the
 /// writer writes itself.
@@ -377,13 +390,7 @@ impl Pieces {
                 Record::Piece { duration, line } => {
                     let at = self.ahead_numbers;
                     self.ahead_numbers += 2 * dim;
-                    let (end, velocity) = self.numbers[at..at + 2 * dim].split_at(dim);
-                    let piece = SegmentRef {
-                        end,
-                        velocity,
-                        duration,
-                        line,
-                    };
+                    let piece = piece_at(&self.numbers[at..], dim, duration, line);
                     let start = self.text_len;
                     // The room made with the batch, zeroed as lines first reach it.
                     if self.text.len() < start + room && start + room <= self.text.capacity() {
@@ -422,13 +429,7 @@ impl Pieces {
                     at += dim;
                 }
                 Record::Piece { duration, line } => {
-                    let (end, velocity) = self.numbers[at..at + 2 * dim].split_at(dim);
-                    let piece = SegmentRef {
-                        end,
-                        velocity,
-                        duration,
-                        line,
-                    };
+                    let piece = piece_at(&self.numbers[at..], dim, duration, line);
                     match self.ahead.get(i) {
                         Some(&LineAhead::Written { end, whole_ms }) => {
                             let end = end as usize;
@@ -1093,35 +1094,53 @@ mod tests {
     /// A stand-in planner slower than its front end and writer (every call waits), so
     /// that the front end finds the planner's queue full and writes while it waits.
     fn slow_plan(pieces: &mut dyn PieceSink, calls: Calls<'_>) -> usize {
-        struct Slow<'a>(Fake<'a>, usize);
-        impl ToolpathSink for Slow<'_> {
-            fn element(&mut self, motion: Motion, element: &Element) {
-                if self.1.is_multiple_of(64) {
-                    std::thread::sleep(std::time::Duration::from_micros(50));
-                }
-                self.1 += 1;
-                self.0.element(motion, element);
-            }
-            fn end_contour(&mut self) {
-                self.0.end_contour();
-            }
-            fn event(&mut self, event: &EventKind, line: u32) {
-                self.0.event(event, line);
-            }
-            fn path_tolerance(&mut self, tolerance: f64) {
-                self.0.path_tolerance(tolerance);
+        let mut fake = Fake {
+            out: pieces,
+            open: false,
+            contours: 0,
+        };
+        let mut slow = Pausing::new(&mut fake, 64, 50);
+        calls(&mut slow);
+        slow.elements
+    }
+
+    /// A sink passing every call on, sleeping `micros` at every `every`-th element from
+    /// the first.
+    struct Pausing<'a> {
+        next: &'a mut dyn ToolpathSink,
+        elements: usize,
+        every: usize,
+        micros: u64,
+    }
+
+    impl<'a> Pausing<'a> {
+        fn new(next: &'a mut dyn ToolpathSink, every: usize, micros: u64) -> Pausing<'a> {
+            Pausing {
+                next,
+                elements: 0,
+                every,
+                micros,
             }
         }
-        let mut slow = Slow(
-            Fake {
-                out: pieces,
-                open: false,
-                contours: 0,
-            },
-            0,
-        );
-        calls(&mut slow);
-        slow.1
+    }
+
+    impl ToolpathSink for Pausing<'_> {
+        fn element(&mut self, motion: Motion, element: &Element) {
+            if self.elements.is_multiple_of(self.every) {
+                std::thread::sleep(std::time::Duration::from_micros(self.micros));
+            }
+            self.elements += 1;
+            self.next.element(motion, element);
+        }
+        fn end_contour(&mut self) {
+            self.next.end_contour();
+        }
+        fn event(&mut self, event: &EventKind, line: u32) {
+            self.next.event(event, line);
+        }
+        fn path_tolerance(&mut self, tolerance: f64) {
+            self.next.path_tolerance(tolerance);
+        }
     }
 
     #[test]
@@ -1350,27 +1369,8 @@ mod tests {
     /// `front(n)`, sleeping at every `pause_every`-th element from the first: the
     /// planner's thread waits for calls.
     fn slow_front(n: usize, pause_every: usize) -> impl FnOnce(&mut dyn ToolpathSink) {
-        struct Slow<'a>(&'a mut dyn ToolpathSink, usize, usize);
-        impl ToolpathSink for Slow<'_> {
-            fn element(&mut self, motion: Motion, element: &Element) {
-                if self.1.is_multiple_of(self.2) {
-                    std::thread::sleep(std::time::Duration::from_micros(200));
-                }
-                self.1 += 1;
-                self.0.element(motion, element);
-            }
-            fn end_contour(&mut self) {
-                self.0.end_contour();
-            }
-            fn event(&mut self, event: &EventKind, line: u32) {
-                self.0.event(event, line);
-            }
-            fn path_tolerance(&mut self, tolerance: f64) {
-                self.0.path_tolerance(tolerance);
-            }
-        }
         move |sink| {
-            front(n)(&mut Slow(sink, 0, pause_every));
+            front(n)(&mut Pausing::new(sink, pause_every, 200));
         }
     }
 
