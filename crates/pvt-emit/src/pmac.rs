@@ -431,7 +431,7 @@ impl<W: Write> ProgramWriter for PmacWriter<W> {
         let ms = seg.duration * 1000.0;
         self.enter_pvt(ms);
         let dim = self.axes.len().min(seg.end.len()).min(seg.velocity.len());
-        let room = self.line.room(2 + FIXED_SLOT + dim * AXIS_WORD_ROOM + 1);
+        let room = self.line.room(line_room(dim));
         match piece_line(room, &self.letters, ms, seg) {
             (len, Some(whole_ms)) => {
                 self.totals.add_printed_segment(seg.duration, whole_ms);
@@ -549,7 +549,7 @@ impl PmacLines {
 
     /// Room [`piece_line`] takes on these axes.
     pub(crate) fn room(&self) -> usize {
-        2 + FIXED_SLOT + self.letters.len() * AXIS_WORD_ROOM + 1
+        line_room(self.letters.len())
     }
 }
 
@@ -557,8 +557,14 @@ impl PmacLines {
 /// colon and the velocity.
 const AXIS_WORD_ROOM: usize = 2 + FIXED_SLOT + 1 + FIXED_SLOT;
 
+/// Room [`piece_line`] takes on `axes` axes: `TA`, the time, each axis' words and the
+/// newline.
+const fn line_room(axes: usize) -> usize {
+    2 + FIXED_SLOT + axes * AXIS_WORD_ROOM + 1
+}
+
 /// Writes a piece's line, `TA<ms> X<position>:<velocity> …` and its newline, at the start
-/// of `room` (at least `2 + FIXED_SLOT + axes · AXIS_WORD_ROOM + 1` long) and returns
+/// of `room` (at least [`line_room`] of its axes long) and returns
 /// its length and, when every number is a usual one ([`write_usual_fixed`]), whether the
 /// time is printed as whole milliseconds (its decimals all zeros); `None` when one is
 /// not, the room then holding nothing of meaning.

@@ -690,8 +690,8 @@ struct PlannerDesk<'a> {
     mailbox: &'a Mailbox,
     /// False once the writer has gone (this thread panicked): later pieces are dropped.
     open: bool,
-    /// How the open batch's piece lines are written ahead, while the planner waits for
-    /// the front end's calls; none where the writer takes no lines.
+    /// How piece lines are written ahead (the open batch's and the queued ones'), while
+    /// the planner waits; none where the writer takes no lines.
     lines: Option<PieceLines>,
 }
 
@@ -706,22 +706,27 @@ impl<'a> PlannerDesk<'a> {
         if self.batch.write_ahead(lines, WRITE_AHEAD_STEP) {
             return true;
         }
-        self.write_ahead_queued(self.mailbox.desk()).is_some()
+        self.write_ahead_queued(self.mailbox.desk()).1
     }
 
     /// Writes ahead the lines of the next [`WRITE_AHEAD_STEP`] records of the last queued
     /// batch with some, any but the first (which the writer is about to take), lent out
-    /// of the `desk` meanwhile: the desk, locked again, or `None` (the desk unlocked)
-    /// when there were none to write.
-    fn write_ahead_queued(&self, mut desk: MutexGuard<'a, Desk>) -> Option<MutexGuard<'a, Desk>> {
-        let lines = self.lines.as_ref().filter(|_| self.open)?;
-        let mut batch = desk.lend()?;
+    /// of the `desk` meanwhile: the desk, locked again where it was unlocked, and whether
+    /// there were lines to write. Where there were none the desk stays locked throughout,
+    /// so a caller that then waits on it misses no change.
+    fn write_ahead_queued(&self, mut desk: MutexGuard<'a, Desk>) -> (MutexGuard<'a, Desk>, bool) {
+        let Some(lines) = self.lines.as_ref().filter(|_| self.open) else {
+            return (desk, false);
+        };
+        let Some(mut batch) = desk.lend() else {
+            return (desk, false);
+        };
         drop(desk);
         batch.write_ahead(lines, WRITE_AHEAD_STEP);
         let mut desk = self.mailbox.desk();
         desk.give_back(batch);
         self.mailbox.changed(&desk);
-        Some(desk)
+        (desk, true)
     }
 
     /// Queues the open batch when it is full, and waits for an emptied one.
@@ -742,15 +747,15 @@ impl<'a> PlannerDesk<'a> {
                 return;
             }
             desk = match self.write_ahead_queued(desk) {
-                Some(desk) => desk,
-                None => self.mailbox.wait(self.mailbox.desk()),
+                (desk, true) => desk,
+                (desk, false) => self.mailbox.wait(desk),
             };
         }
     }
 }
 
 /// The planner's sink on its thread: the [`PlannerDesk`], shared with the wait for the
-/// front end's calls, which writes lines ahead into the open batch.
+/// front end's calls, which writes lines ahead meanwhile.
 struct SharedDesk<'d, 'a>(&'d RefCell<PlannerDesk<'a>>);
 
 impl PieceSink for SharedDesk<'_, '_> {
