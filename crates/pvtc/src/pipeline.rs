@@ -312,8 +312,9 @@ pub struct Pieces {
     records: Vec<Record>,
     events: Vec<ProgramEvent>,
     /// The lines written ahead ([`PlannerDesk::write_ahead`]), one after another, in
-    /// room made with the batch (none where no lines are written ahead): its length only
-    /// grows, [`Pieces::text_len`] says how much is text.
+    /// room for [`LINES_AHEAD`] lines made when the first is written ahead (none in a
+    /// batch that never has one: a route whose planner is the slower thread): its length
+    /// only grows, [`Pieces::text_len`] says how much is text.
     text: Vec<u8>,
     text_len: usize,
     /// How the first records' lines were written ahead, a [`LineAhead`] a record.
@@ -346,15 +347,14 @@ enum LineAhead {
 
 impl Pieces {
     /// An empty batch with room for [`BATCH_PIECES`] pieces on `dim` axes, and for
-    /// [`LINES_AHEAD`] of their lines written ahead by `lines` (the pages of that room
-    /// are taken only as lines are written into them).
+    /// noting how `lines` wrote each ahead ([`Pieces::text`] is made with the first).
     fn with_capacity(dim: usize, lines: Option<&PieceLines>) -> Pieces {
         Pieces {
             dim,
             numbers: Vec::with_capacity(BATCH_PIECES * 2 * dim),
             records: Vec::with_capacity(BATCH_PIECES),
             events: Vec::new(),
-            text: Vec::with_capacity(lines.map_or(0, |lines| LINES_AHEAD * lines.room())),
+            text: Vec::new(),
             text_len: 0,
             ahead: Vec::with_capacity(if lines.is_some() { BATCH_PIECES } else { 0 }),
             ahead_numbers: 0,
@@ -392,7 +392,10 @@ impl Pieces {
                     self.ahead_numbers += 2 * dim;
                     let piece = piece_at(&self.numbers[at..], dim, duration, line);
                     let start = self.text_len;
-                    // The room made with the batch, zeroed as lines first reach it.
+                    if self.text.capacity() == 0 {
+                        self.text.reserve_exact(LINES_AHEAD * room);
+                    }
+                    // The batch's room, zeroed as lines first reach it.
                     if self.text.len() < start + room && start + room <= self.text.capacity() {
                         self.text.resize(start + room, 0);
                     }
