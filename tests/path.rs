@@ -766,6 +766,66 @@ fn a_long_contour_streams_on_a_grid_within_its_limits_and_tolerance() {
     }
 }
 
+/// The `generate arcs` program (the speed benchmark's): 0.2 mm lines along X, every tenth
+/// an arc whose centre is 1 mm off its chord's middle, so that it meets the lines beside
+/// it at corners.
+#[path = "../crates/pvtc/examples/generate/programs.rs"]
+mod programs;
+
+/// Under a jerk limit on the 1 ms grid, the window of `generate arcs`' first 1028 lines
+/// was cut 1.9 ms before the corner at a kinked arc's end (line 821), which left the next
+/// window a piece too short to turn the velocity onto the corner's direction within the
+/// jerk limit: every round of that window failed (`path_not_met`). The cut now leaves
+/// the turn its time (the planner's `Knots::turn_time`), and the program compiles on
+/// the grid within the tolerance and every axis' limits, by the reference.
+#[test]
+fn a_window_cut_before_a_corner_leaves_the_next_one_time_to_turn() {
+    let mut text = Vec::new();
+    programs::write("arcs", 100_000, &mut text).unwrap();
+    let text: String = String::from_utf8(text)
+        .unwrap()
+        .lines()
+        .take(1028)
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let mill = pvtc_tests::root().join("samples/machines/mill.toml");
+    let mut options = pvtc::CompileOptions::new(pvt_emit::Format::Json);
+    options.machine = Some(pvtc::machine::Machine::read(&mill).unwrap());
+    options.quantize = Some(0.001);
+    let source = pvtc::Source::from_text("arcs.ngc", &text);
+    let (planned, toolpath, _) =
+        pvtc::plan(&source, &options).unwrap_or_else(|f| panic!("{:?}", f.codes()));
+    let program = planned.program;
+    // X, Y and Z of the mill: velocity, acceleration and (X and Y only) jerk.
+    let limits = [
+        (100.0, 1000.0, 50000.0),
+        (100.0, 1000.0, 50000.0),
+        (50.0, 500.0, f64::INFINITY),
+    ];
+    for c in &program.contours {
+        assert_on_grid(c, 0.001);
+        for (k, (v, a)) in reference::peaks(c).into_iter().enumerate() {
+            assert!(v <= limits[k].0 * (1.0 + 1e-6), "axis {k}: velocity {v}");
+            assert!(
+                a <= limits[k].1 * (1.0 + 1e-6),
+                "axis {k}: acceleration {a}"
+            );
+        }
+        for (k, j) in reference::jerks(c).into_iter().enumerate() {
+            assert!(j <= limits[k].2 * (1.0 + 1e-6), "axis {k}: jerk {j}");
+        }
+    }
+    // Pieces and elements within 0.01 mm of each other: a deviation over the tolerance
+    // shows as one of at least that.
+    let d = reference::deviation(&program, &toolpath, 0.01);
+    assert!(d.error <= 0.001 * (1.0 + 1e-9), "{} from the path", d.error);
+    assert!(
+        d.gap <= 0.001 * (1.0 + 1e-9),
+        "path point {} from the motion",
+        d.gap
+    );
+}
+
 /// 40 lines of 20 mm, zigzag with corners, then [`long_contour`]'s polygon: a window
 /// on a grid streams where a line leaves room to stop after a cut (see "Streaming on a
 /// grid" in the planner): on the lines here, not on the polygon's 1.7 mm sides.

@@ -1113,6 +1113,25 @@ impl Knots {
             && curve.length(knot.after.param, curve.span) >= stop(knot.speed)
     }
 
+    /// Under path jerk `jerk`, a bound on the time the piece before knot `k` needs to
+    /// turn the velocity from its element's tangent onto the knot's junction direction,
+    /// a change of `Δ = speed·deviation` across the path (0 where the knot joins no
+    /// elements). A cubic that keeps its chord and changes its velocity by `Δ` over `T`
+    /// has jerk `6·Δ/T²`; an S-curve of two parts may leave the turn to one of them
+    /// (`24·Δ/T²`), and the window after a cut plans the piece's speeds again, so
+    /// [`TURN_MARGIN`] times that: `T = √(TURN_MARGIN·24·Δ/jerk)`. A window cut inside a
+    /// piece leaves the next window at least this much of it (see [`super::grid_cut`]).
+    pub fn turn_time(&self, k: usize, jerk: f64) -> f64 {
+        let knot = &self.knots[k];
+        match knot.junction_index() {
+            Some(j) => {
+                let turn = knot.speed * self.junctions[j].deviation;
+                (TURN_MARGIN * 24.0 * turn / jerk).sqrt()
+            }
+            None => 0.0,
+        }
+    }
+
     /// True when a window may end at knot `k`: not the fixed start, not the last knot,
     /// not a corner blend's start, not on the window's last element.
     pub fn cuttable(&self, curves: &[Curve], k: usize) -> bool {
@@ -1592,6 +1611,9 @@ const TURN_JERK_SHARE: f64 = 0.5;
 /// with, as an S-curve over its length `2L` (its pulse is steeper on its shorter part,
 /// and the turn takes [`TURN_JERK_SHARE`]; the closed-form check slows what is over).
 pub(super) const BLEND_JERK_SHARE: f64 = 0.45;
+
+/// The margin of [`Knots::turn_time`] over a turn at the jerk limit.
+const TURN_MARGIN: f64 = 2.0;
 
 /// Largest share of either line a jerk-limited corner blend takes (0.45 without a jerk
 /// limit): its cap grows with `L^(2/3)`, and the straight piece left between two blends

@@ -297,7 +297,12 @@
 //!    its speed (at that least acceleration) left after it: whatever the next window's
 //!    repairs ask of the knots after it, its fixed first knot can come to rest on that
 //!    line, so its plan settles as a contour's start does (a cut before a short line's
-//!    blend did not: the blend slowed, the fixed knot could not). Without a jerk limit,
+//!    blend did not: the blend slowed, the fixed knot could not). Under a jerk limit a
+//!    time inside a piece that ends at a corner (a junction whose direction is not the
+//!    element's tangent) must leave the piece at least [`Knots::turn_time`] after it, the
+//!    time a cubic needs to turn the velocity onto the corner's direction within the
+//!    jerk: a cut 1.9 ms before a kinked arc's end left the next window a piece that
+//!    broke the jerk limit at any speed its fixed knot allowed. Without a jerk limit,
 //!    where there is no such time, the window ends at its last knot at rest (an exact
 //!    stop; a line between two stops is one piece from rest to rest, with no room
 //!    inside): the next window starts at rest, as a contour does, and this one's last
@@ -1425,7 +1430,8 @@ type RoomAfterCut<'a> = dyn Fn(&Knots, usize) -> bool + 'a;
 /// knot `k` ([`Knots::cut`]'s, or under a jerk limit [`jerk_horizon`]'s) that is a cuttable
 /// knot's time or inside a piece that follows one element at speed, where a knot is
 /// inserted (and `planned` made again up to it, with no piece after it), with room to
-/// stop on its line at `least` ([`Knots::room_to_stop`]); without a jerk limit, where
+/// stop on its line at `least` ([`Knots::room_to_stop`]) and, under a jerk limit, time
+/// left in the piece to turn onto the corner it ends at ([`Knots::turn_time`]); without a jerk limit, where
 /// there is none, the last knot at rest up to `k`. The knot's index (the number of pieces before it) and whether it
 /// was inserted.
 fn grid_cut(
@@ -1482,6 +1488,12 @@ fn grid_cut(
             continue;
         }
         let i = piece.knot;
+        if planning.jerk_mode() && piece.duration - u < knots.turn_time(i + 1, least_jerk(planning))
+        {
+            // Too little of the piece left after it to turn onto the corner it ends at:
+            // on to an earlier grid time.
+            continue;
+        }
         if knots.knots[i].blend.is_some() || piece.at_rest() || piece.part.is_some() {
             // Every grid time inside the piece is refused alike: on to its start.
             g = g.min(quanta_count(starts[piece_index], q) + 1.0);
