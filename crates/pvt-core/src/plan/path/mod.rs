@@ -1488,12 +1488,6 @@ fn grid_cut(
             continue;
         }
         let i = piece.knot;
-        if planning.jerk_mode() && piece.duration - u < knots.turn_time(i + 1, least_jerk(planning))
-        {
-            // Too little of the piece left after it to turn onto the corner it ends at:
-            // on to an earlier grid time.
-            continue;
-        }
         if knots.knots[i].blend.is_some() || piece.at_rest() || piece.part.is_some() {
             // Every grid time inside the piece is refused alike: on to its start.
             g = g.min(quanta_count(starts[piece_index], q) + 1.0);
@@ -1504,6 +1498,12 @@ fn grid_cut(
         if !planning.jerk_mode() && !curves[knots.knots[i].after.element].is_line() {
             // The piece's other grid times are inside it too: on to its start.
             g = g.min(quanta_count(starts[piece_index], q) + 1.0);
+            continue;
+        }
+        if planning.jerk_mode() && piece.duration - u < knots.turn_time(i + 1, least_jerk(planning))
+        {
+            // Too little of the piece left after it to turn onto the corner it ends at:
+            // on to an earlier grid time.
             continue;
         }
         let at = match tried.take() {
