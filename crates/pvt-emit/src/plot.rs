@@ -23,7 +23,7 @@ mod scale;
 use crate::validate::{validate, InvalidProgram};
 use pvt_core::PvtProgram;
 
-pub use sample::{sample_program, SampleAt, SampleOptions, Samples};
+pub use sample::{sample_every, sample_program, SampleAt, SampleOptions, Samples};
 
 /// How the plot looks.
 #[derive(Debug, Clone, PartialEq)]

@@ -6,7 +6,8 @@
 //! [`route`] (the one compile path, every input kind into the same planning sink;
 //! [`pipeline`] runs a streamed G-code compile's front end on a thread of its own);
 //! [`output`] (atomic writes) and [`report`] (the only writer of standard error);
-//! [`args`] (clap); [`commands`] (compile, batch, toolpath, check, plot, manual).
+//! [`args`] (clap); [`commands`] (compile, batch, toolpath, check, plot, manual);
+//! [`embed`] (the same route for a program that embeds pvtc: pieces kept as arrays).
 //! Architecture invariant: no geometry, planning or formatting happens here; a failed run
 //! never creates or changes an output file. This root holds `mod` lines, the public
 //! re-exports and the dispatch ([`run`]); no module imports anything from it
@@ -14,6 +15,7 @@
 
 pub mod args;
 pub mod commands;
+pub mod embed;
 pub mod excerpt;
 pub mod failure;
 pub mod front;

@@ -415,10 +415,7 @@ impl Reporter {
     fn print_items(&self, reports: &[Report], input: Option<&str>) {
         for item in group(reports).iter().take(MAX_PRINTED) {
             if self.json {
-                let mut value = match item {
-                    Item::Single(report) => to_json(report),
-                    Item::Repeated(repeated) => repeated_json(repeated),
-                };
+                let mut value = item_json(item);
                 if let Some(input) = input {
                     value["input"] = serde_json::json!(input);
                 }
@@ -450,6 +447,20 @@ fn counts(errors: usize, warnings: usize) -> String {
         (e, 0) => plural(e, "error"),
         (e, w) => format!("{}, {}", plural(e, "error"), plural(w, "warning")),
     }
+}
+
+/// One printed diagnostic as a JSON object: [`to_json`] or [`repeated_json`].
+pub fn item_json(item: &Item<'_>) -> serde_json::Value {
+    match item {
+        Item::Single(report) => to_json(report),
+        Item::Repeated(repeated) => repeated_json(repeated),
+    }
+}
+
+/// Every diagnostic of `reports` as `--diagnostics json` prints them (repeats grouped,
+/// none left out), for a program that embeds pvtc ([`crate::embed`]).
+pub fn json_items(reports: &[Report]) -> Vec<serde_json::Value> {
+    group(reports).iter().map(item_json).collect()
 }
 
 /// A repeated diagnostic as one JSON object: the first's fields (message and help as

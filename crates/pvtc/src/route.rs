@@ -256,13 +256,13 @@ impl ToolpathSink for MovedAxes {
 /// Opens `path` for reading through a buffer of 64 KiB: a read of that size takes a
 /// negligible share of a line's parsing, and a larger buffer is resident for the whole
 /// compile.
-fn open(path: &std::path::Path) -> Result<std::io::BufReader<std::fs::File>, Failure> {
+pub(crate) fn open(path: &std::path::Path) -> Result<std::io::BufReader<std::fs::File>, Failure> {
     std::fs::File::open(path)
         .map(|f| std::io::BufReader::with_capacity(1 << 16, f))
         .map_err(|error| read_failure(path, error))
 }
 
-fn read_failure(path: &std::path::Path, error: std::io::Error) -> Failure {
+pub(crate) fn read_failure(path: &std::path::Path, error: std::io::Error) -> Failure {
     Failure::Io {
         path: path.to_path_buf(),
         action: "read",
@@ -449,14 +449,14 @@ fn plan_failure(path: &std::path::Path, name: &str, e: &PlanError) -> Failure {
 
 /// What the header fixes before the first piece is written.
 #[derive(Debug, Clone, PartialEq)]
-struct Layout {
-    axes: Vec<Axis>,
-    units: pvt_core::Units,
+pub(crate) struct Layout {
+    pub(crate) axes: Vec<Axis>,
+    pub(crate) units: pvt_core::Units,
 }
 
 impl Layout {
     /// The layout a [`pvt_gcode::Prescan`] suggests under `gcode`'s units option.
-    fn guess(prescan: &pvt_gcode::Prescan, gcode: &pvt_gcode::GcodeOptions) -> Layout {
+    pub(crate) fn guess(prescan: &pvt_gcode::Prescan, gcode: &pvt_gcode::GcodeOptions) -> Layout {
         Layout {
             axes: Axis::ALL
                 .into_iter()
@@ -468,9 +468,9 @@ impl Layout {
 }
 
 /// One pass over the file that plans and writes under a layout.
-struct Pass {
+pub(crate) struct Pass {
     /// The layout the program really has.
-    layout: Layout,
+    pub(crate) layout: Layout,
     warnings: Vec<pvt_gcode::GcodeDiagnostic>,
     outcome: Result<(Totals, PlanReport), StreamFailure>,
 }
@@ -537,14 +537,14 @@ pub fn compile_streaming(
         // receives a program that an error, or a warning under --deny-warnings, would
         // cut short. It finds the axes and units too (checking again under them when the
         // prescan guessed otherwise).
-        let mut check = write_pass(path, name, options, &gcode, &layout, None)?;
+        let mut check = write_pass(path, name, options, &gcode, &layout, Out::Checks)?;
         if check.layout != layout {
             layout = check.layout.clone();
-            check = write_pass(path, name, options, &gcode, &layout, None)?;
+            check = write_pass(path, name, options, &gcode, &layout, Out::Checks)?;
         }
         crate::report::deny(outcome_warnings(path, name, options, check)?, deny_warnings)?;
     }
-    let mut pass = write_pass(path, name, options, &gcode, &layout, Some(out))?;
+    let mut pass = write_pass(path, name, options, &gcode, &layout, Out::Text(out))?;
     if pass.layout != layout {
         let restart = |error| Failure::Io {
             path: "<output>".into(),
@@ -552,13 +552,20 @@ pub fn compile_streaming(
             error,
         };
         out.restart().map_err(restart)?;
-        pass = write_pass(path, name, options, &gcode, &pass.layout.clone(), Some(out))?;
+        pass = write_pass(
+            path,
+            name,
+            options,
+            &gcode,
+            &pass.layout.clone(),
+            Out::Text(out),
+        )?;
     }
     crate::report::deny(outcome_warnings(path, name, options, pass)?, deny_warnings)
 }
 
 /// What a pass ended with: its warnings, notes and summary, or its failure.
-fn outcome_warnings(
+pub(crate) fn outcome_warnings(
     path: &std::path::Path,
     name: &str,
     options: &CompileOptions,
@@ -578,17 +585,27 @@ fn outcome_warnings(
     Ok(warnings)
 }
 
-/// Plans and writes the program under `layout` into `out`, or (`None`) checks it as the
-/// back end would without making its text ([`pvt_emit::Unwritten`]); G-code errors fail
-/// the pass, a planning or writing failure is returned in [`Pass::outcome`] with the
-/// layout found.
-fn write_pass(
+/// Where a pass's pieces go, behind the format's checks ([`Checked`]).
+pub(crate) enum Out<'o, 't> {
+    /// The format's text, into a target.
+    Text(&'o mut Target<'t>),
+    /// Nowhere: the format's checks alone ([`pvt_emit::Unwritten`]).
+    Checks,
+    /// A back end of the caller's that answers [`ProgramWriter::caps`] as the format does
+    /// (the pieces kept as arrays: [`crate::embed`]).
+    Into(Box<dyn ProgramWriter + 'o>),
+}
+
+/// Plans and writes the program under `layout` into `out` (its text, its checks alone, or
+/// a caller's back end); G-code errors fail the pass, a planning or writing failure is
+/// returned in [`Pass::outcome`] with the layout found.
+pub(crate) fn write_pass(
     path: &std::path::Path,
     name: &str,
     options: &CompileOptions,
     gcode: &pvt_gcode::GcodeOptions,
     layout: &Layout,
-    out: Option<&mut Target<'_>>,
+    out: Out<'_, '_>,
 ) -> Result<Pass, Failure> {
     let plan_options = plan_options(options, layout.units, &layout.axes)?;
     check_pmac_axes(options, &layout.axes)?;
@@ -600,10 +617,11 @@ fn write_pass(
         layout.units,
     );
     let back_end = match out {
-        Some(out) => options
+        Out::Text(out) => options
             .format
             .writer(std::io::BufWriter::with_capacity(1 << 16, out)),
-        None => Box::new(pvt_emit::Unwritten(options.format.writer(std::io::sink()))),
+        Out::Checks => Box::new(pvt_emit::Unwritten(options.format.writer(std::io::sink()))),
+        Out::Into(writer) => writer,
     };
     let mut writer = Checked::new(back_end);
     let header = pvt_emit::Header {
@@ -642,7 +660,10 @@ fn write_pass(
 
 /// Refuses PMAC axis definitions that leave a moved axis undefined
 /// (`pvtc::pmac::undefined_axis`): the controller would not move it.
-fn check_pmac_axes(options: &CompileOptions, moved: &[pvt_core::Axis]) -> Result<(), Failure> {
+pub(crate) fn check_pmac_axes(
+    options: &CompileOptions,
+    moved: &[pvt_core::Axis],
+) -> Result<(), Failure> {
     if options.format != Format::Pmac {
         return Ok(());
     }
@@ -909,7 +930,11 @@ fn whole_notes(
 }
 
 /// A back end's refusal as a failure; `source` (when known) labels the line at fault.
-fn emit_failure(e: StreamError, options: &CompileOptions, source: Option<&Source>) -> Failure {
+pub(crate) fn emit_failure(
+    e: StreamError,
+    options: &CompileOptions,
+    source: Option<&Source>,
+) -> Failure {
     match e {
         StreamError::Invalid(invalid) => {
             let report = match source {

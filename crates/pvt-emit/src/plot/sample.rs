@@ -109,6 +109,46 @@ pub fn sample_program(program: &PvtProgram, options: &SampleOptions) -> Samples 
     sampler.out
 }
 
+/// Samples the motion of `program` every `period` seconds (finite, positive) from its
+/// start to its end, as a servo loop reads it: instant `k · period` (computed so, not
+/// summed, so that no error accumulates) is evaluated in the piece running then, the
+/// last one starting at or before it, from the cubic the controller builds (PT: the
+/// straight piece). Dwells add no time, as in `pvtc check`.
+pub fn sample_every(program: &PvtProgram, period: f64) -> Samples {
+    let mut sampler = Sampler::new(program);
+    let total: f64 = program.contours.iter().map(PvtContour::total_time).sum();
+    let mut k = 0u64;
+    let pieces = program.segment_count();
+    let mut seen = 0;
+    for (c, contour) in program.contours.iter().enumerate() {
+        for i in 0..contour.len() {
+            seen += 1;
+            let piece = Piece::new(contour, i, sampler.interpolation);
+            let at = SampleAt {
+                motion: contour.motion,
+                contour: c,
+                segment: Some(i),
+            };
+            let end = sampler.clock + piece.duration;
+            loop {
+                let t = k as f64 * period;
+                let inside = t < end || (seen == pieces && t <= total);
+                if !inside {
+                    break;
+                }
+                let into = (t - sampler.clock).clamp(0.0, piece.duration);
+                sampler.push(at, &piece, into, into >= piece.duration);
+                if let Some(time) = sampler.out.time.last_mut() {
+                    *time = t;
+                }
+                k += 1;
+            }
+            sampler.clock = end;
+        }
+    }
+    sampler.out
+}
+
 /// Accumulates samples; owns the speed axes and the running program time.
 struct Sampler {
     out: Samples,

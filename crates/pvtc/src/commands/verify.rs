@@ -10,7 +10,7 @@ use crate::options::{CompileOptions, Failure, Source};
 use crate::report::Reporter;
 use crate::report::EXIT_INPUT_ERROR;
 use crate::route::plan;
-use pvt_core::{check_program, CheckOptions, CheckReport, Peak, PvtProgram, Toolpath};
+use pvt_core::{check_program, CheckReport, Peak, PvtProgram, Toolpath};
 use pvt_emit::Format;
 use std::fmt::Write as _;
 use std::process::ExitCode;
@@ -26,14 +26,15 @@ pub fn run(args: &CheckArgs) -> ExitCode {
         Ok(loaded) => loaded,
         Err(code) => return code,
     };
-    let options = match check_options(args, &options, &program) {
-        Ok(options) => options,
+    let given = Given {
+        limits: args.limits(),
+        servo_period: args.servo_period,
+        max_samples: args.max_samples,
+    };
+    let report = match checked(&program, toolpath.as_ref(), &options, &given) {
+        Ok(report) => report,
         Err(failure) => return reporter.fail(&failure),
     };
-    if let Err(failure) = within_samples(&program, options.servo_period, args.max_samples) {
-        return reporter.fail(&failure);
-    }
-    let report = check_program(&program, toolpath.as_ref(), &options);
     let units = program.units.name();
     let too_far = args
         .max_path_error
@@ -63,18 +64,34 @@ pub fn run(args: &CheckArgs) -> ExitCode {
     }
 }
 
-/// The limits and servo period to check against, resolved by [`crate::settings`].
-fn check_options(
-    args: &CheckArgs,
-    options: &CompileOptions,
+/// What `check` is given besides the program: limits, servo period and sample guard.
+#[derive(Debug, Clone, Default)]
+pub struct Given {
+    /// Limits per axis over the machine file's (`--max-vel`, `--max-accel`, `--max-jerk`).
+    pub limits: std::collections::BTreeMap<pvt_core::Axis, pvt_core::AxisLimits>,
+    /// `--servo-period`.
+    pub servo_period: Option<f64>,
+    /// `--max-samples`.
+    pub max_samples: u64,
+}
+
+/// The check of `program` against the limits and servo period `given` over the machine
+/// file of `options` (resolved by [`crate::settings`]), its path error measured from
+/// `toolpath` where there is one: what `pvtc check` prints, as data.
+pub fn checked(
     program: &PvtProgram,
-) -> Result<CheckOptions, Failure> {
-    crate::settings::check_options(
+    toolpath: Option<&Toolpath>,
+    options: &CompileOptions,
+    given: &Given,
+) -> Result<CheckReport, Failure> {
+    let check = crate::settings::check_options(
         options.machine.as_ref(),
         program,
-        args.limits(),
-        args.servo_period,
-    )
+        given.limits.clone(),
+        given.servo_period,
+    )?;
+    within_samples(program, check.servo_period, given.max_samples)?;
+    Ok(check_program(program, toolpath, &check))
 }
 
 /// Refuses a program whose motion lasts more than `--max-samples` servo periods: a guard on
@@ -114,49 +131,71 @@ pub fn load(
     pipeline: &crate::args::PipelineArgs,
     reporter: &Reporter,
 ) -> Result<Loaded, ExitCode> {
-    let source = Source::read(input).map_err(|f| reporter.fail(&f))?;
-    let options = pipeline
-        .compile_options(&source.name, Format::Json)
-        .map_err(|f| reporter.fail(&f))?;
+    let (loaded, warnings) = load_quietly(input, pipeline).map_err(|f| reporter.fail(&f))?;
+    reporter.warnings(&warnings)?;
+    Ok(loaded)
+}
+
+/// [`load`] without printing: the program, and the warnings and notes met planning it.
+pub fn load_quietly(
+    input: &std::path::Path,
+    pipeline: &crate::args::PipelineArgs,
+) -> Result<(Loaded, Vec<miette::Report>), Failure> {
+    load_source(&Source::read(input)?, pipeline)
+}
+
+/// [`load_quietly`] of a source already read (a program that embeds pvtc holds its
+/// text): a program file by its name's extension, else a source planned.
+pub fn load_source(
+    source: &Source,
+    pipeline: &crate::args::PipelineArgs,
+) -> Result<(Loaded, Vec<miette::Report>), Failure> {
+    let options = pipeline.compile_options(&source.name, Format::Json)?;
     let emitted = pvt_emit::readback::format_of(&source.name);
     if let (None, Some(format)) = (pipeline.input_format, emitted) {
         let text = String::from_utf8_lossy(&source.bytes);
         return match pvt_emit::readback::read_back(format, &text, &read_hint(&options)) {
-            Ok(program) => Ok(Loaded {
-                program,
-                toolpath: None,
-                options,
-            }),
-            Err(e) => Err(reporter.fail(&Failure::Input(vec![miette::miette!(
+            Ok(program) => Ok((
+                Loaded {
+                    program,
+                    toolpath: None,
+                    options,
+                },
+                Vec::new(),
+            )),
+            Err(e) => Err(Failure::Input(vec![miette::miette!(
                 code = pvt_emit::readback::ReadBackError::CODE,
                 "{}: {e} (read as {} output)",
                 source.name,
                 format.name()
-            )]))),
+            )])),
         };
     }
     if pipeline.input_format.is_none() && source.name.to_ascii_lowercase().ends_with(".json") {
         let text = String::from_utf8_lossy(&source.bytes);
         return match pvt_emit::json::read(&text) {
-            Ok(program) => Ok(Loaded {
-                program,
-                toolpath: None,
-                options,
-            }),
-            Err(e) => Err(reporter.fail(&Failure::Input(vec![miette::miette!(
+            Ok(program) => Ok((
+                Loaded {
+                    program,
+                    toolpath: None,
+                    options,
+                },
+                Vec::new(),
+            )),
+            Err(e) => Err(Failure::Input(vec![miette::miette!(
                 code = "pvtc::json::read",
                 "{}: {e}",
                 source.name
-            )]))),
+            )])),
         };
     }
-    let (planned, toolpath, warnings) = plan(&source, &options).map_err(|f| reporter.fail(&f))?;
-    reporter.warnings(&warnings)?;
-    Ok(Loaded {
+    let (planned, toolpath, warnings) = plan(source, &options)?;
+    let loaded = Loaded {
         program: planned.program,
         toolpath: Some(toolpath),
         options,
-    })
+    };
+    Ok((loaded, warnings))
 }
 
 /// What an emitted text does not say: `--units` (default mm) and counts per unit, from
