@@ -111,10 +111,20 @@ impl Input {
         }
     }
 
-    fn origin(&self) -> Origin {
-        match self {
-            Input::File { path, .. } => Origin::File(path.clone()),
-            Input::Held(source) => Origin::Held(source.clone()),
+    /// How a program of this input is planned under `request`, resolved as `options`.
+    fn plan(&self, request: Request, options: pvtc::CompileOptions) -> Plan {
+        Plan {
+            format: request
+                .format
+                .clone()
+                .unwrap_or_else(|| DEFAULT_FORMAT.into()),
+            name: self.name().to_string(),
+            origin: match self {
+                Input::File { path, .. } => Origin::File(path.clone()),
+                Input::Held(source) => Origin::Held(source.clone()),
+            },
+            options,
+            request,
         }
     }
 }
@@ -137,17 +147,7 @@ fn plan_input(py: Python<'_>, input: Input, request: Request) -> PyResult<Progra
     let (pieces, warnings) = planned.map_err(|f| raise(py, f))?;
     let diagnostics = Diagnostic::all(&warnings);
     warn_all(py, &diagnostics)?;
-    let plan = Plan {
-        format: request
-            .format
-            .clone()
-            .unwrap_or_else(|| DEFAULT_FORMAT.into()),
-        name: input.name().to_string(),
-        origin: input.origin(),
-        options,
-        request,
-    };
-    Program::new(py, pieces, plan, diagnostics)
+    Program::new(py, pieces, input.plan(request, options), diagnostics)
 }
 
 /// Plans `source` (a path, str or `os.PathLike`, or `pvtc.Text(text, kind)`) into a
@@ -315,16 +315,7 @@ fn stream(
         request.add(options, Scope::Plan)?;
         let input = Input::of(source, &mut request)?;
         let options = request.compile_options(py, input.name(), DEFAULT_FORMAT)?;
-        let plan = Plan {
-            format: request
-                .format
-                .clone()
-                .unwrap_or_else(|| DEFAULT_FORMAT.into()),
-            name: input.name().to_string(),
-            origin: input.origin(),
-            options: options.clone(),
-            request,
-        };
+        let plan = input.plan(request, options.clone());
         Ok(chunks::Chunks::start(plan, move |sink| match &input {
             Input::File { path, name } if pvtc::embed::streams(&options) => {
                 pvtc::embed::stream_file(path, name, &options, chunk, Box::new(sink))

@@ -54,96 +54,42 @@ pub enum Scope {
 }
 
 /// Keyword, command-line flag, spelling, scope.
+#[rustfmt::skip]
 const KEYWORDS: &[(&str, &str, Spelling, Scope)] = &[
     ("input_format", "input-format", Spelling::Word, Scope::Plan),
     ("planner", "planner", Spelling::Word, Scope::Plan),
     ("machine", "machine", Spelling::MachineFile, Scope::Plan),
-    (
-        "corner_tolerance",
-        "corner-tolerance",
-        Spelling::Number,
-        Scope::Plan,
-    ),
+    ("corner_tolerance", "corner-tolerance", Spelling::Number, Scope::Plan),
     ("time_slice", "time-slice", Spelling::Seconds, Scope::Plan),
     ("accel", "accel", Spelling::Number, Scope::Plan),
     ("quantize", "quantize", Spelling::Quantum, Scope::Plan),
-    (
-        "quantize_rounding",
-        "quantize-rounding",
-        Spelling::Word,
-        Scope::Plan,
-    ),
+    ("quantize_rounding", "quantize-rounding", Spelling::Word, Scope::Plan),
     ("feed", "feed", Spelling::Number, Scope::Plan),
-    (
-        "counts_per_unit",
-        "counts-per-unit",
-        Spelling::AxisValues,
-        Scope::Plan,
-    ),
+    ("counts_per_unit", "counts-per-unit", Spelling::AxisValues, Scope::Plan),
     ("rapid", "rapid", Spelling::Number, Scope::Plan),
     ("tolerance", "tolerance", Spelling::Number, Scope::Plan),
     ("layers", "layer", Spelling::Words, Scope::Plan),
-    (
-        "join_tolerance",
-        "join-tolerance",
-        Spelling::Number,
-        Scope::Plan,
-    ),
+    ("join_tolerance", "join-tolerance", Spelling::Number, Scope::Plan),
     ("start_point", "start-point", Spelling::Point, Scope::Plan),
     ("safe_z", "safe-z", Spelling::Number, Scope::Plan),
     ("max_points", "max-points", Spelling::Whole, Scope::Plan),
     ("units", "units", Spelling::Word, Scope::Plan),
     ("offsets", "offsets", Spelling::File, Scope::Plan),
-    (
-        "subroutine_path",
-        "subroutine-path",
-        Spelling::Words,
-        Scope::Plan,
-    ),
+    ("subroutine_path", "subroutine-path", Spelling::Words, Scope::Plan),
     ("tool_table", "tool-table", Spelling::File, Scope::Plan),
     ("hal", "hal", Spelling::Pins, Scope::Plan),
-    (
-        "probe_results",
-        "probe-result",
-        Spelling::Points3,
-        Scope::Plan,
-    ),
-    (
-        "tool_table_units",
-        "tool-table-units",
-        Spelling::Word,
-        Scope::Plan,
-    ),
-    (
-        "arc_abs_tolerance",
-        "arc-abs-tolerance",
-        Spelling::Number,
-        Scope::Plan,
-    ),
-    (
-        "arc_rel_tolerance",
-        "arc-rel-tolerance",
-        Spelling::Number,
-        Scope::Plan,
-    ),
+    ("probe_results", "probe-result", Spelling::Points3, Scope::Plan),
+    ("tool_table_units", "tool-table-units", Spelling::Word, Scope::Plan),
+    ("arc_abs_tolerance", "arc-abs-tolerance", Spelling::Number, Scope::Plan),
+    ("arc_rel_tolerance", "arc-rel-tolerance", Spelling::Number, Scope::Plan),
     ("velocities", "velocities", Spelling::Word, Scope::Plan),
     ("format", "format", Spelling::Word, Scope::Plan),
-    (
-        "pmac_program",
-        "pmac-program",
-        Spelling::Whole,
-        Scope::Write,
-    ),
+    ("pmac_program", "pmac-program", Spelling::Whole, Scope::Write),
     ("pmac_coord", "pmac-coord", Spelling::Whole, Scope::Write),
     ("pmac_axis", "pmac-axis", Spelling::Words, Scope::Write),
     ("pmac_rotary", "pmac-rotary", Spelling::Whole, Scope::Write),
     ("pmac_events", "pmac-events", Spelling::Word, Scope::Write),
-    (
-        "trigger_every",
-        "trigger-every",
-        Spelling::Interval,
-        Scope::Write,
-    ),
+    ("trigger_every", "trigger-every", Spelling::Interval, Scope::Write),
 ];
 
 /// The keyword of a command-line flag (`tool-table` → `tool_table`, `layer` →
@@ -258,20 +204,12 @@ impl Request {
         default_format: &str,
     ) -> PyResult<CompileOptions> {
         let format = self.format.as_deref().unwrap_or(default_format);
-        let mut argv: Vec<String> = vec!["pvtc".into(), "compile".into(), name.into()];
-        argv.extend(["--format".into(), format.into()]);
-        argv.extend(self.words.iter().cloned());
-        let cli =
-            <pvtc::Cli as clap::Parser>::try_parse_from(&argv).map_err(|e| usage_error(&e))?;
-        let pvtc::Command::Compile(mut args) = cli.command else {
+        let words = ["compile", name, "--format", format];
+        let pvtc::Command::Compile(mut args) = self.parse(&words)? else {
             return Err(PyValueError::new_err("not a compile"));
         };
-        if let Some(machine) = &self.machine {
-            args.pipeline.machine_read = Some(machine.clone());
-        }
-        args.pipeline
-            .read_files()
-            .and_then(|()| args.compile_options(name))
+        self.read_files(py, &mut args.pipeline)?;
+        args.compile_options(name)
             .map_err(|f| crate::errors::raise(py, f))
     }
 
@@ -282,24 +220,34 @@ impl Request {
         name: &str,
         servo_period: Option<f64>,
     ) -> PyResult<pvtc::args::CheckArgs> {
-        let mut argv: Vec<String> =
-            vec!["pvtc".into(), "check".into(), name.into(), "--json".into()];
-        if let Some(period) = servo_period {
-            argv.extend(["--servo-period".into(), format!("{period}s")]);
-        }
-        argv.extend(self.words.iter().cloned());
-        let cli =
-            <pvtc::Cli as clap::Parser>::try_parse_from(&argv).map_err(|e| usage_error(&e))?;
-        let pvtc::Command::Check(mut args) = cli.command else {
+        let period = servo_period.map(|p| format!("--servo-period={p}s"));
+        let mut words = vec!["check", name, "--json"];
+        words.extend(period.as_deref());
+        let pvtc::Command::Check(mut args) = self.parse(&words)? else {
             return Err(PyValueError::new_err("not a check"));
         };
-        if let Some(machine) = &self.machine {
-            args.pipeline.machine_read = Some(machine.clone());
-        }
-        args.pipeline
-            .read_files()
-            .map_err(|f| crate::errors::raise(py, f))?;
+        self.read_files(py, &mut args.pipeline)?;
         Ok(args)
+    }
+
+    /// `pvtc WORDS`, then the request's words, through the command's own parser.
+    fn parse(&self, words: &[&str]) -> PyResult<pvtc::Command> {
+        let argv = ["pvtc"]
+            .into_iter()
+            .chain(words.iter().copied())
+            .chain(self.words.iter().map(String::as_str));
+        let cli = <pvtc::Cli as clap::Parser>::try_parse_from(argv).map_err(|e| usage_error(&e))?;
+        Ok(cli.command)
+    }
+
+    /// Reads the side files the options name, the machine given as a dict kept as read.
+    fn read_files(&self, py: Python<'_>, pipeline: &mut pvtc::args::PipelineArgs) -> PyResult<()> {
+        if let Some(machine) = &self.machine {
+            pipeline.machine_read = Some(machine.clone());
+        }
+        pipeline
+            .read_files()
+            .map_err(|f| crate::errors::raise(py, f))
     }
 }
 

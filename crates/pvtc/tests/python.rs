@@ -1,9 +1,10 @@
 //! The Python package (`crates/pvtc-py`) built and tested from `cargo test`: a virtual
 //! environment in `target/pvtc-py/venv` (kept between runs) with maturin, numpy and
-//! pytest, the extension built into it by `maturin develop` (the dev profile, in
-//! `target/pvtc-py/cargo`: its numbers are the release build's, and it builds in a
-//! fraction of the time), then pytest over `crates/pvtc-py/tests` against this build's
-//! `pvtc` binary.
+//! pytest, the extension built into it by `maturin develop` (the dev profile, in the
+//! workspace's `target`, whose dependencies it shares: its numbers are the release
+//! build's, and it builds in a fraction of the time; cargo holds no lock on `target`
+//! while tests run), then pytest over `crates/pvtc-py/tests` against this build's `pvtc`
+//! binary.
 //!
 //! Without Python, or without a way to make the environment (no `venv` module, no
 //! package index), the test says SKIPPED and why; with `PVTC_REQUIRE_PYTHON=1` (set by
@@ -22,6 +23,14 @@ fn venv() -> PathBuf {
     match std::env::var_os("PVTC_PYTHON_VENV") {
         Some(dir) => PathBuf::from(dir),
         None => root().join("target/pvtc-py/venv"),
+    }
+}
+
+/// Where maturin builds: `PVTC_PY_CARGO_TARGET`, else the workspace's `target`.
+fn cargo_target() -> PathBuf {
+    match std::env::var_os("PVTC_PY_CARGO_TARGET") {
+        Some(dir) => PathBuf::from(dir),
+        None => root().join("target"),
     }
 }
 
@@ -97,8 +106,7 @@ fn the_python_package_passes_its_tests() {
         .args(["-m", "maturin", "develop", "--quiet", "--manifest-path"])
         .arg(&manifest)
         .env("VIRTUAL_ENV", venv())
-        // A target of its own: the `cargo test` running this holds the workspace's.
-        .env("CARGO_TARGET_DIR", root().join("target/pvtc-py/cargo")));
+        .env("CARGO_TARGET_DIR", cargo_target()));
     assert!(built, "maturin develop failed");
     let tests = run(Command::new(&python)
         .args(["-m", "pytest", "-q", "-p", "no:cacheprovider"])

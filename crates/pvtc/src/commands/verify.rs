@@ -155,14 +155,7 @@ pub fn load_source(
     if let (None, Some(format)) = (pipeline.input_format, emitted) {
         let text = String::from_utf8_lossy(&source.bytes);
         return match pvt_emit::readback::read_back(format, &text, &read_hint(&options)) {
-            Ok(program) => Ok((
-                Loaded {
-                    program,
-                    toolpath: None,
-                    options,
-                },
-                Vec::new(),
-            )),
+            Ok(program) => Ok(without_geometry(program, options)),
             Err(e) => Err(Failure::Input(vec![miette::miette!(
                 code = pvt_emit::readback::ReadBackError::CODE,
                 "{}: {e} (read as {} output)",
@@ -174,14 +167,7 @@ pub fn load_source(
     if pipeline.input_format.is_none() && source.name.to_ascii_lowercase().ends_with(".json") {
         let text = String::from_utf8_lossy(&source.bytes);
         return match pvt_emit::json::read(&text) {
-            Ok(program) => Ok((
-                Loaded {
-                    program,
-                    toolpath: None,
-                    options,
-                },
-                Vec::new(),
-            )),
+            Ok(program) => Ok(without_geometry(program, options)),
             Err(e) => Err(Failure::Input(vec![miette::miette!(
                 code = "pvtc::json::read",
                 "{}: {e}",
@@ -196,6 +182,16 @@ pub fn load_source(
         options,
     };
     Ok((loaded, warnings))
+}
+
+/// A program read from a file, with no geometry and no warnings.
+fn without_geometry(program: PvtProgram, options: CompileOptions) -> (Loaded, Vec<miette::Report>) {
+    let loaded = Loaded {
+        program,
+        toolpath: None,
+        options,
+    };
+    (loaded, Vec::new())
 }
 
 /// What an emitted text does not say: `--units` (default mm) and counts per unit, from
