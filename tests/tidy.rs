@@ -736,12 +736,14 @@ fn pvtc_applies_defaults_in_settings_alone() {
 }
 
 /// The layer of a workspace crate: pvt-core at the bottom, the front and back ends on
-/// it, the command line on top.
+/// it, the command line on them, the Python package on top.
 fn crate_layer(name: &str) -> Option<usize> {
     match name {
         "pvt-core" => Some(0),
         "pvt-gcode" | "pvt-dxf" | "pvt-csv" | "pvt-emit" => Some(1),
         "pvtc" => Some(2),
+        // The Python package, on the command line's library.
+        "pvtc-py" => Some(3),
         _ => None,
     }
 }

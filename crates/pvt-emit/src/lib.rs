@@ -44,7 +44,9 @@ pub use pmac::{AxisDefinition, PmacEvents, PmacSettings};
 pub use rules::{AxisSetup, Caps, Positions};
 pub use triggers::{TriggerEvery, TriggerSupport, Triggers};
 pub use validate::{validate, InvalidProgram};
-pub use writer::{Checked, Header, PieceLine, PieceLines, ProgramWriter, StreamError, Unwritten};
+pub use writer::{
+    Checked, Collected, Header, PieceLine, PieceLines, ProgramWriter, StreamError, Unwritten,
+};
 
 /// The output formats.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

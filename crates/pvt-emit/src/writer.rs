@@ -404,6 +404,43 @@ impl<W: ProgramWriter> ProgramWriter for Unwritten<W> {
     }
 }
 
+/// A back end `K` of the caller's (one that keeps the pieces, not a format's text) that
+/// answers for the caps and interpolations of the format whose writer is `W`: behind
+/// [`Checked`], the pieces `K` receives are checked as that format's would be.
+pub struct Collected<W, K> {
+    /// The format's writer, asked only what it takes.
+    pub format: W,
+    /// Where the program goes.
+    pub into: K,
+}
+
+impl<W: ProgramWriter, K: ProgramWriter> ProgramWriter for Collected<W, K> {
+    fn begin(&mut self, header: &Header<'_>) -> io::Result<()> {
+        self.into.begin(header)
+    }
+    fn contour(&mut self, motion: Motion, start: &[f64]) -> io::Result<()> {
+        self.into.contour(motion, start)
+    }
+    fn segment(&mut self, segment: &SegmentRef<'_>) -> io::Result<()> {
+        self.into.segment(segment)
+    }
+    fn event(&mut self, event: &ProgramEvent) -> io::Result<()> {
+        self.into.event(event)
+    }
+    fn finish(&mut self) -> io::Result<()> {
+        self.into.finish()
+    }
+    fn trigger(&mut self) -> io::Result<()> {
+        self.into.trigger()
+    }
+    fn supports(&self, interpolation: Interpolation) -> bool {
+        self.format.supports(interpolation)
+    }
+    fn caps(&self) -> Caps {
+        self.format.caps()
+    }
+}
+
 /// The error of every call after a refused header ([`Checked::begin`]).
 #[cold]
 fn refused_header() -> StreamError {

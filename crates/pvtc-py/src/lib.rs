@@ -1,18 +1,18 @@
 //! pvtc from Python: the extension module `pvtc` (PyO3, an abi3 wheel built by maturin
 //! from `pyproject.toml`).
 //!
-//! Owns the Python names: `plan`, `from_points`, `check` ([`check`]), `stream`
+//! Owns the Python names: `plan`, `from_points`, `check` ([`report`]), `stream`
 //! ([`chunks`]), `Program` ([`program`]), `Text`, the keyword options ([`options`]) and
 //! the exceptions and warnings ([`errors`]). Every call goes through the same library
 //! code as the `pvtc` command ([`pvtc::embed`], the route, the settings, the CLI's own
 //! option parser); this crate must not parse a format, plan, check or write by itself.
 //! Nothing panics across the boundary ([`errors::guard`]).
 
-mod check;
 mod chunks;
 mod errors;
 mod options;
 mod program;
+mod report;
 
 use errors::{guard, raise, warn_all, Diagnostic};
 use numpy::{PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
@@ -114,10 +114,7 @@ impl Input {
     /// How a program of this input is planned under `request`, resolved as `options`.
     fn plan(&self, request: Request, options: pvtc::CompileOptions) -> Plan {
         Plan {
-            format: request
-                .format
-                .clone()
-                .unwrap_or_else(|| DEFAULT_FORMAT.into()),
+            format: options.format.name().to_string(),
             name: self.name().to_string(),
             origin: match self {
                 Input::File { path, .. } => Origin::File(path.clone()),
@@ -129,12 +126,9 @@ impl Input {
     }
 }
 
-/// The format planned for when none is asked: the CLI's default.
-const DEFAULT_FORMAT: &str = "pmac";
-
 /// Plans `input` with `request`: the pieces, warnings issued, as a `Program`.
 fn plan_input(py: Python<'_>, input: Input, request: Request) -> PyResult<Program> {
-    let options = request.compile_options(py, input.name(), DEFAULT_FORMAT)?;
+    let options = request.compile_options(py, input.name())?;
     let planned = py.detach(|| match &input {
         Input::File { path, name } if pvtc::embed::streams(&options) => {
             pvtc::embed::plan_file(path, name, &options)
@@ -314,7 +308,7 @@ fn stream(
         let mut request = Request::default();
         request.add(options, Scope::Plan)?;
         let input = Input::of(source, &mut request)?;
-        let options = request.compile_options(py, input.name(), DEFAULT_FORMAT)?;
+        let options = request.compile_options(py, input.name())?;
         let plan = input.plan(request, options.clone());
         Ok(chunks::Chunks::start(plan, move |sink| match &input {
             Input::File { path, name } if pvtc::embed::streams(&options) => {
@@ -361,15 +355,15 @@ fn pvtc_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(plan, m)?)?;
     m.add_function(wrap_pyfunction!(from_points, m)?)?;
-    m.add_function(wrap_pyfunction!(check::check, m)?)?;
+    m.add_function(wrap_pyfunction!(report::check, m)?)?;
     m.add_function(wrap_pyfunction!(stream, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_inside, m)?)?;
     m.add_class::<Text>()?;
     m.add_class::<Program>()?;
     m.add_class::<Diagnostic>()?;
-    m.add_class::<check::Report>()?;
-    m.add_class::<check::Peak>()?;
-    m.add_class::<check::Violation>()?;
+    m.add_class::<report::Report>()?;
+    m.add_class::<report::Peak>()?;
+    m.add_class::<report::Violation>()?;
     m.add_class::<chunks::Chunks>()?;
     m.add("PvtcError", py.get_type::<errors::PvtcError>())?;
     m.add("CompileError", py.get_type::<errors::CompileError>())?;

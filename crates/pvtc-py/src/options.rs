@@ -195,16 +195,17 @@ impl Request {
         Ok(())
     }
 
-    /// The options of a compile of the input named `name` into `format` (the request's,
-    /// else `default_format`), as `pvtc compile NAME --format F WORDS` gives them.
-    pub fn compile_options(
-        &self,
-        py: Python<'_>,
-        name: &str,
-        default_format: &str,
-    ) -> PyResult<CompileOptions> {
-        let format = self.format.as_deref().unwrap_or(default_format);
-        let words = ["compile", name, "--format", format];
+    /// The options of a compile of the input named `name` into the request's format
+    /// (else the command's default), as `pvtc compile NAME [--format F] WORDS` gives them.
+    pub fn compile_options(&self, py: Python<'_>, name: &str) -> PyResult<CompileOptions> {
+        if self.format.as_deref() == Some("toolpath") {
+            return Err(PyValueError::new_err(
+                "format \"toolpath\" stops before planning: a Program is planned motion",
+            ));
+        }
+        let format = self.format.as_ref().map(|f| format!("--format={f}"));
+        let mut words = vec!["compile", name];
+        words.extend(format.as_deref());
         let pvtc::Command::Compile(mut args) = self.parse(&words)? else {
             return Err(PyValueError::new_err("not a compile"));
         };

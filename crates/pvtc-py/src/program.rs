@@ -315,11 +315,10 @@ impl Program {
         format_options: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Option<String>> {
         guard(|| {
-            let format = format.unwrap_or_else(|| self.plan.format.clone());
             let mut request = self.plan.request.clone();
-            request.format = Some(format.clone());
+            request.format = Some(format.unwrap_or_else(|| self.plan.format.clone()));
             request.add(format_options, Scope::Write)?;
-            let options = request.compile_options(py, &self.plan.name, &format)?;
+            let options = request.compile_options(py, &self.plan.name)?;
             let bytes = self.bytes(py, &options)?;
             match path {
                 Some(path) => {

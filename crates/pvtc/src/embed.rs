@@ -11,11 +11,11 @@
 use crate::front::{self, Input};
 use crate::options::{CompileOptions, Failure, InputKind, Source};
 use crate::route::{self, Layout, MovedAxes, Out};
-use crate::settings::{emit_options, header_lines, plan_options, split_grid};
+use crate::settings::{header_lines, plan_options, split_grid};
 use miette::Report;
 use pvt_core::{Axis, Interpolation, Motion, ProgramEvent, PvtContour, PvtProgram, SegmentRef};
 use pvt_core::{Toolpath, Units};
-use pvt_emit::{Caps, Checked, Header, ProgramWriter, StreamError};
+use pvt_emit::{Checked, Header, ProgramWriter, StreamError};
 use std::io;
 
 /// Where a contour of kept pieces starts.
@@ -103,48 +103,34 @@ impl Pieces {
     }
 
     /// The pieces of `program`, as its writer receives them (contours without pieces
-    /// left out).
+    /// left out, as [`Checked`] leaves them out).
     pub fn of_program(program: &PvtProgram) -> Pieces {
-        let mut collector = Collector::whole(Caps::FREE);
+        let mut collector = Collector::whole();
+        let mut into = &mut collector;
         let emit = pvt_emit::EmitOptions::default();
-        let replayed = {
-            let mut writer = Checked::new(&mut collector);
-            let header = Header {
-                axes: &program.axes,
-                units: program.units,
-                interpolation: program.interpolation,
-                options: &emit,
-            };
-            writer.begin(&header).and_then(|()| {
-                program_calls(program, &mut writer)?;
-                writer.finish().map(|_| ())
-            })
+        let header = Header {
+            axes: &program.axes,
+            units: program.units,
+            interpolation: program.interpolation,
+            options: &emit,
         };
-        // A kept program's values passed its writer's checks: these cannot fail.
-        debug_assert!(replayed.is_ok(), "{replayed:?}");
+        // The collector refuses nothing.
+        let _ = into.begin(&header);
+        for step in pvt_core::traverse::program(program) {
+            let _ = match step {
+                pvt_core::traverse::Step::Event(event) => into.event(event),
+                pvt_core::traverse::Step::PathTolerance(_) => Ok(()),
+                pvt_core::traverse::Step::Contour(contour) if contour.is_empty() => Ok(()),
+                pvt_core::traverse::Step::Contour(contour) => {
+                    let _ = into.contour(contour.motion, &contour.start);
+                    contour
+                        .segments()
+                        .try_for_each(|piece| into.segment(&piece))
+                }
+            };
+        }
         collector.pieces
     }
-}
-
-/// The calls a writer receives for `program`, in the order pvt-emit's `emit` makes them.
-fn program_calls<W: ProgramWriter>(
-    program: &PvtProgram,
-    writer: &mut Checked<W>,
-) -> Result<(), StreamError> {
-    for step in pvt_core::traverse::program(program) {
-        match step {
-            pvt_core::traverse::Step::Event(event) => writer.event(event)?,
-            pvt_core::traverse::Step::PathTolerance(_) => {}
-            pvt_core::traverse::Step::Contour(contour) => {
-                let line = contour.lines.first().copied().unwrap_or(0);
-                writer.contour(contour.motion, &contour.start, line)?;
-                for piece in contour.segments() {
-                    writer.segment(&piece)?;
-                }
-            }
-        }
-    }
-    Ok(())
 }
 
 impl PiecesView<'_> {
@@ -217,10 +203,9 @@ impl PiecesView<'_> {
             while let Some((_, event)) = events.next_if(|(at, _)| *at <= contour.first) {
                 writer.event(event)?;
             }
-            let end = self.contour_end(k);
             let line = self.lines.get(contour.first).copied().unwrap_or(0);
             writer.contour(contour.motion, &contour.start, line)?;
-            for i in contour.first..end {
+            for i in contour.first..self.contour_end(k) {
                 writer.segment(&self.piece(i))?;
             }
         }
@@ -229,16 +214,30 @@ impl PiecesView<'_> {
         }
         Ok(())
     }
+
+    /// Makes the same calls into a collector, which refuses nothing; stops when it
+    /// does (a closed stream).
+    fn replay_into(&self, into: &mut &mut Collector<'_>) -> io::Result<()> {
+        let mut events = self.outline.events.iter().peekable();
+        for (k, contour) in self.outline.contours.iter().enumerate() {
+            while let Some((_, event)) = events.next_if(|(at, _)| *at <= contour.first) {
+                into.event(event)?;
+            }
+            into.contour(contour.motion, &contour.start)?;
+            for i in contour.first..self.contour_end(k) {
+                into.segment(&self.piece(i))?;
+            }
+        }
+        events.try_for_each(|(_, event)| into.event(event))
+    }
 }
 
 /// Where chunks go; `false` when nobody takes them any more.
 pub type ChunkSink<'a> = dyn FnMut(Pieces) -> bool + 'a;
 
-/// A back end that keeps the pieces it is given (behind the format's checks: it answers
-/// [`ProgramWriter::caps`] as the format's writer does), whole or handed on in chunks.
+/// A back end that keeps the pieces it is given (behind the format's checks, through
+/// the route's [`Out::Into`]), whole or handed on in chunks.
 pub struct Collector<'a> {
-    caps: Caps,
-    supports: Vec<Interpolation>,
     pieces: Pieces,
     /// Contours begun, in the whole program.
     contours: usize,
@@ -249,11 +248,9 @@ pub struct Collector<'a> {
 }
 
 impl<'a> Collector<'a> {
-    /// A collector of the whole program, answering with `caps`.
-    fn whole(caps: Caps) -> Collector<'a> {
+    /// A collector of the whole program.
+    pub fn whole() -> Collector<'a> {
         Collector {
-            caps,
-            supports: vec![Interpolation::Pvt, Interpolation::Pt],
             pieces: Pieces::default(),
             contours: 0,
             at: (Vec::new(), Vec::new()),
@@ -262,29 +259,11 @@ impl<'a> Collector<'a> {
         }
     }
 
-    /// A collector that checks as `format`'s writer does.
-    pub fn of_format(format: pvt_emit::Format) -> Collector<'a> {
-        let writer = format.writer(io::sink());
-        let supports = [Interpolation::Pvt, Interpolation::Pt]
-            .into_iter()
-            .filter(|i| writer.supports(*i))
-            .collect();
-        Collector {
-            supports,
-            ..Collector::whole(writer.caps())
-        }
-    }
-
-    /// A collector that checks as `format`'s writer does and hands every `chunk` pieces
-    /// (the rest at the end) to `sink`.
-    pub fn chunked(
-        format: pvt_emit::Format,
-        chunk: usize,
-        sink: Box<ChunkSink<'a>>,
-    ) -> Collector<'a> {
+    /// A collector that hands every `chunk` pieces (the rest at the end) to `sink`.
+    pub fn chunked(chunk: usize, sink: Box<ChunkSink<'a>>) -> Collector<'a> {
         Collector {
             chunks: Some((chunk.max(1), sink)),
-            ..Collector::of_format(format)
+            ..Collector::whole()
         }
     }
 
@@ -397,14 +376,6 @@ impl ProgramWriter for &mut Collector<'_> {
     fn finish(&mut self) -> io::Result<()> {
         self.hand_on(true)
     }
-
-    fn supports(&self, interpolation: Interpolation) -> bool {
-        self.supports.contains(&interpolation)
-    }
-
-    fn caps(&self) -> Caps {
-        self.caps
-    }
 }
 
 /// Plans the G-code file at `path` (named `name` in diagnostics and headers) as
@@ -420,7 +391,7 @@ pub fn plan_file(
     let prescan =
         pvt_gcode::prescan(&mut route::open(path)?).map_err(|e| route::read_failure(path, e))?;
     let layout = Layout::guess(&prescan, &gcode);
-    let mut collector = Collector::of_format(options.format);
+    let mut collector = Collector::whole();
     let into = Out::Into(Box::new(&mut collector));
     let mut pass = route::write_pass(path, name, options, &gcode, &layout, into)?;
     if pass.layout != layout {
@@ -453,7 +424,7 @@ pub fn stream_file(
         axes: moved.axes(),
         units: summary.units,
     };
-    let mut collector = Collector::chunked(options.format, chunk, sink);
+    let mut collector = Collector::chunked(chunk, sink);
     let into = Out::Into(Box::new(&mut collector));
     let pass = route::write_pass(path, name, options, &gcode, &layout, into)?;
     route::outcome_warnings(path, name, options, pass)
@@ -472,20 +443,20 @@ pub fn plan_source(
 /// Hands `pieces` on in chunks of at most `chunk`, as [`stream_file`] hands on a
 /// streamed program's; stops when `sink` takes no more.
 pub fn chunk_pieces(pieces: PiecesView<'_>, chunk: usize, sink: Box<ChunkSink<'_>>) {
-    let mut collector = Collector::chunked(pvt_emit::Format::Json, chunk, sink);
+    let mut collector = Collector::chunked(chunk, sink);
+    let mut into = &mut collector;
     let emit = pvt_emit::EmitOptions::default();
-    let mut writer = Checked::new(&mut collector);
     let header = Header {
         axes: &pieces.outline.axes,
         units: pieces.outline.units,
         interpolation: pieces.outline.interpolation,
         options: &emit,
     };
-    // Kept pieces passed these checks once; a closed sink stops the replay.
-    let _ = writer.begin(&header).and_then(|()| {
-        pieces.replay(&mut writer)?;
-        writer.finish().map(|_| ())
-    });
+    // A closed sink stops the replay; there is nothing more to do then.
+    let _ = into
+        .begin(&header)
+        .and_then(|()| pieces.replay_into(&mut into))
+        .and_then(|()| into.finish());
 }
 
 /// True when `a` and `b` plan a program in `units` moving `axes` the same: the same
@@ -513,26 +484,9 @@ pub fn write_pieces(
     name: &str,
     options: &CompileOptions,
 ) -> Result<Vec<u8>, Failure> {
-    let outline = pieces.outline;
-    route::check_pmac_axes(options, &outline.axes)?;
-    let units = outline.units;
-    let emit = emit_options(options, name, header_lines(options, units), units);
-    let mut bytes = Vec::new();
-    let written = {
-        let mut writer = Checked::new(options.format.writer(&mut bytes));
-        let header = Header {
-            axes: &outline.axes,
-            units,
-            interpolation: outline.interpolation,
-            options: &emit,
-        };
-        writer.begin(&header).and_then(|()| {
-            pieces.replay(&mut writer)?;
-            writer.finish().map(|_| ())
-        })
-    };
-    written.map_err(|e| route::emit_failure(e, options, None))?;
-    Ok(bytes)
+    let o = pieces.outline;
+    let layout = (o.axes.as_slice(), o.units, o.interpolation);
+    route::write_planned(name, options, layout, &mut |writer| pieces.replay(writer))
 }
 
 /// The geometry `source` was planned from, read again by its front end (for the path

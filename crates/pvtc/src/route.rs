@@ -591,8 +591,8 @@ pub(crate) enum Out<'o, 't> {
     Text(&'o mut Target<'t>),
     /// Nowhere: the format's checks alone ([`pvt_emit::Unwritten`]).
     Checks,
-    /// A back end of the caller's that answers [`ProgramWriter::caps`] as the format does
-    /// (the pieces kept as arrays: [`crate::embed`]).
+    /// A back end of the caller's (the pieces kept as arrays: [`crate::embed`]),
+    /// checked as the format's writer would be ([`pvt_emit::Collected`]).
     Into(Box<dyn ProgramWriter + 'o>),
 }
 
@@ -621,7 +621,10 @@ pub(crate) fn write_pass(
             .format
             .writer(std::io::BufWriter::with_capacity(1 << 16, out)),
         Out::Checks => Box::new(pvt_emit::Unwritten(options.format.writer(std::io::sink()))),
-        Out::Into(writer) => writer,
+        Out::Into(into) => Box::new(pvt_emit::Collected {
+            format: options.format.writer(std::io::sink()),
+            into,
+        }),
     };
     let mut writer = Checked::new(back_end);
     let header = pvt_emit::Header {
@@ -660,10 +663,7 @@ pub(crate) fn write_pass(
 
 /// Refuses PMAC axis definitions that leave a moved axis undefined
 /// (`pvtc::pmac::undefined_axis`): the controller would not move it.
-pub(crate) fn check_pmac_axes(
-    options: &CompileOptions,
-    moved: &[pvt_core::Axis],
-) -> Result<(), Failure> {
+fn check_pmac_axes(options: &CompileOptions, moved: &[pvt_core::Axis]) -> Result<(), Failure> {
     if options.format != Format::Pmac {
         return Ok(());
     }
@@ -930,11 +930,7 @@ fn whole_notes(
 }
 
 /// A back end's refusal as a failure; `source` (when known) labels the line at fault.
-pub(crate) fn emit_failure(
-    e: StreamError,
-    options: &CompileOptions,
-    source: Option<&Source>,
-) -> Failure {
+fn emit_failure(e: StreamError, options: &CompileOptions, source: Option<&Source>) -> Failure {
     match e {
         StreamError::Invalid(invalid) => {
             let report = match source {
@@ -1017,4 +1013,38 @@ fn plan_notes(report: &PlanReport, options: &CompileOptions) -> Vec<Report> {
         ));
     }
     notes
+}
+
+/// What makes a planned program's calls again into a checked writer.
+pub(crate) type Replay<'a> =
+    dyn for<'w> FnMut(&mut Checked<Box<dyn ProgramWriter + 'w>>) -> Result<(), StreamError> + 'a;
+
+/// The bytes `pvtc compile` writes in `options.format` for a program planned already
+/// under the same options (its pieces kept as arrays, [`crate::embed`]): the header of
+/// the source named `name`, then the calls `replay` makes into the checked writer, as
+/// the planner made them.
+pub(crate) fn write_planned(
+    name: &str,
+    options: &CompileOptions,
+    (axes, units, interpolation): (&[Axis], Units, pvt_core::Interpolation),
+    replay: &mut Replay<'_>,
+) -> Result<Vec<u8>, Failure> {
+    check_pmac_axes(options, axes)?;
+    let emit_options = emit_options(options, name, header_lines(options, units), units);
+    let mut bytes = Vec::new();
+    let written = {
+        let mut writer = Checked::new(options.format.writer(&mut bytes));
+        let header = pvt_emit::Header {
+            axes,
+            units,
+            interpolation,
+            options: &emit_options,
+        };
+        writer.begin(&header).and_then(|()| {
+            replay(&mut writer)?;
+            writer.finish().map(|_| ())
+        })
+    };
+    written.map_err(|e| emit_failure(e, options, None))?;
+    Ok(bytes)
 }

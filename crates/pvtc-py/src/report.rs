@@ -153,7 +153,7 @@ impl Pieces {
     }
 }
 
-fn line_of(value: &serde_json::Value) -> u32 {
+fn source_line(value: &serde_json::Value) -> u32 {
     value
         .get("line")
         .and_then(serde_json::Value::as_u64)
@@ -163,7 +163,7 @@ fn line_of(value: &serde_json::Value) -> u32 {
 fn peak(value: &serde_json::Value, pieces: &Pieces) -> Option<Peak> {
     let number = |k: &str| value.get(k).and_then(serde_json::Value::as_f64);
     let time = number("time")?;
-    let line = line_of(value);
+    let line = source_line(value);
     Some(Peak {
         value: number("value")?,
         time,
@@ -208,7 +208,7 @@ fn report(py: Python<'_>, json: &serde_json::Value, pieces: &Pieces) -> PyResult
         .flatten()
         .map(|v| {
             let time = v["time"].as_f64().unwrap_or(0.0);
-            let line = line_of(v);
+            let line = source_line(v);
             Violation {
                 axis: v["axis"].as_str().unwrap_or("").into(),
                 quantity: v["quantity"].as_str().unwrap_or("").into(),
