@@ -348,7 +348,9 @@ fn _panic_inside(message: &str) -> PyResult<()> {
     guard(|| panic!("{message}"))
 }
 
-/// The module `pvtc`.
+/// pvtc from Python: plan G-code, DXF drawings and point-time series into PVT motion as
+/// numpy arrays (`plan`, `from_points`, `stream`), check it (`check`) and write it in
+/// any controller's format (`Program.write`), with the `pvtc` command's own library.
 #[pymodule(name = "pvtc")]
 fn pvtc_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();

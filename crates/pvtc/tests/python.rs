@@ -8,7 +8,9 @@
 //!
 //! Without Python, or without a way to make the environment (no `venv` module, no
 //! package index), the test says SKIPPED and why; with `PVTC_REQUIRE_PYTHON=1` (set by
-//! `.ci/run`, which installs what it needs) it fails instead.
+//! `.ci/run`, which installs what it needs) it fails instead. `PVTC_PYTHON` names the
+//! Python that makes the environment (default `python3`); `PVTC_PYTHON_VENV` and
+//! `PVTC_PY_CARGO_TARGET` move the environment and maturin's build elsewhere.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
