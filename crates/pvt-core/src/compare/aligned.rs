@@ -87,7 +87,11 @@ pub(super) fn sweep(a: &Track<'_>, b: &Track<'_>, tolerance: f64, bins: usize) -
             1.0
         },
         found: Aligned {
-            largest: Spot::default(),
+            // Below any difference, so the first interval places it.
+            largest: Spot {
+                value: -1.0,
+                ..Spot::default()
+            },
             first: None,
             failing: Vec::new(),
             profile: vec![0.0; bins],
@@ -116,5 +120,6 @@ pub(super) fn sweep(a: &Track<'_>, b: &Track<'_>, tolerance: f64, bins: usize) -
         i += usize::from(end_a <= next);
         j += usize::from(end_b <= next);
     }
+    sweep.found.largest.value = sweep.found.largest.value.max(0.0);
     sweep.found
 }

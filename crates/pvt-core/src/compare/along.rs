@@ -111,7 +111,7 @@ impl Matcher<'_, '_> {
                 Some(i) if from.spans[i].end() > t => from.spans[i].end().min(t1),
                 _ => t1,
             };
-            sum += from.from_instant(t).0.bez(end - t).polygon();
+            sum += from.running_at(t).0.bez(end - t).polygon();
             t = end;
         }
         sum
@@ -131,8 +131,8 @@ impl Matcher<'_, '_> {
                 _ => t1,
             };
             let tb = to_end.min(t1).max(ta + (t1 - t0) * 1e-12);
-            let a = self.from.from_instant(ta).0;
-            let b = self.to.from_instant(tau).0.scaled(rate);
+            let a = self.from.running_at(ta).0;
+            let b = self.to.running_at(tau).0.scaled(rate);
             let h = tb - ta;
             if let Some(u) = first_above(&a.minus(&b).bez(h), self.tolerance) {
                 return Err(ta + u * h);

@@ -76,8 +76,7 @@ impl Local {
     /// The Bézier form of the cubic over local times `[0, h]`.
     pub fn bez(&self, h: f64) -> Bez {
         let mut p = [[0.0; AXIS_COUNT]; 4];
-        for k in 0..self.dim {
-            let [a, b, c, d] = self.c[k];
+        for (k, &[a, b, c, d]) in self.c.iter().enumerate().take(self.dim) {
             let (b, c, d) = (b * h, c * h * h, d * h * h * h);
             p[0][k] = a;
             p[1][k] = a + b / 3.0;

@@ -208,8 +208,8 @@ impl<'a> Track<'a> {
         if let Some(last) = self.spans.len().checked_sub(1) {
             let s = &self.spans[last];
             let end = self.cubic(last).at(s.duration);
-            for k in 0..self.dim() {
-                out.c[k][0] = end[k];
+            for (c, x) in out.c.iter_mut().zip(end).take(self.dim()) {
+                c[0] = x;
             }
         }
         out
@@ -226,7 +226,7 @@ impl<'a> Track<'a> {
     }
 
     /// The cubic running from `t` on, in local time from `t`, and the line then.
-    pub fn from_instant(&self, t: f64) -> (Local, u32) {
+    pub fn running_at(&self, t: f64) -> (Local, u32) {
         match self.span_at(t) {
             Some(i) if t < self.spans[i].end() => {
                 let s = &self.spans[i];
@@ -239,7 +239,7 @@ impl<'a> Track<'a> {
 
     /// The position at `t`.
     pub fn position(&self, t: f64) -> [f64; AXIS_COUNT] {
-        self.from_instant(t).0.at(0.0)
+        self.running_at(t).0.at(0.0)
     }
 
     /// The line of the span running at `t` (0 for a program without spans).
