@@ -81,6 +81,17 @@ pub struct ReadProgram {
     pub triggers: Option<Vec<usize>>,
 }
 
+impl ReadProgram {
+    /// The program as pvt-core's comparison takes it, with what its format carries.
+    pub fn side(&self) -> pvt_core::compare::Side<'_> {
+        pvt_core::compare::Side {
+            program: &self.program,
+            carries_events: self.carries_events,
+            triggers: self.triggers.as_deref(),
+        }
+    }
+}
+
 /// Reads `text`, written in `format`, back into a program with its events and triggers.
 pub fn read_program(
     format: Format,

@@ -8,24 +8,31 @@
 //! 15 bytes a piece before deflate. The predictions use only integers and one rounded
 //! product, which the script repeats bit for bit. Where the page's start acceleration or
 //! jerk of a piece, computed from those values as the script computes it, would be off
-//! (a piece of microseconds), the exact ones follow the spans. It must not know the page.
+//! (a piece of microseconds), the exact ones follow the spans; then each block of
+//! [`BLOCK`] spans' exact ranges of position, velocity, acceleration and jerk per axis,
+//! which the page's tree of extremes starts from. It must not know the page.
 
 use pvt_core::{Axis, EventKind, HermiteSegment, Interpolation, PvtProgram};
 
 /// Grid of piece times, seconds: 2⁻⁴⁰ s (under 10⁻¹² s).
 pub const TIME_QUANTUM: f64 = 1.0 / 1_099_511_627_776.0;
 
-/// Steps below the largest magnitude: positions 2⁻⁴⁰ of it, velocities 2⁻³⁰.
+/// Steps below an axis' largest magnitude: positions 2⁻⁴⁰ of it, velocities 2⁻³².
 const POSITION_BITS: i32 = 40;
-const VELOCITY_BITS: i32 = 30;
+const VELOCITY_BITS: i32 = 32;
 
-/// The grids of positions and velocities, powers of two.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// How far the page's own start acceleration and jerk of a piece may be off, as shares
+/// of the axis' largest |a| and |j|, before the exact ones are written: the peaks the
+/// page shows are then within these shares of the program's.
+const FIX_SHARE: (f64, f64) = (1e-7, 1e-6);
+
+/// Each axis' grids of positions and velocities, powers of two.
+#[derive(Debug, Clone, PartialEq)]
 pub struct Quanta {
-    /// Position step, units.
-    pub position: f64,
-    /// Velocity step, units/s.
-    pub velocity: f64,
+    /// Position step per axis, units.
+    pub position: Vec<f64>,
+    /// Velocity step per axis, units/s.
+    pub velocity: Vec<f64>,
 }
 
 /// The power of two at or above `x` (1 for 0), times 2^-`bits`.
@@ -43,12 +50,12 @@ fn step(x: f64, bits: i32) -> f64 {
 }
 
 impl Quanta {
-    /// Grids fine enough for positions up to `largest_position` and velocities up to
-    /// `largest_velocity` (absolute values).
-    pub fn new(largest_position: f64, largest_velocity: f64) -> Quanta {
+    /// Grids fine enough for each axis' positions up to its `largest` position and
+    /// velocities up to its largest velocity (absolute values).
+    pub fn new(largest: &[(f64, f64)]) -> Quanta {
         Quanta {
-            position: step(largest_position, POSITION_BITS),
-            velocity: step(largest_velocity, VELOCITY_BITS),
+            position: largest.iter().map(|l| step(l.0, POSITION_BITS)).collect(),
+            velocity: largest.iter().map(|l| step(l.1, VELOCITY_BITS)).collect(),
         }
     }
 }
@@ -154,33 +161,119 @@ struct Axle {
 /// the page takes instead.
 type Fix = (usize, usize, f64, f64);
 
-/// Each axis' largest |a| and |j| over the pieces (exact, scaled): how far off the
-/// page's own values may be.
-fn scales(
+/// Spans a block of the page's tree of extremes holds.
+pub const BLOCK: usize = 64;
+
+/// The range of position, velocity, acceleration and jerk of a cubic over a whole piece
+/// of `t` seconds: `[min, max]` each.
+fn ranges(h: &HermiteSegment, t: f64) -> [[f64; 2]; 4] {
+    let end = h.at(t);
+    let (mut p, mut v) = (
+        [h.p0.min(end.position), h.p0.max(end.position)],
+        [h.v0.min(end.velocity), h.v0.max(end.velocity)],
+    );
+    let take = |range: &mut [f64; 2], x: f64| {
+        range[0] = range[0].min(x);
+        range[1] = range[1].max(x);
+    };
+    let inside = |s: f64| s > 0.0 && s < t;
+    // Velocity turns where the acceleration is zero; position where the velocity is.
+    if h.jerk != 0.0 && inside(-h.a0 / h.jerk) {
+        take(&mut v, h.at(-h.a0 / h.jerk).velocity);
+    }
+    let (a, b, c) = (h.jerk / 2.0, h.a0, h.v0);
+    let roots = match (a == 0.0, b * b - 4.0 * a * c) {
+        (true, _) if b != 0.0 => [-c / b, f64::NAN],
+        (false, disc) if disc >= 0.0 => {
+            let r = disc.sqrt();
+            [(-b - r) / (2.0 * a), (-b + r) / (2.0 * a)]
+        }
+        _ => [f64::NAN; 2],
+    };
+    for s in roots.into_iter().filter(|s| inside(*s)) {
+        take(&mut p, h.at(s).position);
+    }
+    let a = [h.a0.min(end.acceleration), h.a0.max(end.acceleration)];
+    [p, v, a, [h.jerk, h.jerk]]
+}
+
+/// What the encoder learns of the exact motion before writing it: each axis' largest
+/// |a| and |j| (how far off the page's own values may be), and each block's ranges.
+struct Extremes {
+    scales: Vec<(f64, f64)>,
+    /// Per axis, per block, the ranges of the four quantities.
+    blocks: Vec<Vec<[[f64; 2]; 4]>>,
+}
+
+/// The exact motion's [`Extremes`] (scaled): every piece's cubic, every dwell at rest.
+fn extremes(
     spans: &[Span<'_>],
     columns: &[Option<usize>],
     scale: &[f64],
     start: &[f64],
-) -> Vec<(f64, f64)> {
-    let mut out = vec![(0.0f64, 0.0f64); columns.len()];
+    pt: bool,
+) -> Extremes {
+    let dim = columns.len();
+    let empty = [[f64::INFINITY, f64::NEG_INFINITY]; 4];
+    let mut out = Extremes {
+        scales: vec![(0.0f64, 0.0f64); dim],
+        blocks: vec![vec![empty; spans.len().div_ceil(BLOCK)]; dim],
+    };
     let mut at: Vec<(f64, f64)> = start.iter().map(|p| (*p, 0.0)).collect();
-    for span in spans {
+    for (n, span) in spans.iter().enumerate() {
         for (k, column) in columns.iter().enumerate() {
             let end = match (span.end, column) {
                 (Some((e, v)), Some(i)) => (e[*i] * scale[k], v[*i] * scale[k]),
                 (None, _) => (at[k].0, 0.0),
                 (Some(_), None) => (0.0, 0.0),
             };
-            if span.end.is_some() {
-                let h = HermiteSegment::new(at[k].0, at[k].1, end.0, end.1, span.duration);
-                let a1 = h.end().acceleration;
-                out[k].0 = out[k].0.max(h.a0.abs()).max(a1.abs());
-                out[k].1 = out[k].1.max(h.jerk.abs());
+            let h = match (span.end, pt) {
+                (None, _) => HermiteSegment::new(end.0, 0.0, end.0, 0.0, span.duration),
+                (Some(_), true) => HermiteSegment {
+                    p0: at[k].0,
+                    v0: end.1,
+                    a0: 0.0,
+                    jerk: 0.0,
+                    duration: span.duration,
+                },
+                (Some(_), false) => {
+                    HermiteSegment::new(at[k].0, at[k].1, end.0, end.1, span.duration)
+                }
+            };
+            let r = ranges(&h, span.duration);
+            let block = &mut out.blocks[k][n / BLOCK];
+            for (b, x) in block.iter_mut().zip(r) {
+                b[0] = b[0].min(x[0]);
+                b[1] = b[1].max(x[1]);
             }
+            let s = &mut out.scales[k];
+            s.0 = s.0.max(r[2][0].abs()).max(r[2][1].abs());
+            s.1 = s.1.max(h.jerk.abs());
             at[k] = end;
         }
     }
     out
+}
+
+/// Appends each block's ranges as single floats rounded outwards (a range never
+/// narrower than the motion's): per axis, per quantity, per block, min then max.
+fn write_blocks(out: &mut Vec<u8>, blocks: &[Vec<[[f64; 2]; 4]>]) {
+    for axis in blocks {
+        for q in 0..4 {
+            for b in axis {
+                let [lo, hi] = b[q];
+                let (mut l, mut h) = (lo as f32, hi as f32);
+                if f64::from(l) > lo {
+                    l = l.next_down();
+                }
+                if f64::from(h) < hi {
+                    h = h.next_up();
+                }
+                out.extend_from_slice(&l.to_le_bytes());
+                out.extend_from_slice(&h.to_le_bytes());
+            }
+        }
+    }
 }
 
 /// Writes `program`'s spans on `axes` (an axis it does not move is at 0), each axis'
@@ -198,10 +291,13 @@ pub fn motion(program: &PvtProgram, axes: &[Axis], scale: &[f64], q: &Quanta) ->
         .collect();
     let start: Vec<i64> = exact_start
         .iter()
-        .map(|x| on_grid(*x, q.position))
+        .zip(&q.position)
+        .map(|(x, step)| on_grid(*x, *step))
         .collect();
     let spans = spans(program);
-    let limits = scales(&spans, &columns, scale, &exact_start);
+    let pt = is_pt(program);
+    let found = extremes(&spans, &columns, scale, &exact_start, pt);
+    let limits = &found.scales;
     let mut axles: Vec<Axle> = start
         .iter()
         .zip(&exact_start)
@@ -212,8 +308,6 @@ pub fn motion(program: &PvtProgram, axes: &[Axis], scale: &[f64], q: &Quanta) ->
         })
         .collect();
     let (mut d_before, mut line_before, mut clock) = (0i64, 0i64, 0.0f64);
-    let ratio = q.velocity / q.position;
-    let pt = is_pt(program);
     let mut fixes: Vec<Fix> = Vec::new();
     let mut bytes = Vec::with_capacity(spans.len() * (2 + 4 * axes.len()));
     for (n, span) in spans.iter().enumerate() {
@@ -234,17 +328,21 @@ pub fn motion(program: &PvtProgram, axes: &[Axis], scale: &[f64], q: &Quanta) ->
                 (Some(_), None) => (0.0, 0.0),
             };
             let (p1, v1) = match span.end {
-                Some(_) => (on_grid(exact.0, q.position), on_grid(exact.1, q.velocity)),
+                Some(_) => (
+                    on_grid(exact.0, q.position[k]),
+                    on_grid(exact.1, q.velocity[k]),
+                ),
                 None => (axle.p, 0),
             };
             // The velocity first: the position's prediction takes it.
             varint(&mut bytes, v1 - (2 * axle.v - axle.v_before));
+            let ratio = q.velocity[k] / q.position[k];
             let mean = (d as f64 * TIME_QUANTUM * (axle.v + v1) as f64 * ratio / 2.0 + 0.5).floor();
             varint(&mut bytes, p1 - (axle.p + mean as i64));
             if span.end.is_some() && !pt {
                 let page = page_cubic(
-                    (axle.p as f64 * q.position, p1 as f64 * q.position),
-                    (axle.v as f64 * q.velocity, v1 as f64 * q.velocity),
+                    (axle.p as f64 * q.position[k], p1 as f64 * q.position[k]),
+                    (axle.v as f64 * q.velocity[k], v1 as f64 * q.velocity[k]),
                     t,
                 );
                 let h = HermiteSegment::new(
@@ -255,8 +353,8 @@ pub fn motion(program: &PvtProgram, axes: &[Axis], scale: &[f64], q: &Quanta) ->
                     span.duration,
                 );
                 let (a_scale, j_scale) = limits[k];
-                let off = (page.0 - h.a0).abs() > 1e-7 * h.a0.abs() + 1e-9 * a_scale
-                    || (page.1 - h.jerk).abs() > 1e-7 * h.jerk.abs() + 1e-9 * j_scale;
+                let off = (page.0 - h.a0).abs() > FIX_SHARE.0 * a_scale
+                    || (page.1 - h.jerk).abs() > FIX_SHARE.1 * j_scale;
                 if off {
                     fixes.push((n, k, h.a0, h.jerk));
                 }
@@ -270,6 +368,7 @@ pub fn motion(program: &PvtProgram, axes: &[Axis], scale: &[f64], q: &Quanta) ->
         }
     }
     write_fixes(&mut bytes, &fixes);
+    write_blocks(&mut bytes, &found.blocks);
     Encoded {
         bytes,
         spans: spans.len(),
@@ -363,9 +462,9 @@ mod tests {
 
     #[test]
     fn grids_are_powers_of_two() {
-        let q = Quanta::new(1000.0, 100.0);
-        assert_eq!(q.position, 1024.0 / (1u64 << 40) as f64);
-        assert_eq!(q.velocity, 128.0 / (1u64 << 30) as f64);
-        assert_eq!(Quanta::new(0.0, 0.0).position, 1.0 / (1u64 << 40) as f64);
+        let q = Quanta::new(&[(1000.0, 100.0), (0.0, 0.0)]);
+        assert_eq!(q.position[0], 1024.0 / (1u64 << 40) as f64);
+        assert_eq!(q.velocity[0], 128.0 / (1u64 << 32) as f64);
+        assert_eq!(q.position[1], 1.0 / (1u64 << 40) as f64);
     }
 }

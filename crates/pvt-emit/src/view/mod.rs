@@ -2,8 +2,9 @@
 //! compared), for `pvtc plot -o FILE.html` and `pvtc diff -o FILE.html`.
 //!
 //! Owns the page: the motions' spans as compact streams (`encode`), the programmed
-//! path, the machine limits, the findings to list, the lines' text and the difference
-//! against time, as one deflated, base64 block inside the HTML, with the page's own
+//! path, the machine limits, the findings to list and the difference against time as
+//! one deflated, base64 block inside the HTML, the lines' text and the programmed path
+//! as a second (read once the page has drawn the motion), with the page's own
 //! script (`view.js`) and style (`view.css`) inlined. The page asks for nothing over a
 //! network and opens offline: the script inflates the block with the browser's
 //! `DecompressionStream`, decodes the streams and draws on canvases (the path in 3D,
@@ -105,29 +106,34 @@ pub fn with_dwells(program: &PvtProgram, t: f64) -> f64 {
     t + added
 }
 
-/// The largest absolute position and velocity of the programs (in their own units).
-fn magnitudes(motions: &[Motion<'_>], scales: &[f64]) -> (f64, f64) {
-    let mut position: f64 = 0.0;
-    let mut velocity: f64 = 0.0;
+/// Each axis' largest absolute position and velocity over the programs (each in the
+/// first's units).
+fn magnitudes(motions: &[Motion<'_>], axes: &[Axis], scales: &[f64]) -> Vec<(f64, f64)> {
+    let mut out = vec![(0.0f64, 0.0f64); axes.len()];
     for (m, s) in motions.iter().zip(scales) {
-        for c in &m.program.contours {
-            position = c
-                .start
-                .iter()
-                .chain(&c.ends)
-                .fold(position, |a, x| a.max(x.abs() * s));
-            velocity = c
-                .velocities
-                .iter()
-                .fold(velocity, |a, x| a.max(x.abs() * s));
+        let program = m.program;
+        for (k, axis) in axes.iter().enumerate() {
+            let Some(i) = program.axes.iter().position(|a| a == axis) else {
+                continue;
+            };
+            let dim = program.axes.len();
+            let s = if axis.is_rotary() { 1.0 } else { *s };
+            for c in &program.contours {
+                let positions =
+                    std::iter::once(c.start[i]).chain(c.ends.iter().skip(i).step_by(dim).copied());
+                out[k].0 = positions.fold(out[k].0, |a, x| a.max(x.abs() * s));
+                let velocities = c.velocities.iter().skip(i).step_by(dim);
+                out[k].1 = velocities.fold(out[k].1, |a, x| a.max(x.abs() * s));
+            }
         }
     }
-    (position, velocity)
+    out
 }
 
-/// The lines the pieces of `m` name, with their text (at most [`MAX_LINE_TEXT`]
-/// characters each), as `[line, text]` pairs.
-fn line_texts(m: &Motion<'_>) -> Vec<serde_json::Value> {
+/// The lines the pieces and events of `m` name, with their text (at most
+/// [`MAX_LINE_TEXT`] characters each): the lines as varints of their differences, then
+/// the texts, each ended by a line feed. Returns how many lines and the bytes of each part.
+fn line_texts(m: &Motion<'_>, out: &mut Vec<u8>) -> (usize, usize, usize) {
     let mut wanted: Vec<u32> = m
         .program
         .contours
@@ -138,17 +144,26 @@ fn line_texts(m: &Motion<'_>) -> Vec<serde_json::Value> {
         .collect();
     wanted.sort_unstable();
     wanted.dedup();
-    let mut out = Vec::with_capacity(wanted.len());
-    let mut want = wanted.into_iter().peekable();
+    let (mut lines, mut texts) = (Vec::new(), String::new());
+    let (mut want, mut last, mut count) = (wanted.into_iter().peekable(), 0, 0);
     for (n, text) in pvt_core::text::numbered_lines(m.text) {
         let Some(&next) = want.peek() else { break };
         if n as u32 == next {
-            let shown: String = text.chars().take(MAX_LINE_TEXT).collect();
-            out.push(serde_json::json!([n, shown]));
+            encode::varint(&mut lines, i64::from(next) - last);
+            last = i64::from(next);
+            texts.extend(
+                text.chars()
+                    .take(MAX_LINE_TEXT)
+                    .map(|c| if c == '\n' { ' ' } else { c }),
+            );
+            texts.push('\n');
+            count += 1;
             want.next();
         }
     }
-    out
+    out.extend_from_slice(&lines);
+    out.extend_from_slice(texts.as_bytes());
+    (count, lines.len(), texts.len())
 }
 
 /// The programmed path on `axes` as polylines, flattened within `tolerance`.
@@ -184,9 +199,13 @@ pub fn page(motions: &[Motion<'_>], options: &ViewOptions<'_>) -> Vec<u8> {
         .iter()
         .map(|m| m.program.units.mm_per_unit() / units.mm_per_unit())
         .collect();
-    let (largest_position, largest_velocity) = magnitudes(motions, &unit_scales);
-    let q = encode::Quanta::new(largest_position, largest_velocity);
+    let largest = magnitudes(motions, &axes, &unit_scales);
+    let q = encode::Quanta::new(&largest);
+    let largest_position = largest.iter().fold(0.0f64, |a, l| a.max(l.0));
     let mut blob = Vec::new();
+    // The lines' text and the programmed path, a block of their own: the page reads it
+    // after it first draws the motion.
+    let mut later = Vec::new();
     let mut metas = Vec::new();
     for (m, unit) in motions.iter().zip(&unit_scales) {
         let scale: Vec<f64> = axes
@@ -194,6 +213,8 @@ pub fn page(motions: &[Motion<'_>], options: &ViewOptions<'_>) -> Vec<u8> {
             .map(|a| if a.is_rotary() { 1.0 } else { *unit })
             .collect();
         let e = encode::motion(m.program, &axes, &scale, &q);
+        blob.extend_from_slice(&e.bytes);
+        let (lines, line_bytes, text_bytes) = line_texts(m, &mut later);
         metas.push(serde_json::json!({
             "name": m.name,
             "spans": e.spans,
@@ -201,22 +222,23 @@ pub fn page(motions: &[Motion<'_>], options: &ViewOptions<'_>) -> Vec<u8> {
             "bytes": e.bytes.len(),
             "start": e.start,
             "pt": encode::is_pt(m.program),
-            "texts": line_texts(m),
+            "texts": {"lines": lines, "lineBytes": line_bytes, "textBytes": text_bytes},
         }));
-        blob.extend_from_slice(&e.bytes);
     }
     let path = options.programmed.map(|t| {
         let tolerance = largest_position.max(1e-3) / 4000.0;
         let scale = t.units.mm_per_unit() / units.mm_per_unit();
-        let (bytes, polylines) = programmed(t, &axes, tolerance, q.position / scale);
-        blob.extend_from_slice(&bytes);
-        serde_json::json!({"bytes": bytes.len(), "polylines": polylines, "scale": scale})
+        let step = q.position.iter().fold(0.0f64, |a, x| a.max(*x));
+        let (bytes, polylines) = programmed(t, &axes, tolerance, step / scale);
+        later.extend_from_slice(&bytes);
+        serde_json::json!({"bytes": bytes.len(), "polylines": polylines, "scale": scale, "step": step})
     });
     let meta = serde_json::json!({
         "title": options.title,
         "units": units.name(),
         "axes": axes.iter().map(|a| a.to_string()).collect::<Vec<_>>(),
         "quanta": {"position": q.position, "velocity": q.velocity, "time": encode::TIME_QUANTUM},
+        "block": encode::BLOCK,
         "motions": metas,
         "programmed": path,
         "limits": limits_json(&options.limits, &axes),
@@ -233,8 +255,11 @@ pub fn page(motions: &[Motion<'_>], options: &ViewOptions<'_>) -> Vec<u8> {
     raw.extend_from_slice(&(meta.len() as u32).to_le_bytes());
     raw.extend_from_slice(&meta);
     raw.extend_from_slice(&blob);
-    let data = deflate(&raw);
-    html(&options.title, &encode::base64(&data))
+    let (data, later) = (deflate(&raw), deflate(&later));
+    html(
+        &options.title,
+        [&encode::base64(&data), &encode::base64(&later)],
+    )
 }
 
 fn limits_json(limits: &BTreeMap<Axis, AxisLimits>, axes: &[Axis]) -> serde_json::Value {
@@ -264,8 +289,11 @@ fn escaped(s: &str) -> String {
         .replace('>', "&gt;")
 }
 
-fn html(title: &str, data: &str) -> Vec<u8> {
-    let mut out = String::with_capacity(data.len() + SCRIPT.len() + STYLE.len() + 4096);
+/// The page: `data` (the motions) and `later` (the lines' text and the programmed
+/// path), each deflated and in base64, with the script and style.
+fn html(title: &str, [data, later]: [&str; 2]) -> Vec<u8> {
+    let size = data.len() + later.len() + SCRIPT.len() + STYLE.len() + 4096;
+    let mut out = String::with_capacity(size);
     out.push_str("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n");
     out.push_str("<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n");
     out.push_str("<meta http-equiv=\"Content-Security-Policy\" content=\"default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; img-src data:\">\n");
@@ -276,6 +304,8 @@ fn html(title: &str, data: &str) -> Vec<u8> {
         "</style>\n</head>\n<body>\n<script type=\"application/octet-stream\" id=\"pvtc-data\">",
     );
     out.push_str(data);
+    out.push_str("</script>\n<script type=\"application/octet-stream\" id=\"pvtc-later\">");
+    out.push_str(later);
     out.push_str("</script>\n<script>\n");
     out.push_str(SCRIPT);
     out.push_str("</script>\n</body>\n</html>\n");

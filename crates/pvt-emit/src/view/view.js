@@ -8,10 +8,11 @@
   const COLORS = ['#1f77b4', '#d62728', '#2ca02c', '#9467bd', '#8c564b', '#e377c2'];
   const QUANTITIES = ['position', 'velocity', 'acceleration', 'jerk'];
   const SYMBOLS = ['p', 'v', 'a', 'j'];
-  const BLOCK = 64;
+  let BLOCK = 64;
 
   // ---------------------------------------------------------------- data
   function fromBase64(text) {
+    if (typeof Uint8Array.fromBase64 === 'function') return Uint8Array.fromBase64(text.trim());
     const table = new Uint8Array(128);
     const alphabet = 'ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/';
     for (let i = 0; i < 64; i++) table[alphabet.charCodeAt(i)] = i;
@@ -38,20 +39,26 @@
     return new Uint8Array(await new Response(stream).arrayBuffer());
   }
 
-  function Reader(bytes, pos) {
-    this.b = bytes;
-    this.p = pos;
+  // Zigzag varints from a byte array.
+  class Reader {
+    constructor(bytes, pos) {
+      this.b = bytes;
+      this.p = pos;
+    }
+
+    zig() {
+      const b = this.b;
+      let byte = b[this.p++];
+      if (byte < 128) return byte & 1 ? -(byte + 1) / 2 : byte / 2;
+      let n = byte & 127, scale = 128;
+      do {
+        byte = b[this.p++];
+        n += (byte & 127) * scale;
+        scale *= 128;
+      } while (byte & 128);
+      return n % 2 === 0 ? n / 2 : -(n + 1) / 2;
+    }
   }
-  Reader.prototype.zig = function () {
-    let n = 0, scale = 1, byte;
-    const b = this.b;
-    do {
-      byte = b[this.p++];
-      n += (byte & 127) * scale;
-      scale *= 128;
-    } while (byte & 128);
-    return n % 2 === 0 ? n / 2 : -(n + 1) / 2;
-  };
 
   // One motion: spans (pieces and dwells), knots' positions and velocities per axis.
   function decodeMotion(bytes, pos, m, dim, q) {
@@ -62,9 +69,11 @@
     const kind = new Uint8Array(n);
     const P = new Float64Array((n + 1) * dim);
     const V = new Float64Array((n + 1) * dim);
-    const p0 = m.start.slice(), v0 = new Array(dim).fill(0), vb = new Array(dim).fill(0);
-    const ratio = q.velocity / q.position, TQ = q.time;
-    for (let k = 0; k < dim; k++) P[k] = p0[k] * q.position;
+    // Typed state: the loop runs over every span and axis.
+    const p0 = Float64Array.from(m.start), v0 = new Float64Array(dim), vb = new Float64Array(dim);
+    const qp = Float64Array.from(q.position), qv = Float64Array.from(q.velocity);
+    const ratio = qv.map((v, k) => v / qp[k]), TQ = q.time;
+    for (let k = 0; k < dim; k++) P[k] = p0[k] * qp[k];
     let d = 0, ln = 0, t = 0;
     for (let i = 0; i < n; i++) {
       d += r.zig();
@@ -75,34 +84,87 @@
       line[i] = ln;
       t += d * TQ;
       start[i + 1] = t;
+      const o = (i + 1) * dim;
       for (let k = 0; k < dim; k++) {
         const v1 = 2 * v0[k] - vb[k] + r.zig();
-        const mean = Math.floor(d * TQ * (v0[k] + v1) * ratio / 2 + 0.5);
+        const mean = Math.floor(d * TQ * (v0[k] + v1) * ratio[k] / 2 + 0.5);
         const p1 = p0[k] + mean + r.zig();
         vb[k] = v0[k];
         v0[k] = v1;
         p0[k] = p1;
-        P[(i + 1) * dim + k] = p1 * q.position;
-        V[(i + 1) * dim + k] = v1 * q.velocity;
+        P[o + k] = p1 * qp[k];
+        V[o + k] = v1 * qv[k];
       }
     }
-    // The exact start acceleration and jerk where those from the grid values are off.
+    // The exact start acceleration and jerk where those from the grid values are off,
+    // by span and axis (in order).
     const fixes = r.zig();
-    const fixed = new Uint8Array(fixes ? n : 0), exact = new Map();
+    const fixed = new Uint8Array(fixes ? n : 0), fixKeys = new Int32Array(fixes), fixValues = new Float64Array(2 * fixes);
     const bits = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
     for (let f = 0, i = 0; f < fixes; f++) {
       i += r.zig();
       const k = r.zig();
-      exact.set(i * dim + k, [bits.getFloat64(r.p, true), bits.getFloat64(r.p + 8, true)]);
+      fixKeys[f] = i * dim + k;
+      fixValues[2 * f] = bits.getFloat64(r.p, true);
+      fixValues[2 * f + 1] = bits.getFloat64(r.p + 8, true);
       r.p += 16;
       fixed[i] = 1;
     }
-    const texts = new Map(m.texts.map(([l, s]) => [l, s]));
-    const motion = { name: m.name, n, dim, start, line, kind, P, V, pt: m.pt, texts, total: t, end: r.p, fixed, exact };
+    const blocksAt = r.p;
+    const empty = { lines: new Int32Array(0), text: '', starts: new Int32Array(1) };
+    const motion = { name: m.name, n, dim, start, line, kind, P, V, pt: m.pt, texts: empty, total: t, fixed, fixKeys, fixValues };
     motion.pieces = 0;
     for (let i = 0; i < n; i++) if (kind[i] !== 2) motion.pieces++;
-    buildBlocks(motion);
+    buildBlocks(motion, bytes, blocksAt);
     return motion;
+  }
+
+  // The lines the pieces name and their text: the lines as varints of their
+  // differences, then the texts, each ended by a line feed.
+  function decodeTexts(bytes, pos, t) {
+    const r = new Reader(bytes, pos);
+    const lines = new Int32Array(t.lines);
+    for (let i = 0, l = 0; i < t.lines; i++) lines[i] = l += r.zig();
+    const text = new TextDecoder().decode(bytes.subarray(pos + t.lineBytes, pos + t.lineBytes + t.textBytes));
+    const starts = new Int32Array(t.lines + 1);
+    for (let i = 0, at = 0; i < t.lines; i++) {
+      starts[i] = at;
+      at = text.indexOf('\n', at) + 1;
+      starts[i + 1] = at;
+    }
+    return { lines, text, starts, bytes: t.lineBytes + t.textBytes };
+  }
+
+  // The lines' text of every motion and the programmed path, from their own block.
+  async function readLater(state) {
+    const { meta, motions, dim } = state;
+    const block = document.getElementById('pvtc-later');
+    const raw = await inflate(fromBase64(block.textContent));
+    block.textContent = '';
+    let pos = 0;
+    meta.motions.forEach((m, i) => {
+      motions[i].texts = decodeTexts(raw, pos, m.texts);
+      pos += m.texts.lineBytes + m.texts.textBytes;
+    });
+    if (meta.programmed) {
+      state.programmed = decodeProgrammed(raw, pos, meta.programmed, dim, meta.quanta);
+      state.addProgrammed();
+      state.draw3d();
+    }
+    state.timings.later = performance.now();
+    return true;
+  }
+
+  // The text of a line, if the page holds it.
+  function textOf(M, line) {
+    const L = M.texts.lines;
+    let a = 0, b = L.length - 1;
+    while (a <= b) {
+      const mid = (a + b) >> 1;
+      if (L[mid] === line) return M.texts.text.slice(M.texts.starts[mid], M.texts.starts[mid + 1] - 1);
+      if (L[mid] < line) a = mid + 1; else b = mid - 1;
+    }
+    return undefined;
   }
 
   // The cubic of span i, axis k: [p0, v0, a0, j] in the span's own time.
@@ -124,8 +186,13 @@
     out[2] = (6 * D) / (T * T) - (4 * v0 + 2 * v1) / T;
     out[3] = (6 * (v0 + v1)) / (T * T) - (12 * D) / (T * T * T);
     if (M.fixed.length && M.fixed[i]) {
-      const f = M.exact.get(i * dim + k);
-      if (f) { out[2] = f[0]; out[3] = f[1]; }
+      const key = i * dim + k, keys = M.fixKeys;
+      let a = 0, b = keys.length - 1;
+      while (a <= b) {
+        const mid = (a + b) >> 1;
+        if (keys[mid] === key) { out[2] = M.fixValues[2 * mid]; out[3] = M.fixValues[2 * mid + 1]; break; }
+        if (keys[mid] < key) a = mid + 1; else b = mid - 1;
+      }
     }
     return T;
   }
@@ -145,61 +212,62 @@
     const b = valueAt(c, q, s1);
     if (b < lo) lo = b;
     if (b > hi) hi = b;
-    const at = (s) => {
-      if (s > s0 && s < s1) {
-        const x = valueAt(c, q, s);
-        if (x < lo) lo = x;
-        if (x > hi) hi = x;
-      }
-    };
+    let r1 = NaN, r2 = NaN;
     if (q === 0) {
       // Where the velocity v0 + a0 s + j s²/2 is zero.
       const A = c[3] / 2, B = c[2], C = c[1];
       if (A === 0) {
-        if (B !== 0) at(-C / B);
+        if (B !== 0) r1 = -C / B;
       } else {
         const disc = B * B - 4 * A * C;
         if (disc >= 0) {
           const root = Math.sqrt(disc);
-          at((-B - root) / (2 * A));
-          at((-B + root) / (2 * A));
+          r1 = (-B - root) / (2 * A);
+          r2 = (-B + root) / (2 * A);
         }
       }
     } else if (q === 1 && c[3] !== 0) {
-      at(-c[2] / c[3]);
+      r1 = -c[2] / c[3];
+    }
+    if (r1 > s0 && r1 < s1) {
+      const x = valueAt(c, q, r1);
+      if (x < lo) lo = x;
+      if (x > hi) hi = x;
+    }
+    if (r2 > s0 && r2 < s1) {
+      const x = valueAt(c, q, r2);
+      if (x < lo) lo = x;
+      if (x > hi) hi = x;
     }
     out[0] = lo;
     out[1] = hi;
   }
 
-  // Per block of BLOCK spans, per axis and quantity, the min and max: a segment tree.
-  function buildBlocks(M) {
+  // Per block of BLOCK spans, per axis and quantity, the min and max (written by the
+  // encoder from the exact motion, as floats rounded outwards): a segment tree.
+  function buildBlocks(M, bytes, pos) {
     const blocks = Math.ceil(M.n / BLOCK) || 1;
     let size = 1;
     while (size < blocks) size *= 2;
     M.treeSize = size;
-    M.trees = [];
-    const c = new Float64Array(4), e = new Float64Array(2);
-    for (let q = 0; q < 4; q++) {
-      const perAxis = [];
-      for (let k = 0; k < M.dim; k++) {
-        const lo = new Float64Array(2 * size).fill(Infinity);
-        const hi = new Float64Array(2 * size).fill(-Infinity);
-        for (let i = 0; i < M.n; i++) {
-          const T = coeffs(M, i, k, c);
-          extent(c, q, 0, T, e);
-          const b = size + Math.floor(i / BLOCK);
-          if (e[0] < lo[b]) lo[b] = e[0];
-          if (e[1] > hi[b]) hi[b] = e[1];
+    M.trees = [[], [], [], []];
+    const bits = new DataView(bytes.buffer, bytes.byteOffset + pos, M.dim * 4 * blocks * 8);
+    let at = 0;
+    for (let k = 0; k < M.dim; k++) {
+      for (let q = 0; q < 4; q++) {
+        const lo = new Float64Array(2 * size).fill(Infinity), hi = new Float64Array(2 * size).fill(-Infinity);
+        for (let b = 0; b < blocks && M.n; b++, at += 8) {
+          lo[size + b] = bits.getFloat32(at, true);
+          hi[size + b] = bits.getFloat32(at + 4, true);
         }
         for (let b = size - 1; b >= 1; b--) {
           lo[b] = Math.min(lo[2 * b], lo[2 * b + 1]);
           hi[b] = Math.max(hi[2 * b], hi[2 * b + 1]);
         }
-        perAxis.push({ lo, hi });
+        M.trees[q].push({ lo, hi });
       }
-      M.trees.push(perAxis);
     }
+    return at;
   }
 
   // The span running at t: the last starting at or before it (clamped).
@@ -266,7 +334,7 @@
     const r = new Reader(bytes, pos);
     const last = new Array(dim).fill(0);
     const lines = [];
-    const step = q.position / meta.scale;
+    const step = meta.step / meta.scale;
     for (let c = 0; c < meta.polylines; c++) {
       const count = r.zig(), rapid = r.zig() === 1;
       const pts = new Float64Array(count * dim);
@@ -308,22 +376,28 @@
   }
 
   async function main() {
+    const timings = (view.timings = { start: performance.now() });
     const block = document.getElementById('pvtc-data');
-    const raw = await inflate(fromBase64(block.textContent));
+    const packed = fromBase64(block.textContent);
+    timings.base64 = performance.now();
+    const raw = await inflate(packed);
+    timings.inflated = performance.now();
     block.textContent = '';
     const metaLength = raw[0] | (raw[1] << 8) | (raw[2] << 16) | (raw[3] * 16777216);
     const meta = JSON.parse(new TextDecoder().decode(raw.subarray(4, 4 + metaLength)));
     const dim = meta.axes.length;
+    BLOCK = meta.block;
     let pos = 4 + metaLength;
     const motions = meta.motions.map((m) => {
       const M = decodeMotion(raw, pos, m, dim, meta.quanta);
       pos += m.bytes;
       return M;
     });
-    const programmed = meta.programmed ? decodeProgrammed(raw, pos, meta.programmed, dim, meta.quanta) : [];
+    timings.decoded = performance.now();
     const state = {
-      meta, dim, motions, programmed,
+      meta, dim, motions,
       total: Math.max(...motions.map((M) => M.total), 1e-9),
+      programmed: [],
       window: null, cursor: null, pinned: null,
       rapids: 'faded', showProgrammed: true, shown: motions.map(() => true),
     };
@@ -331,9 +405,15 @@
     buildPage(state);
     view.summary = () => summary(state);
     view.state = state;
+    state.timings = timings;
+    timings.page = performance.now();
     state.draw3dNow();
+    timings.drawn3d = performance.now();
     state.drawPlotsNow();
+    timings.drawnPlots = performance.now();
     view.readyMs = performance.now();
+    // The lines' text and the programmed path, once the motion is drawn.
+    view.texts = readLater(state);
     document.body.dataset.ready = '1';
     return view.summary();
   }
@@ -368,11 +448,12 @@
     const rapids = el('select', {}, el('option', { value: 'faded' }, 'rapids faded'), el('option', { value: 'shown' }, 'rapids shown'), el('option', { value: 'hidden' }, 'rapids hidden'));
     rapids.addEventListener('change', () => { state.rapids = rapids.value; state.draw3d(); });
     header.append(rapids);
-    if (state.programmed.length) {
+    // The programmed path's switch, once it is read.
+    state.addProgrammed = () => {
       const box = el('input', { type: 'checkbox', checked: '' });
       box.addEventListener('change', () => { state.showProgrammed = box.checked; state.draw3d(); });
-      header.append(el('label', {}, box, ' programmed path'));
-    }
+      header.insertBefore(el('label', {}, box, ' programmed path'), reset);
+    };
     const reset = el('button', { type: 'button' }, 'whole program');
     reset.addEventListener('click', () => { state.window = [0, state.total]; redrawAll(state); });
     header.append(reset);
@@ -390,7 +471,6 @@
     setup3d(state, canvas3d, legend);
     setupPlots(state, plotsBox);
     window.addEventListener('resize', () => redrawAll(state));
-    redrawAll(state);
   }
 
   function redrawAll(state) {
@@ -446,7 +526,7 @@
       if (!M.n) return;
       const i = spanAt(M, Math.min(Math.max(t, 0), M.total));
       const what = ['feed', 'rapid', 'dwell'][M.kind[i]];
-      const text = M.texts.get(M.line[i]);
+      const text = textOf(M, M.line[i]);
       const p = position(M, i, t - M.start[i]);
       rows.push(el('div', {}, el('span', { class: 'k' }, `${M.name}: `), `t=${fmt(t, 6)} s · piece ${i + 1} of ${M.n} (${what}) · line ${M.line[i]} · ` + state.meta.axes.map((a, k) => `${a}=${fmt(p[k])}`).join(' ')));
       if (text !== undefined) rows.push(el('pre', {}, `${M.line[i]}: ${text}`));
@@ -480,20 +560,17 @@
     for (let j = 0; j < 3; j++) if (!isFinite(lo[j])) { lo[j] = 0; hi[j] = 0; }
     const center = lo.map((l, j) => (l + hi[j]) / 2);
     const size = Math.max(...hi.map((h, j) => h - lo[j]), 1e-9);
-    // The fastest speed along any feed piece (at its ends and middle), for the colours.
+    // The fastest speed of the feed pieces (at their ends, and their mean), for the colours.
     let vmax = 0;
-    const cv = [new Float64Array(4), new Float64Array(4), new Float64Array(4)];
-    const speedAt = (M, i, s) => {
-      let sum = 0;
-      for (let a = 0; a < axes3.length; a++) sum += valueAt(cv[a], 1, s) ** 2;
-      return Math.sqrt(sum);
-    };
     for (const M of state.motions) {
       for (let i = 0; i < M.n; i++) {
         if (M.kind[i] !== 0) continue;
-        let T = 0;
-        axes3.forEach((k, a) => { T = coeffs(M, i, k, cv[a]); });
-        vmax = Math.max(vmax, speedAt(M, i, 0), speedAt(M, i, T / 2), speedAt(M, i, T));
+        let at = 0, chord = 0;
+        for (const k of axes3) {
+          at += M.V[(i + 1) * dim + k] ** 2;
+          chord += (M.P[(i + 1) * dim + k] - M.P[i * dim + k]) ** 2;
+        }
+        vmax = Math.max(vmax, Math.sqrt(at), Math.sqrt(chord) / (M.start[i + 1] - M.start[i]));
       }
     }
     vmax = vmax || 1;
@@ -581,11 +658,18 @@
       const c = [new Float64Array(4), new Float64Array(4), new Float64Array(4)];
       let last = -1, fixedBucket = -1;
       const bucketOf = (dist, dt) => fixedBucket >= 0 ? fixedBucket : Math.min(buckets - 1, Math.floor((dist / Math.max(dt, 1e-300) / vmax) * buckets));
-      const add = (x, y, b) => {
+      // A point under a pixel from the last one drawn, in the same colour, adds nothing.
+      const hover = m === 0 || !state.shown[0];
+      const add = (x, y, b, j) => {
+        if (b === last && Math.abs(x - prev[0]) + Math.abs(y - prev[1]) < 0.6) return;
         if (b !== last) paths[b].moveTo(prev[0], prev[1]);
         paths[b].lineTo(x, y);
         last = b;
         prev[0] = x; prev[1] = y;
+        if (hover) {
+          const gx = Math.floor(x / 6), gy = Math.floor(y / 6);
+          if (gx >= 0 && gy >= 0 && gx < W && gy < H) grid.set(gx * 100000 + gy, [m, j]);
+        }
       };
       proj(coord(M.P, 0, 0), coord(M.P, 0, 1), coord(M.P, 0, 2), prev);
       for (let i = 0; i < M.n; i += stride) {
@@ -593,7 +677,7 @@
         const kind = M.kind[i];
         proj(coord(M.P, j, 0), coord(M.P, j, 1), coord(M.P, j, 2), pt);
         const outside = zoomed && (M.start[j] < w0 || M.start[i] > w1);
-        if (kind === 2) { prev[0] = pt[0]; prev[1] = pt[1]; continue; }
+        if (kind === 2) continue;
         if (kind === 1 && state.rapids === 'hidden') { prev[0] = pt[0]; prev[1] = pt[1]; last = -1; continue; }
         const T = M.start[j] - M.start[i];
         fixedBucket = outside || (kind === 1 && state.rapids === 'faded') ? buckets + 1 : m > 0 ? buckets : -1;
@@ -610,17 +694,13 @@
             for (let a = 0; a < 3; a++) now[a] = at(a, u);
             const dist = Math.hypot(now[0] - was[0], now[1] - was[1], now[2] - was[2]);
             if (s < steps) proj(now[0], now[1], now[2], q); else { q[0] = pt[0]; q[1] = pt[1]; }
-            add(q[0], q[1], bucketOf(dist, T / steps));
+            add(q[0], q[1], bucketOf(dist, T / steps), j);
             for (let a = 0; a < 3; a++) was[a] = now[a];
           }
         } else {
           let dist = 0;
           for (let a = 0; a < 3; a++) if (axes3[a] !== undefined) dist += (M.P[j * dim + axes3[a]] - M.P[i * dim + axes3[a]]) ** 2;
-          add(pt[0], pt[1], bucketOf(Math.sqrt(dist), T));
-        }
-        if (m === 0 || !state.shown[0]) {
-          const gx = Math.floor(pt[0] / 6), gy = Math.floor(pt[1] / 6);
-          if (gx >= 0 && gy >= 0 && gx < W && gy < H) grid.set(gx * 100000 + gy, [m, j]);
+          add(pt[0], pt[1], bucketOf(Math.sqrt(dist), T), j);
         }
       }
       ctx.setLineDash([]);

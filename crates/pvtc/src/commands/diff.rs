@@ -11,11 +11,12 @@ use crate::args::DiffArgs;
 use crate::options::{CompileOptions, Failure, Source};
 use crate::report::{Reporter, EXIT_INPUT_ERROR};
 use crate::settings::DiffTolerances;
-use pvt_core::compare::{compare, CompareOptions, Comparison, Difference, Side};
+use pvt_core::compare::{compare, CompareOptions, Comparison, Difference};
 use pvt_core::{PvtProgram, Quantity};
 use pvt_emit::readback::ReadProgram;
 use pvt_emit::Format;
 use std::fmt::Write as _;
+use std::path::Path;
 use std::process::ExitCode;
 
 /// Bins of the difference's profile the HTML view draws.
@@ -74,11 +75,9 @@ pub fn run(args: &DiffArgs) -> ExitCode {
         Ok(options) => options,
         Err(failure) => return reporter.fail(&failure),
     };
-    let comparison = compare(side(a), side(b), &options);
+    let comparison = compare(a.read.side(), b.read.side(), &options);
     if let Some(path) = &args.output {
-        if let Err(failure) =
-            crate::commands::view::write_diff(path, [a, b], &comparison, tolerances.position)
-        {
+        if let Err(failure) = page(path, [a, b], &comparison, tolerances.position) {
             return reporter.fail(&failure);
         }
     }
@@ -102,13 +101,20 @@ pub fn run(args: &DiffArgs) -> ExitCode {
     }
 }
 
-/// A loaded program as pvt-core's comparison takes it.
-fn side(l: &Loaded) -> Side<'_> {
-    Side {
-        program: &l.read.program,
-        carries_events: l.read.carries_events,
-        triggers: l.read.triggers.as_deref(),
-    }
+/// Writes the HTML page of the comparison, with the first side's machine limits.
+fn page(path: &Path, sides: [&Loaded; 2], c: &Comparison, tolerance: f64) -> Result<(), Failure> {
+    let first = &sides[0].read.program;
+    let limits = crate::settings::machine_limits(
+        sides[0].options.machine.as_ref(),
+        first.units,
+        &first.axes,
+    )?;
+    let motions = sides.map(|s| pvt_emit::view::Motion {
+        name: &s.name,
+        program: &s.read.program,
+        text: &s.text,
+    });
+    crate::commands::view::write_diff(path, motions, limits, c, tolerance)
 }
 
 /// Reads both sides: emitted ones as they are, then each source compiled to the other
@@ -335,6 +341,21 @@ fn millis(seconds: f64) -> String {
     if text == "-0" { "0" } else { text }.to_string()
 }
 
+/// A tolerance for people: six significant digits, no trailing zeros.
+fn decimal(x: f64) -> String {
+    let mut decimals = 5usize;
+    let mut scaled = x.abs();
+    while scaled > 0.0 && scaled < 1.0 && decimals < 15 {
+        scaled *= 10.0;
+        decimals += 1;
+    }
+    let text = format!("{x:.decimals$}");
+    match text.contains('.') {
+        true => text.trim_end_matches('0').trim_end_matches('.').to_string(),
+        false => text,
+    }
+}
+
 /// What a side is, for people: `a.pmac (pmac)`, `a.ngc (compiled to pmac)`.
 fn label(side: &Loaded) -> String {
     let how = if side.compiled { "compiled to " } else { "" };
@@ -382,12 +403,12 @@ fn summary(c: &Comparison, sides: [&Loaded; 2], tol: &DiffTolerances) -> String 
             let _ = writeln!(
                 t,
                 "first beyond {} {u} at {}",
-                tol.position,
+                decimal(tol.position),
                 place(f.time, f.lines, sides)
             );
         }
         None => {
-            let _ = writeln!(t, "never beyond {} {u}", tol.position);
+            let _ = writeln!(t, "never beyond {} {u}", decimal(tol.position));
         }
     }
     let _ = writeln!(
@@ -410,9 +431,9 @@ fn summary(c: &Comparison, sides: [&Loaded; 2], tol: &DiffTolerances) -> String 
     let _ = writeln!(t, "{}", listed("triggers", &c.triggers));
     let tolerances = format!(
         "{} {u}, {} ms and {} %",
-        tol.position,
+        decimal(tol.position),
         millis(tol.time),
-        tol.peak * 100.0
+        decimal(tol.peak * 100.0)
     );
     if c.equal() {
         let _ = writeln!(t, "equal within {tolerances}");
@@ -466,7 +487,7 @@ fn diagnostic(
             "the motions are {:.9} {u} apart at {}, more than --tolerance {} {u}{first}",
             s.value,
             place(s.time, s.lines, sides),
-            tol.position
+            decimal(tol.position)
         ),
         Difference::TimeShift(s) => format!(
             "{b} passes {a}'s place at {} {} ms {}, more than --time-tolerance {} ms{first}",
@@ -495,7 +516,7 @@ fn diagnostic(
             peaks[1].value,
             peaks[1].line,
             peaks[1].time,
-            tol.peak * 100.0
+            decimal(tol.peak * 100.0)
         ),
         Difference::Events(m) | Difference::Triggers(m) => {
             let what = |k: usize| m.names[k].clone().unwrap_or_else(|| "nothing".into());

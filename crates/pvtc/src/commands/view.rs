@@ -5,7 +5,6 @@
 //! its difference against time, the text of each file's lines) and writing the file; the
 //! page itself is pvt-emit's `view` back end. It must not draw or compute the findings.
 
-use crate::commands::diff::Loaded;
 use crate::commands::verify::Loaded as Planned;
 use crate::options::Failure;
 use pvt_core::compare::{Comparison, Difference};
@@ -188,23 +187,19 @@ fn difference_findings(c: &Comparison) -> Vec<Finding> {
     out
 }
 
-/// Writes the page of a comparison (`pvtc diff -o FILE.html`): both motions, the second
-/// in the first's units, and their difference against time.
-/// `tolerance`: the position tolerance, drawn over the difference.
+/// Writes the page of a comparison (`pvtc diff -o FILE.html`): both motions (the second
+/// drawn in the first's units), the machine's `limits`, and their difference against time
+/// with the position `tolerance`.
 pub fn write_diff(
     path: &Path,
-    sides: [&Loaded; 2],
+    motions: [Motion<'_>; 2],
+    limits: std::collections::BTreeMap<pvt_core::Axis, pvt_core::AxisLimits>,
     c: &Comparison,
     tolerance: f64,
 ) -> Result<(), Failure> {
-    let [a, b] = sides;
     let options = ViewOptions {
-        title: format!("{} and {}", a.name, b.name),
-        limits: crate::settings::machine_limits(
-            a.options.machine.as_ref(),
-            a.read.program.units,
-            &a.read.program.axes,
-        )?,
+        title: format!("{} and {}", motions[0].name, motions[1].name),
+        limits,
         programmed: None,
         findings: difference_findings(c),
         difference: Some(DifferenceProfile {
@@ -219,10 +214,5 @@ pub fn write_diff(
             .to_string(),
         }),
     };
-    let motions = sides.map(|s| Motion {
-        name: &s.name,
-        program: &s.read.program,
-        text: &s.text,
-    });
     crate::output::write_file(path, &pvt_emit::view::page(&motions, &options))
 }
