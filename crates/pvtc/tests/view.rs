@@ -197,12 +197,8 @@ fn read_json(path: &Path) -> pvt_core::PvtProgram {
 
 #[test]
 fn the_plot_page_opens_offline_and_shows_the_programs_data() {
-    let binary = match chromium::required() {
-        Ok(binary) => binary,
-        Err(why) => {
-            println!("SKIPPED: {why}");
-            return;
-        }
+    let Ok(binary) = chromium::required().map_err(|why| println!("SKIPPED: {why}")) else {
+        return;
     };
     let dir = tempfile::tempdir().unwrap();
     let sample = "samples/gcode/linuxcnc_params_pocket.ngc";
@@ -260,12 +256,8 @@ fn the_plot_page_opens_offline_and_shows_the_programs_data() {
 
 #[test]
 fn the_diff_page_overlays_both_motions_and_their_difference() {
-    let binary = match chromium::required() {
-        Ok(binary) => binary,
-        Err(why) => {
-            println!("SKIPPED: {why}");
-            return;
-        }
+    let Ok(binary) = chromium::required().map_err(|why| println!("SKIPPED: {why}")) else {
+        return;
     };
     let dir = tempfile::tempdir().unwrap();
     let a = root().join("tests/golden/gcode/an208_zigzag.json");

@@ -86,7 +86,7 @@ impl Matcher<'_, '_> {
     fn sample(&mut self, t: f64, after: f64, budget: f64) -> Option<f64> {
         let point = self.from.position(t);
         let (d, tau) = self.nearest(&point, after, budget)?;
-        let lines = [self.from.line_at(t), self.to.line_at(tau)];
+        let lines = [self.from.line_to(t), self.to.line_to(tau)];
         if d > self.found.distance.value {
             self.found.distance = Meet {
                 value: d,
@@ -229,7 +229,7 @@ pub(super) fn shift(from: &Track<'_>, to: &Track<'_>, matches: &[(f64, f64)], wi
             largest = Meet {
                 value: shift,
                 at: [t, t + shift],
-                lines: [from.line_at(t), to.line_at(tau)],
+                lines: [from.line_to(t), to.line_to(tau)],
             };
         }
     }

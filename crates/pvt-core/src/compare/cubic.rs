@@ -171,57 +171,81 @@ impl Bez {
     }
 }
 
+/// What a search does with a part of the curve.
+enum Step {
+    /// Halve it and look at both halves, the earlier first.
+    Halve,
+    /// Leave it.
+    Skip,
+    /// End the search.
+    Stop,
+}
+
+/// Walks the halves of `bez` depth first, earlier parameters first: `visit` is given each
+/// part, its parameter interval and its depth, and says what to do with it (a part
+/// [`DEPTH`] halvings deep is not halved again).
+fn walk(bez: &Bez, mut visit: impl FnMut(&Bez, (f64, f64), u32) -> Step) {
+    let mut stack = vec![(*bez, 0.0, 1.0, 0)];
+    while let Some((b, u0, u1, depth)) = stack.pop() {
+        match visit(&b, (u0, u1), depth) {
+            Step::Halve if depth < DEPTH => {
+                let (l, r) = b.halves();
+                let um = 0.5 * (u0 + u1);
+                stack.push((r, um, u1, depth + 1));
+                stack.push((l, u0, um, depth + 1));
+            }
+            Step::Stop => return,
+            _ => {}
+        }
+    }
+}
+
 /// The largest length `|B(u)|` of a cubic, when it may exceed `floor`: the value (within
 /// `precision`, never above the true largest) and its parameter; `None` when the cubic
 /// stays within `floor`.
 pub(super) fn largest(bez: &Bez, floor: f64, precision: f64) -> Option<(f64, f64)> {
     let mut best: Option<(f64, f64)> = None;
-    let mut stack = vec![(*bez, 0.0, 1.0, 0)];
-    while let Some((b, u0, u1, depth)) = stack.pop() {
+    walk(bez, |b, (u0, u1), _| {
         let bar = best.map_or(floor, |(v, _)| v.max(floor));
         let upper = b.upper();
         if upper <= bar {
-            continue;
+            return Step::Skip;
         }
         let (value, at) = b.lower();
         if best.is_none_or(|(v, _)| value > v) && value > floor {
             best = Some((value, u0 + at * (u1 - u0)));
         }
-        if upper - value <= precision || depth >= DEPTH {
-            continue;
+        if upper - value <= precision {
+            Step::Skip
+        } else {
+            Step::Halve
         }
-        let (l, r) = b.halves();
-        let um = 0.5 * (u0 + u1);
-        stack.push((r, um, u1, depth + 1));
-        stack.push((l, u0, um, depth + 1));
-    }
+    });
     best
 }
 
 /// The earliest parameter at which the cubic's length exceeds `level` (to within
 /// 2⁻⁴⁰ of the interval), if it does.
 pub(super) fn first_above(bez: &Bez, level: f64) -> Option<f64> {
-    let mut stack = vec![(*bez, 0.0, 1.0, 0)];
-    while let Some((b, u0, u1, depth)) = stack.pop() {
+    let mut found = None;
+    walk(bez, |b, (u0, u1), depth| {
         if b.upper() <= level {
-            continue;
+            return Step::Skip;
         }
         if length(&b.p[0], b.dim) > level {
-            return Some(u0);
+            found = Some(u0);
+            return Step::Stop;
         }
         if depth >= DEPTH {
             let (value, at) = b.lower();
             if value > level {
-                return Some(u0 + at * (u1 - u0));
+                found = Some(u0 + at * (u1 - u0));
+                return Step::Stop;
             }
-            continue;
         }
-        let (l, r) = b.halves();
-        let um = 0.5 * (u0 + u1);
-        stack.push((r, um, u1, depth + 1));
-        stack.push((l, u0, um, depth + 1));
-    }
-    None
+        Step::Halve
+    });
+    found
 }
 
 /// The nearest point of the curve to `point`, when nearer than `below`: its distance
@@ -233,12 +257,11 @@ pub(super) fn nearest(
     precision: f64,
 ) -> Option<(f64, f64)> {
     let mut best: Option<(f64, f64)> = None;
-    let mut stack = vec![(*bez, 0.0, 1.0, 0)];
-    while let Some((b, u0, u1, depth)) = stack.pop() {
+    walk(bez, |b, (u0, u1), _| {
         let bar = best.map_or(below, |(d, _)| d);
         let lower = b.box_distance(point);
         if lower >= bar {
-            continue;
+            return Step::Skip;
         }
         let dim = b.dim;
         let (d, at) = [
@@ -251,14 +274,12 @@ pub(super) fn nearest(
         if d < bar {
             best = Some((d, u0 + at * (u1 - u0)));
         }
-        if d - lower <= precision || depth >= DEPTH {
-            continue;
+        if d - lower <= precision {
+            Step::Skip
+        } else {
+            Step::Halve
         }
-        let (l, r) = b.halves();
-        let um = 0.5 * (u0 + u1);
-        stack.push((r, um, u1, depth + 1));
-        stack.push((l, u0, um, depth + 1));
-    }
+    });
     best
 }
 

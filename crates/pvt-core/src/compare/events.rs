@@ -145,8 +145,8 @@ pub(super) fn triggers(
             names: [x, y].map(|t| t.map(|_| "trigger".to_string())),
             times: ts,
             lines: [
-                x.map_or(0, |t| tracks[0].line_at(t)),
-                y.map_or(0, |t| tracks[1].line_at(t)),
+                x.map_or(0, |t| tracks[0].line_to(t)),
+                y.map_or(0, |t| tracks[1].line_to(t)),
             ],
         })
     });

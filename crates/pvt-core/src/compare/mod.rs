@@ -223,25 +223,33 @@ pub fn compare(a: Side<'_>, b: Side<'_>, options: &CompareOptions) -> Comparison
     comparison
 }
 
+/// A finding of the matching from the first program to the second, as a spot.
+fn forth(m: &along::Meet, value: f64) -> Spot {
+    Spot {
+        value,
+        time: m.at[0],
+        lines: m.lines,
+    }
+}
+
+/// A finding of the matching from the second program to the first, as a spot on the
+/// first's time line, the first's line first.
+fn back(m: &along::Meet, value: f64) -> Spot {
+    Spot {
+        value,
+        time: m.at[1],
+        lines: [m.lines[1], m.lines[0]],
+    }
+}
+
 /// The largest distance along the path: from the matching where the instants differ,
 /// else the largest difference at the same instant.
-fn path_spot(sweep: &aligned::Aligned, forth: &along::Along, back: &along::Along) -> Spot {
-    if sweep.failing.is_empty() {
-        return sweep.largest;
-    }
-    let (f, b) = (&forth.distance, &back.distance);
-    if f.value >= b.value {
-        Spot {
-            value: f.value,
-            time: f.at[0],
-            lines: f.lines,
-        }
-    } else {
-        Spot {
-            value: b.value,
-            time: b.at[1],
-            lines: [b.lines[1], b.lines[0]],
-        }
+fn path_spot(sweep: &aligned::Aligned, there: &along::Along, home: &along::Along) -> Spot {
+    let (f, b) = (&there.distance, &home.distance);
+    match (sweep.failing.is_empty(), f.value >= b.value) {
+        (true, _) => sweep.largest,
+        (false, true) => forth(f, f.value),
+        (false, false) => back(b, b.value),
     }
 }
 
@@ -249,17 +257,9 @@ fn path_spot(sweep: &aligned::Aligned, forth: &along::Along, back: &along::Along
 /// first's.
 fn shift_spot(f: &along::Meet, b: &along::Meet) -> Spot {
     if f.value.abs() >= b.value.abs() {
-        Spot {
-            value: f.value,
-            time: f.at[0],
-            lines: f.lines,
-        }
+        forth(f, f.value)
     } else {
-        Spot {
-            value: -b.value,
-            time: b.at[1],
-            lines: [b.lines[1], b.lines[0]],
-        }
+        back(b, -b.value)
     }
 }
 

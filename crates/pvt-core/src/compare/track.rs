@@ -242,8 +242,10 @@ impl<'a> Track<'a> {
         self.running_at(t).0.at(0.0)
     }
 
-    /// The line of the span running at `t` (0 for a program without spans).
-    pub fn line_at(&self, t: f64) -> u32 {
-        self.span_at(t).map_or(0, |i| self.spans[i].line)
+    /// The line of the span running up to `t`: at a knot, the piece that ends there,
+    /// whose line writes the knot (the first span's at the start).
+    pub fn line_to(&self, t: f64) -> u32 {
+        let i = self.spans.partition_point(|s| s.start < t);
+        self.spans.get(i.saturating_sub(1)).map_or(0, |s| s.line)
     }
 }
