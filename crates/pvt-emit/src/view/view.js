@@ -848,7 +848,8 @@
         ctx.strokeStyle = color;
         for (const v of row.q >= 0 ? [lim, -lim] : [lim]) { ctx.beginPath(); ctx.moveTo(margin.left, Y(v)); ctx.lineTo(margin.left + plotW, Y(v)); ctx.stroke(); }
       }
-      for (const s of series) {
+      // The second motion first, under the first's axis colours.
+      for (const s of series.slice().reverse()) {
         ctx.setLineDash(s.dashed ? [4, 3] : []);
         ctx.strokeStyle = s.dashed ? 'rgba(224,112,0,0.9)' : s.color;
         ctx.fillStyle = ctx.strokeStyle;
