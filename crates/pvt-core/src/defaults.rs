@@ -2,7 +2,7 @@
 //!
 //! Owns the numbers used when neither the command line, a machine file nor the program
 //! gives a value: the rapid rate, the tolerances, the DXF join tolerance and point limit,
-//! the servo period `check` samples at. Front ends, the planners and the CLI refer to
+//! the servo period `check` samples at, the tolerances `diff` compares within. Front ends, the planners and the CLI refer to
 //! these constants and never write the numbers again (`tests/tidy.rs` checks the rapid
 //! rate). Beside the constants it holds the resolutions that depend on a program's units
 //! ([`rapid_per_minute`], [`tolerance`]), one function each, which the front ends and
@@ -32,6 +32,15 @@ pub const DXF_MAX_POINTS: usize = 2_000_000;
 
 /// Servo period `check` samples at, seconds (seed 001's XMP: 500 µs).
 pub const SERVO_PERIOD_S: f64 = 0.0005;
+
+/// `diff`: farthest apart two motions' positions may be, millimetres (1 µm).
+pub const DIFF_TOLERANCE_MM: f64 = 0.001;
+
+/// `diff`: largest time shift and difference of total times, seconds (1 ms).
+pub const DIFF_TIME_TOLERANCE_S: f64 = 0.001;
+
+/// `diff`: largest relative difference of an axis' peak (1 %).
+pub const DIFF_PEAK_TOLERANCE: f64 = 0.01;
 
 /// The rapid rate of a program in `units`, per minute: `given` when it is a positive,
 /// finite rate, else [`RAPID_MM_PER_MIN`] converted. The front ends plan rapids with it

@@ -5,7 +5,8 @@
 //! arc discretization by chord tolerance ([`discretize`]), the planners ([`plan`]) and the
 //! cubic Hermite evaluation a controller performs ([`hermite`]), long pieces cut along
 //! their own cubic for controllers with a largest piece time ([`split`]) and the check of
-//! a planned program against limits and its source ([`check`]), the machine model
+//! a planned program against limits and its source ([`check`]), the comparison of two
+//! programs as motion ([`compare`]), the machine model
 //! both use ([`limits`]), line/column
 //! positions in source text ([`text`]), the one walk of a toolpath or program
 //! ([`traverse`]) and every default value ([`defaults`]).
@@ -20,6 +21,7 @@
 pub mod axis;
 pub mod bezier;
 pub mod check;
+pub mod compare;
 pub mod compensate;
 pub mod defaults;
 pub mod discretize;

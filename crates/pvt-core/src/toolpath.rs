@@ -290,6 +290,33 @@ impl CodeWords {
 }
 
 impl EventKind {
+    /// The event of a kind that carries no value (the pauses, the spindle's and the
+    /// coolant's states, the tool change) by its [`EventKind::name`]; `None` for any other
+    /// name.
+    pub fn without_value(name: &str) -> Option<EventKind> {
+        use CoolantState::{Flood, Mist};
+        use SpindleState::{Clockwise, CounterClockwise};
+        [
+            EventKind::Pause { optional: false },
+            EventKind::Pause { optional: true },
+            EventKind::Spindle { state: Clockwise },
+            EventKind::Spindle {
+                state: CounterClockwise,
+            },
+            EventKind::Spindle {
+                state: SpindleState::Off,
+            },
+            EventKind::Coolant { state: Mist },
+            EventKind::Coolant { state: Flood },
+            EventKind::Coolant {
+                state: CoolantState::Off,
+            },
+            EventKind::ToolChange,
+        ]
+        .into_iter()
+        .find(|k| k.name() == name)
+    }
+
     /// The name used in every output (`dwell`, `spindle_cw`, `coolant_off`, …).
     pub fn name(&self) -> &'static str {
         match self {

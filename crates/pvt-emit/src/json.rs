@@ -40,8 +40,8 @@ use crate::gather::{Gathered, TextOut};
 use crate::number::push_exact;
 use crate::writer::{Header, ProgramWriter, Totals};
 use pvt_core::{
-    Axis, CodeWords, CoolantState, EventKind, Interpolation, Motion, ProgramEvent, PvtContour,
-    PvtProgram, SegmentRef, SpindleState, Units,
+    Axis, CodeWords, EventKind, Interpolation, Motion, ProgramEvent, PvtContour, PvtProgram,
+    SegmentRef, Units,
 };
 use serde::Deserialize;
 use std::io::{self, Write};
@@ -312,6 +312,13 @@ struct Document {
     contours: Vec<ContourDocument>,
     #[serde(default)]
     events: Vec<EventDocument>,
+    #[serde(default)]
+    triggers: Vec<TriggerDocument>,
+}
+
+#[derive(Deserialize)]
+struct TriggerDocument {
+    t: f64,
 }
 
 #[derive(Deserialize)]
@@ -335,26 +342,7 @@ impl EventDocument {
     /// The event this object spells, as [`EventKind::name`] names it (the one place the
     /// names are spelled); `None` when the name is unknown or a value it needs is missing.
     fn kind(&self) -> Option<EventKind> {
-        use CoolantState::{Flood, Mist};
-        use SpindleState::{Clockwise, CounterClockwise};
-        let without_value = [
-            EventKind::Pause { optional: false },
-            EventKind::Pause { optional: true },
-            EventKind::Spindle { state: Clockwise },
-            EventKind::Spindle {
-                state: CounterClockwise,
-            },
-            EventKind::Spindle {
-                state: SpindleState::Off,
-            },
-            EventKind::Coolant { state: Mist },
-            EventKind::Coolant { state: Flood },
-            EventKind::Coolant {
-                state: CoolantState::Off,
-            },
-            EventKind::ToolChange,
-        ];
-        if let Some(kind) = without_value.into_iter().find(|k| k.name() == self.event) {
+        if let Some(kind) = EventKind::without_value(&self.event) {
             return Some(kind);
         }
         let words = CodeWords {
@@ -401,7 +389,39 @@ struct SegmentDocument {
 
 /// Reads a pvtc JSON program document (version 1).
 pub fn read(text: &str) -> Result<PvtProgram, ReadError> {
+    read_with_triggers(text).map(|(program, _)| program)
+}
+
+/// Reads a pvtc JSON program document (version 1) with its triggers, each as the number
+/// of pieces before it (the pieces are cut at every trigger, so each fires at a piece's
+/// end: the one whose end is its time).
+pub fn read_with_triggers(text: &str) -> Result<(PvtProgram, Vec<usize>), ReadError> {
     let doc: Document = serde_json::from_str(text)?;
+    let times: Vec<f64> = doc.triggers.iter().map(|t| t.t).collect();
+    let program = program_of(doc)?;
+    let mut ends = program
+        .contours
+        .iter()
+        .flat_map(|c| c.durations.iter())
+        .scan(0.0, |clock, t| {
+            *clock += t;
+            Some(*clock)
+        })
+        .enumerate()
+        .peekable();
+    let mut triggers = Vec::with_capacity(times.len());
+    let mut before = 0;
+    for t in times {
+        while let Some((i, _)) = ends.next_if(|(_, end)| *end <= t + 1e-9 * t.abs().max(1.0)) {
+            before = i + 1;
+        }
+        triggers.push(before);
+    }
+    Ok((program, triggers))
+}
+
+/// The program a document holds.
+fn program_of(doc: Document) -> Result<PvtProgram, ReadError> {
     let bad = |what: String| ReadError::Content(what);
     if doc.format != FORMAT || doc.version != VERSION {
         return Err(bad(format!(

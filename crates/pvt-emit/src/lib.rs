@@ -4,6 +4,7 @@
 //! as C source ([`movepvt`]), the versioned pvtc JSON document ([`json`]), the Newport
 //! XPS trajectory file ([`xps`]), Galil PV commands ([`galil`]), Zaber ASCII PVT commands
 //! ([`zaber`]), Power PMAC PVT program text ([`powerpmac`]) and a CSV table ([`table`]),
+//! the plots ([`plot`]: SVG, PNG; [`view`]: an interactive HTML page),
 //! each controller's rules in one table ([`Format::caps`], checked by [`rules`]), trigger
 //! events along the motion ([`triggers`]), the readers of what they emit for `pvtc
 //! check` ([`readback`]), and the
@@ -31,6 +32,7 @@ pub mod table;
 pub mod toolpath;
 pub mod triggers;
 pub mod validate;
+pub mod view;
 pub mod writer;
 pub mod xps;
 pub mod zaber;

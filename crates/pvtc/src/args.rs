@@ -6,7 +6,7 @@
 //! [`PipelineArgs::read_files`]). It must not apply a default (`settings` does) or
 //! compile anything.
 
-use crate::options::{Asked, CompileOptions, Failure, InputKind, VelocitySource};
+use crate::options::{Asked, CompileOptions, Distance, Failure, InputKind, VelocitySource};
 use clap::{Parser, Subcommand, ValueEnum};
 use pvt_core::{AxisLimits, Planner, Rounding, Units};
 use pvt_emit::Format;
@@ -30,8 +30,12 @@ pub enum Command {
     /// Report what a program's motion will do: peaks, servo-sampled values, path error,
     /// speed against feed; exit 1 when a given limit is exceeded.
     Check(CheckArgs),
-    /// Plot a program's path, speed, velocities and accelerations as SVG or PNG.
+    /// Plot a program's path, speed, velocities and accelerations as SVG, PNG or an
+    /// interactive HTML page.
     Plot(PlotArgs),
+    /// Compare two programs as motion (any formats, or sources): exit 0 when they are
+    /// the same within the tolerances, 1 when not.
+    Diff(DiffArgs),
     /// Print a shell completion script (bash, zsh, fish, elvish or powershell) on standard
     /// output, e.g. `pvtc completions bash > ~/.local/share/bash-completion/completions/pvtc`.
     Completions {
@@ -674,6 +678,42 @@ pub struct PlotArgs {
     pub pipeline: PipelineArgs,
 }
 
+/// Arguments of `pvtc diff`.
+#[derive(Debug, clap::Args)]
+#[command(mut_arg("tolerance", |a| a.long("path-tolerance")))]
+pub struct DiffArgs {
+    /// The first program: any format pvtc writes (.pmac, .pmc, .c, .trj, .dmc, .zaber,
+    /// .json, a .csv table), or a source compiled with the options below.
+    #[arg(value_name = "A")]
+    pub first: PathBuf,
+    /// The second program, likewise.
+    #[arg(value_name = "B")]
+    pub second: PathBuf,
+    /// Farthest apart the positions may be: a length (1um, 0.01mm, 0.0001in) or counts
+    /// (2counts, at --counts-per-unit) [default: 1um].
+    #[arg(long = "tolerance", value_name = "LENGTH", value_parser = distance)]
+    pub position_tolerance: Option<Distance>,
+    /// Largest time shift and difference of total times, e.g. 1ms [default: 1ms].
+    #[arg(long = "time-tolerance", value_name = "T", value_parser = duration)]
+    pub time_tolerance: Option<f64>,
+    /// Largest relative difference of each axis' velocity, acceleration and jerk peak,
+    /// e.g. 1% [default: 1%].
+    #[arg(long = "peak-tolerance", value_name = "P%", value_parser = share)]
+    pub peak_tolerance: Option<f64>,
+    /// The format a source is compiled to [default: the other program's, else json].
+    #[arg(long, value_enum)]
+    pub format: Option<FormatArg>,
+    /// Print one JSON object instead of the summary.
+    #[arg(long)]
+    pub json: bool,
+    /// Also write an interactive HTML page of both motions and their difference.
+    #[arg(short, long, value_name = "FILE.html")]
+    pub output: Option<PathBuf>,
+    /// How to read and plan a source (its path tolerance is --path-tolerance here).
+    #[command(flatten)]
+    pub pipeline: PipelineArgs,
+}
+
 fn planner(text: &str) -> Result<Planner, String> {
     text.parse::<Planner>().map_err(|e| e.to_string())
 }
@@ -690,15 +730,48 @@ fn quantum(text: &str) -> Result<Quantum, String> {
     }
 }
 
-/// `--trigger-every`'s value: a length in `mm` or `in` (kept in millimetres) or a
-/// [`duration`].
+/// A length with its unit, `mm`, `um` (`µm`) or `in`, in millimetres; `None` without
+/// one of them.
+fn length(text: &str) -> Option<Result<f64, String>> {
+    let t = text.trim();
+    let (number, scale) = if let Some(n) = t.strip_suffix("mm") {
+        (n, 1.0)
+    } else if let Some(n) = t.strip_suffix("um").or_else(|| t.strip_suffix("µm")) {
+        (n, 1e-3)
+    } else {
+        (t.strip_suffix("in")?, 25.4)
+    };
+    Some(positive_number(number).map(|x| x * scale))
+}
+
+/// `--tolerance` of `diff`: a [`length`] or a number of counts (`2counts`).
+fn distance(text: &str) -> Result<Distance, String> {
+    let t = text.trim();
+    if let Some(n) = t.strip_suffix("counts").or_else(|| t.strip_suffix("count")) {
+        return positive_number(n).map(Distance::Counts);
+    }
+    match length(t) {
+        Some(mm) => mm.map(Distance::Millimetres),
+        None => Err(format!(
+            "pvtc::usage: a tolerance needs a unit: a length (1um, 0.01mm, 0.0001in) or counts (2counts), not {t:?}"
+        )),
+    }
+}
+
+/// A share: a percentage (`1%`) or a fraction (`0.01`).
+fn share(text: &str) -> Result<f64, String> {
+    let t = text.trim();
+    match t.strip_suffix('%') {
+        Some(n) => positive_number(n).map(|x| x / 100.0),
+        None => positive_number(t),
+    }
+}
+
+/// `--trigger-every`'s value: a [`length`] (kept in millimetres) or a [`duration`].
 fn trigger_every(text: &str) -> Result<pvt_emit::TriggerEvery, String> {
     let t = text.trim();
-    if let Some(n) = t.strip_suffix("mm") {
-        return Ok(pvt_emit::TriggerEvery::Distance(positive_number(n)?));
-    }
-    if let Some(n) = t.strip_suffix("in") {
-        return Ok(pvt_emit::TriggerEvery::Distance(positive_number(n)? * 25.4));
+    if let Some(mm) = length(t) {
+        return mm.map(pvt_emit::TriggerEvery::Distance);
     }
     match duration(t) {
         Ok(s) => Ok(pvt_emit::TriggerEvery::Seconds(s)),
@@ -889,6 +962,23 @@ mod tests {
         assert!(
             args.compile_options("a.ngc").is_err(),
             "read again: missing"
+        );
+    }
+
+    #[test]
+    fn tolerances_need_units() {
+        assert_eq!(distance("1um"), Ok(Distance::Millimetres(0.001)));
+        assert_eq!(distance("0.5 mm"), Ok(Distance::Millimetres(0.5)));
+        assert_eq!(distance("0.001in"), Ok(Distance::Millimetres(0.0254)));
+        assert_eq!(distance("2counts"), Ok(Distance::Counts(2.0)));
+        assert!(distance("1").unwrap_err().contains("needs a unit"));
+        assert!(distance("-1um").is_err() && distance("0mm").is_err());
+        assert_eq!(share("1%"), Ok(0.01));
+        assert_eq!(share("0.02"), Ok(0.02));
+        assert!(share("0%").is_err());
+        assert_eq!(
+            trigger_every("5mm"),
+            Ok(pvt_emit::TriggerEvery::Distance(5.0))
         );
     }
 

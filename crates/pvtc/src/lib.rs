@@ -6,7 +6,7 @@
 //! [`route`] (the one compile path, every input kind into the same planning sink;
 //! [`pipeline`] runs a streamed G-code compile's front end on a thread of its own);
 //! [`output`] (atomic writes) and [`report`] (the only writer of standard error);
-//! [`args`] (clap); [`commands`] (compile, batch, toolpath, check, plot, manual);
+//! [`args`] (clap); [`commands`] (compile, batch, toolpath, check, plot, diff, manual);
 //! [`embed`] (the same route for a program that embeds pvtc: pieces kept as arrays).
 //! Architecture invariant: no geometry, planning or formatting happens here; a failed run
 //! never creates or changes an output file. This root holds `mod` lines, the public
@@ -55,6 +55,10 @@ pub fn run(cli: Cli) -> ExitCode {
         },
         Command::Plot(mut args) => match args.pipeline.read_files() {
             Ok(()) => commands::plot::run(&args),
+            Err(failure) => Reporter::new(&args.pipeline).fail(&failure),
+        },
+        Command::Diff(mut args) => match args.pipeline.read_files() {
+            Ok(()) => commands::diff::run(&args),
             Err(failure) => Reporter::new(&args.pipeline).fail(&failure),
         },
         Command::Completions { shell } => commands::manual::completions(shell),

@@ -19,6 +19,16 @@ use std::sync::Arc;
 
 pub use crate::failure::Failure;
 
+/// A distance as given on the command line: a length (kept in millimetres) or a number
+/// of counts (`diff --tolerance`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Distance {
+    /// Millimetres.
+    Millimetres(f64),
+    /// Counts (microsteps) of a format written in counts, at `--counts-per-unit`.
+    Counts(f64),
+}
+
 /// An input, read whole.
 #[derive(Debug, Clone)]
 pub struct Source {

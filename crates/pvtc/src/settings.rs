@@ -12,7 +12,7 @@
 //! else in pvtc. It must not read a format, plan or write.
 
 use crate::machine::Machine;
-use crate::options::{Asked, CompileOptions, DrawingOptions, Failure, InputKind};
+use crate::options::{Asked, CompileOptions, Distance, DrawingOptions, Failure, InputKind};
 use miette::Report;
 use pvt_core::defaults;
 use pvt_core::{
@@ -194,6 +194,46 @@ pub fn check_options(
             .unwrap_or(defaults::SERVO_PERIOD_S),
         limits,
     })
+}
+
+/// The tolerances `diff` compares within.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DiffTolerances {
+    /// Farthest apart the positions may be, in the first program's units or in counts.
+    pub position: f64,
+    /// Whether `position` is in counts.
+    pub in_counts: bool,
+    /// Largest time shift and difference of total times, seconds.
+    pub time: f64,
+    /// Largest relative difference of a peak.
+    pub peak: f64,
+}
+
+/// The tolerances `diff` compares within, each the one given (a length converted into
+/// `units`) else pvt-core's default.
+pub fn diff_tolerances(
+    given: (Option<Distance>, Option<f64>, Option<f64>),
+    units: Units,
+) -> DiffTolerances {
+    let (position, in_counts) = match given.0 {
+        Some(Distance::Millimetres(mm)) => (units.from_mm(mm), false),
+        Some(Distance::Counts(counts)) => (counts, true),
+        None => (units.from_mm(defaults::DIFF_TOLERANCE_MM), false),
+    };
+    DiffTolerances {
+        position,
+        in_counts,
+        time: given.1.unwrap_or(defaults::DIFF_TIME_TOLERANCE_S),
+        peak: given.2.unwrap_or(defaults::DIFF_PEAK_TOLERANCE),
+    }
+}
+
+/// The servo period of a program's peaks where no limits are checked (`diff`): the
+/// machine file's, else pvt-core's default.
+pub fn servo_period(machine: Option<&Machine>) -> f64 {
+    machine
+        .and_then(|m| m.servo_period)
+        .unwrap_or(defaults::SERVO_PERIOD_S)
 }
 
 /// The most points a drawing may hold: `--max-points`, else pvt-core's default.

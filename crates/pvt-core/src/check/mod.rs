@@ -213,6 +213,18 @@ pub fn check_program(
     }
 }
 
+/// The closed-form peaks of every axis of `program`, in program order: velocity,
+/// acceleration, jerk and the acceleration step over `servo_period`, as
+/// [`check_program`] finds them (without servo sampling or limits): what `pvtc diff`
+/// compares.
+pub fn closed_form_peaks(program: &PvtProgram, servo_period: f64) -> Vec<[Peak; 4]> {
+    let options = CheckOptions {
+        servo_period,
+        limits: BTreeMap::new(),
+    };
+    closed_form(&Timeline::new(program), servo_period, &options).0
+}
+
 /// Relative amount by which a peak may exceed its limit and still pass: the rounding
 /// of the arithmetic that computes it, nothing more.
 pub const LIMIT_ROUNDING: f64 = 1e-9;

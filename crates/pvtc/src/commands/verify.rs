@@ -196,7 +196,7 @@ fn without_geometry(program: PvtProgram, options: CompileOptions) -> (Loaded, Ve
 
 /// What an emitted text does not say: `--units` (default mm) and counts per unit, from
 /// `--counts-per-unit` over the machine file's.
-fn read_hint(options: &CompileOptions) -> pvt_emit::readback::ReadHint {
+pub fn read_hint(options: &CompileOptions) -> pvt_emit::readback::ReadHint {
     let units = crate::settings::readback_units(options);
     let mut counts: std::collections::BTreeMap<_, _> = options
         .machine

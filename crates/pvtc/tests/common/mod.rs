@@ -6,6 +6,8 @@
 //! [`Output`] itself).
 #![allow(dead_code)] // each test binary uses its own part
 
+pub mod chromium;
+
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
