@@ -38,7 +38,7 @@ fn units_option_converts_the_output() {
         units: Some(Units::Millimetre),
         ..GcodeOptions::default()
     };
-    let c = compile("G20 G1 X1 F10\n", &options).unwrap();
+    let c = compile("G20\nG1 X1 F10\n", &options).unwrap();
     assert_eq!(c.toolpath.units, Units::Millimetre);
     assert!((elements(&c)[0].end[0] - 25.4).abs() < 1e-12);
     assert!((elements(&c)[0].feed - 254.0 / 60.0).abs() < 1e-12);

@@ -58,13 +58,18 @@ fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
-/// One motion the two interpreters agree on, in machine coordinates, millimetres.
+/// One motion or timing-relevant event the two interpreters agree on, in machine
+/// coordinates, millimetres.
 #[derive(Debug, Clone, PartialEq)]
 enum Move {
     Straight {
         rapid: bool,
         end: [f64; 6],
+        /// Millimetres per minute, as LinuxCNC's canonical layer converts the feed (in
+        /// the units in force when it is set); a synchronised move's pitch × S.
         feed: f64,
+        /// The path control mode the move runs in.
+        control: Control,
         /// Millimetres per unit of the program at this move (0 where unknown).
         unit: f64,
         /// How far the XY rotation spreads rs274's rounding of X and Y onto one axis:
@@ -78,6 +83,7 @@ enum Move {
         /// Signed as rs274 prints it: +n counter-clockwise, −n clockwise, n − 1 extra turns.
         rotation: i64,
         feed: f64,
+        control: Control,
         /// Millimetres per unit of the program at this move (0 where unknown).
         unit: f64,
         /// How far the XY rotation spreads rs274's rounding of X and Y onto one axis:
@@ -85,6 +91,32 @@ enum Move {
         spread: f64,
     },
     Dwell(f64),
+    /// M3 (`cw`), M4 (`ccw`), M5 (`off`).
+    Spindle(&'static str),
+    /// S, rpm.
+    Speed(f64),
+    /// M7 (`mist`), M8 (`flood`), M9 (`off`).
+    Coolant(&'static str),
+}
+
+/// The path control mode a move runs in: G61 (`exact_path`), G61.1 (`exact_stop`),
+/// G64 (`continuous`) with P and Q, millimetres.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Control {
+    mode: &'static str,
+    p: f64,
+    q: f64,
+}
+
+impl Default for Control {
+    /// G64 without P or Q, as both start.
+    fn default() -> Self {
+        Control {
+            mode: "continuous",
+            p: 0.0,
+            q: 0.0,
+        }
+    }
 }
 
 /// Where rs274 is, or why the tests cannot run.
@@ -237,6 +269,7 @@ fn the_comparison_sees_a_moved_end_point_a_turn_and_a_feed() {
         rapid: false,
         end: [1.0, 2.0, 0.0, 0.0, 0.0, 0.0],
         feed: 100.0,
+        control: Control::default(),
         unit: 1.0,
         spread: 1.0,
     };
@@ -262,6 +295,7 @@ fn the_comparison_sees_a_moved_end_point_a_turn_and_a_feed() {
         center: [1.0, 0.0],
         rotation,
         feed: 1.0,
+        control: Control::default(),
         unit: 1.0,
         spread: 1.0,
     };
@@ -274,6 +308,7 @@ fn the_comparison_sees_a_moved_end_point_a_turn_and_a_feed() {
             rapid: false,
             end: [end[0] + by, end[1], end[2], 0.0, 0.0, 0.0],
             feed: *feed,
+            control: Control::default(),
             unit,
             spread: 1.0,
         },
@@ -305,6 +340,7 @@ fn canonical_calls_become_machine_moves() {
             rapid: false,
             end: [50.8, 0.0, 0.0, 0.0, 0.0, 0.0],
             feed: 254.0,
+            control: Control::default(),
             unit: 25.4,
             spread: 1.0,
         },
@@ -314,6 +350,7 @@ fn canonical_calls_become_machine_moves() {
             center: [12.7, 76.2],
             rotation: -2,
             feed: 254.0,
+            control: Control::default(),
             unit: 25.4,
             spread: 1.0,
         },
@@ -345,6 +382,7 @@ fn a_rotation_spreads_the_rounding_onto_one_axis() {
         center: [-6.368968635336675, -67.95635466191612],
         rotation: 1,
         feed: 500.0,
+        control: Control::default(),
         unit: 0.0,
         spread: 0.0,
     };

@@ -22,6 +22,8 @@ use crate::request::Request;
 pub(crate) struct CutterState {
     /// G41/G42 (or G41.1/G42.1) is in effect, even with a zero radius.
     on: bool,
+    /// The side it was turned on to (as written: a negative radius does not turn it).
+    side: Option<Side>,
     /// The compensation itself, while on with a radius above zero.
     active: Option<Compensation>,
     /// After G40: where the tool's centre stands, the start of the exit move.
@@ -44,8 +46,24 @@ impl Interpreter<'_> {
         }
     }
 
+    /// True while G41/G42 is in effect.
+    pub(super) fn cutter_on(&self) -> bool {
+        self.cutter.on
+    }
+
+    /// The code of the compensation in effect, in tenths (G40 400, G41 410, G42 420), as
+    /// M70 records it.
+    pub(super) fn compensation_code(&self) -> u32 {
+        match self.cutter.side.filter(|_| self.cutter.on) {
+            None => 400,
+            Some(Side::Left) => 410,
+            Some(Side::Right) => 420,
+        }
+    }
+
     fn compensation_off(&mut self, word: Word) {
         self.cutter.on = false;
+        self.cutter.side = None;
         let Some(compensation) = self.cutter.active.take() else {
             return;
         };
@@ -74,6 +92,7 @@ impl Interpreter<'_> {
             return;
         };
         self.cutter.on = true;
+        self.cutter.side = Some(side);
         let side = if radius < 0.0 { side.opposite() } else { side };
         if radius != 0.0 {
             let at = self.position;

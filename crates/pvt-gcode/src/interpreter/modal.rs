@@ -278,8 +278,8 @@ impl Interpreter<'_> {
                 words.push(code(b'G', *was));
             }
         }
-        let tolerances_differ =
-            now.tolerance != saved.tolerance || now.naive_cam_tolerance != saved.naive_cam_tolerance;
+        let tolerances_differ = now.tolerance != saved.tolerance
+            || now.naive_cam_tolerance != saved.naive_cam_tolerance;
         match saved.control {
             640 if now.control != 640 || tolerances_differ => {
                 words.push(code(b'G', 640));

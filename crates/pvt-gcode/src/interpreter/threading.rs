@@ -68,9 +68,19 @@ impl Interpreter<'_> {
         }
     }
 
+    /// True when spindle-synchronised motion is refused: its moves are not made (the
+    /// position taken), and nothing more is reported about them.
+    pub(super) fn spindle_sync_refused(&self) -> bool {
+        self.options.spindle_sync == SpindleSync::Refuse
+    }
+
     /// The feed of a move at `pitch` (program units per revolution) at the programmed S,
-    /// output units per second; `None` after reporting why there is none.
+    /// output units per second; `None` after reporting why there is none, or when
+    /// synchronised motion is refused.
     fn synced_rate(&mut self, pitch: f64, code: &str, at: std::ops::Range<usize>) -> Option<f64> {
+        if self.spindle_sync_refused() {
+            return None;
+        }
         let why = match self.modal.spindle {
             SpindleState::Off => Some("the spindle is not turning (M3 or M4 first)"),
             _ if self.modal.surface_speed => Some("S is a surface speed under G96 (G97 first)"),
@@ -92,16 +102,17 @@ impl Interpreter<'_> {
     /// G33: a straight move at K per revolution.
     pub(super) fn thread_move(&mut self, request: &Request, block: &Block) {
         let at = super::motion::move_span(request, block);
-        let Some(k) = request.offsets[2] else {
+        self.spindle_sync("G33", at.clone());
+        let k = request.offsets[2].map_or(0.0, |k| k.value);
+        if request.offsets[2].is_none() && !self.spindle_sync_refused() {
             let word = request.motion.map_or(at.clone(), |(_, w)| w.span());
             return self.push(super::missing_at("G33", word, "a K word (the pitch)"));
-        };
-        self.spindle_sync("G33", at.clone());
+        }
         let end = match self.target(request) {
             Ok(end) => end,
             Err(diagnostic) => return self.push(diagnostic),
         };
-        let rate = self.synced_rate(k.value, "G33", at);
+        let rate = self.synced_rate(k, "G33", at);
         self.synced_line(end, rate, block);
     }
 
@@ -109,18 +120,19 @@ impl Interpreter<'_> {
     /// times I (at least 1), at rest at the bottom (the spindle reverses).
     pub(super) fn rigid_tap(&mut self, request: &Request, block: &Block) {
         let at = super::motion::move_span(request, block);
-        let Some(k) = request.offsets[2] else {
+        self.spindle_sync("G33.1", at.clone());
+        let k = request.offsets[2].map_or(0.0, |k| k.value);
+        if request.offsets[2].is_none() && !self.spindle_sync_refused() {
             let word = request.motion.map_or(at.clone(), |(_, w)| w.span());
             return self.push(super::missing_at("G33.1", word, "a K word (the pitch)"));
-        };
-        self.spindle_sync("G33.1", at.clone());
+        }
         let end = match self.target(request) {
             Ok(end) => end,
             Err(diagnostic) => return self.push(diagnostic),
         };
         let start = self.machine_position();
         let out = request.offsets[0].map_or(1.0, |i| i.value.max(1.0));
-        let rate = self.synced_rate(k.value, "G33.1", at);
+        let rate = self.synced_rate(k, "G33.1", at);
         self.synced_line(end, rate, block);
         self.synced_line(start, rate.map(|r| r * out), block);
     }
@@ -140,11 +152,18 @@ impl Interpreter<'_> {
 
     /// G76: LinuxCNC's threading cycle from here to the block's X and Z.
     pub(super) fn thread_cycle(&mut self, request: &Request, block: &Block) {
-        let at = cover(request.motion.iter().map(|(_, w)| w).chain(request.axis_words()))
-            .unwrap_or_else(|| block.span());
+        let at = cover(
+            request
+                .motion
+                .iter()
+                .map(|(_, w)| w)
+                .chain(request.axis_words()),
+        )
+        .unwrap_or_else(|| block.span());
         self.spindle_sync("G76", at.clone());
         let cycle = match self.thread_cycle_plan(request) {
             Ok(cycle) => cycle,
+            Err(_) if self.spindle_sync_refused() => return,
             Err(detail) => {
                 return self.push(GcodeDiagnostic::Cycle {
                     code: "G76",
@@ -154,6 +173,9 @@ impl Interpreter<'_> {
             }
         };
         let Some(rate) = self.synced_rate(cycle.pitch, "G76", at.clone()) else {
+            if let Ok(end) = self.target(request) {
+                self.position = end;
+            }
             return;
         };
         let taper_pitch = match cycle.taper {
@@ -217,8 +239,9 @@ impl Interpreter<'_> {
             Err(_) => return Err("the end point is out of range".into()),
         };
         let away = if end[1] > start[1] { -1.0 } else { 1.0 };
+        // Q-1 (LinuxCNC's mark of no angle) is 0.
         let angle = match value(request.q).unwrap_or(0.0) {
-            q if q == -1.0 => 0.0,
+            -1.0 => 0.0,
             q => q,
         };
         let taper = value(request.e).unwrap_or(0.0).max(0.0);

@@ -13,12 +13,17 @@ pub(crate) fn same(ours: &Move, theirs: &Move) -> bool {
     match (ours, theirs) {
         (
             Move::Straight {
-                rapid, end, feed, ..
+                rapid,
+                end,
+                feed,
+                control,
+                ..
             },
             Move::Straight {
                 rapid: r,
                 end: e,
                 feed: f,
+                control: c,
                 unit,
                 spread,
             },
@@ -26,6 +31,7 @@ pub(crate) fn same(ours: &Move, theirs: &Move) -> bool {
             rapid == r
                 && close(end, e, unit * spread.max(1.0))
                 && (*rapid || close(&[*feed], &[*f], *unit))
+                && same_control(control, c, *unit)
         }
         (
             Move::Arc {
@@ -34,6 +40,7 @@ pub(crate) fn same(ours: &Move, theirs: &Move) -> bool {
                 center,
                 rotation,
                 feed,
+                control,
                 ..
             },
             Move::Arc {
@@ -42,6 +49,7 @@ pub(crate) fn same(ours: &Move, theirs: &Move) -> bool {
                 center: c,
                 rotation: r,
                 feed: f,
+                control: k,
                 unit,
                 spread,
             },
@@ -51,10 +59,21 @@ pub(crate) fn same(ours: &Move, theirs: &Move) -> bool {
                 && close(end, e, unit * spread.max(1.0))
                 && close(center, c, unit * spread.max(1.0))
                 && close(&[*feed], &[*f], *unit)
+                && same_control(control, k, *unit)
         }
         (Move::Dwell(a), Move::Dwell(b)) => (a - b).abs() <= 1e-6,
+        (Move::Speed(a), Move::Speed(b)) => (a - b).abs() <= TOLERANCE,
+        (Move::Spindle(a), Move::Spindle(b)) | (Move::Coolant(a), Move::Coolant(b)) => a == b,
         _ => false,
     }
+}
+
+/// Whether two path control modes agree: the mode, and under G64 P and Q within
+/// [`TOLERANCE`] of `unit` millimetres.
+fn same_control(ours: &Control, theirs: &Control, unit: f64) -> bool {
+    let tolerances = [[ours.p, ours.q], [theirs.p, theirs.q]];
+    ours.mode == theirs.mode
+        && (ours.mode != "continuous" || close(&tolerances[0], &tolerances[1], unit))
 }
 
 /// The first difference between the two readings, described, or `None`.
@@ -69,7 +88,7 @@ pub(crate) fn difference(ours: &[Move], theirs: &[Move]) -> Option<String> {
     let mut at: Option<[f64; 6]> = None;
     let end = |m: &Move| match m {
         Move::Straight { end, .. } | Move::Arc { end, .. } => Some(*end),
-        Move::Dwell(_) => None,
+        _ => None,
     };
     while i < ours.len() {
         let theirs_next = theirs.get(j).or(theirs.last());

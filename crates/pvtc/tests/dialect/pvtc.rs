@@ -49,6 +49,7 @@ pub(crate) fn toolpath_moves(text: &str) -> Vec<Move> {
     };
     let mut moves = Vec::new();
     let mut last_line = None;
+    let mut control = Control::default();
     for line in &lines {
         let feed = line["feed"].as_f64().unwrap_or(0.0) * mm;
         match line["kind"].as_str() {
@@ -56,6 +57,7 @@ pub(crate) fn toolpath_moves(text: &str) -> Vec<Move> {
                 rapid: line["motion"] == "rapid",
                 end: position(&line["end"]),
                 feed,
+                control,
                 unit: 0.0,
                 spread: 0.0,
             }),
@@ -78,6 +80,7 @@ pub(crate) fn toolpath_moves(text: &str) -> Vec<Move> {
                         turns
                     },
                     feed,
+                    control,
                     unit: 0.0,
                     spread: 0.0,
                 };
@@ -91,14 +94,38 @@ pub(crate) fn toolpath_moves(text: &str) -> Vec<Move> {
                     _ => moves.push(arc),
                 }
             }
-            Some("event") if line["event"] == "dwell" => {
-                moves.push(Move::Dwell(line["seconds"].as_f64().expect("seconds")))
+            Some("event") => moves.extend(event(line)),
+            Some("path_control") => {
+                control = Control {
+                    mode: match line["control"].as_str() {
+                        Some("exact_path") => "exact_path",
+                        Some("exact_stop") => "exact_stop",
+                        _ => "continuous",
+                    },
+                    p: line["tolerance"].as_f64().unwrap_or(0.0) * mm,
+                    q: line["naive_cam_tolerance"].as_f64().unwrap_or(0.0) * mm,
+                }
             }
             _ => {}
         }
         last_line = (line["kind"] == "arc").then_some(&line["line"]);
     }
     moves
+}
+
+/// A timing-relevant `event` line as a move: a dwell, the spindle, its speed, coolant.
+fn event(line: &serde_json::Value) -> Option<Move> {
+    Some(match line["event"].as_str()? {
+        "dwell" => Move::Dwell(line["seconds"].as_f64().expect("seconds")),
+        "spindle_cw" => Move::Spindle("cw"),
+        "spindle_ccw" => Move::Spindle("ccw"),
+        "spindle_off" => Move::Spindle("off"),
+        "spindle_speed" => Move::Speed(line["rpm"].as_f64().expect("rpm")),
+        "coolant_mist" => Move::Coolant("mist"),
+        "coolant_flood" => Move::Coolant("flood"),
+        "coolant_off" => Move::Coolant("off"),
+        _ => return None,
+    })
 }
 
 /// Whether `last` is an arc about the centre of the arc `next`.

@@ -129,7 +129,8 @@ pub(crate) fn rs274_once(rs274: &str, program: &Path) -> Result<Result<Rs274Run,
     }))
 }
 
-/// The state of LinuxCNC's canonical layer that turns program into machine coordinates.
+/// The state of LinuxCNC's canonical layer (`emccanon.cc`) that turns program into machine
+/// coordinates and feeds into millimetres per minute.
 #[derive(Default)]
 pub(crate) struct Canon {
     /// Millimetres per program unit (0 before USE_LENGTH_UNITS means 1).
@@ -139,8 +140,19 @@ pub(crate) struct Canon {
     tool: [f64; 6],
     rotation_deg: f64,
     plane: &'static str,
-    /// The feed number, program units per minute.
+    /// The feed, millimetres per minute (per revolution under G95): LinuxCNC converts the
+    /// number of SET_FEED_RATE with the units in force when it is called.
     feed: f64,
+    /// G95: the feed is per revolution.
+    per_revolution: bool,
+    /// The pitch of a synchronised move (START_SPEED_FEED_SYNC), millimetres per turn.
+    pitch: Option<f64>,
+    /// The last SET_SPINDLE_SPEED, rpm.
+    rpm: f64,
+    /// G96 (SET_SPINDLE_MODE with a maximum speed): S is a surface speed, which pvtc
+    /// hands on as no spindle speed.
+    surface_speed: bool,
+    control: Control,
     /// The last machine position, millimetres.
     at: [f64; 6],
     /// Millimetres per unit of the work, G92 and tool offsets when last printed.
@@ -152,10 +164,8 @@ impl Canon {
         self.mm = 1.0;
         self.plane = "XY";
         let mut moves = Vec::new();
-        for line in text.lines() {
-            let Some((name, args)) = call(line) else {
-                continue;
-            };
+        let calls: Vec<(&str, &str)> = text.lines().filter_map(call).collect();
+        for &(name, args) in program_calls(&calls) {
             let numbers = numbers(args);
             match name {
                 "USE_LENGTH_UNITS" => {
@@ -181,28 +191,75 @@ impl Canon {
                         _ => "XY",
                     }
                 }
-                // The number is read in the units in force at each move.
-                "SET_FEED_RATE" => self.feed = numbers[0],
+                "SET_FEED_RATE" => self.feed = numbers[0] * self.mm,
+                "SET_FEED_MODE" => self.per_revolution = numbers.get(1) == Some(&1.0),
+                "START_SPEED_FEED_SYNC" => self.pitch = Some(numbers[0] * self.mm),
+                "STOP_SPEED_FEED_SYNCH" => self.pitch = None,
+                "SET_SPINDLE_MODE" => self.surface_speed = numbers.get(1) > Some(&0.0),
+                "SET_SPINDLE_SPEED" if !self.surface_speed => {
+                    self.rpm = numbers[1];
+                    moves.push(Move::Speed(self.rpm));
+                }
+                "SET_MOTION_CONTROL_MODE" => {
+                    self.control.mode = match args {
+                        a if a.contains("EXACT_PATH") => "exact_path",
+                        a if a.contains("EXACT_STOP") => "exact_stop",
+                        _ => "continuous",
+                    };
+                    self.control.p = numbers.first().map_or(0.0, |p| p * self.mm);
+                }
+                "SET_NAIVECAM_TOLERANCE" => self.control.q = numbers[0] * self.mm,
                 "DWELL" => moves.push(Move::Dwell(numbers[0])),
+                "START_SPINDLE_CLOCKWISE" => moves.push(Move::Spindle("cw")),
+                "START_SPINDLE_COUNTERCLOCKWISE" => moves.push(Move::Spindle("ccw")),
+                "STOP_SPINDLE_TURNING" => moves.push(Move::Spindle("off")),
+                "MIST_ON" => moves.push(Move::Coolant("mist")),
+                "FLOOD_ON" => moves.push(Move::Coolant("flood")),
+                // M9 prints MIST_OFF then FLOOD_OFF: one coolant off.
+                "MIST_OFF" => moves.push(Move::Coolant("off")),
                 "STRAIGHT_TRAVERSE" | "STRAIGHT_FEED" => {
                     let end = self.machine(&numbers[..6]);
-                    let moved = end.iter().zip(&self.at).any(|(a, b)| (a - b).abs() > 1e-9);
-                    self.at = end;
-                    if moved {
-                        moves.push(Move::Straight {
-                            rapid: name == "STRAIGHT_TRAVERSE",
-                            end,
-                            feed: self.feed * self.mm,
-                            unit: self.unit(),
-                            spread: self.spread(),
-                        });
-                    }
+                    moves.extend(self.straight(name == "STRAIGHT_TRAVERSE", end));
+                }
+                // RIGID_TAP(x, y, z): in to the point and back out, synchronised.
+                "RIGID_TAP" => {
+                    let back = self.at;
+                    let mut bottom = back;
+                    let program =
+                        self.machine(&[numbers[0], numbers[1], numbers[2], 0.0, 0.0, 0.0]);
+                    bottom[..3].copy_from_slice(&program[..3]);
+                    moves.extend(self.straight(false, bottom));
+                    moves.extend(self.straight(false, back));
                 }
                 "ARC_FEED" => moves.push(self.arc(&numbers)),
                 _ => {}
             }
         }
         moves
+    }
+
+    /// A straight move to `end`, unless it is where the last move ended.
+    fn straight(&mut self, rapid: bool, end: [f64; 6]) -> Option<Move> {
+        let moved = end.iter().zip(&self.at).any(|(a, b)| (a - b).abs() > 1e-9);
+        self.at = end;
+        moved.then(|| Move::Straight {
+            rapid,
+            end,
+            feed: self.feed_now(),
+            control: self.control,
+            unit: self.unit(),
+            spread: self.spread(),
+        })
+    }
+
+    /// The feed of a feed move now, millimetres per minute: a synchronised move's pitch
+    /// times S, G95's feed per revolution times S, else the feed.
+    fn feed_now(&self) -> f64 {
+        match (self.pitch, self.per_revolution) {
+            (Some(pitch), _) => pitch * self.rpm,
+            (None, true) => self.feed * self.rpm,
+            (None, false) => self.feed,
+        }
     }
 
     /// Millimetres per unit of the coarsest number in a move's machine position.
@@ -264,7 +321,8 @@ impl Canon {
             end,
             center: [centre[first], centre[second]],
             rotation: n[4] as i64,
-            feed: self.feed * self.mm,
+            feed: self.feed_now(),
+            control: self.control,
             unit: self.unit(),
             spread: self.spread(),
         }
@@ -277,6 +335,20 @@ pub(crate) fn plane_axes(plane: &str) -> (usize, usize, usize) {
         "YZ" => (1, 2, 0),
         _ => (0, 1, 2),
     }
+}
+
+/// The calls of the program itself: those before the reset the program end makes
+/// (M2/M30 set G54, no rotation, G94, F0, the spindle and coolant off before
+/// PROGRAM_END), which pvtc does not hand on.
+fn program_calls<'a>(calls: &'a [(&'a str, &'a str)]) -> &'a [(&'a str, &'a str)] {
+    let Some(end) = calls.iter().position(|(name, _)| *name == "PROGRAM_END") else {
+        return calls;
+    };
+    let reset = calls[..end]
+        .iter()
+        .rposition(|(name, _)| *name == "SET_G5X_OFFSET")
+        .unwrap_or(end);
+    &calls[..reset]
 }
 
 /// `   12 N..... NAME(ARGS)` (or `N102  ` where the block has an N word) as (NAME, ARGS).
