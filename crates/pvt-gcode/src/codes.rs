@@ -39,6 +39,8 @@ pub(crate) enum MotionMode {
     RigidTap,
     /// G76: LinuxCNC's threading cycle.
     ThreadCycle,
+    /// G70, G71, G72 and their .1 and .2 forms: LinuxCNC's lathe cycles.
+    LatheCycle(LatheCycle),
     /// A motion code pvtc does not execute, or an unknown code's; blocks in this mode
     /// are skipped (the code itself was reported).
     Unsupported,
@@ -66,6 +68,7 @@ impl MotionMode {
             MotionMode::Thread => "G33",
             MotionMode::RigidTap => "G33.1",
             MotionMode::ThreadCycle => "G76",
+            MotionMode::LatheCycle(cycle) => cycle.name(),
             MotionMode::Unsupported => "an unsupported cycle",
         }
     }
@@ -110,6 +113,29 @@ impl Cycle {
             Cycle::BackBore => "G87",
             Cycle::BoreManual => "G88",
             Cycle::BoreDwell => "G89",
+        }
+    }
+}
+
+/// A lathe cycle: G70 (finishing) or G71/G72 (roughing along Z / along X, the .1 forms
+/// cutting no pockets, the .2 forms only after the first).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum LatheCycle {
+    /// G70.
+    Finishing,
+    /// G71 (`facing` false), G72 (`facing` true); `pockets` 0, 1 or 2 (G7x, .1, .2).
+    Roughing { facing: bool, pockets: u8 },
+}
+
+impl LatheCycle {
+    /// The code as a machinist writes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            LatheCycle::Finishing => "G70",
+            LatheCycle::Roughing { facing, pockets } => {
+                ["G71", "G71.1", "G71.2", "G72", "G72.1", "G72.2"]
+                    [usize::from(facing) * 3 + usize::from(pockets.min(2))]
+            }
         }
     }
 }
@@ -351,7 +377,11 @@ pub(crate) fn g_code(tenths: u32) -> Option<GCode> {
         330 => Motion(MotionMode::Thread),
         331 => Motion(MotionMode::RigidTap),
         760 => Motion(MotionMode::ThreadCycle),
-        700 | 710..=712 | 720..=722 => Motion(MotionMode::Unsupported),
+        700 => Motion(MotionMode::LatheCycle(self::LatheCycle::Finishing)),
+        710..=712 | 720..=722 => Motion(MotionMode::LatheCycle(self::LatheCycle::Roughing {
+            facing: tenths >= 720,
+            pockets: (tenths % 10) as u8,
+        })),
         _ => return unsupported_g(tenths).map(Unsupported),
     })
 }
@@ -365,11 +395,8 @@ fn unsupported_g(tenths: u32) -> Option<Feature> {
 }
 
 /// The feature of a motion-group code pvtc does not execute.
-pub(crate) fn motion_feature(tenths: u32) -> &'static str {
-    match tenths {
-        700 | 710..=712 | 720..=722 => "lathe cycles",
-        _ => "motion modes",
-    }
+pub(crate) fn motion_feature(_tenths: u32) -> &'static str {
+    "motion modes"
 }
 
 /// What an M code does.

@@ -17,6 +17,7 @@
 
 mod compensation;
 mod cycles;
+mod lathe;
 mod machine;
 mod modal;
 mod motion;
@@ -96,6 +97,8 @@ pub(crate) struct Interpreter<'a> {
     frames: Vec<Option<modal::Frame>>,
     /// `pvtc::gcode::spindle_rpm_exact` was given.
     spindle_sync_warned: bool,
+    /// A lathe cycle waiting for, or reading, its profile.
+    lathe: Option<Box<lathe::LatheRun>>,
     /// Set while held lines run (a loop or subroutine body, which may run many times):
     /// a diagnostic kept already is not kept again.
     pub once: bool,
@@ -144,6 +147,7 @@ impl<'a> Interpreter<'a> {
             naive_cam_tolerance: None,
             frames: vec![None],
             spindle_sync_warned: false,
+            lathe: None,
             once: false,
             origin: None,
             arc_turns_run: 0,
@@ -257,6 +261,11 @@ impl<'a> Interpreter<'a> {
 
     /// Executes one block in RS274NGC order (see the module documentation).
     pub fn execute(&mut self, block: &Block) -> Flow {
+        if self.recording_profile() {
+            // A lathe cycle's profile: its motion words only.
+            self.profile_block(block);
+            return Flow::Continue;
+        }
         let mut request = self.request.take().unwrap_or_default();
         request.read(block, &mut self.pending);
         let flow = self.execute_request(&request, block);
@@ -527,6 +536,7 @@ impl<'a> Interpreter<'a> {
             request.non_modal,
             Some((NonModal::Dwell | NonModal::SetTable, _))
         ) || matches!(request.path_mode, Some((PathMode::Continuous, _)))
+            || matches!(self.modal.motion, Some(MotionMode::LatheCycle(_)))
             || request.overrides.is_some()
             || request.io.is_some()
             || request.user.is_some()

@@ -66,6 +66,7 @@ mod contours;
 mod diagnostic;
 mod interpreter;
 mod kept;
+mod lathe;
 mod lines;
 mod messages;
 pub mod offsets;
@@ -446,7 +447,12 @@ impl<'a> Reader<'a> {
     /// Runs `line` when it is plain ([`plain`]) and the state allows; returns whether it
     /// ran. Lines of a subroutine file (shown at the call) take the general path.
     fn run_plain_line(&mut self, line: SourceLine<'_>) -> bool {
-        if !self.plain_lines || self.ended.is_some() || self.interpreter.origin.is_some() {
+        let reading_profile = self.interpreter.recording_profile();
+        if !self.plain_lines
+            || self.ended.is_some()
+            || self.interpreter.origin.is_some()
+            || reading_profile
+        {
             return false;
         }
         let Some(plain) = plain::plain_line(line.text) else {
@@ -508,6 +514,13 @@ impl<'a> Reader<'a> {
         };
         if let (Some(call), None) = (call, &self.ended) {
             self.subprogram_call(call);
+        }
+        if let Some(label) = self.interpreter.lathe_profile_wanted() {
+            // A lathe cycle's profile is its subroutine's moves, read, not run.
+            self.interpreter.begin_profile();
+            let at = self.block.span();
+            self.invoke(&label, Vec::new(), at, line.number);
+            self.interpreter.end_profile();
         }
         self.ended.is_none()
     }

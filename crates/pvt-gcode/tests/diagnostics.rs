@@ -259,7 +259,7 @@ fn issue_4_codes_name_line_and_column() {
 
 #[test]
 fn unsupported_features_are_reported_once_with_their_count() {
-    let source = format!("{HEAD}G18\nG71 X1 Z-1\nG71 X2 Z-1\nG17.1\nG71 X3 Z-1\n");
+    let source = format!("{HEAD}M60\nM60\nG17.1\nM60\n");
     let errors = compile(&source, &GcodeOptions::default()).unwrap_err();
     let messages: Vec<_> = errors
         .diagnostics
@@ -270,7 +270,7 @@ fn unsupported_features_are_reported_once_with_their_count() {
     assert_eq!(
         messages,
         [
-            "G71 (lathe cycles) is not supported by pvtc (3 places; the first is shown)",
+            "M60 (pallet change) is not supported by pvtc (3 places; the first is shown)",
             "G17.1 (UVW planes) is not supported by pvtc"
         ]
     );

@@ -33,7 +33,7 @@ mod pvtc;
 #[path = "dialect/rs274.rs"]
 mod rs274;
 
-use compare::{close, difference};
+use compare::difference;
 use pvtc::{pvtc_diagnostics, pvtc_moves};
 use rs274::{rs274_moves, rs274_run, Canon};
 use std::path::{Path, PathBuf};
@@ -70,6 +70,10 @@ enum Move {
         feed: f64,
         /// The path control mode the move runs in.
         control: Control,
+        /// The minutes a feed move that turns a rotary axis takes (0 for the others),
+        /// compared in place of its feed: LinuxCNC feeds it along X Y Z alone, pvtc
+        /// along the path over every axis.
+        minutes: f64,
         /// Millimetres per unit of the program at this move (0 where unknown).
         unit: f64,
         /// How far the XY rotation spreads rs274's rounding of X and Y onto one axis:
@@ -160,9 +164,13 @@ fn compare(rs274: &str, program: &Path) -> Result<usize, String> {
     if let Some(expected) = sidecar(program, "error") {
         return compare_refusal(rs274, program, &expected);
     }
-    let theirs = rs274_moves(rs274, program)?;
+    compare_with(&rs274_moves(rs274, program)?, program)
+}
+
+/// Compares pvtc's reading of `program` with `theirs`, rs274's.
+fn compare_with(theirs: &[Move], program: &Path) -> Result<usize, String> {
     let ours = pvtc_moves(program)?;
-    match difference(&ours, &theirs) {
+    match difference(&ours, theirs) {
         None => Ok(ours.len()),
         Some(d) => Err(format!("{}: {d}", program.display())),
     }
@@ -270,6 +278,7 @@ fn the_comparison_sees_a_moved_end_point_a_turn_and_a_feed() {
         end: [1.0, 2.0, 0.0, 0.0, 0.0, 0.0],
         feed: 100.0,
         control: Control::default(),
+        minutes: 0.0,
         unit: 1.0,
         spread: 1.0,
     };
@@ -309,6 +318,7 @@ fn the_comparison_sees_a_moved_end_point_a_turn_and_a_feed() {
             end: [end[0] + by, end[1], end[2], 0.0, 0.0, 0.0],
             feed: *feed,
             control: Control::default(),
+            minutes: 0.0,
             unit,
             spread: 1.0,
         },
@@ -341,6 +351,7 @@ fn canonical_calls_become_machine_moves() {
             end: [50.8, 0.0, 0.0, 0.0, 0.0, 0.0],
             feed: 254.0,
             control: Control::default(),
+            minutes: 0.0,
             unit: 25.4,
             spread: 1.0,
         },
@@ -424,10 +435,22 @@ fn corpus_programs_move_as_rs274_moves() {
     assert!(failures.is_empty(), "{}", failures.join("\n\n"));
 }
 
-/// LinuxCNC's example programs as installed with rs274 (`/usr/share/linuxcnc/ncfiles`,
-/// GPL-2.0, read where they are, not copied): polar canned cycles (`polar.ngc`,
-/// `hole-circle.ngc`) and a tool change with G43 in one block (`skeleton.ngc`) move as
-/// rs274 moves them.
+/// Where Debian's linuxcnc-uspace installs LinuxCNC's example programs (GPL-2.0, read
+/// where they are, not copied).
+const EXAMPLES: &str = "/usr/share/linuxcnc/ncfiles";
+
+/// The examples rs274 runs to their end that pvtc refuses, each with the code it refuses
+/// it with; the README's dialect section says why.
+const REFUSED_EXAMPLES: [(&str, &str); 1] = [
+    // 7803 probing moves: each trip point only the machine knows (rs274 takes the target).
+    ("smartprobe.ngc", "pvtc::gcode::probe"),
+];
+
+/// Every example program of LinuxCNC's that rs274 runs to its end and that moves, read
+/// the same by pvtc (with the sidecars of `tests/dialect/linuxcnc/`: rs274's built-in
+/// tools as a table, the probe results rs274 simulates, `--spindle-rpm-exact` for the
+/// threading programs), or refused with the code [`REFUSED_EXAMPLES`] gives. Prints the
+/// count and the list.
 #[test]
 fn installed_linuxcnc_examples_move_as_rs274_moves() {
     let rs274 = match rs274() {
@@ -437,23 +460,48 @@ fn installed_linuxcnc_examples_move_as_rs274_moves() {
             return;
         }
     };
-    let dir = Path::new("/usr/share/linuxcnc/ncfiles");
-    let runs = ["polar.ngc", "hole-circle.ngc", "skeleton.ngc"];
-    let present: Vec<PathBuf> = runs
-        .iter()
-        .map(|n| dir.join(n))
-        .filter(|p| p.exists())
-        .collect();
-    if present.len() < runs.len() {
-        eprintln!(
-            "SKIPPED: LinuxCNC's examples are not all in {}",
-            dir.display()
-        );
+    let Ok(entries) = std::fs::read_dir(EXAMPLES) else {
+        eprintln!("SKIPPED: LinuxCNC's examples are not in {EXAMPLES}");
         return;
-    }
-    let failures: Vec<String> = present
-        .iter()
-        .filter_map(|path| compare(rs274, path).err())
+    };
+    let mut programs: Vec<PathBuf> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "ngc"))
         .collect();
+    programs.sort();
+    let (mut agree, mut refused, mut failures) = (Vec::new(), Vec::new(), Vec::new());
+    for program in &programs {
+        let name = program.file_name().unwrap_or_default().to_string_lossy();
+        let Ok(run) = rs274_run(rs274, program) else {
+            continue;
+        };
+        let moves = run
+            .moves
+            .iter()
+            .any(|m| matches!(m, Move::Straight { .. } | Move::Arc { .. }));
+        if run.failure.is_some() || !moves {
+            continue;
+        }
+        match REFUSED_EXAMPLES.iter().find(|(n, _)| *n == name) {
+            Some((_, code)) => match pvtc_diagnostics(program) {
+                (false, found) if found.iter().any(|(c, _)| c == code) => {
+                    refused.push(name.to_string())
+                }
+                (_, found) => failures.push(format!("{name}: not refused with {code}: {found:?}")),
+            },
+            None => match compare_with(&run.moves, program) {
+                Ok(_) => agree.push(name.to_string()),
+                Err(failure) => failures.push(failure),
+            },
+        }
+    }
+    let total = agree.len() + refused.len() + failures.len();
+    eprintln!(
+        "{} of {total} examples rs274 runs to the end agree: {}; refused: {}",
+        agree.len(),
+        agree.join(", "),
+        refused.join(", ")
+    );
     assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+    assert!(total >= 20, "the examples are there: {total}");
 }

@@ -46,6 +46,12 @@ impl Interpreter<'_> {
         }
     }
 
+    /// Where the tool stands after G40, off the programmed point, taken: the position
+    /// from here on (rs274 re-reads it after M6).
+    pub(super) fn take_exit_point(&mut self) -> Option<Position> {
+        self.cutter.exit_from.take()
+    }
+
     /// True while G41/G42 is in effect.
     pub(super) fn cutter_on(&self) -> bool {
         self.cutter.on
@@ -140,13 +146,15 @@ impl Interpreter<'_> {
             },
             None => self.tool.current,
         };
+        // No tool loaded (T0) has no radius; a loaded tool the table lacks is unknown,
+        // as LinuxCNC's M6 would have refused it (compensating by 0 would cut wrong).
         let (diameter, orientation) = match (self.tools.get(number), request.d) {
             (Some(tool), _) => (tool.diameter, tool.orientation),
-            (None, None) => (0.0, 0),
-            (None, Some(d)) => {
+            (None, None) if number == 0 => (0.0, 0),
+            (None, d) => {
                 self.push(GcodeDiagnostic::UnknownTool {
                     tool: number,
-                    span: span(d.span()),
+                    span: span(d.unwrap_or(word).span()),
                 });
                 return None;
             }

@@ -92,6 +92,10 @@ impl Interpreter<'_> {
         if request.tool_change.is_none() {
             return;
         }
+        // After G40 the tool stands off the programmed point; rs274 reads where it is.
+        if let Some(at) = self.take_exit_point() {
+            self.position = at;
+        }
         let shift: Position =
             std::array::from_fn(|i| self.tool.offset[i] - self.tool.moved_with[i]);
         if shift.iter().all(|s| *s == 0.0) {
@@ -335,7 +339,9 @@ impl Interpreter<'_> {
             || codes
             || self.modal.motion == Some(MotionMode::NurbsKnots)
             || matches!(request.path_mode, Some((PathMode::Continuous, _)));
-        let d_used = self.modal.surface_speed || compensation_on;
+        let lathe = matches!(self.modal.motion, Some(MotionMode::LatheCycle(_)));
+        let q_used = q_used || lathe;
+        let d_used = self.modal.surface_speed || compensation_on || lathe;
         let l_used = cycle
             || self.modal.motion == Some(MotionMode::Nurbs)
             || compensation_on

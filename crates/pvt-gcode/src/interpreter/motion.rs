@@ -122,6 +122,11 @@ impl Interpreter<'_> {
                     self.rigid_tap(request, block);
                 }
             }
+            Some(MotionMode::LatheCycle(cycle)) => {
+                if has_axes || request.motion.is_some() {
+                    self.lathe_cycle(cycle, request, block);
+                }
+            }
             Some(MotionMode::ThreadCycle) => {
                 if has_axes {
                     self.thread_cycle(request, block);
@@ -359,6 +364,23 @@ impl Interpreter<'_> {
         None
     }
 
+    /// The feed of a line that turns a rotary axis with X, Y or Z, along the path the
+    /// planner measures (all axes, degrees included): LinuxCNC feeds such a move at F
+    /// along X Y Z alone, the rotary axes keeping pace, so its time is the X Y Z length
+    /// over F, and the rate grows by the whole length over that length. G93's rate, a
+    /// time already, and a move of rotary axes alone (F in degrees per minute) stay.
+    pub(super) fn rotary_rate(&self, rate: f64, start: &Position, end: &Position) -> f64 {
+        if self.modal.feed_mode == FeedMode::InverseTime {
+            return rate;
+        }
+        let linear = line_length(&start[..3], &end[..3]);
+        let full = line_length(start, end);
+        match linear > 0.0 && full > linear {
+            true => rate * full / linear,
+            false => rate,
+        }
+    }
+
     /// G93: the block's F is 1 / the minutes the move takes.
     fn inverse_time_rate(&mut self, request: &Request, block: &Block, length: f64) -> Option<f64> {
         let Some(f) = request.feed else {
@@ -395,7 +417,11 @@ impl Interpreter<'_> {
                 // G93 times the programmed move, not the exit move after G40 (rs274).
                 let programmed = self.position;
                 let length = || line_length(&programmed, &end);
-                (Motion::Feed, self.feed_rate(request, block, length))
+                let rate = self.feed_rate(request, block, length);
+                (
+                    Motion::Feed,
+                    rate.map(|r| self.rotary_rate(r, &start, &end)),
+                )
             }
         };
         self.position = end;
@@ -894,7 +920,7 @@ pub(super) fn no_move(start: &Position, end: &Position) -> bool {
 
 /// Length of a straight move as the planner measures path length: Euclidean over every
 /// axis, rotary degrees included, so a G93 move takes its 1/F minutes.
-fn line_length(start: &Position, end: &Position) -> f64 {
+fn line_length(start: &[f64], end: &[f64]) -> f64 {
     start
         .iter()
         .zip(end)

@@ -115,14 +115,14 @@ impl Interpreter<'_> {
         feed: Option<Feed>,
     ) -> Option<(Motion, Position, Position, f64)> {
         let end = self.plain_end(plain)?;
+        let start = self.tool_start();
         let (motion, rate) = match mode {
             MotionMode::Rapid => (Motion::Rapid, self.rapid_rate()),
-            _ => (
-                Motion::Feed,
-                super::motion::feed_per_second(self.feed_per_minute(feed)?)?,
-            ),
+            _ => {
+                let rate = super::motion::feed_per_second(self.feed_per_minute(feed)?)?;
+                (Motion::Feed, self.rotary_rate(rate, &start, &end))
+            }
         };
-        let start = self.tool_start();
         (!super::motion::no_move(&start, &end)).then_some((motion, start, end, rate))
     }
 

@@ -17,6 +17,7 @@ pub(crate) fn same(ours: &Move, theirs: &Move) -> bool {
                 end,
                 feed,
                 control,
+                minutes,
                 ..
             },
             Move::Straight {
@@ -24,13 +25,21 @@ pub(crate) fn same(ours: &Move, theirs: &Move) -> bool {
                 end: e,
                 feed: f,
                 control: c,
+                minutes: m,
                 unit,
                 spread,
             },
         ) => {
+            // rs274's minutes come from its printed ends: each axis of both ends up to
+            // TOLERANCE of the units off, over the feed.
+            let rounding = 2.0 * 3f64.sqrt() * TOLERANCE * unit.max(1.0) / f.max(1e-9);
+            let timed = match *minutes > 0.0 || *m > 0.0 {
+                true => (minutes - m).abs() <= 1e-6 * m.abs() + rounding,
+                false => close_feed(*feed, *f, *unit),
+            };
             rapid == r
                 && close(end, e, unit * spread.max(1.0))
-                && (*rapid || close(&[*feed], &[*f], *unit))
+                && (*rapid || timed)
                 && same_control(control, c, *unit)
         }
         (
@@ -58,7 +67,7 @@ pub(crate) fn same(ours: &Move, theirs: &Move) -> bool {
                 && rotation == r
                 && close(end, e, unit * spread.max(1.0))
                 && close(center, c, unit * spread.max(1.0))
-                && close(&[*feed], &[*f], *unit)
+                && close_feed(*feed, *f, *unit)
                 && same_control(control, k, *unit)
         }
         (Move::Dwell(a), Move::Dwell(b)) => (a - b).abs() <= 1e-6,
@@ -66,6 +75,13 @@ pub(crate) fn same(ours: &Move, theirs: &Move) -> bool {
         (Move::Spindle(a), Move::Spindle(b)) | (Move::Coolant(a), Move::Coolant(b)) => a == b,
         _ => false,
     }
+}
+
+/// Whether two feeds agree: within [`TOLERANCE`] of `unit` millimetres per minute, or
+/// 1e-5 of the feed (a synchronised move's pitch, which rs274 prints with six decimals,
+/// times S).
+fn close_feed(ours: f64, theirs: f64, unit: f64) -> bool {
+    (ours - theirs).abs() <= TOLERANCE * unit.max(1.0) + 1e-5 * theirs.abs()
 }
 
 /// Whether two path control modes agree: the mode, and under G64 P and Q within
@@ -100,8 +116,12 @@ pub(crate) fn difference(ours: &[Move], theirs: &[Move]) -> Option<String> {
             (Move::Straight { end, .. }, Some(at)) => close(end, &at, unit),
             _ => false,
         };
+        let (joined, parts) = turns_of_one_arc(&ours[i..], theirs.get(j));
         match theirs.get(j) {
-            Some(t) if same(&ours[i], t) => j += 1,
+            Some(t) if same(&joined, t) => {
+                j += 1;
+                i += parts - 1;
+            }
             _ if unprinted => {}
             Some(t) => return Some(format!("move {i}:\n  pvtc:  {:?}\n  rs274: {t:?}", ours[i])),
             None => break,
@@ -117,4 +137,69 @@ pub(crate) fn difference(ours: &[Move], theirs: &[Move]) -> Option<String> {
             ours.get(i).or(theirs.get(j))
         )
     })
+}
+
+/// `ours[0]`, or, where it is an arc and rs274's next move is an arc of more turns about
+/// the same centre, it joined with the arcs after it about that centre until it has
+/// those turns (pvtc hands an arc of many turns on a turn at a time, rs274 prints it
+/// whole; a loop that repeats a full circle stays one arc a turn on both sides); and
+/// how many of `ours` it took.
+fn turns_of_one_arc(ours: &[Move], theirs: Option<&Move>) -> (Move, usize) {
+    let first = ours[0].clone();
+    let (Move::Arc { rotation: mine, .. }, Some(Move::Arc { rotation: want, .. })) =
+        (&first, theirs)
+    else {
+        return (first, 1);
+    };
+    let (mine, want) = (*mine, *want);
+    if want.abs() <= mine.abs() || want.signum() != mine.signum() {
+        return (first, 1);
+    }
+    let mut joined = first;
+    let mut parts = 1;
+    for next in &ours[1..] {
+        if !same_centre(&joined, next) {
+            break;
+        }
+        join_turns(&mut joined, next.clone());
+        parts += 1;
+        if let Move::Arc { rotation, .. } = &joined {
+            if rotation.abs() >= want.abs() {
+                break;
+            }
+        }
+    }
+    (joined, parts)
+}
+
+/// Whether `last` is an arc about the centre of the arc `next`.
+fn same_centre(last: &Move, next: &Move) -> bool {
+    match (last, next) {
+        (Move::Arc { center: a, .. }, Move::Arc { center: b, .. }) => close(a, b, 1.0),
+        _ => false,
+    }
+}
+
+/// `next`, the next turn of the arc `last` is part of, joined to it: its end and its turn.
+fn join_turns(last: &mut Move, next: Move) {
+    let (
+        Move::Arc {
+            end,
+            center,
+            rotation,
+            ..
+        },
+        Move::Arc {
+            end: next_end,
+            center: next_center,
+            rotation: next_rotation,
+            ..
+        },
+    ) = (last, next)
+    else {
+        return;
+    };
+    debug_assert!(close(center, &next_center, 1.0));
+    *end = next_end;
+    *rotation += next_rotation;
 }

@@ -48,7 +48,6 @@ pub(crate) fn toolpath_moves(text: &str) -> Vec<Move> {
         p
     };
     let mut moves = Vec::new();
-    let mut last_line = None;
     let mut control = Control::default();
     for line in &lines {
         let feed = line["feed"].as_f64().unwrap_or(0.0) * mm;
@@ -58,6 +57,7 @@ pub(crate) fn toolpath_moves(text: &str) -> Vec<Move> {
                 end: position(&line["end"]),
                 feed,
                 control,
+                minutes: rotary_minutes(line),
                 unit: 0.0,
                 spread: 0.0,
             }),
@@ -84,15 +84,9 @@ pub(crate) fn toolpath_moves(text: &str) -> Vec<Move> {
                     unit: 0.0,
                     spread: 0.0,
                 };
-                // pvtc hands an arc of many turns on a turn at a time: the parts of one
-                // block (one source line, one centre) are one arc, as rs274 prints it.
-                // (Two arcs of one line with two centres, a compensated arc and the arc
-                // around the corner after it, stay two.)
-                let part_of_last = last_line == Some(&line["line"]);
-                match (moves.last_mut(), part_of_last) {
-                    (Some(last), true) if same_centre(last, &arc) => join_turns(last, arc),
-                    _ => moves.push(arc),
-                }
+                // An arc of many turns comes a turn at a time: the comparison joins
+                // them where rs274 prints one arc (`turns_of_one_arc`).
+                moves.push(arc);
             }
             Some("event") => moves.extend(event(line)),
             Some("path_control") => {
@@ -108,9 +102,20 @@ pub(crate) fn toolpath_moves(text: &str) -> Vec<Move> {
             }
             _ => {}
         }
-        last_line = (line["kind"] == "arc").then_some(&line["line"]);
     }
     moves
+}
+
+/// The minutes a feed `line` that turns a rotary axis takes: its length over every axis
+/// (output units and degrees, as the planner measures it) over its feed; 0 for others.
+fn rotary_minutes(line: &serde_json::Value) -> f64 {
+    let at = |key: &str, i: usize| line[key][i].as_f64().unwrap_or(0.0);
+    let d: Vec<f64> = (0..6).map(|i| at("end", i) - at("start", i)).collect();
+    let turns = d[3..].iter().any(|v| v.abs() > 1e-9);
+    match turns && line["motion"] == "feed" {
+        true => d.iter().map(|v| v * v).sum::<f64>().sqrt() / line["feed"].as_f64().unwrap_or(1.0),
+        false => 0.0,
+    }
 }
 
 /// A timing-relevant `event` line as a move: a dwell, the spindle, its speed, coolant.
@@ -126,38 +131,6 @@ fn event(line: &serde_json::Value) -> Option<Move> {
         "coolant_off" => Move::Coolant("off"),
         _ => return None,
     })
-}
-
-/// Whether `last` is an arc about the centre of the arc `next`.
-pub(crate) fn same_centre(last: &Move, next: &Move) -> bool {
-    match (last, next) {
-        (Move::Arc { center: a, .. }, Move::Arc { center: b, .. }) => close(a, b, 1.0),
-        _ => false,
-    }
-}
-
-/// `next`, the next turn of the arc `last` is part of, joined to it: its end and its turn.
-pub(crate) fn join_turns(last: &mut Move, next: Move) {
-    let (
-        Move::Arc {
-            end,
-            center,
-            rotation,
-            ..
-        },
-        Move::Arc {
-            end: next_end,
-            center: next_center,
-            rotation: next_rotation,
-            ..
-        },
-    ) = (last, next)
-    else {
-        return;
-    };
-    debug_assert!(close(center, &next_center, 1.0));
-    *end = next_end;
-    *rotation += next_rotation;
 }
 
 /// Whether pvtc compiles `program`, and its diagnostics as (code, line).

@@ -143,6 +143,9 @@ pub(crate) struct Canon {
     /// The feed, millimetres per minute (per revolution under G95): LinuxCNC converts the
     /// number of SET_FEED_RATE with the units in force when it is called.
     feed: f64,
+    /// Millimetres per program unit when the feed was set (a feed of rotary axes alone
+    /// is its number, in degrees per minute).
+    feed_unit: f64,
     /// G95: the feed is per revolution.
     per_revolution: bool,
     /// The pitch of a synchronised move (START_SPEED_FEED_SYNC), millimetres per turn.
@@ -162,6 +165,7 @@ pub(crate) struct Canon {
 impl Canon {
     pub(crate) fn read(mut self, text: &str) -> Vec<Move> {
         self.mm = 1.0;
+        self.feed_unit = 1.0;
         self.plane = "XY";
         let mut moves = Vec::new();
         let calls: Vec<(&str, &str)> = text.lines().filter_map(call).collect();
@@ -191,7 +195,10 @@ impl Canon {
                         _ => "XY",
                     }
                 }
-                "SET_FEED_RATE" => self.feed = numbers[0] * self.mm,
+                "SET_FEED_RATE" => {
+                    self.feed = numbers[0] * self.mm;
+                    self.feed_unit = self.mm;
+                }
                 "SET_FEED_MODE" => self.per_revolution = numbers.get(1) == Some(&1.0),
                 "START_SPEED_FEED_SYNC" => self.pitch = Some(numbers[0] * self.mm),
                 "STOP_SPEED_FEED_SYNCH" => self.pitch = None,
@@ -217,7 +224,8 @@ impl Canon {
                 "FLOOD_ON" => moves.push(Move::Coolant("flood")),
                 // M9 prints MIST_OFF then FLOOD_OFF: one coolant off.
                 "MIST_OFF" => moves.push(Move::Coolant("off")),
-                "STRAIGHT_TRAVERSE" | "STRAIGHT_FEED" => {
+                // rs274 alone has a probing move trip at its target.
+                "STRAIGHT_TRAVERSE" | "STRAIGHT_FEED" | "STRAIGHT_PROBE" => {
                     let end = self.machine(&numbers[..6]);
                     moves.extend(self.straight(name == "STRAIGHT_TRAVERSE", end));
                 }
@@ -241,15 +249,35 @@ impl Canon {
     /// A straight move to `end`, unless it is where the last move ended.
     fn straight(&mut self, rapid: bool, end: [f64; 6]) -> Option<Move> {
         let moved = end.iter().zip(&self.at).any(|(a, b)| (a - b).abs() > 1e-9);
+        let minutes = match rapid {
+            true => 0.0,
+            false => self.rotary_minutes(&end),
+        };
         self.at = end;
         moved.then(|| Move::Straight {
             rapid,
             end,
             feed: self.feed_now(),
             control: self.control,
+            minutes,
             unit: self.unit(),
             spread: self.spread(),
         })
+    }
+
+    /// The minutes a feed move to `end` that turns a rotary axis takes, as LinuxCNC's
+    /// canonical layer times it: its X Y Z length over the feed, or with X Y Z still its
+    /// rotary length over the feed's number in degrees per minute; 0 for other moves.
+    fn rotary_minutes(&self, end: &[f64; 6]) -> f64 {
+        let length = |r: std::ops::Range<usize>| {
+            r.map(|i| (end[i] - self.at[i]).powi(2)).sum::<f64>().sqrt()
+        };
+        let (linear, rotary) = (length(0..3), length(3..6));
+        match (rotary > 1e-9, linear > 1e-9) {
+            (false, _) => 0.0,
+            (true, true) => linear / self.feed_now(),
+            (true, false) => rotary / (self.feed_now() / self.feed_unit),
+        }
     }
 
     /// The feed of a feed move now, millimetres per minute: a synchronised move's pitch
