@@ -55,8 +55,6 @@ pub(crate) struct Request {
     pub user: Option<(u16, Word)>,
     /// E: the analog channel of M66…M68, G76's taper.
     pub e: Option<Word>,
-    /// U and W: a lathe cycle's shift of its profile in X and Z.
-    pub uw: [Option<Word>; 2],
     pub p: Option<Word>,
     pub q: Option<Word>,
     pub l: Option<Word>,
@@ -114,8 +112,6 @@ impl Request {
                 b'S' => put_word(&mut request.s, word, errors),
                 b'T' => put_word(&mut request.t, word, errors),
                 b'E' => put_word(&mut request.e, word, errors),
-                b'U' => put_word(&mut request.uw[0], word, errors),
-                b'W' => put_word(&mut request.uw[1], word, errors),
                 b'$' => errors.push(ignored(
                     word,
                     "spindle selection ($) is not part of a toolpath",
@@ -133,13 +129,6 @@ impl Request {
             );
         if let Some(e) = request.e.filter(|_| !analog) {
             errors.push(unknown_letter(e, b'E'));
-        }
-        // U and W belong to the lathe cycles only.
-        let lathe = matches!(request.motion, Some((MotionMode::LatheCycle(_), _)));
-        for (word, letter) in request.uw.into_iter().zip([b'U', b'W']) {
-            if let Some(w) = word.filter(|_| !lathe) {
-                errors.push(unknown_letter(w, letter));
-            }
         }
     }
 

@@ -108,7 +108,10 @@ fn g33_is_refused_and_g71_1_needs_its_profile() {
     let found = messages(&c.expect_err("refused"));
     assert_eq!(found.len(), 3, "{found:?}");
     assert_eq!(found[0].0, "pvtc::gcode::spindle_sync", "{found:?}");
-    assert!(found[0].1.contains("G33 is spindle-synchronised"), "{found:?}");
+    assert!(
+        found[0].1.contains("G33 is spindle-synchronised"),
+        "{found:?}"
+    );
     for (code, message) in &found[1..] {
         assert_eq!(*code, "pvtc::gcode::missing_word", "{found:?}");
         assert!(message.contains("Q word"), "{found:?}");

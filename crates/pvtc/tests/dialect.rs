@@ -28,6 +28,8 @@ mod generated;
 mod generated_compensation;
 #[path = "dialect/generated_control_flow.rs"]
 mod generated_control_flow;
+#[path = "dialect/generated_timing.rs"]
+mod generated_timing;
 #[path = "dialect/pvtc.rs"]
 mod pvtc;
 #[path = "dialect/rs274.rs"]
@@ -433,6 +435,101 @@ fn corpus_programs_move_as_rs274_moves() {
         .filter_map(|name| compare(rs274, &dir.join(name)).err())
         .collect();
     assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+}
+
+/// The start of the V-carve OpenVoronoi's TTT writes, `G20 F6` in one block on a metric
+/// machine: rs274's SET_FEED_RATE(6.0000) comes before USE_LENGTH_UNITS(INCHES), so
+/// LinuxCNC cuts at 6 mm/min (566 s for the part). pvtc's planned motion peaks at that
+/// feed: measured on the PVT cubic of a long straight move, rest to rest, as written.
+#[test]
+fn the_vcarve_g20_f6_feeds_at_rs274s_set_feed_rate() {
+    let rs274 = match rs274() {
+        Ok(rs274) => rs274,
+        Err(why) => {
+            eprintln!("SKIPPED: {why}");
+            return;
+        }
+    };
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let program = dir.path().join("vcarve.ngc");
+    let text = "(TTT V-carve start)\nG20 F6\nG0 Z0.1\nG1 X1 Y0.5 Z-0.05\nG1 X2\nM2\n";
+    std::fs::write(&program, text).expect("written");
+    let theirs = rs274_moves(rs274, &program).expect("rs274 runs it");
+    let Some(Move::Straight { feed, .. }) = theirs.last() else {
+        panic!("a last straight move: {theirs:?}");
+    };
+    assert!(
+        (feed - 6.0).abs() < 1e-9,
+        "rs274's feed is 6 mm/min: {feed}"
+    );
+    let output = Command::new(env!("CARGO_BIN_EXE_pvtc"))
+        .arg("compile")
+        .arg(&program)
+        .args(["--format", "json"])
+        .output()
+        .expect("pvtc runs");
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let json: serde_json::Value = serde_json::from_slice(&output.stdout).expect("JSON");
+    let mm = if json["units"] == "in" { 25.4 } else { 1.0 };
+    let contour = json["contours"]
+        .as_array()
+        .and_then(|c| c.last())
+        .expect("a contour");
+    let segments = contour["segments"].as_array().expect("segments");
+    let (before, last) = (&segments[segments.len() - 2], &segments[segments.len() - 1]);
+    let peak = hermite_peak_speed(
+        &before["p"],
+        &before["v"],
+        &last["p"],
+        &last["v"],
+        &last["t"],
+    );
+    let planned = peak * mm * 60.0;
+    assert!(
+        (planned - feed).abs() < 1e-3 * feed,
+        "pvtc plans {planned} mm/min where LinuxCNC feeds {feed} mm/min"
+    );
+}
+
+/// The peak speed of the cubic (Hermite) piece from position `p0` at velocity `v0` to
+/// `p1` at `v1` in `t` seconds, sampled at a thousand instants.
+fn hermite_peak_speed(
+    p0: &serde_json::Value,
+    v0: &serde_json::Value,
+    p1: &serde_json::Value,
+    v1: &serde_json::Value,
+    t: &serde_json::Value,
+) -> f64 {
+    let axis = |v: &serde_json::Value| -> Vec<f64> {
+        v.as_array()
+            .expect("numbers")
+            .iter()
+            .map(|x| x.as_f64().expect("a number"))
+            .collect()
+    };
+    let (p0, v0, p1, v1) = (axis(p0), axis(v0), axis(p1), axis(v1));
+    let t = t.as_f64().expect("a time");
+    (0..=1000)
+        .map(|k| {
+            let s = f64::from(k) / 1000.0;
+            // d/dt of the Hermite basis on [0, t].
+            let speed2: f64 = (0..p0.len())
+                .map(|i| {
+                    let (a, b) = (p0[i], p1[i]);
+                    let (va, vb) = (v0[i], v1[i]);
+                    let dp = (6.0 * s * s - 6.0 * s) * (a - b) / t
+                        + (3.0 * s * s - 4.0 * s + 1.0) * va
+                        + (3.0 * s * s - 2.0 * s) * vb;
+                    dp * dp
+                })
+                .sum();
+            speed2.sqrt()
+        })
+        .fold(0.0, f64::max)
 }
 
 /// Where Debian's linuxcnc-uspace installs LinuxCNC's example programs (GPL-2.0, read

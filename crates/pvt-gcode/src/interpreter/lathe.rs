@@ -84,7 +84,6 @@ impl Interpreter<'_> {
         }
         let start = self.lathe_point(Zx::new(z, x));
         self.lathe_rapid(start, block);
-        let [u, w] = request.uw.map(value);
         self.lathe = Some(Box::new(LatheRun {
             cycle,
             label: format!("{}", q.value.trunc()),
@@ -95,7 +94,8 @@ impl Interpreter<'_> {
                 i,
                 p: value(request.p).unwrap_or(1.0),
                 r: value(request.radius).unwrap_or(0.5),
-                shift: Zx::new(w.unwrap_or(0.0), u.unwrap_or(0.0)),
+                // U and W of the block (with U W axes only, which pvtc does not drive).
+                shift: Zx::default(),
             },
             block: block.clone(),
             resume: self.position,

@@ -364,20 +364,24 @@ impl Interpreter<'_> {
         None
     }
 
-    /// The feed of a line that turns a rotary axis with X, Y or Z, along the path the
-    /// planner measures (all axes, degrees included): LinuxCNC feeds such a move at F
-    /// along X Y Z alone, the rotary axes keeping pace, so its time is the X Y Z length
-    /// over F, and the rate grows by the whole length over that length. G93's rate, a
-    /// time already, and a move of rotary axes alone (F in degrees per minute) stay.
+    /// The feed of a line that turns a rotary axis, along the path the planner measures
+    /// (all axes, degrees included), as LinuxCNC's canonical layer feeds it: with X, Y or
+    /// Z, at F along X Y Z alone, the rotary axes keeping pace (the rate grows by the
+    /// whole length over that length); alone, at F degrees per minute, the number
+    /// unconverted by the units. G93's rate, a time already, stays.
     pub(super) fn rotary_rate(&self, rate: f64, start: &Position, end: &Position) -> f64 {
         if self.modal.feed_mode == FeedMode::InverseTime {
             return rate;
         }
         let linear = line_length(&start[..3], &end[..3]);
         let full = line_length(start, end);
-        match linear > 0.0 && full > linear {
-            true => rate * full / linear,
-            false => rate,
+        match (linear > 0.0, full > linear) {
+            (true, true) => rate * full / linear,
+            (false, true) => match self.modal.feed {
+                Some(feed) => rate * self.output().mm_per_unit() / feed.units.mm_per_unit(),
+                None => rate,
+            },
+            (_, false) => rate,
         }
     }
 
