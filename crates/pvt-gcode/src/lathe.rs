@@ -101,6 +101,14 @@ pub(crate) enum Shape {
     Chamfer(f64),
 }
 
+/// What a map of the plane does to a turn: keeps it (a move, a quarter turn) or
+/// reverses it (a mirror).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Map {
+    Turn,
+    Mirror,
+}
+
 /// One segment of a profile.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Segment {
@@ -214,13 +222,13 @@ impl Segment {
         }
     }
 
-    /// Applies `f` to every point, reversing the turn when `mirror`.
-    fn map(&mut self, f: impl Fn(Zx) -> Zx, mirror: bool) {
+    /// Applies `f` to every point, reversing an arc's turn when `f` mirrors.
+    fn map(&mut self, f: impl Fn(Zx) -> Zx, kind: Map) {
         self.start = f(self.start);
         self.end = f(self.end);
         if let Shape::Arc { ccw, center } = self.shape {
             self.shape = Shape::Arc {
-                ccw: ccw ^ mirror,
+                ccw: ccw ^ (kind == Map::Mirror),
                 center: f(center),
             };
         }
@@ -364,15 +372,15 @@ impl Profile {
         Profile { segments, flips: 0 }
     }
 
-    fn each(&mut self, f: impl Fn(Zx) -> Zx + Copy, mirror: bool) {
+    fn each(&mut self, f: impl Fn(Zx) -> Zx + Copy, kind: Map) {
         for s in &mut self.segments {
-            s.map(f, mirror);
+            s.map(f, kind);
         }
     }
 
     /// A quarter turn, so that G72's layers along X are G71's along Z.
     fn rotate(&mut self) {
-        self.each(|p| Zx::new(p.im, -p.re), false);
+        self.each(|p| Zx::new(p.im, -p.re), Map::Turn);
         self.flips ^= 4;
     }
 
@@ -383,11 +391,11 @@ impl Profile {
         };
         let direction = first.end - last.end;
         if direction.im > 0.0 {
-            self.each(Zx::conj, true);
+            self.each(Zx::conj, Map::Mirror);
             self.flips ^= 2;
         }
         if direction.re < 0.0 {
-            self.each(|p| -p.conj(), true);
+            self.each(|p| -p.conj(), Map::Mirror);
             self.flips ^= 1;
         }
     }
@@ -656,7 +664,7 @@ pub(crate) fn roughing(
     profile.check_monotonic()?;
     profile.add_distance(n.d)?;
     let shift = Zx::new(n.shift.re, n.shift.im);
-    profile.each(|p| p + shift, false);
+    profile.each(|p| p + shift, Map::Turn);
     let Some(front) = profile.segments.first().copied() else {
         return Ok(Vec::new());
     };

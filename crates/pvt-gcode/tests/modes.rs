@@ -3,18 +3,10 @@
 
 mod common;
 
-use common::{errors, ok};
+use common::{elements, errors, ok};
 use proptest::prelude::*;
 use pvt_core::{Element, ElementKind, EventKind, Motion, Units};
 use pvt_gcode::{compile, compile_into, GcodeOptions, ToolpathSink};
-
-fn elements(c: &pvt_gcode::Compiled) -> Vec<Element> {
-    c.toolpath
-        .contours
-        .iter()
-        .flat_map(|c| c.elements.clone())
-        .collect()
-}
 
 #[test]
 fn work_offsets_g92_and_g53() {

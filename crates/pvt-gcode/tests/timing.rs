@@ -6,17 +6,9 @@
 
 mod common;
 
-use common::{errors, ok};
+use common::{elements, errors, ok};
 use pvt_core::{Element, ElementKind, EventKind};
 use pvt_gcode::{compile, GcodeOptions, SpindleSync};
-
-fn elements(c: &pvt_gcode::Compiled) -> Vec<Element> {
-    c.toolpath
-        .contours
-        .iter()
-        .flat_map(|c| c.elements.clone())
-        .collect()
-}
 
 /// The feed of each element, per minute.
 fn feeds(source: &str) -> Vec<f64> {

@@ -229,6 +229,17 @@ fn compare_text(rs274: &str, text: &str) -> Result<usize, String> {
     compare(rs274, &path)
 }
 
+/// Compares a random program with rs274; none to compare with (SKIPPED) without it.
+fn compare_random(text: &str) -> Result<usize, String> {
+    match rs274() {
+        Ok(rs274) => compare_text(rs274, text),
+        Err(why) => {
+            eprintln!("SKIPPED: {why}");
+            Ok(0)
+        }
+    }
+}
+
 fn dialect_programs() -> Vec<PathBuf> {
     let dir = root().join("tests/dialect");
     let mut programs: Vec<PathBuf> = std::fs::read_dir(&dir)
@@ -493,6 +504,78 @@ fn the_vcarve_g20_f6_feeds_at_rs274s_set_feed_rate() {
         (planned - feed).abs() < 1e-3 * feed,
         "pvtc plans {planned} mm/min where LinuxCNC feeds {feed} mm/min"
     );
+}
+
+/// An arc whose end misses its start's circle within LinuxCNC's rule is the spiral
+/// LinuxCNC runs (posemath's `pmCirclePoint`: the radius grows linearly with the angle):
+/// pvtc's planned motion, sampled on every written PVT cubic, stays within the path
+/// tolerance of that spiral, where the circle through the start is 0.04 mm off midway.
+#[test]
+fn a_spiral_arc_is_planned_as_linuxcnc_runs_it() {
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let program = dir.path().join("spiral.ngc");
+    // Radius 100 to 100.08 over a half turn (0.08 %: within 0.1 %).
+    std::fs::write(
+        &program,
+        "G21 G17 F3000\nG0 X100 Y0\nG3 X-100.08 Y0 I-100 J0\nM2\n",
+    )
+    .expect("written");
+    let output = Command::new(env!("CARGO_BIN_EXE_pvtc"))
+        .arg("compile")
+        .arg(&program)
+        .args(["--format", "json", "--tolerance", "0.001"])
+        .output()
+        .expect("pvtc runs");
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let json: serde_json::Value = serde_json::from_slice(&output.stdout).expect("JSON");
+    let contour = &json["contours"][1];
+    assert_eq!(contour["kind"], "feed");
+    let spiral = |p: [f64; 2]| {
+        let angle = libm::atan2(p[1], p[0]).rem_euclid(std::f64::consts::TAU);
+        let radius = 100.0 + 0.08 * angle / std::f64::consts::PI;
+        (libm::hypot(p[0], p[1]) - radius).abs()
+    };
+    let (mut worst, mut circle) = (0.0f64, 0.0f64);
+    let mut from = contour["start"].clone();
+    let mut v_from = serde_json::json!([0.0, 0.0]);
+    for piece in contour["segments"].as_array().expect("segments") {
+        for k in 0..=50 {
+            let s = f64::from(k) / 50.0;
+            let p = hermite_point(&from, &v_from, &piece["p"], &piece["v"], &piece["t"], s);
+            worst = worst.max(spiral(p));
+            circle = circle.max((libm::hypot(p[0], p[1]) - 100.0).abs());
+        }
+        from = piece["p"].clone();
+        v_from = piece["v"].clone();
+    }
+    assert!(worst <= 0.001 + 1e-9, "{worst} mm from the spiral");
+    assert!(circle > 0.04, "the spiral is no circle: {circle}");
+}
+
+/// The position (X, Y) at `s` (0 to 1) of the cubic (Hermite) piece from `p0` at `v0` to
+/// `p1` at `v1` in `t` seconds.
+fn hermite_point(
+    p0: &serde_json::Value,
+    v0: &serde_json::Value,
+    p1: &serde_json::Value,
+    v1: &serde_json::Value,
+    t: &serde_json::Value,
+    s: f64,
+) -> [f64; 2] {
+    let n = |v: &serde_json::Value, i: usize| v[i].as_f64().expect("a number");
+    let t = t.as_f64().expect("a time");
+    let (h00, h10) = (
+        2.0 * s * s * s - 3.0 * s * s + 1.0,
+        s * s * s - 2.0 * s * s + s,
+    );
+    let (h01, h11) = (-2.0 * s * s * s + 3.0 * s * s, s * s * s - s * s);
+    std::array::from_fn(|i| {
+        h00 * n(p0, i) + h10 * t * n(v0, i) + h01 * n(p1, i) + h11 * t * n(v1, i)
+    })
 }
 
 /// The peak speed of the cubic (Hermite) piece from position `p0` at velocity `v0` to

@@ -82,8 +82,8 @@ impl Interpreter<'_> {
                 z = z_word.unwrap_or(z);
             }
         }
-        let start = self.lathe_point(Zx::new(z, x));
-        self.lathe_rapid(start, block);
+        let start = self.program_xz(x, z);
+        self.rapid_to(start, block);
         self.lathe = Some(Box::new(LatheRun {
             cycle,
             label: format!("{}", q.value.trunc()),
@@ -134,7 +134,7 @@ impl Interpreter<'_> {
         };
         match self.profile_segment(&mut run, block) {
             Ok(()) => {
-                let point = self.lathe_point(run.cursor);
+                let point = self.program_xz(run.cursor.im, run.cursor.re);
                 self.position = point;
             }
             Err(detail) => self.push(GcodeDiagnostic::Cycle {
@@ -244,31 +244,12 @@ impl Interpreter<'_> {
         }
     }
 
-    /// The machine position of program point `p` (Z, X), the other axes where they are.
-    fn lathe_point(&self, p: Zx) -> Position {
-        let scale = self.scale();
-        let mut program = self.to_program(self.position);
-        program[0] = p.im * scale;
-        program[2] = p.re * scale;
-        self.to_machine(program)
-    }
-
-    /// A rapid to `end`, a contour of its own.
-    fn lathe_rapid(&mut self, end: Position, block: &Block) {
-        let start = self.machine_position();
-        self.position = end;
-        if !super::motion::no_move(&start, &end) {
-            let rate = self.rapid_rate();
-            self.straight(Motion::Rapid, start, end, rate, block);
-        }
-    }
-
     /// One cut; false after an error (no feed, an arc off its circle).
     fn lathe_cut(&mut self, cut: Cut, block: &Block) -> bool {
         let (to, arc) = match cut {
             Cut::Rapid(p) => {
-                let end = self.lathe_point(p);
-                self.lathe_rapid(end, block);
+                let end = self.program_xz(p.im, p.re);
+                self.rapid_to(end, block);
                 return true;
             }
             Cut::Feed(p) => (p, None),
@@ -278,7 +259,7 @@ impl Interpreter<'_> {
             return false;
         };
         let start = self.machine_position();
-        let end = self.lathe_point(to);
+        let end = self.program_xz(to.im, to.re);
         let close = |a: &Position, b: &Position| {
             let scale = self.scale();
             (a[0] - b[0]).abs() < 1e-4 * scale && (a[2] - b[2]).abs() < 1e-4 * scale
@@ -289,7 +270,7 @@ impl Interpreter<'_> {
             // As LinuxCNC: an arc to where the tool is (within 0.0001) is no move.
             Some(_) if close(&start, &end) => return true,
             Some((ccw, center)) => {
-                let center = Plane::ZX.project(&self.lathe_point(center));
+                let center = Plane::ZX.project(&self.program_xz(center.im, center.re));
                 let (from, to) = (Plane::ZX.project(&start), Plane::ZX.project(&end));
                 let offsets = [center[0] - from[0], center[1] - from[1]];
                 if let Err(problem) =

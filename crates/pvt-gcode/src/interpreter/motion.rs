@@ -369,7 +369,14 @@ impl Interpreter<'_> {
     /// Z, at F along X Y Z alone, the rotary axes keeping pace (the rate grows by the
     /// whole length over that length); alone, at F degrees per minute, the number
     /// unconverted by the units. G93's rate, a time already, stays.
-    pub(super) fn rotary_rate(&self, rate: f64, start: &Position, end: &Position) -> f64 {
+    /// `feed` is the F the rate comes from.
+    pub(super) fn rotary_rate(
+        &self,
+        rate: f64,
+        feed: Option<Feed>,
+        start: &Position,
+        end: &Position,
+    ) -> f64 {
         if self.modal.feed_mode == FeedMode::InverseTime {
             return rate;
         }
@@ -377,7 +384,7 @@ impl Interpreter<'_> {
         let full = line_length(start, end);
         match (linear > 0.0, full > linear) {
             (true, true) => rate * full / linear,
-            (false, true) => match self.modal.feed {
+            (false, true) => match feed {
                 Some(feed) => rate * self.output().mm_per_unit() / feed.units.mm_per_unit(),
                 None => rate,
             },
@@ -424,7 +431,7 @@ impl Interpreter<'_> {
                 let rate = self.feed_rate(request, block, length);
                 (
                     Motion::Feed,
-                    rate.map(|r| self.rotary_rate(r, &start, &end)),
+                    rate.map(|r| self.rotary_rate(r, self.modal.feed, &start, &end)),
                 )
             }
         };
@@ -438,6 +445,27 @@ impl Interpreter<'_> {
             });
         }
         self.straight(motion, start, end, feed, block);
+    }
+
+    /// The machine position of program point X `x`, Z `z` (program units), the other
+    /// axes where they are: the lathe cycles' and G76's points.
+    pub(super) fn program_xz(&self, x: f64, z: f64) -> Position {
+        let scale = self.scale();
+        let mut program = self.to_program(self.position);
+        program[0] = x * scale;
+        program[2] = z * scale;
+        self.to_machine(program)
+    }
+
+    /// A rapid from where the machine is to `end` (none where it is there already): a
+    /// contour of its own.
+    pub(super) fn rapid_to(&mut self, end: Position, block: &Block) {
+        let start = self.machine_position();
+        self.position = end;
+        if !no_move(&start, &end) {
+            let rate = self.rapid_rate();
+            self.straight(Motion::Rapid, start, end, rate, block);
+        }
     }
 
     /// A straight move from `start` to `end` (apart: not [`no_move`]) at `feed` units per

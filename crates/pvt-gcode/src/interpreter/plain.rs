@@ -120,7 +120,7 @@ impl Interpreter<'_> {
             MotionMode::Rapid => (Motion::Rapid, self.rapid_rate()),
             _ => {
                 let rate = super::motion::feed_per_second(self.feed_per_minute(feed)?)?;
-                (Motion::Feed, self.rotary_rate(rate, &start, &end))
+                (Motion::Feed, self.rotary_rate(rate, feed, &start, &end))
             }
         };
         (!super::motion::no_move(&start, &end)).then_some((motion, start, end, rate))

@@ -101,40 +101,48 @@ impl Interpreter<'_> {
 
     /// G33: a straight move at K per revolution.
     pub(super) fn thread_move(&mut self, request: &Request, block: &Block) {
-        let at = super::motion::move_span(request, block);
-        self.spindle_sync("G33", at.clone());
-        let k = request.offsets[2].map_or(0.0, |k| k.value);
-        if request.offsets[2].is_none() && !self.spindle_sync_refused() {
-            let word = request.motion.map_or(at.clone(), |(_, w)| w.span());
-            return self.push(super::missing_at("G33", word, "a K word (the pitch)"));
-        }
-        let end = match self.target(request) {
-            Ok(end) => end,
-            Err(diagnostic) => return self.push(diagnostic),
+        let Some((end, rate)) = self.synced_block("G33", request, block) else {
+            return;
         };
-        let rate = self.synced_rate(k, "G33", at);
         self.synced_line(end, rate, block);
     }
 
     /// G33.1: rigid tapping to the block's end at K per revolution and back out at that
     /// times I (at least 1), at rest at the bottom (the spindle reverses).
     pub(super) fn rigid_tap(&mut self, request: &Request, block: &Block) {
+        let start = self.machine_position();
+        let Some((end, rate)) = self.synced_block("G33.1", request, block) else {
+            return;
+        };
+        let out = request.offsets[0].map_or(1.0, |i| i.value.max(1.0));
+        self.synced_line(end, rate, block);
+        self.synced_line(start, rate.map(|r| r * out), block);
+    }
+
+    /// The end and rate (`None`: refused or reported) of a G33 or G33.1 (`code`) block
+    /// at its K per revolution; `None` when the block has no end to go to (reported).
+    fn synced_block(
+        &mut self,
+        code: &'static str,
+        request: &Request,
+        block: &Block,
+    ) -> Option<(Position, Option<f64>)> {
         let at = super::motion::move_span(request, block);
-        self.spindle_sync("G33.1", at.clone());
+        self.spindle_sync(code, at.clone());
         let k = request.offsets[2].map_or(0.0, |k| k.value);
         if request.offsets[2].is_none() && !self.spindle_sync_refused() {
             let word = request.motion.map_or(at.clone(), |(_, w)| w.span());
-            return self.push(super::missing_at("G33.1", word, "a K word (the pitch)"));
+            self.push(super::missing_at(code, word, "a K word (the pitch)"));
+            return None;
         }
         let end = match self.target(request) {
             Ok(end) => end,
-            Err(diagnostic) => return self.push(diagnostic),
+            Err(diagnostic) => {
+                self.push(diagnostic);
+                return None;
+            }
         };
-        let start = self.machine_position();
-        let out = request.offsets[0].map_or(1.0, |i| i.value.max(1.0));
-        let rate = self.synced_rate(k, "G33.1", at);
-        self.synced_line(end, rate, block);
-        self.synced_line(start, rate.map(|r| r * out), block);
+        Some((end, self.synced_rate(k, code, at)))
     }
 
     /// A synchronised straight move to `end` at `rate` (none: not sent, the position
@@ -196,7 +204,7 @@ impl Interpreter<'_> {
             self.thread_pass(&cycle, depth, [rate, taper_rate], block);
         }
         if let Ok(end) = self.target(request) {
-            self.cycle_rapid(end, block);
+            self.rapid_to(end, block);
         }
     }
 
@@ -270,13 +278,13 @@ impl Interpreter<'_> {
         let (z0, z1) = (c.start[1] - shift, c.end[1] + c.depth * c.slope - shift);
         let [rate, taper_rate] = rates;
         let clear = x(depth - full);
-        self.cycle_rapid(self.thread_point([clear, z0]), block);
+        self.rapid_to(self.program_xz(clear, z0), block);
         let mut path = Vec::new();
         if c.taper != 0.0 && c.taper_ends & 1 != 0 {
             path.push(([x(depth - c.depth), z0], taper_rate));
             path.push(([x(depth), z0 - c.taper], taper_rate));
         } else {
-            self.cycle_rapid(self.thread_point([x(depth), z0]), block);
+            self.rapid_to(self.program_xz(x(depth), z0), block);
         }
         if c.taper != 0.0 && c.taper_ends & 2 != 0 {
             path.push(([x(depth), z1 + c.taper], rate));
@@ -286,7 +294,7 @@ impl Interpreter<'_> {
         }
         self.end_contour();
         for (point, rate) in path {
-            let end = self.thread_point(point);
+            let end = self.program_xz(point[0], point[1]);
             let start = self.machine_position();
             self.position = end;
             if !super::motion::no_move(&start, &end) {
@@ -294,26 +302,7 @@ impl Interpreter<'_> {
             }
         }
         self.end_contour();
-        self.cycle_rapid(self.thread_point([clear, z1]), block);
-    }
-
-    /// The machine position of program point X, Z (program units), Y and the rest kept.
-    fn thread_point(&self, [x, z]: [f64; 2]) -> Position {
-        let scale = self.scale();
-        let mut program = self.to_program(self.position);
-        program[0] = x * scale;
-        program[2] = z * scale;
-        self.to_machine(program)
-    }
-
-    /// A rapid to `end`, a contour of its own.
-    fn cycle_rapid(&mut self, end: Position, block: &Block) {
-        let start = self.machine_position();
-        self.position = end;
-        if !super::motion::no_move(&start, &end) {
-            let rate = self.rapid_rate();
-            self.straight(Motion::Rapid, start, end, rate, block);
-        }
+        self.rapid_to(self.program_xz(clear, z1), block);
     }
 }
 
