@@ -895,6 +895,7 @@ fn pmac_settings_and_event_commands_follow_the_pmac_grammar() {
             "OPEN PROG 12 CLEAR",
             "ABS",
             "T2 ; tool_select from line 2",
+            "M05 ; spindle_off from line 2",
             "M06 ; tool_change from line 2",
             "S12000 ; spindle_speed from line 3",
             "M03 ; spindle_cw from line 3",

@@ -856,7 +856,8 @@ const OWN_DEFAULTS: [(&str, &str); 4] = [
 fn libraries_apply_defaults_in_their_own_default_or_one_resolution() {
     // Outside pvt-core's defaults.rs (and pvtc, held to settings.rs above), a default is
     // named only by a type's own `impl Default`, a re-export or alias of the constant,
-    // a call of a shared resolution (`defaults::rapid_per_minute`, `defaults::tolerance`)
+    // a call of a shared resolution (`defaults::rapid_per_minute`, `defaults::tolerance`,
+    // the arc tolerances of a program's units)
     // or one of OWN_DEFAULTS.
     let mut found = Vec::new();
     for (name, text) in crate_sources() {
@@ -878,6 +879,8 @@ fn libraries_apply_defaults_in_their_own_default_or_one_resolution() {
                 || t.starts_with("pub const ")
                 || code.contains("defaults::rapid_per_minute(")
                 || code.contains("defaults::tolerance(")
+                || code.contains("defaults::arc_abs_tolerance(")
+                || code.contains("defaults::arc_radius_tolerance(")
                 || OWN_DEFAULTS
                     .iter()
                     .any(|(file, constant)| name == *file && code.contains(constant));

@@ -15,11 +15,24 @@ pub const RAPID_MM_PER_MIN: f64 = 5000.0;
 /// tolerance (largest sagitta) of the others.
 pub const TOLERANCE_MM: f64 = 0.001;
 
-/// G-code arc centre check: absolute radius tolerance, millimetres.
-pub const ARC_ABS_TOLERANCE_MM: f64 = 0.002;
+/// G-code arc centre check: absolute radius tolerance of a program in millimetres,
+/// LinuxCNC's `CENTER_ARC_RADIUS_TOLERANCE_MM` (2 · 0.01 · √2 mm). An arc whose start and
+/// end radii differ by more than 100 times it, or by more than it and by more than
+/// [`ARC_REL_TOLERANCE`], is refused; one within runs as a spiral.
+pub const ARC_ABS_TOLERANCE_MM: f64 = 2.0 * 0.01 * std::f64::consts::SQRT_2;
 
-/// G-code arc centre check: radius tolerance relative to the start radius (0.1 %).
+/// The same for a program in inches, inches: LinuxCNC's
+/// `CENTER_ARC_RADIUS_TOLERANCE_INCH` (2 · 0.001 · √2 in).
+pub const ARC_ABS_TOLERANCE_IN: f64 = 2.0 * 0.001 * std::f64::consts::SQRT_2;
+
+/// G-code arc centre check: radius difference relative to the larger radius (0.1 %),
+/// LinuxCNC's `SPIRAL_RELATIVE_TOLERANCE`.
 pub const ARC_REL_TOLERANCE: f64 = 0.001;
+
+/// G-code arcs, inches: how far R may fall short of half the chord (a half circle), and
+/// the smallest radius of a centre-form arc, LinuxCNC's `RADIUS_TOLERANCE_INCH`
+/// (millimetre programs: the same length, 0.00127 mm).
+pub const ARC_RADIUS_TOLERANCE_IN: f64 = 0.00005;
 
 /// DXF: end points closer than this many millimetres are joined (raised to the
 /// tolerance when that is larger).
@@ -56,4 +69,22 @@ pub fn rapid_per_minute(given: Option<f64>, units: crate::axis::Units) -> f64 {
 /// plans with it and pvt-dxf flattens curves with it.
 pub fn tolerance(given: Option<f64>, units: crate::axis::Units) -> f64 {
     given.unwrap_or_else(|| units.from_mm(TOLERANCE_MM))
+}
+
+/// The absolute arc radius tolerance of a program in `units`, in those units: `given_mm`
+/// (`--arc-abs-tolerance`, millimetres) converted, else LinuxCNC's for those units
+/// ([`ARC_ABS_TOLERANCE_MM`], [`ARC_ABS_TOLERANCE_IN`]).
+pub fn arc_abs_tolerance(given_mm: Option<f64>, units: crate::axis::Units) -> f64 {
+    match (given_mm, units) {
+        (Some(mm), units) => units.from_mm(mm),
+        (None, crate::axis::Units::Millimetre) => ARC_ABS_TOLERANCE_MM,
+        (None, crate::axis::Units::Inch) => ARC_ABS_TOLERANCE_IN,
+    }
+}
+
+/// How far R may fall short of half the chord, and the smallest centre-form radius, of a
+/// program in `units`, in those units: [`ARC_RADIUS_TOLERANCE_IN`], the same length in
+/// millimetres.
+pub fn arc_radius_tolerance(units: crate::axis::Units) -> f64 {
+    units.from_mm(ARC_RADIUS_TOLERANCE_IN * crate::axis::Units::Inch.mm_per_unit())
 }

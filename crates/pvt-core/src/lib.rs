@@ -57,5 +57,5 @@ pub use stream::{
 };
 pub use toolpath::{
     Arc, ArcDirection, Bezier, CodeWords, Contour, CoolantState, Element, ElementKind, EventKind,
-    Motion, Plane, ProgramEvent, Span, SpindleState, Toolpath,
+    Motion, PathControl, Plane, ProgramEvent, Span, SpindleState, Toolpath,
 };

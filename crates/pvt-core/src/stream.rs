@@ -39,6 +39,10 @@ pub trait ToolpathSink {
     fn event(&mut self, event: &EventKind, line: u32);
     /// The path tolerance (G-code's G64 P), program units, from the next contour on.
     fn path_tolerance(&mut self, _tolerance: f64) {}
+    /// The path control mode (G-code's G61, G61.1, G64 P Q) from the next move on, for
+    /// the record: planning follows it through contour ends and
+    /// [`ToolpathSink::path_tolerance`].
+    fn path_control(&mut self, _control: &crate::toolpath::PathControl) {}
 }
 
 /// Receives planned motion: contours of pieces, and events between them.

@@ -212,6 +212,38 @@ pub enum CoolantState {
     Off,
 }
 
+/// How the machine follows the path from a program's G61, G61.1 or G64 on (LinuxCNC's
+/// motion control mode): a front end hands it on with
+/// [`crate::stream::ToolpathSink::path_control`] for the record (the `toolpath` format,
+/// the differential tests); the planners follow G61/G61.1 through contour ends and G64
+/// P through [`crate::stream::ToolpathSink::path_tolerance`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum PathControl {
+    /// G61: exact path (every programmed point is reached).
+    ExactPath,
+    /// G61.1: exact stop (the machine comes to rest at the end of every move).
+    ExactStop,
+    /// G64: continuous, with P (the path tolerance) and Q (LinuxCNC's naive-CAM
+    /// tolerance), in the toolpath's units; 0 where not given.
+    Continuous {
+        /// P.
+        tolerance: f64,
+        /// Q (P where Q is not given, as LinuxCNC sets it).
+        naive_cam_tolerance: f64,
+    },
+}
+
+impl PathControl {
+    /// The name used in every output (`exact_path`, `exact_stop`, `continuous`).
+    pub fn name(&self) -> &'static str {
+        match self {
+            PathControl::ExactPath => "exact_path",
+            PathControl::ExactStop => "exact_stop",
+            PathControl::Continuous { .. } => "continuous",
+        }
+    }
+}
+
 /// What a program asks the machine to do that is not motion.
 #[derive(Debug, Clone, PartialEq)]
 pub enum EventKind {

@@ -20,10 +20,15 @@
 //! - `event`: `line`, `event` (its name, as every output names it) and its value, if any
 //!   (`seconds`, `rpm`, `tool`, `text`);
 //! - `path_tolerance`: `tolerance`, from the next contour on (G64 P);
+//! - `path_control`: `control` (`exact_path` G61, `exact_stop` G61.1, `continuous` G64,
+//!   with its `tolerance` P and `naive_cam_tolerance` Q, output units), from the next
+//!   move on;
 //! - `end`: `units` (`mm`, `in`), `elements` and `events` (counts). A file without it
 //!   was cut short.
 
-use pvt_core::{ArcDirection, Element, ElementKind, EventKind, Motion, Plane, ToolpathSink, Units};
+use pvt_core::{
+    ArcDirection, Element, ElementKind, EventKind, Motion, PathControl, Plane, ToolpathSink, Units,
+};
 use serde_json::{json, Value};
 use std::io::Write;
 
@@ -166,6 +171,24 @@ impl<W: Write> ToolpathSink for ToolpathWriter<W> {
     fn path_tolerance(&mut self, tolerance: f64) {
         self.line(&json!({ "kind": "path_tolerance", "tolerance": tolerance }));
     }
+
+    fn path_control(&mut self, control: &PathControl) {
+        self.line(&path_control_value(control));
+    }
+}
+
+/// A path control mode as its `path_control` object.
+pub fn path_control_value(control: &PathControl) -> Value {
+    let mut value = json!({ "kind": "path_control", "control": control.name() });
+    if let PathControl::Continuous {
+        tolerance,
+        naive_cam_tolerance,
+    } = control
+    {
+        value["tolerance"] = json!(tolerance);
+        value["naive_cam_tolerance"] = json!(naive_cam_tolerance);
+    }
+    value
 }
 
 /// Hands a whole [`pvt_core::Toolpath`] to `sink` in program order, as a streaming front

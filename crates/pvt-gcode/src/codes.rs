@@ -33,8 +33,16 @@ pub(crate) enum MotionMode {
     NurbsEnd,
     /// G6.2: a NURBS block with its own knots (K) and weights (R), LinuxCNC 2.10's.
     NurbsKnots,
-    /// A motion code pvtc does not execute (G33 spindle-synchronized motion, G76…);
-    /// blocks in this mode are skipped (the code itself was reported).
+    /// G33: a move synchronised to the spindle, K per revolution.
+    Thread,
+    /// G33.1: rigid tapping, K per revolution.
+    RigidTap,
+    /// G76: LinuxCNC's threading cycle.
+    ThreadCycle,
+    /// G70, G71, G72 and their .1 and .2 forms: LinuxCNC's lathe cycles.
+    LatheCycle(LatheCycle),
+    /// A motion code pvtc does not execute, or an unknown code's; blocks in this mode
+    /// are skipped (the code itself was reported).
     Unsupported,
 }
 
@@ -57,6 +65,10 @@ impl MotionMode {
             MotionMode::Nurbs => "G5.2",
             MotionMode::NurbsEnd => "G5.3",
             MotionMode::NurbsKnots => "G6.2",
+            MotionMode::Thread => "G33",
+            MotionMode::RigidTap => "G33.1",
+            MotionMode::ThreadCycle => "G76",
+            MotionMode::LatheCycle(cycle) => cycle.name(),
             MotionMode::Unsupported => "an unsupported cycle",
         }
     }
@@ -105,6 +117,29 @@ impl Cycle {
     }
 }
 
+/// A lathe cycle: G70 (finishing) or G71/G72 (roughing along Z / along X, the .1 forms
+/// cutting no pockets, the .2 forms only after the first).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum LatheCycle {
+    /// G70.
+    Finishing,
+    /// G71 (`facing` false), G72 (`facing` true); `pockets` 0, 1 or 2 (G7x, .1, .2).
+    Roughing { facing: bool, pockets: u8 },
+}
+
+impl LatheCycle {
+    /// The code as a machinist writes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            LatheCycle::Finishing => "G70",
+            LatheCycle::Roughing { facing, pockets } => {
+                ["G71", "G71.1", "G71.2", "G72", "G72.1", "G72.2"]
+                    [usize::from(facing) * 3 + usize::from(pockets.min(2))]
+            }
+        }
+    }
+}
+
 /// Tool length offset mode (modal group 8).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum ToolLength {
@@ -128,7 +163,7 @@ pub(crate) enum Distance {
     Incremental,
 }
 
-/// Feed rate mode (G93/G94).
+/// Feed rate mode (G93/G94/G95).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub(crate) enum FeedMode {
     /// G93: F is the inverse of the minutes each feed move takes.
@@ -136,16 +171,45 @@ pub(crate) enum FeedMode {
     /// G94: F is units per minute.
     #[default]
     PerMinute,
+    /// G95: F is units per spindle revolution (planned only with `--spindle-rpm-exact`).
+    PerRevolution,
 }
 
-/// Path control mode (G61/G64).
+impl FeedMode {
+    /// The code as a machinist writes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            FeedMode::InverseTime => "G93",
+            FeedMode::PerMinute => "G94",
+            FeedMode::PerRevolution => "G95",
+        }
+    }
+}
+
+/// Path control mode (G61/G61.1/G64).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub(crate) enum PathMode {
-    /// G61/G61.1: the machine comes to rest at the end of every move.
+    /// G61: exact path; pvtc comes to rest at the end of every move, as for G61.1.
+    ExactPath,
+    /// G61.1: exact stop, the machine comes to rest at the end of every move.
     ExactStop,
     /// G64: continuous contouring.
     #[default]
     Continuous,
+}
+
+/// M70…M73: the modal state saved and restored (LinuxCNC's modal group 7, with the
+/// spindle).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Context {
+    /// M70: save the modal state at this call level.
+    Save,
+    /// M71: invalidate the state saved at this call level.
+    Invalidate,
+    /// M72: restore the state saved at this call level.
+    Restore,
+    /// M73: save it, and restore it when the subroutine returns.
+    SaveAndRestoreOnReturn,
 }
 
 /// Non-modal codes (modal group 0) pvtc executes.
@@ -203,9 +267,9 @@ pub(crate) enum GCode {
     Units(Units),
     /// G90/G91.
     Distance(Distance),
-    /// G93/G94.
+    /// G93/G94/G95.
     FeedMode(FeedMode),
-    /// G61/G61.1 (exact stop) or G64 (continuous).
+    /// G61 (exact path), G61.1 (exact stop) or G64 (continuous).
     PathMode(PathMode),
     /// G90.1/G91.1: arc centres absolute or incremental.
     ArcCenters(Distance),
@@ -259,7 +323,9 @@ pub(crate) fn g_code(tenths: u32) -> Option<GCode> {
         910 => Distance(self::Distance::Incremental),
         930 => FeedMode(self::FeedMode::InverseTime),
         940 => FeedMode(self::FeedMode::PerMinute),
-        610 | 611 => PathMode(self::PathMode::ExactStop),
+        950 => FeedMode(self::FeedMode::PerRevolution),
+        610 => PathMode(self::PathMode::ExactPath),
+        611 => PathMode(self::PathMode::ExactStop),
         640 => PathMode(self::PathMode::Continuous),
         901 => ArcCenters(self::Distance::Absolute),
         911 => ArcCenters(self::Distance::Incremental),
@@ -308,7 +374,14 @@ pub(crate) fn g_code(tenths: u32) -> Option<GCode> {
         52 => Motion(MotionMode::Nurbs),
         53 => Motion(MotionMode::NurbsEnd),
         62 => Motion(MotionMode::NurbsKnots),
-        330 | 331 | 760 => Motion(MotionMode::Unsupported),
+        330 => Motion(MotionMode::Thread),
+        331 => Motion(MotionMode::RigidTap),
+        760 => Motion(MotionMode::ThreadCycle),
+        700 => Motion(MotionMode::LatheCycle(self::LatheCycle::Finishing)),
+        710..=712 | 720..=722 => Motion(MotionMode::LatheCycle(self::LatheCycle::Roughing {
+            facing: tenths >= 720,
+            pockets: (tenths % 10) as u8,
+        })),
         _ => return unsupported_g(tenths).map(Unsupported),
     })
 }
@@ -317,19 +390,13 @@ pub(crate) fn g_code(tenths: u32) -> Option<GCode> {
 fn unsupported_g(tenths: u32) -> Option<Feature> {
     Some(match tenths {
         171 | 181 | 191 => feature("UVW planes", false),
-        700 | 710 | 711 | 712 | 720 => feature("lathe cycles", true),
-        950 => feature("feed per revolution", false),
         _ => return None,
     })
 }
 
 /// The feature of a motion-group code pvtc does not execute.
-pub(crate) fn motion_feature(tenths: u32) -> &'static str {
-    match tenths {
-        330 | 331 => "spindle-synchronized motion",
-        760 => "lathe threading cycles",
-        _ => "motion modes",
-    }
+pub(crate) fn motion_feature(_tenths: u32) -> &'static str {
+    "motion modes"
 }
 
 /// What an M code does.
@@ -339,6 +406,8 @@ pub(crate) enum MCode {
     Pause(bool),
     /// M3/M4/M5.
     Spindle(SpindleState),
+    /// M70…M73.
+    Context(Context),
     /// M7/M8/M9.
     Coolant(CoolantState),
     /// M6.
@@ -374,7 +443,10 @@ pub(crate) fn m_code(tenths: u32) -> Option<MCode> {
         600 => Unsupported("pallet change"),
         610 => Unsupported("setting the current tool"),
         620..=680 if tenths.is_multiple_of(10) => Io((tenths / 10) as u16),
-        700..=730 if tenths.is_multiple_of(10) => Unsupported("saving and restoring modal state"),
+        700 => Context(self::Context::Save),
+        710 => Context(self::Context::Invalidate),
+        720 => Context(self::Context::Restore),
+        730 => Context(self::Context::SaveAndRestoreOnReturn),
         1000..=1990 if tenths.is_multiple_of(10) => User((tenths / 10) as u16),
         _ => return None,
     })

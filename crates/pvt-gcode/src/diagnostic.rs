@@ -222,7 +222,7 @@ pub enum GcodeDiagnostic {
     #[error("arc start radius {} {units} and end radius {} {units} differ by {} {units}", show(*start_radius), show(*end_radius), show((start_radius - end_radius).abs()))]
     #[diagnostic(
         code(pvtc::gcode::arc_radius_mismatch),
-        help("the end point must lie on the circle about the centre (allowed: {} {units}, or {}% of the radius, whichever is larger); check I/J/K and the end point", show(*abs_tolerance), show(rel_tolerance * 100.0))
+        help("the end point must lie on the circle about the centre: the radii may differ by {} {units}, or by up to {} {units} within {}% of the radius (LinuxCNC's rule; the arc then runs as a spiral); check I/J/K and the end point", show(*abs_tolerance), show(abs_tolerance * 100.0), show(rel_tolerance * 100.0))
     )]
     ArcRadiusMismatch {
         /// Distance from centre to start point, output units.
@@ -231,7 +231,7 @@ pub enum GcodeDiagnostic {
         end_radius: f64,
         /// Absolute tolerance in output units.
         abs_tolerance: f64,
-        /// Relative tolerance (fraction of the start radius).
+        /// Relative tolerance (fraction of the larger radius).
         rel_tolerance: f64,
         /// `mm` or `in`.
         units: &'static str,
@@ -433,6 +433,81 @@ pub enum GcodeDiagnostic {
     RapidToCurrentPoint {
         /// The block.
         #[label("already here")]
+        span: SourceSpan,
+    },
+
+    /// Warning: an F word with G20/G21 in its block is read in the units before the
+    /// block, as LinuxCNC reads it (F is executed before the units); a CAM post that
+    /// wrote `G20 F6` almost certainly meant the new units.
+    #[error(
+        "`{feed}` is read before `{code}` of its block, in {old}/min: {} {old}/min ({} {new}/min), not {} {new}/min",
+        show(*value), show(*converted), show(*value)
+    )]
+    #[diagnostic(
+        code(pvtc::gcode::feed_before_units),
+        severity(Warning),
+        help("LinuxCNC sets F before G20/G21 of the same block; to mean {} {new}/min, put {code} on a line of its own before `{feed}`", show(*value))
+    )]
+    FeedBeforeUnits {
+        /// The F word as written, e.g. `F6`.
+        feed: String,
+        /// Its number.
+        value: f64,
+        /// The feed in the new units.
+        converted: f64,
+        /// The units it is read in, `mm` or `in`.
+        old: &'static str,
+        /// The block's units, `mm` or `in`.
+        new: &'static str,
+        /// The units code, `G20` or `G21`.
+        code: String,
+        /// The F word.
+        #[label("read in {old}/min")]
+        span: SourceSpan,
+    },
+
+    /// Spindle-synchronised motion (G33, G33.1, G76, G95) without `--spindle-rpm-exact`.
+    #[error(
+        "{code} is spindle-synchronised: a time-based PVT program cannot follow a spindle encoder"
+    )]
+    #[diagnostic(
+        code(pvtc::gcode::spindle_sync),
+        help("give --spindle-rpm-exact to plan it at the programmed S taken as exact (feed per revolution × S, pitch × S), or post the program without it")
+    )]
+    SpindleSync {
+        /// The code, e.g. `G76`.
+        code: String,
+        /// The code.
+        #[label("follows the spindle")]
+        span: SourceSpan,
+    },
+
+    /// Warning: spindle-synchronised motion planned at the programmed S (`--spindle-rpm-exact`).
+    #[error("{code} and the program's other spindle-synchronised moves are planned at the programmed S taken as exact (feed per revolution × S, pitch × S)")]
+    #[diagnostic(
+        code(pvtc::gcode::spindle_rpm_exact),
+        severity(Warning),
+        help("the machine follows its spindle's encoder; these moves are right only while the spindle turns at exactly S")
+    )]
+    SpindleRpmExact {
+        /// The first such code, e.g. `G33`.
+        code: String,
+        /// The code.
+        #[label("timed at S")]
+        span: SourceSpan,
+    },
+
+    /// M72 with no state saved at this call level (no M70 or M73 since its last M71).
+    #[error("M72 restores no saved state: no M70 or M73 saved one at this call level")]
+    #[diagnostic(
+        code(pvtc::gcode::no_saved_state),
+        help(
+            "save the modal state with M70 (or M73 in a subroutine) before M72, and do not M71 it"
+        )
+    )]
+    NoSavedState {
+        /// The M72.
+        #[label("nothing to restore")]
         span: SourceSpan,
     },
 
@@ -800,6 +875,10 @@ impl GcodeDiagnostic {
             D::OutOfRange { .. } => "pvtc::gcode::out_of_range",
             D::ZeroLengthMove { .. } => "pvtc::gcode::zero_length_move",
             D::RapidToCurrentPoint { .. } => "pvtc::gcode::rapid_to_current_point",
+            D::FeedBeforeUnits { .. } => "pvtc::gcode::feed_before_units",
+            D::NoSavedState { .. } => "pvtc::gcode::no_saved_state",
+            D::SpindleSync { .. } => "pvtc::gcode::spindle_sync",
+            D::SpindleRpmExact { .. } => "pvtc::gcode::spindle_rpm_exact",
             D::AfterProgramEnd { .. } => "pvtc::gcode::after_program_end",
             D::NoMotion { .. } => "pvtc::gcode::no_motion",
             D::LineTooLong { .. } => "pvtc::gcode::line_too_long",
@@ -846,6 +925,8 @@ impl GcodeDiagnostic {
             self,
             Self::ZeroLengthMove { .. }
                 | Self::RapidToCurrentPoint { .. }
+                | Self::FeedBeforeUnits { .. }
+                | Self::SpindleRpmExact { .. }
                 | Self::AfterProgramEnd { .. }
                 | Self::NoProgramEnd { .. }
                 | Self::IgnoredWord { .. }
@@ -877,6 +958,10 @@ impl GcodeDiagnostic {
             | D::OutOfRange { span, .. }
             | D::ZeroLengthMove { span }
             | D::RapidToCurrentPoint { span }
+            | D::FeedBeforeUnits { span, .. }
+            | D::NoSavedState { span }
+            | D::SpindleSync { span, .. }
+            | D::SpindleRpmExact { span, .. }
             | D::AfterProgramEnd { span, .. }
             | D::NoMotion { span }
             | D::LineTooLong { span, .. }

@@ -1,11 +1,10 @@
 //! The modal interpreter: blocks in program order to toolpath elements and events.
 //!
-//! Owns the modal state (motion, plane, units, distance and arc-centre modes, feed mode,
-//! path mode, lathe diameter mode, coordinate system, G92 offsets, feed), the current
-//! position and the order in which one block takes effect, as RS274NGC executes it:
-//! message, feed mode, S, T, M6, M3/M4/M5, M7/M8/M9, G4, plane, units, coordinate
-//! system, path mode, distance modes, F (read in the block's units), G92 family, motion
-//! (G53 applying to it), stop.
+//! Owns the modal state ([`modal::Modal`]: motion, plane, units, distance and arc-centre
+//! modes, feed mode and feed, path control, lathe diameter mode, coordinate system,
+//! spindle and coolant), the G92 offsets, the current position, and what each step of a
+//! block does; the steps run in the order of [`order::ORDER`], LinuxCNC's (F and S
+//! before the block's G20/G21, M6 before G43, motion last but the stop).
 //! It hands elements and events to a [`ToolpathSink`] as they are made and keeps none;
 //! it must not parse text (that is [`crate::parser`]) nor compute arc centres (that is
 //! [`crate::arcs`]). Its moves live in [`motion`].
@@ -18,14 +17,22 @@
 
 mod compensation;
 mod cycles;
+mod lathe;
 mod machine;
+mod modal;
 mod motion;
 mod nurbs;
 mod nurbs_g6;
+mod order;
 mod plain;
 mod spline;
+mod threading;
 
-use pvt_core::{EventKind, Position, SpindleState, Units, AXIS_COUNT};
+use pvt_core::{CoolantState, EventKind, PathControl, Position, Units, AXIS_COUNT};
+
+pub(crate) use modal::Feed;
+use modal::{ArcCenters, Modal};
+use order::{Step, ORDER};
 
 use crate::block::{Block, Word};
 use crate::codes::{Distance, FeedMode, MotionMode, NonModal, PathMode};
@@ -44,39 +51,6 @@ pub(crate) enum Flow {
     End(Word),
 }
 
-/// The modal state RS274NGC keeps between blocks (the part pvtc uses).
-#[derive(Debug, Clone, Copy, Default)]
-struct Modal {
-    motion: Option<MotionMode>,
-    plane: pvt_core::Plane,
-    units: Units,
-    distance: Distance,
-    arc_centers: ArcCenters,
-    feed_mode: FeedMode,
-    path_mode: PathMode,
-    /// G7: X words are diameters.
-    diameter: bool,
-    /// Work coordinate system, 0 (G54) … 8 (G59.3).
-    coord_system: usize,
-}
-
-/// G90.1/G91.1, incremental by default.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-struct ArcCenters(Distance);
-
-impl Default for ArcCenters {
-    fn default() -> Self {
-        ArcCenters(Distance::Incremental)
-    }
-}
-
-/// The feed in effect, as written: a number of the program units in force at each move
-/// per minute.
-#[derive(Debug, Clone, Copy)]
-struct Feed {
-    written: f64,
-}
-
 /// Executes blocks one at a time, streaming the toolpath into a sink.
 pub(crate) struct Interpreter<'a> {
     options: &'a GcodeOptions,
@@ -84,7 +58,6 @@ pub(crate) struct Interpreter<'a> {
     modal: Modal,
     output_units: Option<Units>,
     position: Position,
-    feed: Option<Feed>,
     /// A missing or bad feed was reported and no F word came since.
     feed_reported: bool,
     /// G92 offsets and those G92.2 kept, output units.
@@ -117,19 +90,20 @@ pub(crate) struct Interpreter<'a> {
     pub(crate) homes: [Position; 2],
     /// Canned cycle levels kept between blocks, and the G98/G99 mode.
     pub(crate) cycle: cycles::CycleMemory,
-    /// The spindle as the last M3/M4/M5 (or a cycle) left it.
-    pub(crate) spindle: SpindleState,
-    /// G96 (constant surface speed) is in effect: S is a surface speed, not rpm.
-    pub(crate) surface_speed: bool,
-    /// G64 Q: LinuxCNC's naive-CAM tolerance, output units; recorded, not applied.
+    /// The last G64 Q (P where Q is not given): LinuxCNC's naive-CAM tolerance, output
+    /// units; recorded, not applied.
     pub(crate) naive_cam_tolerance: Option<f64>,
+    /// The modal state M70/M73 saved at each call level (the main program first).
+    frames: Vec<Option<modal::Frame>>,
+    /// `pvtc::gcode::spindle_rpm_exact` was given.
+    spindle_sync_warned: bool,
+    /// A lathe cycle waiting for, or reading, its profile.
+    lathe: Option<Box<lathe::LatheRun>>,
     /// Set while held lines run (a loop or subroutine body, which may run many times):
     /// a diagnostic kept already is not kept again.
     pub once: bool,
     /// Set while a subroutine file runs: its diagnostics are shown at the call.
     pub origin: Option<crate::oword::Origin>,
-    /// The last S number (`#<_rpm>`).
-    rpm: f64,
     /// Arc turns (P words) of the run so far.
     arc_turns_run: u64,
     /// Probing moves run so far (the next takes that many results in).
@@ -153,7 +127,6 @@ impl<'a> Interpreter<'a> {
             modal: Modal::default(),
             output_units: options.units,
             position: [0.0; AXIS_COUNT],
-            feed: None,
             feed_reported: false,
             g92: [0.0; AXIS_COUNT],
             g92_kept: [0.0; AXIS_COUNT],
@@ -170,16 +143,13 @@ impl<'a> Interpreter<'a> {
             tools: options.tool_table.clone(),
             tool: machine::ToolState::default(),
             homes: [[0.0; AXIS_COUNT]; 2],
-            cycle: cycles::CycleMemory {
-                to_r: true,
-                ..cycles::CycleMemory::default()
-            },
-            spindle: SpindleState::Off,
-            surface_speed: false,
+            cycle: cycles::CycleMemory::default(),
             naive_cam_tolerance: None,
+            frames: vec![None],
+            spindle_sync_warned: false,
+            lathe: None,
             once: false,
             origin: None,
-            rpm: 0.0,
             arc_turns_run: 0,
             probes: 0,
             probe: None,
@@ -248,8 +218,8 @@ impl<'a> Interpreter<'a> {
                 pvt_core::Plane::ZX => 180,
                 pvt_core::Plane::YZ => 190,
             },
-            feed: self.feed.map_or(0.0, |f| f.written),
-            rpm: self.rpm,
+            feed: m.feed.map_or(0.0, |f| f.written),
+            rpm: m.speed,
             current_tool: f64::from(self.tool.current),
             selected_tool: self.tool.selected.map_or(0.0, f64::from),
             tool_offset: to_mm(&self.tool.offset),
@@ -291,6 +261,11 @@ impl<'a> Interpreter<'a> {
 
     /// Executes one block in RS274NGC order (see the module documentation).
     pub fn execute(&mut self, block: &Block) -> Flow {
+        if self.recording_profile() {
+            // A lathe cycle's profile: its motion words only.
+            self.profile_block(block);
+            return Flow::Continue;
+        }
         let mut request = self.request.take().unwrap_or_default();
         request.read(block, &mut self.pending);
         let flow = self.execute_request(&request, block);
@@ -312,31 +287,79 @@ impl<'a> Interpreter<'a> {
             self.modal.motion = Some(crate::codes::MotionMode::Unsupported);
             return Flow::Continue;
         }
-        if let Some(text) = &block.message {
-            self.event(EventKind::Message { text: text.clone() }, block.line);
+        for step in ORDER {
+            if let Some(flow) = self.run_step(step, request, block) {
+                return flow;
+            }
         }
-        if let Some((mode, _)) = request.feed_mode {
-            self.modal.feed_mode = mode;
+        Flow::Continue
+    }
+
+    /// Runs one step of a block ([`order::Step`]); the flow when the step ends the block.
+    fn run_step(&mut self, step: Step, request: &Request, block: &Block) -> Option<Flow> {
+        let line = block.line;
+        let m = &mut self.modal;
+        match step {
+            Step::Comment => {
+                if let Some(text) = &block.message {
+                    self.event(EventKind::Message { text: text.clone() }, line);
+                }
+            }
+            Step::SpindleMode => {
+                if let Some((css, _)) = request.surface_speed {
+                    m.surface_speed = css;
+                }
+            }
+            Step::FeedMode => self.set_feed_mode(request),
+            Step::Feed => self.set_feed(request),
+            Step::Speed => self.set_speed(request, line),
+            Step::SelectTool => self.select_tool(request, line),
+            Step::Io => self.code_event(request.io, request, line),
+            Step::ChangeTool => self.change_tool(request, line),
+            Step::Spindle => self.set_spindle(request, line),
+            Step::Coolant => self.set_coolant(request, line),
+            // M48…M53 are accepted as state: pvtc plans at 100 %.
+            Step::Overrides => {}
+            Step::User => self.code_event(request.user, request, line),
+            Step::Dwell => self.dwell(request, line),
+            Step::Plane => m.plane = request.plane.map_or(m.plane, |(p, _)| p),
+            Step::Units => self.set_units(request),
+            Step::LatheDiameter => m.diameter = request.diameter.map_or(m.diameter, |(d, _)| d),
+            Step::CutterComp => self.set_compensation(request),
+            Step::ToolLength => self.set_tool_length(request),
+            Step::CoordSystem => {
+                m.coord_system = request.coord_system.map_or(m.coord_system, |(c, _)| c)
+            }
+            Step::PathControl => self.set_path_control(request),
+            Step::Distance => m.distance = request.distance.map_or(m.distance, |(d, _)| d),
+            Step::ArcDistance => {
+                if let Some((centers, _)) = request.arc_centers {
+                    m.arc_centers = ArcCenters(centers);
+                }
+            }
+            Step::Retract => m.retract_to_r = request.retract.map_or(m.retract_to_r, |(r, _)| r),
+            Step::NonModal => {
+                self.set_offsets(request);
+                self.set_tables(request);
+                self.home(request, block);
+            }
+            Step::Motion => {
+                self.set_motion_mode(request);
+                self.check_p_word(request);
+                self.check_words(request);
+                self.run_motion(request, block);
+                self.reread_after_tool_change(request);
+            }
+            Step::Stop => return Some(self.stop(request, line)),
         }
-        self.machine_events(request, block.line);
-        self.dwell(request, block.line);
-        self.set_modes(request);
-        self.set_compensation(request);
-        // M6 loads its tool before G43 of the same block reads it.
-        self.machine_state(request);
-        self.set_tool_length(request);
-        // F after the units of its block, so `G21 F254` is 254 mm/min.
-        self.set_feed(request);
-        self.set_offsets(request);
-        self.set_tables(request);
-        self.home(request, block);
-        self.check_p_word(request);
-        self.check_words(request);
-        self.run_motion(request, block);
-        self.reread_after_tool_change(request);
+        None
+    }
+
+    /// M0/M1 (a pause), M2/M30 (the end), or none.
+    fn stop(&mut self, request: &Request, line: u32) -> Flow {
         match request.stop {
             Some((Stop::Pause(optional), _)) => {
-                self.event(EventKind::Pause { optional }, block.line);
+                self.event(EventKind::Pause { optional }, line);
                 Flow::Continue
             }
             Some((Stop::End, word)) => {
@@ -413,38 +436,67 @@ impl<'a> Interpreter<'a> {
         self.sink.event(&kind, line);
     }
 
-    /// S, T, M6, M3/M4/M5 and M7/M8/M9, in that order.
-    fn machine_events(&mut self, request: &Request, line: u32) {
-        let css = request
-            .surface_speed
-            .map_or(self.surface_speed, |(css, _)| css);
-        if let Some(s) = request.s.filter(|_| !css) {
-            match s.value >= 0.0 {
-                true => {
-                    self.rpm = s.value;
-                    self.event(EventKind::SpindleSpeed { rpm: s.value }, line)
-                }
-                false => self.push(bad_value(s, "a spindle speed must not be negative")),
-            }
+    /// S: the spindle speed (an event, but under G96, where S is a surface speed).
+    fn set_speed(&mut self, request: &Request, line: u32) {
+        let Some(s) = request.s else { return };
+        if s.value < 0.0 {
+            return self.push(bad_value(s, "a spindle speed must not be negative"));
         }
-        if let Some(t) = request.t {
-            match whole(t.value) {
-                Some(tool) => self.event(EventKind::ToolSelect { tool }, line),
-                None => self.push(bad_value(t, "a tool number must be a whole number ≥ 0")),
-            }
+        self.modal.speed = s.value;
+        if !self.modal.surface_speed {
+            self.event(EventKind::SpindleSpeed { rpm: s.value }, line);
         }
-        self.code_event(request.io, request, line);
-        if request.tool_change.is_some() {
-            self.event(EventKind::ToolChange, line);
+    }
+
+    /// T: select a tool.
+    fn select_tool(&mut self, request: &Request, line: u32) {
+        let Some(t) = request.t else { return };
+        match whole(t.value) {
+            Some(tool) => {
+                self.tool.selected = Some(tool);
+                self.event(EventKind::ToolSelect { tool }, line);
+            }
+            None => self.push(bad_value(t, "a tool number must be a whole number ≥ 0")),
+        }
+    }
+
+    /// M6: the spindle stops, as LinuxCNC stops it for a tool change, and the selected
+    /// tool is loaded (before G43 of the same block reads it).
+    fn change_tool(&mut self, request: &Request, line: u32) {
+        if request.tool_change.is_none() {
+            return;
+        }
+        self.modal.spindle = pvt_core::SpindleState::Off;
+        let off = pvt_core::SpindleState::Off;
+        self.event(EventKind::Spindle { state: off }, line);
+        self.event(EventKind::ToolChange, line);
+        if let Some(t) = self.tool.selected {
+            self.tool.current = t;
+        }
+    }
+
+    /// M3/M4/M5, or M70…M73 (one modal group).
+    fn set_spindle(&mut self, request: &Request, line: u32) {
+        if let Some((code, word)) = request.context {
+            self.modal_context(code, word, line);
         }
         if let Some((state, _)) = request.spindle {
-            self.spindle = state;
+            self.modal.spindle = state;
             self.event(EventKind::Spindle { state }, line);
         }
-        if let Some((state, _)) = request.coolant {
-            self.event(EventKind::Coolant { state }, line);
+    }
+
+    /// M7/M8/M9.
+    fn set_coolant(&mut self, request: &Request, line: u32) {
+        let Some((state, _)) = request.coolant else {
+            return;
+        };
+        match state {
+            CoolantState::Mist => self.modal.mist = true,
+            CoolantState::Flood => self.modal.flood = true,
+            CoolantState::Off => (self.modal.mist, self.modal.flood) = (false, false),
         }
-        self.code_event(request.user, request, line);
+        self.event(EventKind::Coolant { state }, line);
     }
 
     /// M62…M68 or M100…M199 as an event with the block's P, Q, E and L words.
@@ -484,6 +536,7 @@ impl<'a> Interpreter<'a> {
             request.non_modal,
             Some((NonModal::Dwell | NonModal::SetTable, _))
         ) || matches!(request.path_mode, Some((PathMode::Continuous, _)))
+            || matches!(self.modal.motion, Some(MotionMode::LatheCycle(_)))
             || request.overrides.is_some()
             || request.io.is_some()
             || request.user.is_some()
@@ -494,6 +547,7 @@ impl<'a> Interpreter<'a> {
                         | MotionMode::Cycle(_)
                         | MotionMode::Nurbs
                         | MotionMode::NurbsKnots
+                        | MotionMode::ThreadCycle
                 )
             );
         if !used {
@@ -515,55 +569,88 @@ impl<'a> Interpreter<'a> {
         self.modal.units.mm_per_unit() / self.output().mm_per_unit()
     }
 
-    fn set_modes(&mut self, request: &Request) {
-        let m = &mut self.modal;
-        if let Some((plane, _)) = request.plane {
-            m.plane = plane;
-        }
-        if let Some((units, _)) = request.units {
-            self.output_units.get_or_insert(units);
-            m.units = units;
-        }
-        if let Some((system, _)) = request.coord_system {
-            m.coord_system = system;
-        }
-        if let Some((mode, _)) = request.path_mode {
-            m.path_mode = mode;
-        }
-        if let Some((distance, _)) = request.distance {
-            m.distance = distance;
-        }
-        if let Some((centers, _)) = request.arc_centers {
-            m.arc_centers = ArcCenters(centers);
-        }
-        if let Some((diameter, _)) = request.diameter {
-            m.diameter = diameter;
-        }
-        if let Some((mode, _)) = request.motion {
-            m.motion = Some(mode);
-            if !matches!(mode, MotionMode::Cycle(_)) {
-                self.cycle.code = None;
-                self.cycle.initial_level = None;
+    /// G20/G21. An F of the same block was read in the units before it, as LinuxCNC
+    /// reads it: `pvtc::gcode::feed_before_units` says so.
+    fn set_units(&mut self, request: &Request) {
+        let Some((units, word)) = request.units else {
+            return;
+        };
+        if let (Some(f), Some(feed)) = (request.feed, self.modal.feed) {
+            let read_in_old = feed.units != units && self.modal.feed_mode != FeedMode::InverseTime;
+            if read_in_old && f.value > 0.0 {
+                self.warn(feed_before_units(f, feed.units, word, units));
             }
         }
-        if let Some((to_r, _)) = request.retract {
-            self.cycle.to_r = to_r;
-        }
-        // G64 P0 is plain G64, as rs274 reads it: no tolerance of its own.
-        let p = request.p.filter(|p| p.value != 0.0);
-        if let (Some((PathMode::Continuous, _)), Some(p)) = (request.path_mode, p) {
-            if p.value.abs() < pvt_core::ChordTolerance::SMALLEST {
-                self.push(GcodeDiagnostic::BadValue {
-                    word: p.name(),
-                    expected:
-                        "a path tolerance of at least 0.000001 (program units), or P0 for none",
-                    span: span(p.span()),
-                });
-                return;
+        self.output_units.get_or_insert(units);
+        self.modal.units = units;
+    }
+
+    /// G61, G61.1, G64 with P and Q: the path control mode, handed on from the next move;
+    /// G64 P (not 0) is the path tolerance from the next contour on. G64 P0 is plain G64,
+    /// as rs274 reads it: no tolerance of its own.
+    fn set_path_control(&mut self, request: &Request) {
+        let Some((mode, _)) = request.path_mode else {
+            return;
+        };
+        let control = match mode {
+            PathMode::ExactPath => PathControl::ExactPath,
+            PathMode::ExactStop => PathControl::ExactStop,
+            PathMode::Continuous => {
+                let p = request.p.map_or(0.0, |p| p.value.abs());
+                let q = request.q.map_or(p, |q| q.value.abs());
+                self.naive_cam_tolerance = (q > 0.0).then(|| q * self.scale());
+                PathControl::Continuous {
+                    tolerance: p,
+                    naive_cam_tolerance: q,
+                }
             }
-            let tolerance = p.value.abs() * self.scale();
-            self.path_tolerance = Some(tolerance);
-            self.sink.path_tolerance(tolerance);
+        };
+        self.modal.path = control;
+        self.hand_on_control(control);
+        let Some(p) = request
+            .p
+            .filter(|p| p.value != 0.0 && mode == PathMode::Continuous)
+        else {
+            return;
+        };
+        if p.value.abs() < pvt_core::ChordTolerance::SMALLEST {
+            return self.push(GcodeDiagnostic::BadValue {
+                word: p.name(),
+                expected: "a path tolerance of at least 0.000001 (program units), or P0 for none",
+                span: span(p.span()),
+            });
+        }
+        let tolerance = p.value.abs() * self.scale();
+        self.path_tolerance = Some(tolerance);
+        self.sink.path_tolerance(tolerance);
+    }
+
+    /// Hands the path control mode `control` (program units) on to the sink, in output
+    /// units.
+    fn hand_on_control(&mut self, control: PathControl) {
+        let scale = self.scale();
+        self.sink.path_control(&match control {
+            PathControl::Continuous {
+                tolerance,
+                naive_cam_tolerance,
+            } => PathControl::Continuous {
+                tolerance: tolerance * scale,
+                naive_cam_tolerance: naive_cam_tolerance * scale,
+            },
+            other => other,
+        });
+    }
+
+    /// The motion mode of the block (G0…G3, a cycle, …), which a motion code other than a
+    /// cycle's ends the canned cycles with.
+    fn set_motion_mode(&mut self, request: &Request) {
+        let Some((mode, _)) = request.motion else {
+            return;
+        };
+        self.modal.motion = Some(mode);
+        if !matches!(mode, MotionMode::Cycle(_)) {
+            self.cycle.code = None;
+            self.cycle.initial_level = None;
         }
     }
 
@@ -688,6 +775,20 @@ impl<'a> Interpreter<'a> {
     }
 }
 
+/// `pvtc::gcode::feed_before_units` for the F word `f`, read in `old` units, in a block
+/// whose units code `code` sets `new`.
+fn feed_before_units(f: Word, old: Units, code: Word, new: Units) -> GcodeDiagnostic {
+    GcodeDiagnostic::FeedBeforeUnits {
+        feed: f.name(),
+        value: f.value,
+        converted: f.value * old.mm_per_unit() / new.mm_per_unit(),
+        old: old.name(),
+        new: new.name(),
+        code: code.name(),
+        span: span(f.span()),
+    }
+}
+
 /// `value` as a tool number: whole, ≥ 0, within `u32`.
 fn whole(value: f64) -> Option<u32> {
     let rounded = value.round();
@@ -700,6 +801,15 @@ fn bad_value(word: Word, expected: &'static str) -> GcodeDiagnostic {
         word: word.name(),
         expected,
         span: span(word.span()),
+    }
+}
+
+/// `code` at `at` lacks what it `needs`.
+fn missing_at(code: &str, at: std::ops::Range<usize>, needs: &'static str) -> GcodeDiagnostic {
+    GcodeDiagnostic::MissingWord {
+        code: code.to_owned(),
+        needs,
+        span: span(at),
     }
 }
 

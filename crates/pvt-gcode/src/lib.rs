@@ -66,6 +66,7 @@ mod contours;
 mod diagnostic;
 mod interpreter;
 mod kept;
+mod lathe;
 mod lines;
 mod messages;
 pub mod offsets;
@@ -157,13 +158,16 @@ pub struct GcodeOptions {
     /// [`DEFAULT_RAPID_MM_PER_MIN`] converted to the output units.
     pub rapid: Option<f64>,
     /// Arc centre check, absolute tolerance in millimetres (converted for inch programs);
-    /// default [`pvt_core::defaults::ARC_ABS_TOLERANCE_MM`] (0.002).
-    pub arc_abs_tolerance_mm: f64,
-    /// Arc centre check, tolerance relative to the start radius; default
+    /// `None` is LinuxCNC's for the program's units
+    /// ([`pvt_core::defaults::arc_abs_tolerance`]: 2·0.01·√2 mm, 2·0.001·√2 in).
+    pub arc_abs_tolerance_mm: Option<f64>,
+    /// Arc centre check, tolerance relative to the larger radius; default
     /// [`pvt_core::defaults::ARC_REL_TOLERANCE`] (0.001, 0.1 %).
-    /// A centre-form arc is rejected only when its start and end radii differ by more than
-    /// both tolerances (as LinuxCNC does); an R that falls short of half the chord by no
-    /// more than either gives a half circle.
+    /// A centre-form arc is refused when its start and end radii differ by more than 100
+    /// times the absolute tolerance, or by more than it and by more than the relative one
+    /// (LinuxCNC's rule); within, it is the spiral LinuxCNC runs (the radius changing
+    /// linearly with the angle). An R that falls short of half the chord by no more than
+    /// [`pvt_core::defaults::ARC_RADIUS_TOLERANCE_IN`] gives a half circle.
     pub arc_rel_tolerance: f64,
     /// Output units; `None` keeps those of the program (its first G20/G21, millimetres
     /// when a move comes first). Coordinates and feeds are converted into them.
@@ -189,6 +193,20 @@ pub struct GcodeOptions {
     /// order-5+ NURBS block (G5.2, G6.2) is fitted with cubics within
     /// [`NURBS_FIT_SHARE`] of it (of a G64 P in force, where that is less).
     pub tolerance: Option<f64>,
+    /// What spindle-synchronised motion (G33, G33.1, G76, G95) becomes; refused by default.
+    pub spindle_sync: SpindleSync,
+}
+
+/// What spindle-synchronised motion (G33, G33.1, G76, G95) becomes: a time-based PVT
+/// program cannot follow a spindle's encoder.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SpindleSync {
+    /// `pvtc::gcode::spindle_sync`, with the reason.
+    #[default]
+    Refuse,
+    /// Planned at the programmed S, taken as exact (`--spindle-rpm-exact`): feed per
+    /// revolution × S, pitch × S; a warning says so.
+    ProgrammedSpeed,
 }
 
 /// Share of the tolerance a rational or order-5+ NURBS block's (G5.2, G6.2) cubics keep
@@ -202,7 +220,7 @@ impl Default for GcodeOptions {
         GcodeOptions {
             default_feed: None,
             rapid: None,
-            arc_abs_tolerance_mm: pvt_core::defaults::ARC_ABS_TOLERANCE_MM,
+            arc_abs_tolerance_mm: None,
             arc_rel_tolerance: pvt_core::defaults::ARC_REL_TOLERANCE,
             units: None,
             work_offsets: [[0.0; 6]; 9],
@@ -211,6 +229,7 @@ impl Default for GcodeOptions {
             hal_pins: Vec::new(),
             probe_results: Vec::new(),
             tolerance: None,
+            spindle_sync: SpindleSync::Refuse,
         }
     }
 }
@@ -428,7 +447,12 @@ impl<'a> Reader<'a> {
     /// Runs `line` when it is plain ([`plain`]) and the state allows; returns whether it
     /// ran. Lines of a subroutine file (shown at the call) take the general path.
     fn run_plain_line(&mut self, line: SourceLine<'_>) -> bool {
-        if !self.plain_lines || self.ended.is_some() || self.interpreter.origin.is_some() {
+        let reading_profile = self.interpreter.recording_profile();
+        if !self.plain_lines
+            || self.ended.is_some()
+            || self.interpreter.origin.is_some()
+            || reading_profile
+        {
             return false;
         }
         let Some(plain) = plain::plain_line(line.text) else {
@@ -490,6 +514,13 @@ impl<'a> Reader<'a> {
         };
         if let (Some(call), None) = (call, &self.ended) {
             self.subprogram_call(call);
+        }
+        if let Some(label) = self.interpreter.lathe_profile_wanted() {
+            // A lathe cycle's profile is its subroutine's moves, read, not run.
+            self.interpreter.begin_profile();
+            let at = self.block.span();
+            self.invoke(&label, Vec::new(), at, line.number);
+            self.interpreter.end_profile();
         }
         self.ended.is_none()
     }

@@ -723,6 +723,7 @@ impl<'a> Reader<'a> {
             }
         };
         let saved_origin = self.interpreter.origin.clone();
+        let call_at = at.clone();
         match &body.file {
             Some(file) => {
                 let (call, call_line) = match &saved_origin {
@@ -740,10 +741,15 @@ impl<'a> Reader<'a> {
         }
         self.flow.depth += 1;
         self.params.enter_call(&args);
+        self.interpreter.enter_call();
         let signal = self.run_body(&body, 0..body.lines.len());
+        self.interpreter.origin = saved_origin;
+        if !matches!(signal, Signal::End) {
+            // M73's state comes back as the subroutine returns (at its call).
+            self.interpreter.leave_call(call_at, line_number);
+        }
         self.params.leave_call();
         self.flow.depth -= 1;
-        self.interpreter.origin = saved_origin;
         let value = match signal {
             Signal::End => return Signal::End,
             Signal::Return(value) => value,

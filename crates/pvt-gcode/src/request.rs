@@ -36,6 +36,8 @@ pub(crate) struct Request {
     pub coord_system: Option<(usize, Word)>,
     pub non_modal: Option<(NonModal, Word)>,
     pub spindle: Option<(SpindleState, Word)>,
+    /// M70…M73 (modal group 7 with M3…M5: one of them per block).
+    pub context: Option<(codes::Context, Word)>,
     pub coolant: Option<(CoolantState, Word)>,
     pub tool_change: Option<((), Word)>,
     pub tool_length: Option<(ToolLength, Word)>,
@@ -51,7 +53,7 @@ pub(crate) struct Request {
     pub io: Option<(u16, Word)>,
     /// M100…M199 (user-defined).
     pub user: Option<(u16, Word)>,
-    /// E: the analog channel of M66…M68.
+    /// E: the analog channel of M66…M68, G76's taper.
     pub e: Option<Word>,
     pub p: Option<Word>,
     pub q: Option<Word>,
@@ -119,8 +121,12 @@ impl Request {
                 letter => errors.push(unknown_letter(word, letter)),
             }
         }
-        // E belongs to M66…M68 only, as rs274 reads it.
-        let analog = matches!(request.io, Some((66..=68, _)));
+        // E belongs to M66…M68 and G76 only, as rs274 reads it.
+        let analog = matches!(request.io, Some((66..=68, _)))
+            || matches!(
+                request.motion,
+                Some((MotionMode::ThreadCycle | MotionMode::LatheCycle(_), _))
+            );
         if let Some(e) = request.e.filter(|_| !analog) {
             errors.push(unknown_letter(e, b'E'));
         }
@@ -242,9 +248,14 @@ impl Request {
                 errors,
                 stop_conflict,
             ),
-            Some(MCode::Spindle(s)) => {
-                put_mode(&mut self.spindle, s, word, errors, modes("spindle"))
-            }
+            Some(MCode::Spindle(s)) => match self.context {
+                Some((_, first)) => errors.push(conflicting_modes(first, word, "spindle")),
+                None => put_mode(&mut self.spindle, s, word, errors, modes("spindle")),
+            },
+            Some(MCode::Context(c)) => match self.spindle {
+                Some((_, first)) => errors.push(conflicting_modes(first, word, "spindle")),
+                None => put_mode(&mut self.context, c, word, errors, modes("spindle")),
+            },
             Some(MCode::Coolant(c)) => {
                 put_mode(&mut self.coolant, c, word, errors, modes("coolant"))
             }

@@ -132,6 +132,7 @@ fn chips_reads_its_parameters() {
         names,
         [
             "tool_select",
+            "spindle_off",
             "tool_change",
             "coolant_flood",
             "spindle_speed",

@@ -421,13 +421,13 @@ fn pecks_times_repeats_are_bounded() {
 }
 
 #[test]
-fn an_unsupported_motion_mode_with_p_and_l_words_is_one_error() {
-    let mut source = String::from("G21 G90 F100\nG1 X1\nG33 P3 L3 X0 Y0\n");
+fn an_unknown_motion_mode_with_p_and_l_words_is_one_error() {
+    let mut source = String::from("G21 G90 F100\nG1 X1\nG74 P3 L3 X0 Y0\n");
     for k in 0..50 {
         source.push_str(&format!("X{k} Y1 P1 L2\n"));
     }
     source.push_str("G1 X2\n");
     let e = compile(&source, &GcodeOptions::default()).unwrap_err();
     let codes: Vec<_> = e.diagnostics.iter().map(|d| d.code()).collect();
-    assert_eq!(codes, ["pvtc::gcode::unsupported"], "{e:?}");
+    assert_eq!(codes, ["pvtc::gcode::unknown_word"], "{e:?}");
 }

@@ -58,9 +58,9 @@ fn unsupported_features_are_named() {
     let messages: Vec<_> = errors.diagnostics.iter().map(ToString::to_string).collect();
     assert_eq!(
         messages,
-        ["G76 (lathe threading cycles) is not supported by pvtc"]
+        ["G76 is spindle-synchronised: a time-based PVT program cannot follow a spindle encoder"]
     );
-    assert_eq!(after_head("G95 X1\n"), [("unsupported", 3, 1)]);
+    assert_eq!(after_head("G95 X1\n"), [("spindle_sync", 3, 1)]);
     assert_eq!(after_head("G1 X1 M60\n"), [("unsupported", 3, 7)]);
     assert_eq!(
         after_head("G1 X#<_hal[motion.probe-input]>\n"),
@@ -259,7 +259,7 @@ fn issue_4_codes_name_line_and_column() {
 
 #[test]
 fn unsupported_features_are_reported_once_with_their_count() {
-    let source = format!("{HEAD}G76 X1 Z-1\nG76 X2 Z-1\nG33 Z-1 K1\nG76 X3 Z-1\n");
+    let source = format!("{HEAD}M60\nM60\nG17.1\nM60\n");
     let errors = compile(&source, &GcodeOptions::default()).unwrap_err();
     let messages: Vec<_> = errors
         .diagnostics
@@ -270,8 +270,8 @@ fn unsupported_features_are_reported_once_with_their_count() {
     assert_eq!(
         messages,
         [
-            "G76 (lathe threading cycles) is not supported by pvtc (3 places; the first is shown)",
-            "G33 (spindle-synchronized motion) is not supported by pvtc"
+            "M60 (pallet change) is not supported by pvtc (3 places; the first is shown)",
+            "G17.1 (UVW planes) is not supported by pvtc"
         ]
     );
 }

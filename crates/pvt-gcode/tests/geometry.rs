@@ -125,20 +125,33 @@ fn r_form_radius_within_tolerance_of_half_chord_is_a_half_circle() {
 }
 
 #[test]
-fn end_point_missing_the_circle_by_a_hundredth_is_rejected() {
-    // Radius 7: tolerances 0.002 mm and 0.007 mm; a 0.01 mm miss exceeds both.
-    let miss = "F100\nG0 X7\nG3 X0 Y7.01 I-7\n";
+fn end_point_missing_the_circle_beyond_linuxcnc_rule_is_rejected() {
+    // Radius 7, LinuxCNC's tolerances in mm: 0.0283 absolute, 0.1 % (0.007) relative; a
+    // 0.03 mm miss exceeds both, a 0.02 mm one runs (as a spiral).
+    let miss = "F100\nG0 X7\nG3 X0 Y7.03 I-7\n";
     let errors = compile(miss, &GcodeOptions::default()).unwrap_err();
     assert_eq!(
         errors.diagnostics[0].code(),
         "pvtc::gcode::arc_radius_mismatch"
     );
+    assert!(compile("F100\nG0 X7\nG3 X0 Y7.02 I-7\n", &GcodeOptions::default()).is_ok());
+    // In inches the tolerance is LinuxCNC's inch one, 0.00283 in (0.0718 mm).
+    assert!(compile(
+        "G20 F10\nG0 X1\nG3 X0 Y1.0028 I-1\n",
+        &GcodeOptions::default()
+    )
+    .is_ok());
+    assert!(compile(
+        "G20 F10\nG0 X1\nG3 X0 Y1.0029 I-1\n",
+        &GcodeOptions::default()
+    )
+    .is_err());
     // The same arc through points posted with three decimals passes.
     let posted = "F100\nG0 X7\nG3 X4.950 Y4.950 I-7\nG3 X-4.950 Y4.950 I-4.950 J-4.950\nG3 X-7 Y0 I4.950 J-4.950\n";
     assert_eq!(elements(posted).len(), 4);
     // A looser absolute tolerance accepts the miss.
     let options = GcodeOptions {
-        arc_abs_tolerance_mm: 0.02,
+        arc_abs_tolerance_mm: Some(0.05),
         ..GcodeOptions::default()
     };
     assert!(compile(miss, &options).is_ok());
@@ -163,7 +176,7 @@ fn inch_programs_stay_in_inches() {
 #[test]
 fn a_later_unit_switch_converts_into_the_first_units() {
     // Output in inches (first G20); the G21 part is converted, feed included.
-    let compiled = ok("G20 G0 X1\nG21 G1 X50.8 F254\nG2 X76.2 Y25.4 J25.4\n");
+    let compiled = ok("G20 G0 X1\nG21\nG1 X50.8 F254\nG2 X76.2 Y25.4 J25.4\n");
     assert_eq!(compiled.toolpath.units, Units::Inch);
     let e: Vec<_> = compiled
         .toolpath
@@ -184,11 +197,14 @@ fn a_later_unit_switch_converts_into_the_first_units() {
 }
 
 #[test]
-fn inch_arc_tolerance_is_converted() {
-    // 0.002 mm = 0.0000787 in; radius 0.05 in gives a relative 0.00005 in. A miss of
-    // 0.0001 in exceeds both; with millimetre units 0.0001 mm would pass.
+fn inch_arc_tolerance_is_linuxcnc_inch_one() {
+    // LinuxCNC's inch tolerance, 0.00283 in, is not the millimetre one converted
+    // (0.0283 mm = 0.00111 in): a 0.002 in miss at 1 in (0.2 %) runs in inches, and the
+    // same 0.0508 mm miss at 25.4 mm is refused in millimetres.
+    let inches = "G20 F10\nG0 X1\nG3 X0 Y1.002 I-1\n";
+    assert!(compile(inches, &GcodeOptions::default()).is_ok());
     let errors = compile(
-        "G20 F10\nG0 X0.05\nG3 X0 Y0.0501 I-0.05\n",
+        "G21 F10\nG0 X25.4\nG3 X0 Y25.4508 I-25.4\n",
         &GcodeOptions::default(),
     )
     .unwrap_err();
@@ -196,11 +212,12 @@ fn inch_arc_tolerance_is_converted() {
         errors.diagnostics[0].code(),
         "pvtc::gcode::arc_radius_mismatch"
     );
-    assert!(compile(
-        "G21 F10\nG0 X0.05\nG3 X0 Y0.0501 I-0.05\n",
-        &GcodeOptions::default()
-    )
-    .is_ok());
+    // `--arc-abs-tolerance` (millimetres) sets both: 0.01 mm refuses the inch miss.
+    let options = GcodeOptions {
+        arc_abs_tolerance_mm: Some(0.01),
+        ..GcodeOptions::default()
+    };
+    assert!(compile(inches, &options).is_err());
 }
 
 #[test]

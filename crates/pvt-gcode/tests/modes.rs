@@ -3,18 +3,10 @@
 
 mod common;
 
-use common::{errors, ok};
+use common::{elements, errors, ok};
 use proptest::prelude::*;
 use pvt_core::{Element, ElementKind, EventKind, Motion, Units};
 use pvt_gcode::{compile, compile_into, GcodeOptions, ToolpathSink};
-
-fn elements(c: &pvt_gcode::Compiled) -> Vec<Element> {
-    c.toolpath
-        .contours
-        .iter()
-        .flat_map(|c| c.elements.clone())
-        .collect()
-}
 
 #[test]
 fn work_offsets_g92_and_g53() {
@@ -38,7 +30,7 @@ fn units_option_converts_the_output() {
         units: Some(Units::Millimetre),
         ..GcodeOptions::default()
     };
-    let c = compile("G20 G1 X1 F10\n", &options).unwrap();
+    let c = compile("G20\nG1 X1 F10\n", &options).unwrap();
     assert_eq!(c.toolpath.units, Units::Millimetre);
     assert!((elements(&c)[0].end[0] - 25.4).abs() < 1e-12);
     assert!((elements(&c)[0].feed - 254.0 / 60.0).abs() < 1e-12);

@@ -65,6 +65,7 @@ fn io_and_user_m_codes_are_events_with_their_words() {
         ("analog_output", Some("M68 E1 Q-1"), 7),
         ("tool_select", None, 8),
         ("digital_output_on", Some("M64 P3"), 8),
+        ("spindle_off", None, 8),
         ("tool_change", None, 8),
         ("coolant_flood", None, 9),
         ("user_m_code", Some("M101 P4 Q5"), 9),
@@ -95,23 +96,26 @@ fn e_words_and_io_conflicts() {
     );
 }
 
-/// G33 and G71.1/G71.2 are features pvtc does not run, not unknown codes.
+/// G33 is spindle-synchronised, refused without `--spindle-rpm-exact`; G71.1/G71.2
+/// without the Q of their profile miss a word (they run: `tests/dialect/` holds them to
+/// rs274).
 #[test]
-fn g33_and_g71_1_are_unsupported() {
+fn g33_is_refused_and_g71_1_needs_its_profile() {
     let c = compile(
-        "G21 F100\nG1 X1\nG33 X2 K1\nG71.1 X3 Z-1\nG71.2 X1\nM2\n",
+        "G21 F100\nG1 X1\nG33 X2 K1\nG18\nG71.1 X3 Z-1\nG71.2 X1\nM2\n",
         &Default::default(),
     );
     let found = messages(&c.expect_err("refused"));
-    assert_eq!(found.len(), 2, "{found:?}");
-    assert!(found
-        .iter()
-        .all(|(code, _)| *code == "pvtc::gcode::unsupported"));
+    assert_eq!(found.len(), 3, "{found:?}");
+    assert_eq!(found[0].0, "pvtc::gcode::spindle_sync", "{found:?}");
     assert!(
-        found[0].1.contains("G33 (spindle-synchronized motion)"),
+        found[0].1.contains("G33 is spindle-synchronised"),
         "{found:?}"
     );
-    assert!(found[1].1.contains("G71.1 (lathe cycles)") && found[1].1.contains("2 places"));
+    for (code, message) in &found[1..] {
+        assert_eq!(*code, "pvtc::gcode::missing_word", "{found:?}");
+        assert!(message.contains("Q word"), "{found:?}");
+    }
 }
 
 /// Counts what a front end hands on, keeping nothing.

@@ -237,15 +237,23 @@ pub struct PipelineArgs {
     /// move without one is an error.
     #[arg(long = "probe-result", value_name = "X,Y,Z", value_parser = probe_result)]
     pub probe_result: Vec<[f64; 3]>,
+    /// G-code: plan spindle-synchronised motion (G33, G33.1, G76, G95) at the programmed
+    /// S taken as exact (feed per revolution × S, pitch × S) instead of refusing it
+    /// [default: refused: a time-based PVT program cannot follow a spindle encoder].
+    #[arg(long = "spindle-rpm-exact")]
+    pub spindle_rpm_exact: bool,
     /// G-code: the units of the --tool-table file's lengths (LinuxCNC reads a table in
     /// its machine units; the standalone `rs274` in inches) [default: mm].
     #[arg(long = "tool-table-units", value_enum, value_name = "UNITS")]
     pub tool_table_units: Option<UnitsArg>,
     /// G-code: a centre-format arc is refused when its start and end radii differ by
-    /// more than this many mm and by more than --arc-rel-tolerance [default: 0.002].
+    /// more than 100 times this many mm, or by more than it and by more than
+    /// --arc-rel-tolerance (LinuxCNC's rule; within, it runs as a spiral) [default:
+    /// LinuxCNC's, 0.0283 mm in a G21 program, 0.00283 in in a G20 program].
     #[arg(long = "arc-abs-tolerance", value_name = "MM", value_parser = positive_number)]
     pub arc_abs_tolerance: Option<f64>,
-    /// G-code: relative arc radius tolerance (0.001 = 0.1 %) [default: 0.001].
+    /// G-code: relative arc radius tolerance, of the larger radius (0.001 = 0.1 %)
+    /// [default: 0.001].
     #[arg(long = "arc-rel-tolerance", value_name = "R", value_parser = positive_number)]
     pub arc_rel_tolerance: Option<f64>,
     /// CSV: where the velocities come from: `file` (the series' v<axis> columns, as given)
@@ -299,6 +307,13 @@ impl PipelineArgs {
         if !self.hal.is_empty() && input != InputKind::Gcode {
             return Err(Failure::Usage(
                 "--hal does nothing here: #<_hal[…]> in a G-code program reads it".into(),
+            ));
+        }
+        if self.spindle_rpm_exact && input != InputKind::Gcode {
+            return Err(Failure::Usage(
+                "--spindle-rpm-exact does nothing here: it plans G-code's spindle-synchronised \
+                 motion"
+                    .into(),
             ));
         }
         if !self.probe_result.is_empty() && input != InputKind::Gcode {
@@ -449,6 +464,10 @@ impl PipelineArgs {
             tool_table,
             hal_pins: self.hal.clone(),
             probe_results: self.probe_result.clone(),
+            spindle_sync: match self.spindle_rpm_exact {
+                true => pvt_gcode::SpindleSync::ProgrammedSpeed,
+                false => pvt_gcode::SpindleSync::Refuse,
+            },
             arc_abs_tolerance_mm: self.arc_abs_tolerance,
             arc_rel_tolerance: self.arc_rel_tolerance,
             layers: self.layers.clone(),

@@ -83,6 +83,7 @@ pub fn gcode_options(options: &CompileOptions) -> pvt_gcode::GcodeOptions {
         tool_table: options.tool_table.clone(),
         hal_pins: options.hal_pins.clone(),
         probe_results: options.probe_results.clone(),
+        spindle_sync: options.spindle_sync,
         tolerance: options.tolerance,
     }
 }

@@ -177,8 +177,11 @@ pub struct CompileOptions {
     pub hal_pins: Vec<(String, f64)>,
     /// G-code probing results, in order (`--probe-result X,Y,Z`).
     pub probe_results: Vec<[f64; 3]>,
-    /// G-code arc check: absolute radius tolerance, mm.
-    pub arc_abs_tolerance_mm: f64,
+    /// What G-code's spindle-synchronised motion becomes (`--spindle-rpm-exact`).
+    pub spindle_sync: pvt_gcode::SpindleSync,
+    /// G-code arc check: absolute radius tolerance, mm; `None`: LinuxCNC's for the
+    /// program's units ([`pvt_core::defaults::arc_abs_tolerance`]).
+    pub arc_abs_tolerance_mm: Option<f64>,
     /// G-code arc check: relative radius tolerance.
     pub arc_rel_tolerance: f64,
     /// Options only drawings use.
@@ -250,6 +253,8 @@ pub struct Asked {
     pub hal_pins: Vec<(String, f64)>,
     /// `--probe-result`.
     pub probe_results: Vec<[f64; 3]>,
+    /// `--spindle-rpm-exact`.
+    pub spindle_sync: pvt_gcode::SpindleSync,
     /// `--arc-abs-tolerance`, mm.
     pub arc_abs_tolerance_mm: Option<f64>,
     /// `--arc-rel-tolerance`.

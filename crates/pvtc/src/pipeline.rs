@@ -92,6 +92,7 @@ enum Call {
     EndContour,
     Event(EventKind, u32),
     PathTolerance(f64),
+    PathControl(pvt_core::PathControl),
 }
 
 impl Call {
@@ -103,6 +104,7 @@ impl Call {
             Call::EndContour => sink.end_contour(),
             Call::Event(event, line) => sink.event(event, *line),
             Call::PathTolerance(tolerance) => sink.path_tolerance(*tolerance),
+            Call::PathControl(control) => sink.path_control(control),
         }
     }
 }
@@ -144,6 +146,9 @@ impl<B: CallBatches> ToolpathSink for Recorder<B> {
     }
     fn path_tolerance(&mut self, tolerance: f64) {
         self.record(Call::PathTolerance(tolerance));
+    }
+    fn path_control(&mut self, control: &pvt_core::PathControl) {
+        self.record(Call::PathControl(*control));
     }
 }
 

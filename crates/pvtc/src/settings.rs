@@ -53,9 +53,9 @@ pub fn compile_options(asked: &Asked, name: &str, format: Format) -> CompileOpti
         tool_table: asked.tool_table.clone().unwrap_or_default(),
         hal_pins: asked.hal_pins.clone(),
         probe_results: asked.probe_results.clone(),
-        arc_abs_tolerance_mm: asked
-            .arc_abs_tolerance_mm
-            .unwrap_or(defaults::ARC_ABS_TOLERANCE_MM),
+        spindle_sync: asked.spindle_sync,
+        // The front end resolves it by the program's units (defaults::arc_abs_tolerance).
+        arc_abs_tolerance_mm: asked.arc_abs_tolerance_mm,
         arc_rel_tolerance: asked
             .arc_rel_tolerance
             .unwrap_or(defaults::ARC_REL_TOLERANCE),
@@ -394,6 +394,12 @@ pub fn header_lines(options: &CompileOptions, units: Units) -> Vec<(String, Stri
     }
     if let Some(m) = &options.machine {
         out.push(("machine".into(), m.name.clone()));
+    }
+    if options.spindle_sync == pvt_gcode::SpindleSync::ProgrammedSpeed {
+        out.push((
+            "spindle-synchronised motion".into(),
+            "at the programmed S taken as exact (--spindle-rpm-exact)".into(),
+        ));
     }
     out
 }

@@ -97,17 +97,13 @@ fn a_percent_line_mid_program_is_an_error_at_its_line() {
 /// merged under the first feature's message; E on M67 is read.
 #[test]
 fn unsupported_features_are_reported_one_per_feature() {
-    let program =
-        b"G21 G1 X1 F100\nM61 Q1\nM61 Q2\nG33 X1 K1\nG1 X#<_hal[motion.x]>\nM67 E0 Q2\nM2\n";
+    let program = b"G21 G1 X1 F100\nM61 Q1\nM61 Q2\nG17.1\nG1 X#<_hal[motion.x]>\nM67 E0 Q2\nM2\n";
     let out = pvtc_bytes(&["compile", "-", "--format", "toolpath"], program);
     let err = text(&out.stderr);
     let heads: Vec<&str> = err.lines().filter(|l| l.contains("× ")).collect();
     assert_eq!(heads.len(), 3, "{err}");
     assert!(heads[0].contains("M61 (setting the current tool)"), "{err}");
-    assert!(
-        heads[1].contains("G33 (spindle-synchronized motion)"),
-        "{err}"
-    );
+    assert!(heads[1].contains("G17.1 (UVW planes)"), "{err}");
     assert!(heads[2].contains("HAL pins"), "{err}");
     assert!(err.contains("(2 places;"), "{err}");
     assert!(

@@ -13,6 +13,8 @@
 
 /* event at rest: tool_select T1 (line 4) */
 
+/* event at rest: spindle_off (line 4) */
+
 /* event at rest: tool_change (line 4) */
 
 /* event at rest: spindle_speed 8000 rpm (line 5) */

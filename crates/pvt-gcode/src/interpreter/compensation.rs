@@ -22,6 +22,8 @@ use crate::request::Request;
 pub(crate) struct CutterState {
     /// G41/G42 (or G41.1/G42.1) is in effect, even with a zero radius.
     on: bool,
+    /// The side it was turned on to (as written: a negative radius does not turn it).
+    side: Option<Side>,
     /// The compensation itself, while on with a radius above zero.
     active: Option<Compensation>,
     /// After G40: where the tool's centre stands, the start of the exit move.
@@ -44,8 +46,30 @@ impl Interpreter<'_> {
         }
     }
 
+    /// Where the tool stands after G40, off the programmed point, taken: the position
+    /// from here on (rs274 re-reads it after M6).
+    pub(super) fn take_exit_point(&mut self) -> Option<Position> {
+        self.cutter.exit_from.take()
+    }
+
+    /// True while G41/G42 is in effect.
+    pub(super) fn cutter_on(&self) -> bool {
+        self.cutter.on
+    }
+
+    /// The code of the compensation in effect, in tenths (G40 400, G41 410, G42 420), as
+    /// M70 records it.
+    pub(super) fn compensation_code(&self) -> u32 {
+        match self.cutter.side.filter(|_| self.cutter.on) {
+            None => 400,
+            Some(Side::Left) => 410,
+            Some(Side::Right) => 420,
+        }
+    }
+
     fn compensation_off(&mut self, word: Word) {
         self.cutter.on = false;
+        self.cutter.side = None;
         let Some(compensation) = self.cutter.active.take() else {
             return;
         };
@@ -74,6 +98,7 @@ impl Interpreter<'_> {
             return;
         };
         self.cutter.on = true;
+        self.cutter.side = Some(side);
         let side = if radius < 0.0 { side.opposite() } else { side };
         if radius != 0.0 {
             let at = self.position;
@@ -121,13 +146,15 @@ impl Interpreter<'_> {
             },
             None => self.tool.current,
         };
+        // No tool loaded (T0) has no radius; a loaded tool the table lacks is unknown,
+        // as LinuxCNC's M6 would have refused it (compensating by 0 would cut wrong).
         let (diameter, orientation) = match (self.tools.get(number), request.d) {
             (Some(tool), _) => (tool.diameter, tool.orientation),
-            (None, None) => (0.0, 0),
-            (None, Some(d)) => {
+            (None, None) if number == 0 => (0.0, 0),
+            (None, d) => {
                 self.push(GcodeDiagnostic::UnknownTool {
                     tool: number,
-                    span: span(d.span()),
+                    span: span(d.unwrap_or(word).span()),
                 });
                 return None;
             }

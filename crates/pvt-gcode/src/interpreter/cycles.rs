@@ -7,7 +7,7 @@
 //! normal axis (Z in G17, Y in G18, X in G19), as LinuxCNC does, so peck depths step
 //! identically. It must not read words (that is [`crate::request`]) nor change modes.
 
-use pvt_core::{Motion, Plane, SpindleState, Units};
+use pvt_core::{Motion, PathControl, Plane, SpindleState, Units};
 
 use super::motion::polar_point;
 use super::Interpreter;
@@ -34,8 +34,6 @@ pub(crate) struct CycleMemory {
     /// The level of the normal axis when the cycles began (any motion code other than a
     /// cycle ends them): G98 returns to it, and G91's R counts from it.
     pub initial_level: Option<f64>,
-    /// G99 (the default): return to R; G98: to the initial level.
-    pub to_r: bool,
 }
 
 /// Program coordinates of one cycle point: in-plane first, second, normal.
@@ -125,11 +123,11 @@ impl Interpreter<'_> {
             return Err("no Q word (the peck depth)".into());
         }
         match cycle {
-            Cycle::Tap if self.spindle != SpindleState::Clockwise => {
+            Cycle::Tap if self.modal.spindle != SpindleState::Clockwise => {
                 return Err("tapping needs the spindle turning clockwise (M3)".into())
             }
             Cycle::BoreStop | Cycle::BackBore | Cycle::BoreManual
-                if self.spindle == SpindleState::Off =>
+                if self.modal.spindle == SpindleState::Off =>
             {
                 return Err("needs the spindle turning (M3 or M4)".into())
             }
@@ -142,7 +140,11 @@ impl Interpreter<'_> {
         let initial = *self.cycle.initial_level.get_or_insert(current[2]);
         // LinuxCNC starts from the initial level under G98, from where the tool is under
         // G99; G91's R counts from the initial level in both.
-        let start_level = if self.cycle.to_r { current[2] } else { initial };
+        let start_level = if self.modal.retract_to_r {
+            current[2]
+        } else {
+            initial
+        };
         let word = |i: usize| request.axes[i].map(|w| w.value);
         let polar = self.cycle_polar(request)?;
         let (start, step, r, bottom) = match self.modal.distance {
@@ -254,19 +256,25 @@ impl Interpreter<'_> {
             }
             old = r;
         }
-        let clear = if self.cycle.to_r { r } else { old };
+        let clear = if self.modal.retract_to_r { r } else { old };
+        // The holes run in exact path mode (G61), as LinuxCNC runs them.
+        let saved = self.modal.path;
+        let switch = saved != PathControl::ExactPath;
+        if switch {
+            self.hand_on_control(PathControl::ExactPath);
+        }
         for _ in 0..plan.repeats {
             [x, y] = plan.next_hole([x, y]);
-            if !self.cycle_line(Motion::Rapid, [x, y, old], request, block) {
-                return;
-            }
-            if old != r && !self.cycle_line(Motion::Rapid, [x, y, r], request, block) {
-                return;
-            }
-            if !self.cycle_body(cycle, plan, [x, y], clear, request, block) {
-                return;
+            let ok = self.cycle_line(Motion::Rapid, [x, y, old], request, block)
+                && (old == r || self.cycle_line(Motion::Rapid, [x, y, r], request, block))
+                && self.cycle_body(cycle, plan, [x, y], clear, request, block);
+            if !ok {
+                break;
             }
             old = clear;
+        }
+        if switch {
+            self.hand_on_control(saved);
         }
     }
 
@@ -283,7 +291,7 @@ impl Interpreter<'_> {
         let [x, y] = at;
         let (r, bottom) = (plan.r, plan.bottom);
         let line = block.line;
-        let direction = self.spindle;
+        let direction = self.modal.spindle;
         let feed = |me: &mut Self, z: f64| me.cycle_line(Motion::Feed, [x, y, z], request, block);
         let rapid = |me: &mut Self, z: f64| me.cycle_line(Motion::Rapid, [x, y, z], request, block);
         match cycle {

@@ -92,6 +92,10 @@ impl Interpreter<'_> {
         if request.tool_change.is_none() {
             return;
         }
+        // After G40 the tool stands off the programmed point; rs274 reads where it is.
+        if let Some(at) = self.take_exit_point() {
+            self.position = at;
+        }
         let shift: Position =
             std::array::from_fn(|i| self.tool.offset[i] - self.tool.moved_with[i]);
         if shift.iter().all(|s| *s == 0.0) {
@@ -313,34 +317,19 @@ impl Interpreter<'_> {
         }
     }
 
-    /// M6 loads the selected tool; G96/G97 and G64 Q are kept as state.
-    pub(super) fn machine_state(&mut self, request: &Request) {
-        if let Some(t) = request.t.and_then(|t| super::whole(t.value)) {
-            self.tool.selected = Some(t);
-        }
-        if request.tool_change.is_some() {
-            if let Some(t) = self.tool.selected {
-                self.tool.current = t;
-            }
-        }
-        if let Some((css, _)) = request.surface_speed {
-            self.surface_speed = css;
-        }
-        if let (Some((PathMode::Continuous, _)), Some(q)) = (request.path_mode, request.q) {
-            self.naive_cam_tolerance = Some(q.value.abs() * self.scale());
-        }
-    }
-
     /// Warnings for H, D, L and Q words no code of the block uses.
     pub(super) fn check_words(&mut self, request: &Request) {
         if self.modal.motion == Some(MotionMode::Unsupported) {
             return; // the unsupported code was reported; its words are not checked
         }
-        let cycle = matches!(self.modal.motion, Some(MotionMode::Cycle(_)));
+        let cycle = matches!(
+            self.modal.motion,
+            Some(MotionMode::Cycle(_) | MotionMode::ThreadCycle)
+        );
         let h_used = matches!(
             request.tool_length,
             Some((ToolLength::Table | ToolLength::Add, _))
-        );
+        ) || self.modal.motion == Some(MotionMode::ThreadCycle);
         let codes = request.io.is_some() || request.user.is_some();
         let compensation_on = matches!(
             request.cutter_comp,
@@ -350,7 +339,9 @@ impl Interpreter<'_> {
             || codes
             || self.modal.motion == Some(MotionMode::NurbsKnots)
             || matches!(request.path_mode, Some((PathMode::Continuous, _)));
-        let d_used = self.surface_speed || compensation_on;
+        let lathe = matches!(self.modal.motion, Some(MotionMode::LatheCycle(_)));
+        let q_used = q_used || lathe;
+        let d_used = self.modal.surface_speed || compensation_on || lathe;
         let l_used = cycle
             || self.modal.motion == Some(MotionMode::Nurbs)
             || compensation_on

@@ -7,18 +7,40 @@
 use std::ops::Range;
 
 use pvt_core::{
-    Arc, ArcDirection, Axis, Element, ElementKind, Motion, Plane, Position, Span, Units,
+    Arc, ArcDirection, Axis, Element, ElementKind, Motion, PathControl, Plane, Position, Span,
+    Units,
 };
 
 use super::{Feed, Interpreter};
 use crate::arcs::{self, ArcProblem, ArcTolerance};
 use crate::block::{cover, Block, Word};
-use crate::codes::{Distance, FeedMode, MotionMode, NonModal, PathMode, ToolLength};
+use crate::codes::{Distance, FeedMode, MotionMode, NonModal, ToolLength};
 use crate::diagnostic::{span, GcodeDiagnostic};
 use crate::request::Request;
 
 impl Interpreter<'_> {
-    /// F: the feed for G94 moves (under G93 each move reads its own F).
+    /// G93/G94/G95. G94 and G95 set a feed in force to 0, as LinuxCNC does (a feed move
+    /// then needs an F of its own); before any F the default feed stays.
+    pub(super) fn set_feed_mode(&mut self, request: &Request) {
+        let Some((mode, _)) = request.feed_mode else {
+            return;
+        };
+        self.modal.feed_mode = mode;
+        if mode == FeedMode::PerRevolution {
+            if let Some((_, word)) = request.feed_mode {
+                self.spindle_sync("G95", word.span());
+            }
+        }
+        if mode != FeedMode::InverseTime {
+            if let Some(feed) = self.modal.feed.as_mut() {
+                feed.written = 0.0;
+                feed.reset_by = Some(mode.name());
+            }
+        }
+    }
+
+    /// F: the feed for G94 and G95 moves (under G93 each move reads its own F), in the
+    /// units in force now: before the block's G20/G21 ([`super::order`]).
     pub(super) fn set_feed(&mut self, request: &Request) {
         let Some(word) = request.feed else { return };
         if self.modal.feed_mode == FeedMode::InverseTime {
@@ -27,10 +49,17 @@ impl Interpreter<'_> {
         if !word.value.is_finite() {
             return self.push(out_of_range("feed", word.value, word.span()));
         }
-        self.feed = Some(Feed {
-            written: word.value,
-        });
+        self.modal.feed = Some(self.feed_word(word.value));
         self.feed_reported = false;
+    }
+
+    /// The feed an F word of `written` sets now.
+    pub(super) fn feed_word(&self, written: f64) -> Feed {
+        Feed {
+            written,
+            units: self.modal.units,
+            reset_by: None,
+        }
     }
 
     /// The block's move in the motion mode in effect.
@@ -83,6 +112,26 @@ impl Interpreter<'_> {
                 }
             }
             Some(MotionMode::Unsupported) => {}
+            Some(MotionMode::Thread) => {
+                if has_axes {
+                    self.thread_move(request, block);
+                }
+            }
+            Some(MotionMode::RigidTap) => {
+                if has_axes {
+                    self.rigid_tap(request, block);
+                }
+            }
+            Some(MotionMode::LatheCycle(cycle)) => {
+                if has_axes || request.motion.is_some() {
+                    self.lathe_cycle(cycle, request, block);
+                }
+            }
+            Some(MotionMode::ThreadCycle) => {
+                if has_axes {
+                    self.thread_cycle(request, block);
+                }
+            }
             Some(MotionMode::Spline { quadratic }) => {
                 if has_axes {
                     self.spline_move(quadratic, request, block);
@@ -240,7 +289,10 @@ impl Interpreter<'_> {
         if self.modal.feed_mode == FeedMode::InverseTime {
             return self.inverse_time_rate(request, block, length());
         }
-        let Some(per_minute) = self.feed_per_minute(self.feed) else {
+        if self.modal.feed_mode == FeedMode::PerRevolution {
+            return self.per_revolution_rate(request, block);
+        }
+        let Some(per_minute) = self.feed_per_minute(self.modal.feed) else {
             if !self.feed_reported {
                 self.feed_reported = true;
                 let at = move_span(request, block);
@@ -253,7 +305,11 @@ impl Interpreter<'_> {
         }
         if !self.feed_reported {
             self.feed_reported = true;
-            let feed = match self.feed {
+            let feed = match self.modal.feed {
+                Some(Feed {
+                    reset_by: Some(code),
+                    ..
+                }) => format!("F0 ({code} sets the feed to 0, as LinuxCNC does)"),
                 Some(feed) => format!("F{}", feed.written),
                 None => format!("default feed {per_minute}"),
             };
@@ -269,13 +325,70 @@ impl Interpreter<'_> {
     }
 
     /// The feed of a G94 move at `feed` (the F in force), output units per minute: its
-    /// number read in the units in force when the move runs, as rs274 reads it (`G20 F20`
-    /// then `G21 G1 X100` feeds at 20 mm/min), else the default feed; `None` without
-    /// either. Plain lines ([`super::plain`]) take it from here too.
+    /// number in the units in force when it was set, as LinuxCNC converts it then
+    /// (`G20 F20` then `G21 G1 X100` feeds at 20 in/min, 508 mm/min), else the default
+    /// feed; `None` without either. Plain lines ([`super::plain`]) take it from here too.
     pub(super) fn feed_per_minute(&self, feed: Option<Feed>) -> Option<f64> {
         match (feed, self.options.default_feed) {
-            (Some(feed), _) => Some(feed.written * self.scale()),
+            (Some(feed), _) => {
+                Some(feed.written * feed.units.mm_per_unit() / self.output().mm_per_unit())
+            }
             (None, default) => default,
+        }
+    }
+
+    /// G95: the F in force per revolution at the programmed S, taken as exact (the
+    /// refusal without `--spindle-rpm-exact` is G95's, [`Self::set_feed_mode`]).
+    fn per_revolution_rate(&mut self, request: &Request, block: &Block) -> Option<f64> {
+        if self.spindle_sync_refused() {
+            return None;
+        }
+        let feed = self.modal.feed;
+        let per_revolution = self.feed_per_minute(feed).filter(|f| *f > 0.0);
+        let rate = per_revolution.map(|f| f * self.modal.speed / 60.0);
+        if let Some(rate) = rate.filter(|r| *r > 0.0 && r.is_finite()) {
+            return Some(rate);
+        }
+        if !self.feed_reported {
+            self.feed_reported = true;
+            let feed = match feed {
+                Some(f) => format!("F{} per revolution at S{}", f.written, self.modal.speed),
+                None => "no F per revolution".to_owned(),
+            };
+            let at = move_span(request, block);
+            self.push(GcodeDiagnostic::ZeroFeed {
+                feed,
+                span: span(at),
+            });
+        }
+        None
+    }
+
+    /// The feed of a line that turns a rotary axis, along the path the planner measures
+    /// (all axes, degrees included), as LinuxCNC's canonical layer feeds it: with X, Y or
+    /// Z, at F along X Y Z alone, the rotary axes keeping pace (the rate grows by the
+    /// whole length over that length); alone, at F degrees per minute, the number
+    /// unconverted by the units. G93's rate, a time already, stays.
+    /// `feed` is the F the rate comes from.
+    pub(super) fn rotary_rate(
+        &self,
+        rate: f64,
+        feed: Option<Feed>,
+        start: &Position,
+        end: &Position,
+    ) -> f64 {
+        if self.modal.feed_mode == FeedMode::InverseTime {
+            return rate;
+        }
+        let linear = line_length(&start[..3], &end[..3]);
+        let full = line_length(start, end);
+        match (linear > 0.0, full > linear) {
+            (true, true) => rate * full / linear,
+            (false, true) => match feed {
+                Some(feed) => rate * self.output().mm_per_unit() / feed.units.mm_per_unit(),
+                None => rate,
+            },
+            (_, false) => rate,
         }
     }
 
@@ -315,7 +428,11 @@ impl Interpreter<'_> {
                 // G93 times the programmed move, not the exit move after G40 (rs274).
                 let programmed = self.position;
                 let length = || line_length(&programmed, &end);
-                (Motion::Feed, self.feed_rate(request, block, length))
+                let rate = self.feed_rate(request, block, length);
+                (
+                    Motion::Feed,
+                    rate.map(|r| self.rotary_rate(r, self.modal.feed, &start, &end)),
+                )
             }
         };
         self.position = end;
@@ -328,6 +445,27 @@ impl Interpreter<'_> {
             });
         }
         self.straight(motion, start, end, feed, block);
+    }
+
+    /// The machine position of program point X `x`, Z `z` (program units), the other
+    /// axes where they are: the lathe cycles' and G76's points.
+    pub(super) fn program_xz(&self, x: f64, z: f64) -> Position {
+        let scale = self.scale();
+        let mut program = self.to_program(self.position);
+        program[0] = x * scale;
+        program[2] = z * scale;
+        self.to_machine(program)
+    }
+
+    /// A rapid from where the machine is to `end` (none where it is there already): a
+    /// contour of its own.
+    pub(super) fn rapid_to(&mut self, end: Position, block: &Block) {
+        let start = self.machine_position();
+        self.position = end;
+        if !no_move(&start, &end) {
+            let rate = self.rapid_rate();
+            self.straight(Motion::Rapid, start, end, rate, block);
+        }
     }
 
     /// A straight move from `start` to `end` (apart: not [`no_move`]) at `feed` units per
@@ -512,7 +650,11 @@ impl Interpreter<'_> {
         self.sink.element(motion, element);
         self.open = true;
         self.moved = true;
-        if motion == Motion::Rapid || self.modal.path_mode == PathMode::ExactStop {
+        let exact = matches!(
+            self.modal.path,
+            PathControl::ExactPath | PathControl::ExactStop
+        );
+        if motion == Motion::Rapid || exact {
             self.end_contour();
         }
     }
@@ -598,10 +740,16 @@ impl Interpreter<'_> {
         offsets
     }
 
+    /// The arc tolerances of the units in force, output units (LinuxCNC's by default).
     pub(super) fn arc_tolerance(&self) -> ArcTolerance {
+        let units = self.modal.units;
+        let absolute =
+            pvt_core::defaults::arc_abs_tolerance(self.options.arc_abs_tolerance_mm, units);
+        let radius = pvt_core::defaults::arc_radius_tolerance(units);
         ArcTolerance {
-            absolute: self.output().from_mm(self.options.arc_abs_tolerance_mm),
+            absolute: absolute * self.scale(),
             relative: self.options.arc_rel_tolerance,
+            radius: radius * self.scale(),
         }
     }
 
@@ -804,7 +952,7 @@ pub(super) fn no_move(start: &Position, end: &Position) -> bool {
 
 /// Length of a straight move as the planner measures path length: Euclidean over every
 /// axis, rotary degrees included, so a G93 move takes its 1/F minutes.
-fn line_length(start: &Position, end: &Position) -> f64 {
+fn line_length(start: &[f64], end: &[f64]) -> f64 {
     start
         .iter()
         .zip(end)

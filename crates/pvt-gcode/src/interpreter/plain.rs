@@ -30,7 +30,10 @@ impl Interpreter<'_> {
         else {
             return false;
         };
-        let feed = plain.feed().map(|written| Feed { written }).or(self.feed);
+        let feed = plain
+            .feed()
+            .map(|written| self.feed_word(written))
+            .or(self.modal.feed);
         let step = match plain.has_axis_words() {
             true => match self.plain_move(plain, mode, feed) {
                 Some(step) => Some(step),
@@ -63,7 +66,10 @@ impl Interpreter<'_> {
         let (true, Some(MotionMode::Arc(direction))) = (self.plain_idle(), mode) else {
             return false;
         };
-        let feed = plain.feed().map(|written| Feed { written }).or(self.feed);
+        let feed = plain
+            .feed()
+            .map(|written| self.feed_word(written))
+            .or(self.modal.feed);
         let Some(element) = self.plain_arc(plain, direction, feed, span) else {
             return false;
         };
@@ -94,7 +100,7 @@ impl Interpreter<'_> {
             self.cycle.initial_level = None;
         }
         if let Some(written) = plain.feed() {
-            self.feed = Some(Feed { written });
+            self.modal.feed = Some(self.feed_word(written));
             self.feed_reported = false;
         }
     }
@@ -109,14 +115,14 @@ impl Interpreter<'_> {
         feed: Option<Feed>,
     ) -> Option<(Motion, Position, Position, f64)> {
         let end = self.plain_end(plain)?;
+        let start = self.tool_start();
         let (motion, rate) = match mode {
             MotionMode::Rapid => (Motion::Rapid, self.rapid_rate()),
-            _ => (
-                Motion::Feed,
-                super::motion::feed_per_second(self.feed_per_minute(feed)?)?,
-            ),
+            _ => {
+                let rate = super::motion::feed_per_second(self.feed_per_minute(feed)?)?;
+                (Motion::Feed, self.rotary_rate(rate, feed, &start, &end))
+            }
         };
-        let start = self.tool_start();
         (!super::motion::no_move(&start, &end)).then_some((motion, start, end, rate))
     }
 

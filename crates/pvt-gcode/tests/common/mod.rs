@@ -6,6 +6,15 @@ use std::fmt::Write;
 use pvt_core::{ArcDirection, Axis, Element, ElementKind, Plane, Position};
 use pvt_gcode::{compile, line_col, Compiled, GcodeDiagnostic, GcodeOptions};
 
+/// Every element of a compiled program, contour after contour.
+pub fn elements(c: &Compiled) -> Vec<Element> {
+    c.toolpath
+        .contours
+        .iter()
+        .flat_map(|c| c.elements.clone())
+        .collect()
+}
+
 /// A number with up to six decimals, trailing zeros trimmed, `-0` shown as `0`.
 pub fn num(x: f64) -> String {
     let s = format!("{x:.6}");
