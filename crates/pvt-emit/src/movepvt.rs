@@ -21,7 +21,8 @@
 //! velocity and time arrays are held as text until the contour ends — the least this
 //! layout allows. Each held array keeps at most [`HOLD_IN_MEMORY`] bytes in memory and
 //! the rest in an anonymous temporary file (removed by the system when closed), so a
-//! contour of any length is written in bounded memory. Counts come from `sizeof` after
+//! contour of any length is written in bounded memory; where no temporary file can be
+//! made, the array is held in memory whole. Counts come from `sizeof` after
 //! the arrays, so nothing needs a count up front. It must not plan or round.
 
 use crate::gather::Gathered;
@@ -61,7 +62,15 @@ impl Held {
         }
         let file = match &mut self.spilled {
             Some(file) => file,
-            None => self.spilled.insert(tempfile::tempfile()?),
+            None => match tempfile::tempfile() {
+                Ok(file) => self.spilled.insert(file),
+                Err(_) => {
+                    // No temporary file can be made (a pipe with no temporary
+                    // directory): the array is held in memory whole instead.
+                    self.bound = usize::MAX;
+                    return Ok(());
+                }
+            },
         };
         file.write_all(self.text.text())?;
         self.text.clear();

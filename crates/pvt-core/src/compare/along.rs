@@ -124,10 +124,16 @@ impl Matcher<'_, '_> {
         let mut ta = t0;
         while ta < t1 {
             let tau = tau0 + (ta - t0) * rate;
+            // Where `to`'s span at `tau` ends, on `from`'s clock: the first span end past
+            // `ta` (rounding may map the one at `tau` onto `ta` itself, and the walk would
+            // then crawl by 10⁻¹² of the stretch).
+            let spans = &self.to.spans;
             let to_end = match self.to.span_at(tau) {
-                Some(j) if rate > 0.0 && self.to.spans[j].end() > tau => {
-                    t0 + (self.to.spans[j].end() - tau0) / rate
-                }
+                Some(j) if rate > 0.0 => spans[j..]
+                    .iter()
+                    .map(|s| t0 + (s.end() - tau0) / rate)
+                    .find(|&end| end > ta)
+                    .unwrap_or(t1),
                 _ => t1,
             };
             let tb = to_end.min(t1).max(ta + (t1 - t0) * 1e-12);
