@@ -361,3 +361,43 @@ fn a_pipe_is_refused_and_warned_as_a_file_is_in_every_format() {
     // Travel in every format, triggers where the controller has none, piece times.
     assert!(refused >= 8 + 3, "{refused} refused");
 }
+
+/// MovePVT holds a contour's velocity and time arrays until the contour ends, past 64 KiB
+/// in a temporary file: where none can be made (a pipe without a temporary directory),
+/// it holds them in memory, and the pipe gets the whole program, byte for byte the file's.
+#[test]
+fn movepvt_without_temporary_files_holds_its_arrays_in_memory() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut program = String::from("G21 G90 F600\n");
+    for i in 1..=6000 {
+        program += &format!("G1 X{} Y{:.3}\n", 5 * (i % 2), 0.001 * f64::from(i));
+    }
+    program += "M2\n";
+    let input = dir.path().join("long.ngc");
+    std::fs::write(&input, program).unwrap();
+    let input = input.display().to_string();
+    let out = dir.path().join("long.c").display().to_string();
+    let args = [
+        "compile",
+        input.as_str(),
+        "--format",
+        "movepvt",
+        "--quantize",
+        "off",
+    ];
+    let piped = piped_without_temporary_files(&args, dir.path());
+    assert!(
+        piped.status.success(),
+        "{}",
+        String::from_utf8_lossy(&piped.stderr)
+    );
+    let filed = pvtc(&[&args[..], &["-o", out.as_str()]].concat(), None);
+    assert!(filed.status.success());
+    let written = std::fs::read(&out).unwrap();
+    assert!(
+        written.len() > 3 * 64 * 1024,
+        "{} bytes: past the bound",
+        written.len()
+    );
+    assert_eq!(piped.stdout, written);
+}
